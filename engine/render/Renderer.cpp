@@ -1,0 +1,234 @@
+#include "engine/render/Renderer.h"
+
+#include "engine/core/Log.h"
+#include "engine/gpu/Barriers.h"
+#include "engine/gpu/Device.h"
+#include "engine/gpu/VkCheck.h"
+#include "engine/jobs/ThreadPool.h"
+#include "globe/Ellipsoid.h"
+#include "globe/Sun.h"
+#include "shared/FrameUniforms.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+namespace orbis::render {
+namespace {
+
+constexpr uint32_t kFramesInFlight = 2;
+
+double srgbToLinear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+
+const char* passName(scene::Pass p) {
+    switch (p) {
+        case scene::Pass::Opaque: return "opaque";
+        case scene::Pass::Points: return "points";
+        case scene::Pass::Fmv: return "fmv";
+        case scene::Pass::Volume: return "volume";
+        case scene::Pass::Overlay: return "overlay";
+    }
+    return "?";
+}
+
+}  // namespace
+
+Renderer::Renderer(gpu::Device& device, uint32_t width, uint32_t height)
+    : device_(device),
+      target_(std::make_unique<gpu::RenderTarget>(device, width, height)),
+      ring_(device, kFramesInFlight),
+      timer_(device, kFramesInFlight),
+      uploader_(device) {
+    VkDescriptorSetLayoutBinding binding{};
+    binding.binding = shader::kFrameBinding;
+    binding.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    binding.descriptorCount = 1;
+    binding.stageFlags = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT | VK_SHADER_STAGE_COMPUTE_BIT;
+    VkDescriptorSetLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    layoutInfo.bindingCount = 1;
+    layoutInfo.pBindings = &binding;
+    VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateDescriptorSetLayout(device.vk(), &layoutInfo, nullptr, &layout));
+    frameSetLayout_ = gpu::DescriptorSetLayout(device, layout);
+
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kFramesInFlight};
+    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    poolInfo.maxSets = kFramesInFlight;
+    poolInfo.poolSizeCount = 1;
+    poolInfo.pPoolSizes = &size;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateDescriptorPool(device.vk(), &poolInfo, nullptr, &pool));
+    descriptorPool_ = gpu::DescriptorPool(device, pool);
+
+    for (uint32_t i = 0; i < kFramesInFlight; ++i) {
+        frameUniforms_.emplace_back(device, sizeof(shader::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                    gpu::MemoryUsage::Upload, "frame uniforms");
+        VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+        alloc.descriptorPool = pool;
+        alloc.descriptorSetCount = 1;
+        alloc.pSetLayouts = &layout;
+        VkDescriptorSet set = VK_NULL_HANDLE;
+        VK_CHECK(vkAllocateDescriptorSets(device.vk(), &alloc, &set));
+        VkDescriptorBufferInfo bufferInfo{frameUniforms_.back().vk(), 0, sizeof(shader::FrameUniforms)};
+        VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        write.dstSet = set;
+        write.dstBinding = shader::kFrameBinding;
+        write.descriptorCount = 1;
+        write.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        write.pBufferInfo = &bufferInfo;
+        vkUpdateDescriptorSets(device.vk(), 1, &write, 0, nullptr);
+        frameSets_.push_back(set);
+    }
+
+    services_.device = &device_;
+    services_.uploader = &uploader_;
+    services_.colorFormat = gpu::RenderTarget::kColorFormat;
+    services_.depthFormat = gpu::RenderTarget::kDepthFormat;
+    services_.frameSetLayout = frameSetLayout_.vk();
+    services_.jobs = [this]() -> jobs::ThreadPool& { return jobs(); };
+}
+
+Renderer::~Renderer() = default;
+
+jobs::ThreadPool& Renderer::jobs() {
+    if (!jobs_) {
+        const unsigned threads = std::max(2u, std::thread::hardware_concurrency());
+        jobs_ = std::make_unique<jobs::ThreadPool>(threads, "orbis-worker");
+        log::debug("started ", threads, " worker threads");
+    }
+    return *jobs_;
+}
+
+void Renderer::resize(uint32_t width, uint32_t height) {
+    if (width == target_->width() && height == target_->height()) return;
+    target_ = std::make_unique<gpu::RenderTarget>(device_, width, height);
+}
+
+void Renderer::prepareLayer(scene::Layer& layer) {
+    layer.prepare(services_);
+    layer.markPrepared();
+}
+
+void Renderer::writeFrameUniforms(uint32_t slot, const scene::Scene& scene, const scene::FrameContext& ctx) {
+    const scene::Camera& cam = scene.camera();
+    const auto& ell = globe::Ellipsoid::wgs84();
+    const glm::dmat4 view = cam.viewRotation();
+    const glm::dmat4 proj = cam.projection(ctx.aspect());
+    shader::FrameUniforms u{};
+    u.viewRotation = glm::mat4(view);
+    u.projection = glm::mat4(proj);
+    u.clipToWorldDir = glm::mat4(glm::inverse(proj * view));
+    const double height = ell.toGeodetic(cam.position()).height;
+    u.eyeEcef = glm::vec4(glm::vec3(cam.position()), static_cast<float>(height));
+    u.sunDirection = glm::vec4(glm::vec3(globe::sunDirectionEcef(ctx.time)), 1.0f);
+    u.viewport = glm::vec4(ctx.width, ctx.height, 1.0f / ctx.width, 1.0f / ctx.height);
+    const double a = ell.equatorialRadius(), b = ell.polarRadius();
+    u.ellipsoid = glm::vec4(a, b, 1.0 / (a * a), 1.0 / (b * b));
+    const glm::dvec3 bg = scene.desc().background;
+    const double secondsOfDay = std::fmod(toSeconds(ctx.time), 86400.0);
+    u.background = glm::vec4(srgbToLinear(bg.r), srgbToLinear(bg.g), srgbToLinear(bg.b),
+                             secondsOfDay < 0 ? secondsOfDay + 86400.0 : secondsOfDay);
+    frameUniforms_[slot].write(&u, sizeof(u));
+}
+
+void Renderer::recordPass(scene::Pass pass, const char* name, scene::Scene& scene, const scene::RecordContext& rc,
+                          bool clear, const glm::dvec3& background) {
+    VkCommandBuffer cmd = rc.cmd;
+    const gpu::ImageTransition uses[] = {{&target_->color(), gpu::ImageUse::ColorAttachment},
+                                         {&target_->depth(), gpu::ImageUse::DepthAttachment}};
+    gpu::transition(cmd, uses);
+    const int scope = timer_.begin(cmd, name);
+
+    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    color.imageView = target_->color().view();
+    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    color.loadOp = clear ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_LOAD;
+    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    color.clearValue.color = {{float(srgbToLinear(background.r)), float(srgbToLinear(background.g)),
+                               float(srgbToLinear(background.b)), 1.0f}};
+    VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    depth.imageView = target_->depth().view();
+    depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    depth.loadOp = clear ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_LOAD;
+    depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    depth.clearValue.depthStencil = {0.0f, 0};   // reversed-Z: 0 is infinitely far
+    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    info.renderArea = {{0, 0}, {target_->width(), target_->height()}};
+    info.layerCount = 1;
+    info.colorAttachmentCount = 1;
+    info.pColorAttachments = &color;
+    info.pDepthAttachment = &depth;
+    vkCmdBeginRendering(cmd, &info);
+    const VkViewport viewport{0.0f, 0.0f, float(target_->width()), float(target_->height()), 0.0f, 1.0f};
+    const VkRect2D scissor{{0, 0}, {target_->width(), target_->height()}};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+    for (auto& r : scene.resources())
+        if (r.visible && r.layer->drawsIn(pass)) r.layer->record(pass, rc);
+    vkCmdEndRendering(cmd);
+    timer_.end(cmd, scope);
+}
+
+FrameResult Renderer::render(scene::Scene& scene, bool readback) {
+    const auto t0 = std::chrono::steady_clock::now();
+    // GPU objects are built before the frame starts recording, and only for visible layers.
+    for (auto& r : scene.resources())
+        if (r.visible && !r.layer->prepared()) prepareLayer(*r.layer);
+
+    // The near plane follows the camera's height (reversed-Z keeps precision at any range).
+    const double height = globe::Ellipsoid::wgs84().toGeodetic(scene.camera().position()).height;
+    scene.camera().setNear(scene::Camera::autoNear(height));
+
+    gpu::FrameRing::Frame& frame = ring_.begin();
+    timer_.beginFrame(frame.cmd, frame.slot);
+    uploader_.resetCounter();
+
+    scene::FrameContext ctx;
+    ctx.camera = &scene.camera();
+    ctx.time = scene.time().now();
+    ctx.width = target_->width();
+    ctx.height = target_->height();
+    ctx.frameNumber = frame.number;
+    for (auto& r : scene.resources())
+        if (r.visible) r.layer->update(ctx);
+    writeFrameUniforms(frame.slot, scene, ctx);
+
+    scene::RecordContext rc;
+    rc.cmd = frame.cmd;
+    rc.frame = &ctx;
+    rc.frameSet = frameSets_[frame.slot];
+    rc.uploader = &uploader_;
+
+    // The opaque pass always runs (it clears); later passes only when a visible layer uses them.
+    recordPass(scene::Pass::Opaque, passName(scene::Pass::Opaque), scene, rc, true, scene.desc().background);
+    for (scene::Pass pass : {scene::Pass::Points, scene::Pass::Fmv, scene::Pass::Volume, scene::Pass::Overlay}) {
+        const bool used = std::any_of(scene.resources().begin(), scene.resources().end(), [&](const scene::Resource& r) {
+            return r.visible && r.layer->drawsIn(pass);
+        });
+        if (used) recordPass(pass, passName(pass), scene, rc, false, scene.desc().background);
+    }
+    if (readback) {
+        const int scope = timer_.begin(frame.cmd, "readback");
+        target_->recordReadback(frame.cmd);
+        timer_.end(frame.cmd, scope);
+    }
+    FrameResult result;
+    result.frameNumber = frame.number;
+    result.slot = frame.slot;
+    result.timelineValue = ring_.submit(frame);
+    result.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return result;
+}
+
+std::vector<uint8_t> Renderer::readPixels(const FrameResult& frame) {
+    device_.wait(frame.timelineValue);
+    return target_->readPixels();
+}
+
+std::vector<gpu::PassTime> Renderer::gpuTimes(const FrameResult& frame) {
+    device_.wait(frame.timelineValue);
+    return timer_.resolve(frame.slot);
+}
+
+}  // namespace orbis::render

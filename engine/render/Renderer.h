@@ -1,0 +1,76 @@
+#pragma once
+// Renders a Scene into an offscreen target: per-frame uniforms, the passes in order, GPU
+// timestamps per pass, optional readback. The same frame serves the headless renderer, the
+// benchmark and (blitted to a swapchain) the viewer.
+
+#include "engine/gpu/Buffer.h"
+#include "engine/gpu/FrameRing.h"
+#include "engine/gpu/GpuTimer.h"
+#include "engine/gpu/Handle.h"
+#include "engine/gpu/RenderTarget.h"
+#include "engine/gpu/Uploader.h"
+#include "engine/scene/Layer.h"
+#include "engine/scene/Scene.h"
+
+#include <glm/glm.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace orbis::jobs {
+class ThreadPool;
+}
+
+namespace orbis::render {
+
+struct FrameResult {
+    uint64_t frameNumber = 0;
+    uint64_t timelineValue = 0;   ///< wait for it before reading pixels or GPU times
+    uint32_t slot = 0;
+    double cpuMs = 0.0;           ///< update + record + submit
+};
+
+class Renderer {
+public:
+    Renderer(gpu::Device& device, uint32_t width, uint32_t height);
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    /// Updates the visible layers, records every pass and submits. Main thread only.
+    FrameResult render(scene::Scene& scene, bool readback);
+    /// Blocks until the frame is done, then returns its pixels (RGBA8 sRGB, top row first).
+    std::vector<uint8_t> readPixels(const FrameResult& frame);
+    /// Blocks until the frame is done, then returns its per-pass GPU times.
+    std::vector<gpu::PassTime> gpuTimes(const FrameResult& frame);
+
+    gpu::RenderTarget& target() { return *target_; }
+    uint32_t width() const { return target_->width(); }
+    uint32_t height() const { return target_->height(); }
+    void resize(uint32_t width, uint32_t height);
+
+    /// The worker pool, created on first use. Main thread only.
+    jobs::ThreadPool& jobs();
+    bool jobsStarted() const { return jobs_ != nullptr; }
+
+private:
+    void prepareLayer(scene::Layer& layer);
+    void writeFrameUniforms(uint32_t slot, const scene::Scene& scene, const scene::FrameContext& ctx);
+    void recordPass(scene::Pass pass, const char* name, scene::Scene& scene, const scene::RecordContext& rc,
+                    bool clear, const glm::dvec3& background);
+
+    gpu::Device& device_;
+    std::unique_ptr<gpu::RenderTarget> target_;
+    gpu::FrameRing ring_;
+    gpu::GpuTimer timer_;
+    gpu::Uploader uploader_;
+    gpu::DescriptorSetLayout frameSetLayout_;
+    gpu::DescriptorPool descriptorPool_;
+    std::vector<gpu::Buffer> frameUniforms_;
+    std::vector<VkDescriptorSet> frameSets_;
+    std::unique_ptr<jobs::ThreadPool> jobs_;
+    scene::RenderServices services_;
+};
+
+}  // namespace orbis::render

@@ -1,0 +1,81 @@
+#pragma once
+// The interface every kind of content implements (globe, terrain, volume, points, FMV, models).
+// A layer is constructed only when the scene names its type, and its GPU objects (pipelines,
+// buffers, textures, threads) are made only in prepare(), called before the first frame in
+// which the layer is visible: what a scene does not show is never built.
+
+#include "engine/core/TimeFormat.h"
+#include "engine/scene/Camera.h"
+
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <string_view>
+
+namespace orbis::gpu {
+class Device;
+class Uploader;
+}  // namespace orbis::gpu
+namespace orbis::jobs {
+class ThreadPool;
+}
+
+namespace orbis::scene {
+
+/// The passes of a frame, in order (see DESIGN.md, "A frame").
+enum class Pass { Opaque, Points, Fmv, Volume, Overlay };
+
+/// What the renderer lends to layers for building GPU objects. Main thread only.
+struct RenderServices {
+    gpu::Device* device = nullptr;
+    gpu::Uploader* uploader = nullptr;
+    VkFormat colorFormat = VK_FORMAT_UNDEFINED;
+    VkFormat depthFormat = VK_FORMAT_UNDEFINED;
+    VkDescriptorSetLayout frameSetLayout = VK_NULL_HANDLE;   ///< set 0: FrameUniforms
+    /// The shared worker pool, started on first call (a scene that needs no threads starts none).
+    std::function<jobs::ThreadPool&()> jobs;
+};
+
+struct FrameContext {
+    const Camera* camera = nullptr;
+    TimeNs time = 0;
+    uint32_t width = 0, height = 0;
+    uint64_t frameNumber = 0;
+    double aspect() const { return height ? double(width) / double(height) : 1.0; }
+};
+
+struct RecordContext {
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    const FrameContext* frame = nullptr;
+    VkDescriptorSet frameSet = VK_NULL_HANDLE;
+    gpu::Uploader* uploader = nullptr;
+};
+
+class Layer {
+public:
+    virtual ~Layer() = default;
+
+    virtual std::string_view type() const = 0;
+
+    /// Builds pipelines and GPU resources. Called once, on the main thread, before the first
+    /// visible frame, outside any frame recording.
+    virtual void prepare(const RenderServices& services) = 0;
+    bool prepared() const { return prepared_; }
+    void markPrepared() { prepared_ = true; }
+
+    /// Per-frame CPU work (selection, time). Main thread only.
+    virtual void update(const FrameContext&) {}
+    virtual bool drawsIn(Pass pass) const = 0;
+    /// Records the layer's commands for `pass`. Called while recording, inside the pass.
+    virtual void record(Pass pass, const RecordContext& context) = 0;
+
+    /// GPU memory the layer holds, for the stats.
+    virtual uint64_t gpuBytes() const { return 0; }
+
+private:
+    bool prepared_ = false;
+};
+
+}  // namespace orbis::scene

@@ -1,0 +1,37 @@
+#include "engine/scene/Scene.h"
+
+namespace orbis::scene {
+
+Result<std::unique_ptr<Scene>> Scene::build(SceneDesc desc, const LayerRegistry& registry) {
+    std::unique_ptr<Scene> scene(new Scene(std::move(desc)));
+    for (const LayerDesc& layer : scene->desc_.layers) {
+        auto made = registry.create(layer, scene->desc_);
+        if (!made) return made.error();
+        Resource r;
+        r.name = layer.name;
+        r.type = layer.type;
+        r.visible = layer.visible;
+        r.viewpoint = layer.viewpoint;
+        r.layer = std::move(made).value();
+        scene->resources_.push_back(std::move(r));
+    }
+    const TimeDesc& t = scene->desc_.time;
+    if (auto ok = scene->time_.setRange(t.start, t.end); !ok) return ok.error();
+    scene->time_.seek(t.current);
+    scene->time_.setRate(t.rate);
+    scene->time_.setLoop(t.loop);
+    if (t.playing) scene->time_.play();
+    scene->camera_.setVerticalFovDeg(scene->desc_.fovDeg);
+    scene->goHome();
+    return scene;
+}
+
+Resource* Scene::find(const std::string& name) {
+    for (auto& r : resources_)
+        if (r.name == name) return &r;
+    return nullptr;
+}
+
+void Scene::goHome() { camera_.setPose(globe::poseFromViewpoint(desc_.viewpoint)); }
+
+}  // namespace orbis::scene

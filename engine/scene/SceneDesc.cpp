@@ -1,0 +1,167 @@
+#include "engine/scene/SceneDesc.h"
+
+#include "engine/scene/JsonReader.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <system_error>
+
+namespace orbis::scene {
+namespace {
+
+// nlohmann reports a byte offset; users want line and column.
+std::string lineColumn(std::string_view text, size_t byte) {
+    size_t line = 1, column = 1;
+    for (size_t i = 0; i < byte && i < text.size(); ++i) {
+        if (text[i] == '\n') ++line, column = 1;
+        else ++column;
+    }
+    return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+constexpr const char* kDefaultTime = "2026-03-20T08:00:00Z";
+
+}  // namespace
+
+std::filesystem::path SceneDesc::resolve(const std::filesystem::path& path) const {
+    if (path.is_absolute() || path.empty()) return path;
+    return (folder / path).lexically_normal();
+}
+
+std::optional<globe::Viewpoint> readViewpoint(const nlohmann::json& value, const std::string& file,
+                                              const std::string& path, Error* error) {
+    JsonReader r(value, file, path);
+    globe::Viewpoint vp;
+    vp.lonDeg = r.number("lon", 0.0, -540.0, 540.0).value_or(0.0);
+    vp.latDeg = r.number("lat", 0.0, -90.0, 90.0).value_or(0.0);
+    vp.height = r.number("height", 0.0, -1.2e4, 1.0e8).value_or(0.0);
+    vp.headingDeg = r.number("heading", 0.0, -720.0, 720.0).value_or(0.0);
+    vp.pitchDeg = r.number("pitch", -90.0, -90.0, 90.0).value_or(-90.0);
+    vp.range = r.number("range", 1.0e7, 1.0e-3, 1.0e10).value_or(1.0e7);
+    auto done = r.finish();
+    if (!done) {
+        if (error) *error = done.error();
+        return std::nullopt;
+    }
+    return vp;
+}
+
+nlohmann::json viewpointToJson(const globe::Viewpoint& vp) {
+    return {{"lon", vp.lonDeg}, {"lat", vp.latDeg}, {"height", vp.height},
+            {"heading", vp.headingDeg}, {"pitch", vp.pitchDeg}, {"range", vp.range}};
+}
+
+Result<SceneDesc> parseSceneFile(const std::filesystem::path& file) {
+    const std::string name = file.string();
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec)) return Error{name + ": no such file"};
+    if (std::filesystem::is_directory(file, ec)) return Error{name + ": is a folder, not a scene file"};
+    const auto size = std::filesystem::file_size(file, ec);
+    if (ec) return Error{name + ": cannot read (" + ec.message() + ")"};
+    if (size > kMaxSceneFileBytes)
+        return Error{name + ": " + std::to_string(size) + " bytes is too large for a scene file (limit " +
+                     std::to_string(kMaxSceneFileBytes) + ")"};
+    std::ifstream in(file, std::ios::binary);
+    if (!in) return Error{name + ": cannot open for reading"};
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    const auto absolute = std::filesystem::absolute(file, ec);
+    return parseSceneText(buffer.str(), file, (ec ? file : absolute).parent_path());
+}
+
+Result<SceneDesc> parseSceneText(std::string_view text, const std::filesystem::path& file,
+                                 const std::filesystem::path& folder) {
+    const std::string name = file.empty() ? std::string("<memory>") : file.string();
+    nlohmann::json root;
+    try {
+        root = nlohmann::json::parse(text.begin(), text.end());
+    } catch (const nlohmann::json::parse_error& e) {
+        std::string what = e.what();
+        // "[json.exception.parse_error.101] parse error at line 1, column 2: syntax error ..." -> keep the tail
+        const auto colon = what.find("syntax error");
+        what = colon != std::string::npos ? what.substr(colon) : "invalid JSON";
+        return Error{name + ": " + lineColumn(text, e.byte ? e.byte - 1 : 0) + ": " + what};
+    }
+
+    SceneDesc scene;
+    scene.file = file;
+    scene.folder = folder;
+    JsonReader r(root, name, "");
+    if (!r.isObject()) return r.finish().error();
+
+    if (auto version = r.number("orbis", 1.0); version && *version != 1.0)
+        r.fail("orbis", "scene format version " + (std::floor(*version) == *version ? std::to_string(static_cast<long long>(*version)) : nlohmann::json(*version).dump()) + " is not supported (this build reads 1)");
+    scene.name = r.string("name", file.stem().string()).value_or("");
+    scene.fovDeg = r.number("fovDeg", 45.0, 1.0, 150.0).value_or(45.0);
+    if (auto bg = r.numbers("background", 3, std::vector<double>{0.0, 0.0, 0.0})) {
+        for (double c : *bg)
+            if (c < 0.0 || c > 1.0) r.fail("background", "colour components must be in [0, 1]");
+        if (bg->size() == 3) scene.background = {(*bg)[0], (*bg)[1], (*bg)[2]};
+    }
+
+    if (const auto* vp = r.object("viewpoint")) {
+        Error err;
+        if (auto v = readViewpoint(*vp, name, "/viewpoint", &err)) scene.viewpoint = *v;
+        else if (r.ok()) return err;
+    } else {
+        scene.viewpoint = globe::Viewpoint{0.0, 20.0, 0.0, 0.0, -90.0, 2.0e7};
+    }
+
+    // Time range and the current time.
+    const TimeNs defaultTime = parseIso8601(kDefaultTime).value();
+    scene.time.start = scene.time.end = scene.time.current = defaultTime;
+    if (const auto* t = r.object("time")) {
+        JsonReader tr(*t, name, "/time");
+        auto readTime = [&](const char* key, std::optional<TimeNs> fallback) -> std::optional<TimeNs> {
+            auto text = tr.string(key, fallback ? std::optional<std::string>(formatIso8601(*fallback, 9)) : std::nullopt);
+            if (!text) return std::nullopt;
+            auto parsed = parseIso8601(*text);
+            if (!parsed) {
+                tr.fail(key, parsed.message());
+                return std::nullopt;
+            }
+            return *parsed;
+        };
+        const auto start = readTime("start", defaultTime);
+        const auto end = readTime("end", start.value_or(defaultTime));
+        const auto current = readTime("current", start.value_or(defaultTime));
+        scene.time.rate = tr.number("rate", 1.0, -1e9, 1e9).value_or(1.0);
+        scene.time.loop = tr.boolean("loop", false).value_or(false);
+        scene.time.playing = tr.boolean("playing", false).value_or(false);
+        if (start && end && *end < *start) tr.fail("end", "the end time is before the start time");
+        if (start && end && current && (*current < *start || *current > *end))
+            tr.fail("current", "the current time is outside [start, end]");
+        if (auto done = tr.finish(); !done) return done.error();
+        scene.time.start = *start;
+        scene.time.end = *end;
+        scene.time.current = *current;
+    }
+
+    if (const auto* layers = r.array("layers", /*required=*/true)) {
+        for (size_t i = 0; i < layers->size(); ++i) {
+            const std::string path = "/layers/" + std::to_string(i);
+            const auto& value = (*layers)[i];
+            JsonReader lr(value, name, path);
+            LayerDesc layer;
+            layer.jsonPath = path;
+            layer.type = lr.string("type").value_or("");
+            layer.name = lr.string("name", layer.type + " " + std::to_string(i)).value_or("");
+            layer.visible = lr.boolean("visible", true).value_or(true);
+            if (const auto* vp = lr.object("viewpoint")) {
+                Error err;
+                layer.viewpoint = readViewpoint(*vp, name, path + "/viewpoint", &err);
+                if (!layer.viewpoint && lr.ok()) return err;
+            }
+            if (lr.ok() && layer.type.empty()) lr.fail("type", "must not be empty");
+            // The remaining keys belong to the layer type; its factory checks them.
+            if (!lr.ok()) return lr.finish().error();
+            layer.settings = value;
+            scene.layers.push_back(std::move(layer));
+        }
+    }
+    if (auto done = r.finish(); !done) return done.error();
+    return scene;
+}
+
+}  // namespace orbis::scene

@@ -1,0 +1,162 @@
+// The orbis command line: bad arguments exit 2, bad input exits 1 with a one-line message that
+// names the file and the problem, and nothing crashes. GPU commands run on lavapipe.
+#include "tests/support/GpuTest.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace orbis::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+    int exitCode = -1;
+    std::string output;   // stdout + stderr
+};
+
+CliRun run(const std::string& args) {
+    CliRun r;
+    const std::string cmd = std::string(ORBIS_BINARY) + " " + args + " 2>&1";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    if (!pipe) return r;
+    std::array<char, 4096> buf;
+    size_t n;
+    while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
+    const int status = pclose(pipe);
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return r;
+}
+
+fs::path tempFile(const std::string& name, const std::string& content) {
+    const fs::path dir = fs::temp_directory_path() / "orbis-cli-test";
+    fs::create_directories(dir);
+    const fs::path p = dir / name;
+    std::ofstream(p, std::ios::binary) << content;
+    return p;
+}
+
+TEST(Cli, NoArgumentsIsUsage) {
+    const CliRun r = run("");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("usage: orbis"), std::string::npos);
+}
+
+TEST(Cli, HelpExitsZeroForEveryCommand) {
+    for (const char* c : {"--help", "render --help", "bench --help", "info --help"}) {
+        const CliRun r = run(c);
+        EXPECT_EQ(r.exitCode, 0) << c << ": " << r.output;
+        EXPECT_NE(r.output.find("usage:"), std::string::npos) << c;
+    }
+}
+
+TEST(Cli, UsageErrorsExitTwo) {
+    const std::string scene = ORBIS_DEFAULT_SCENE;
+    const char* cases[] = {"frobnicate", "render", "render " ORBIS_DEFAULT_SCENE, "render a b -o x.png",
+                           "render " ORBIS_DEFAULT_SCENE " -o x.png --size 0x10",
+                           "render " ORBIS_DEFAULT_SCENE " -o x.png --size big",
+                           "render " ORBIS_DEFAULT_SCENE " -o x.png --bogus",
+                           "render " ORBIS_DEFAULT_SCENE " -o",
+                           "render " ORBIS_DEFAULT_SCENE " -o x.png --time 1999-01-01T00:00:00Z",
+                           "render " ORBIS_DEFAULT_SCENE " -o x.png --time noon",
+                           "bench " ORBIS_DEFAULT_SCENE " --frames 0",
+                           "bench " ORBIS_DEFAULT_SCENE " --frames ten",
+                           "info a b", "--nonsense info"};
+    for (const char* c : cases) {
+        const CliRun r = run(c);
+        EXPECT_EQ(r.exitCode, 2) << c << ": " << r.output;
+        EXPECT_EQ(r.output.find("Segmentation"), std::string::npos);
+    }
+}
+
+TEST(Cli, MissingSceneFileExitsOneNamingIt) {
+    const CliRun r = run("render /nonexistent/scene.json -o /tmp/x.png");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.output.find("/nonexistent/scene.json: no such file"), std::string::npos) << r.output;
+}
+
+TEST(Cli, MalformedSceneExitsOneWithLine) {
+    const auto file = tempFile("broken.json", "{\n \"layers\": [\n  {\"type\": \"globe\",}\n ]\n}\n");
+    const CliRun r = run("render " + file.string() + " -o /tmp/x.png");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.output.find(file.string() + ": line 3"), std::string::npos) << r.output;
+}
+
+TEST(Cli, UnknownLayerTypeExitsOne) {
+    const auto file = tempFile("unknown.json", R"({"layers": [{"type": "hologram"}]})");
+    const CliRun r = run("render " + file.string() + " -o /tmp/x.png");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.output.find("/layers/0/type: unknown layer type 'hologram'"), std::string::npos) << r.output;
+}
+
+TEST(Cli, BadLayerSettingExitsOne) {
+    const auto file = tempFile("badsetting.json", R"({"layers": [{"type": "globe", "patchDeg": 7}]})");
+    const CliRun r = run("render " + file.string() + " -o /tmp/x.png");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.output.find("/layers/0/patchDeg: must divide 180"), std::string::npos) << r.output;
+}
+
+TEST(Cli, InfoOnMissingOrUnknownFileExitsOne) {
+    EXPECT_EQ(run("info /nonexistent.tif").exitCode, 1);
+    const auto file = tempFile("data.xyz", "hello");
+    const CliRun r = run("info " + file.string());
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.output.find("no reader"), std::string::npos);
+}
+
+TEST(Cli, InfoOnSceneListsLayers) {
+    const CliRun r = run(std::string("info ") + ORBIS_DEFAULT_SCENE);
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("\"type\": \"globe\""), std::string::npos) << r.output;
+}
+
+class CliGpu : public ::testing::Test {
+protected:
+    void SetUp() override { ASSERT_TRUE(selectLavapipe()); }
+};
+
+TEST_F(CliGpu, InfoDescribesTheDevice) {
+    const CliRun r = run("info --validation");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("llvmpipe"), std::string::npos);
+    EXPECT_NE(r.output.find("featuresUsed"), std::string::npos);
+}
+
+TEST_F(CliGpu, RenderDefaultSceneWritesPng) {
+    const fs::path out = fs::temp_directory_path() / "orbis-cli-test" / "default.png";
+    fs::create_directories(out.parent_path());
+    fs::remove(out);
+    const CliRun r = run(std::string("render ") + ORBIS_DEFAULT_SCENE + " -o " + out.string() + " --size 160x90 --validation");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    ASSERT_TRUE(fs::exists(out));
+    EXPECT_GT(fs::file_size(out), 1000u);
+}
+
+TEST_F(CliGpu, UnwritableOutputExitsOne) {
+    const CliRun r = run(std::string("render ") + ORBIS_DEFAULT_SCENE + " -o /nonexistent/dir/x.png --size 32x32");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("/nonexistent/dir/x.png"), std::string::npos) << r.output;
+}
+
+TEST_F(CliGpu, BenchPrintsJsonWithPerPassGpuTimes) {
+    const CliRun r = run(std::string("bench ") + ORBIS_DEFAULT_SCENE + " --frames 3 --warmup 1 --size 160x90 --json --validation");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("\"gpu_ms\""), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("\"opaque\""), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("\"median\""), std::string::npos) << r.output;
+}
+
+TEST_F(CliGpu, UnknownDeviceExitsOne) {
+    const CliRun r = run(std::string("render ") + ORBIS_DEFAULT_SCENE + " -o /tmp/x.png --device no-such-gpu");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("no-such-gpu"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace orbis::test

@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# README command 1: install the Debian packages, build, and render the default scene
+# (assets/scenes/default.json) headlessly to orbis-default.png.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash tools/install-deps.sh
+bash tools/build.sh --target orbis
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"
+build/bin/orbis -v render assets/scenes/default.json -o orbis-default.png --size 1280x720
+echo "demo: open orbis-default.png"

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package Orbis needs to build, run and test.
+# Each layer issue adds what it needs here (GLFW/ImGui with the viewer, netCDF with volumes...).
+# Idempotent and non-interactive; needs root (or sudo). Downloads nothing but Debian packages.
+set -euo pipefail
+
+packages=(
+  # toolchain (a minbase Debian has none of these)
+  build-essential cmake ninja-build pkg-config git ca-certificates
+  # Vulkan: loader, headers, lavapipe (mesa), validation layer, shader compiler
+  libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools spirv-tools
+  # images
+  libstb-dev
+  # maths, geodesy, data, scene files
+  libglm-dev libgeographiclib-dev libgdal-dev gdal-bin nlohmann-json3-dev
+  # tests
+  libgtest-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages already installed"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install-deps: installing ${#missing[@]} packages: ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -q
+$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"

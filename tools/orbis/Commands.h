@@ -1,0 +1,12 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace orbis::cli {
+
+int renderCommand(const std::vector<std::string>& args);
+int benchCommand(const std::vector<std::string>& args);
+int infoCommand(const std::vector<std::string>& args);
+
+}  // namespace orbis::cli

@@ -1,0 +1,117 @@
+// orbis info [FILE]: the GPU and what Orbis uses of it, or what a file holds.
+#include "tools/orbis/Commands.h"
+
+#include "engine/scene/SceneDesc.h"
+#include "layers/BuiltinLayers.h"
+#include "tools/orbis/Session.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+
+namespace orbis::cli {
+
+namespace {
+const char* kHelp =
+    "usage: orbis info [FILE] [options]\n"
+    "Without FILE: the Vulkan devices, the one Orbis would pick, its driver and the features used.\n"
+    "With FILE: what the file holds, as JSON. Readers so far: scene files (.json).\n";
+
+std::string version(uint32_t v) {
+    return std::to_string(VK_API_VERSION_MAJOR(v)) + "." + std::to_string(VK_API_VERSION_MINOR(v)) + "." +
+           std::to_string(VK_API_VERSION_PATCH(v));
+}
+
+int deviceInfo(const Args& args) {
+    GpuSession gpu = openGpu(args);
+    const gpu::Device& d = *gpu.device;
+    nlohmann::json out;
+    for (const auto& pd : gpu::Device::enumerate(*gpu.instance))
+        out["devices"].push_back({{"name", pd.name}, {"type", pd.type}, {"api", version(pd.apiVersion)}});
+    const auto& f = d.features();
+    const auto& limits = d.properties().limits;
+    VkPhysicalDeviceMemoryProperties mem;
+    vkGetPhysicalDeviceMemoryProperties(d.physical(), &mem);
+    nlohmann::json heaps = nlohmann::json::array();
+    for (uint32_t i = 0; i < mem.memoryHeapCount; ++i)
+        heaps.push_back({{"bytes", mem.memoryHeaps[i].size},
+                         {"deviceLocal", bool(mem.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)}});
+    out["selected"] = {
+        {"name", d.info().name},
+        {"type", d.info().type},
+        {"api", version(d.info().apiVersion)},
+        {"driver", d.info().driverInfo},
+        {"validation", gpu.instance->validationEnabled()},
+        {"featuresUsed",
+         {{"dynamicRendering", true},
+          {"synchronization2", true},
+          {"timelineSemaphore", true},
+          {"timestamps", f.timestamps},
+          {"shaderInt64", f.shaderInt64},
+          {"shaderFloat64", f.shaderFloat64},
+          {"shaderBufferInt64Atomics", f.bufferInt64Atomics},
+          {"samplerAnisotropy", f.samplerAnisotropy},
+          {"fillModeNonSolid", f.fillModeNonSolid}}},
+        {"limits",
+         {{"maxImageDimension2D", limits.maxImageDimension2D},
+          {"maxImageDimension3D", limits.maxImageDimension3D},
+          {"maxImageArrayLayers", limits.maxImageArrayLayers},
+          {"maxStorageBufferRange", limits.maxStorageBufferRange},
+          {"maxPushConstantsSize", limits.maxPushConstantsSize},
+          {"timestampPeriodNs", limits.timestampPeriod}}},
+        {"memoryHeaps", heaps}};
+    std::printf("%s\n", out.dump(2).c_str());
+    return kOk;
+}
+
+int sceneInfo(const std::string& file) {
+    auto desc = scene::parseSceneFile(file);
+    if (!desc) {
+        std::fprintf(stderr, "orbis: %s\n", desc.message().c_str());
+        return kBadInput;
+    }
+    scene::LayerRegistry registry;
+    layers::registerBuiltinLayers(registry);
+    nlohmann::json out;
+    out["kind"] = "scene";
+    out["file"] = file;
+    out["name"] = desc->name;
+    out["viewpoint"] = scene::viewpointToJson(desc->viewpoint);
+    out["time"] = {{"start", formatIso8601(desc->time.start)},
+                   {"end", formatIso8601(desc->time.end)},
+                   {"current", formatIso8601(desc->time.current)}};
+    for (const auto& l : desc->layers) {
+        nlohmann::json layer = {{"type", l.type}, {"name", l.name}, {"visible", l.visible}};
+        if (!registry.has(l.type)) layer["problem"] = "unknown layer type";
+        out["layers"].push_back(layer);
+    }
+    std::printf("%s\n", out.dump(2).c_str());
+    return kOk;
+}
+}  // namespace
+
+int infoCommand(const std::vector<std::string>& argv) {
+    std::set<std::string> flags = gpuFlagOptions();
+    flags.insert("--help");
+    Args args(argv, gpuValuedOptions(), flags, {{"-h", "--help"}});
+    if (args.flag("--help")) {
+        std::printf("%s%s", kHelp, gpuOptionsHelp().c_str());
+        return kOk;
+    }
+    if (args.positional().size() > 1) throw UsageError{"info expects at most one FILE"};
+    if (args.positional().empty()) return deviceInfo(args);
+    const std::string file = args.positional()[0];
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec)) {
+        std::fprintf(stderr, "orbis: %s: no such file\n", file.c_str());
+        return kBadInput;
+    }
+    const std::string ext = std::filesystem::path(file).extension().string();
+    if (ext == ".json") return sceneInfo(file);
+    std::fprintf(stderr, "orbis: %s: no reader for '%s' files in this build (readers: scene .json)\n", file.c_str(),
+                 ext.c_str());
+    return kBadInput;
+}
+
+}  // namespace orbis::cli

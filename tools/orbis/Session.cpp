@@ -1,0 +1,61 @@
+#include "tools/orbis/Session.h"
+
+#include "engine/core/TimeFormat.h"
+
+#include <charconv>
+
+namespace orbis::cli {
+
+const std::set<std::string>& gpuValuedOptions() {
+    static const std::set<std::string> s{"--device"};
+    return s;
+}
+
+const std::set<std::string>& gpuFlagOptions() {
+    static const std::set<std::string> s{"--validation"};
+    return s;
+}
+
+std::string gpuOptionsHelp() {
+    return "  --device SEL      GPU to use: discrete | integrated | cpu | an index | part of its name\n"
+           "                    (default: the first discrete GPU, else the CPU renderer lavapipe)\n"
+           "  --validation      load the Khronos validation layer and report its messages\n";
+}
+
+GpuSession openGpu(const Args& args) {
+    GpuSession s;
+    gpu::InstanceOptions io;
+    io.validation = args.flag("--validation");
+    s.instance = std::make_unique<gpu::Instance>(io);
+    gpu::DeviceOptions dopt;
+    dopt.select = args.value("--device").value_or("");
+    s.device = std::make_unique<gpu::Device>(*s.instance, dopt);
+    return s;
+}
+
+Result<std::unique_ptr<scene::Scene>> loadScene(const std::string& file, const scene::LayerRegistry& registry) {
+    auto desc = scene::parseSceneFile(file);
+    if (!desc) return desc.error();
+    return scene::Scene::build(std::move(desc).value(), registry);
+}
+
+void applyTimeOption(const Args& args, scene::Scene& scene) {
+    auto text = args.value("--time");
+    if (!text) return;
+    TimeNs t = 0;
+    double seconds = 0.0;
+    auto [ptr, ec] = std::from_chars(text->data(), text->data() + text->size(), seconds);
+    if (ec == std::errc() && ptr == text->data() + text->size()) {
+        t = scene.time().start() + fromSeconds(seconds);
+    } else {
+        auto parsed = parseIso8601(*text);
+        if (!parsed) throw UsageError{"option --time: " + parsed.message()};
+        t = *parsed;
+    }
+    if (t < scene.time().start() || t > scene.time().end())
+        throw UsageError{"option --time: " + formatIso8601(t) + " is outside the scene's time range [" +
+                         formatIso8601(scene.time().start()) + ", " + formatIso8601(scene.time().end()) + "]"};
+    scene.time().seek(t);
+}
+
+}  // namespace orbis::cli

@@ -1,0 +1,41 @@
+#pragma once
+// What every command that renders needs: a Vulkan instance and device, the layer registry and
+// a loaded scene. Keeps the commands themselves short.
+
+#include "engine/core/Result.h"
+#include "engine/gpu/Device.h"
+#include "engine/gpu/Instance.h"
+#include "engine/render/Renderer.h"
+#include "engine/scene/LayerRegistry.h"
+#include "engine/scene/Scene.h"
+#include "tools/orbis/Args.h"
+
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace orbis::cli {
+
+/// Exit codes shared by every command.
+enum ExitCode { kOk = 0, kBadInput = 1, kUsage = 2 };
+
+/// Options every GPU command accepts.
+const std::set<std::string>& gpuValuedOptions();
+const std::set<std::string>& gpuFlagOptions();
+std::string gpuOptionsHelp();
+
+struct GpuSession {
+    std::unique_ptr<gpu::Instance> instance;
+    std::unique_ptr<gpu::Device> device;
+};
+
+/// Creates the instance and device from --device / --validation. Throws GpuError.
+GpuSession openGpu(const Args& args);
+
+/// Loads and builds a scene (exit code 1 on failure, with the message already printed).
+Result<std::unique_ptr<scene::Scene>> loadScene(const std::string& file, const scene::LayerRegistry& registry);
+
+/// "--time": an ISO-8601 instant, or seconds after the scene's start. Throws UsageError.
+void applyTimeOption(const Args& args, scene::Scene& scene);
+
+}  // namespace orbis::cli
