@@ -55,7 +55,12 @@ public:
     /// Describes what stands at the cursor, for "expected X but found Y" messages.
     std::string found() const {
         if (atEnd()) return "the end of the text";
-        return "'" + std::string(1, text_[pos_]) + "' at position " + std::to_string(pos_ + 1);
+        // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on the chained operator+.
+        std::string s = "'";
+        s += text_[pos_];
+        s += "' at position ";
+        s += std::to_string(pos_ + 1);
+        return s;
     }
 
     Error fail(const std::string& what) const {

@@ -16,6 +16,30 @@ namespace {
 
 class GpuCore : public GpuTest {};
 
+TEST_F(GpuCore, ValidationLayerReportsMisuse) {
+    // Proves the harness can fail: a fill at an unaligned offset (VUID-vkCmdFillBuffer-dstOffset-00025)
+    // recorded into a command buffer that is never submitted.
+    ASSERT_TRUE(instance().validationEnabled());
+    gpu::Buffer b(device(), 256, VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::GpuOnly);
+    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    poolInfo.queueFamilyIndex = device().queueFamily();
+    VkCommandPool pool = VK_NULL_HANDLE;
+    ASSERT_EQ(vkCreateCommandPool(device().vk(), &poolInfo, nullptr, &pool), VK_SUCCESS);
+    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    alloc.commandPool = pool;
+    alloc.commandBufferCount = 1;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    ASSERT_EQ(vkAllocateCommandBuffers(device().vk(), &alloc, &cmd), VK_SUCCESS);
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    vkBeginCommandBuffer(cmd, &begin);
+    const int before = instance().validationMessages();
+    vkCmdFillBuffer(cmd, b.vk(), 3, 16, 0);
+    vkEndCommandBuffer(cmd);
+    vkDestroyCommandPool(device().vk(), pool, nullptr);
+    EXPECT_GT(instance().validationMessages(), before);
+    acknowledgeValidationMessages();
+}
+
 TEST_F(GpuCore, DestroyedBufferIsFreedOnlyAfterItsSubmitCompletes) {
     auto& alloc = device().allocator();
     const auto before = alloc.stats().bytesInUse;

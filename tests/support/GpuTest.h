@@ -22,12 +22,16 @@ protected:
     void SetUp() override;
     void TearDown() override;
 
+    /// For tests that provoke validation on purpose: messages so far are expected, not failures.
+    void acknowledgeValidationMessages();
+
     static gpu::Instance& instance() { return *instance_; }
     static gpu::Device& device() { return *device_; }
 
 private:
     static std::unique_ptr<gpu::Instance> instance_;
     static std::unique_ptr<gpu::Device> device_;
+    static int acknowledged_;
     int messagesAtStart_ = 0;
 };
 
