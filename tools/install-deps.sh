@@ -9,8 +9,8 @@ packages=(
   build-essential cmake ninja-build pkg-config git ca-certificates
   # Vulkan: loader, headers, lavapipe (mesa), validation layer, shader compiler
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools spirv-tools
-  # images
-  libstb-dev
+  # windows (GLFW surfaces; tests run them under Xvfb) and images
+  libglfw3-dev xvfb xauth libstb-dev
   # maths, geodesy, data, scene files
   libglm-dev libgeographiclib-dev libgdal-dev gdal-bin nlohmann-json3-dev
   # tests
