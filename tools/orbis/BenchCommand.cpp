@@ -2,7 +2,6 @@
 #include "tools/orbis/Commands.h"
 
 #include "engine/core/Log.h"
-#include "layers/BuiltinLayers.h"
 #include "tools/orbis/Session.h"
 
 #include <nlohmann/json.hpp>
@@ -61,14 +60,8 @@ int benchCommand(const std::vector<std::string>& argv) {
     const long warmup = args.integer("--warmup", 0, 1000000).value_or(5);
     const auto [width, height] = args.size("--size").value_or(std::make_pair(1920u, 1080u));
 
-    scene::LayerRegistry registry;
-    layers::registerBuiltinLayers(registry);
-    auto loaded = loadScene(args.positional()[0], registry);
-    if (!loaded) {
-        std::fprintf(stderr, "orbis: %s\n", loaded.message().c_str());
-        return kBadInput;
-    }
-    applyTimeOption(args, **loaded);
+    auto loaded = loadSceneForCommand(args);
+    if (!loaded) return kBadInput;
     GpuSession gpu = openGpu(args);
     std::unique_ptr<scene::Scene> scene = std::move(loaded).value();
     render::Renderer renderer(*gpu.device, width, height);
@@ -121,12 +114,7 @@ int benchCommand(const std::vector<std::string>& argv) {
         row("gpu total", summarize(gpuTotal));
         for (const auto& name : passOrder) row("gpu " + name, summarize(passes[name]));
     }
-    if (gpu.instance->validationMessages() > 0) {
-        std::fprintf(stderr, "orbis: validation reported %d message(s); first: %s\n",
-                     gpu.instance->validationMessages(), gpu.instance->firstValidationMessage().c_str());
-        return kBadInput;
-    }
-    return kOk;
+    return validationExitCode(gpu);
 }
 
 }  // namespace orbis::cli

@@ -4,7 +4,6 @@
 #include "engine/core/Log.h"
 #include "engine/core/Png.h"
 #include "engine/gpu/VkCheck.h"
-#include "layers/BuiltinLayers.h"
 #include "tools/orbis/Session.h"
 
 #include <chrono>
@@ -36,14 +35,8 @@ int renderCommand(const std::vector<std::string>& argv) {
     if (!output) throw UsageError{"render needs an output file: -o OUT.png"};
     const auto [width, height] = args.size("--size").value_or(std::make_pair(1280u, 720u));
 
-    scene::LayerRegistry registry;
-    layers::registerBuiltinLayers(registry);
-    auto loaded = loadScene(args.positional()[0], registry);
-    if (!loaded) {
-        std::fprintf(stderr, "orbis: %s\n", loaded.message().c_str());
-        return kBadInput;
-    }
-    applyTimeOption(args, **loaded);
+    auto loaded = loadSceneForCommand(args);
+    if (!loaded) return kBadInput;
 
     const auto t0 = std::chrono::steady_clock::now();
     GpuSession gpu = openGpu(args);
@@ -60,12 +53,7 @@ int renderCommand(const std::vector<std::string>& argv) {
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     log::info("wrote ", *output, " (", width, "x", height, ") in ", ms, " ms on ", gpu.device->info().name);
     std::printf("wrote %s (%ux%u)\n", output->c_str(), width, height);
-    if (gpu.instance->validationMessages() > 0) {
-        std::fprintf(stderr, "orbis: validation reported %d message(s); first: %s\n",
-                     gpu.instance->validationMessages(), gpu.instance->firstValidationMessage().c_str());
-        return kBadInput;
-    }
-    return kOk;
+    return validationExitCode(gpu);
 }
 
 }  // namespace orbis::cli

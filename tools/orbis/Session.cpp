@@ -1,6 +1,9 @@
 #include "tools/orbis/Session.h"
 
 #include "engine/core/TimeFormat.h"
+#include "layers/BuiltinLayers.h"
+
+#include <cstdio>
 
 #include <charconv>
 
@@ -37,6 +40,25 @@ Result<std::unique_ptr<scene::Scene>> loadScene(const std::string& file, const s
     auto desc = scene::parseSceneFile(file);
     if (!desc) return desc.error();
     return scene::Scene::build(std::move(desc).value(), registry);
+}
+
+Result<std::unique_ptr<scene::Scene>> loadSceneForCommand(const Args& args) {
+    scene::LayerRegistry registry;
+    layers::registerBuiltinLayers(registry);
+    auto loaded = loadScene(args.positional().at(0), registry);
+    if (!loaded) {
+        std::fprintf(stderr, "orbis: %s\n", loaded.message().c_str());
+        return loaded;
+    }
+    applyTimeOption(args, **loaded);
+    return loaded;
+}
+
+int validationExitCode(const GpuSession& gpu) {
+    if (gpu.instance->validationMessages() == 0) return kOk;
+    std::fprintf(stderr, "orbis: validation reported %d message(s); first: %s\n", gpu.instance->validationMessages(),
+                 gpu.instance->firstValidationMessage().c_str());
+    return kBadInput;
 }
 
 void applyTimeOption(const Args& args, scene::Scene& scene) {

@@ -35,6 +35,13 @@ GpuSession openGpu(const Args& args);
 /// Loads and builds a scene (exit code 1 on failure, with the message already printed).
 Result<std::unique_ptr<scene::Scene>> loadScene(const std::string& file, const scene::LayerRegistry& registry);
 
+/// Loads the scene named by the command's one positional argument with every built-in layer
+/// type, applying --time; prints the problem and returns it on failure. Throws UsageError.
+Result<std::unique_ptr<scene::Scene>> loadSceneForCommand(const Args& args);
+
+/// kBadInput (after printing the first message) when validation reported anything, else kOk.
+int validationExitCode(const GpuSession& gpu);
+
 /// "--time": an ISO-8601 instant, or seconds after the scene's start. Throws UsageError.
 void applyTimeOption(const Args& args, scene::Scene& scene);
 
