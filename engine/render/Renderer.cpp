@@ -1,5 +1,6 @@
 #include "engine/render/Renderer.h"
 
+#include "engine/core/Color.h"
 #include "engine/core/Log.h"
 #include "engine/gpu/Barriers.h"
 #include "engine/gpu/Device.h"
@@ -18,8 +19,6 @@ namespace orbis::render {
 namespace {
 
 constexpr uint32_t kFramesInFlight = 2;
-
-double srgbToLinear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 
 const char* passName(scene::Pass p) {
     switch (p) {
@@ -119,7 +118,7 @@ void Renderer::writeFrameUniforms(uint32_t slot, const scene::Scene& scene, cons
     u.viewRotation = glm::mat4(view);
     u.projection = glm::mat4(proj);
     u.clipToWorldDir = glm::mat4(glm::inverse(proj * view));
-    const double height = ell.toGeodetic(cam.position()).height;
+    const double height = ctx.cameraHeight;
     u.eyeEcef = glm::vec4(glm::vec3(cam.position()), static_cast<float>(height));
     u.sunDirection = glm::vec4(glm::vec3(globe::sunDirectionEcef(ctx.time)), 1.0f);
     u.viewport = glm::vec4(ctx.width, ctx.height, 1.0f / ctx.width, 1.0f / ctx.height);
@@ -190,6 +189,7 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback) {
     ctx.width = target_->width();
     ctx.height = target_->height();
     ctx.frameNumber = frame.number;
+    ctx.cameraHeight = height;
     for (auto& r : scene.resources())
         if (r.visible) r.layer->update(ctx);
     writeFrameUniforms(frame.slot, scene, ctx);

@@ -43,6 +43,7 @@ struct FrameContext {
     TimeNs time = 0;
     uint32_t width = 0, height = 0;
     uint64_t frameNumber = 0;
+    double cameraHeight = 0.0;   ///< above the ellipsoid, metres
     double aspect() const { return height ? double(width) / double(height) : 1.0; }
 };
 

@@ -1,5 +1,6 @@
 #include "layers/globe/GlobeLayer.h"
 
+#include "engine/core/Color.h"
 #include "engine/gpu/Barriers.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
@@ -16,10 +17,6 @@
 #include <cmath>
 
 namespace orbis::layers {
-namespace {
-double srgbToLinear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
-}  // namespace
-
 Result<std::unique_ptr<scene::Layer>> GlobeLayer::create(const scene::LayerDesc& desc, const scene::SceneDesc& scene) {
     scene::JsonReader r(desc.settings, scene.file.string(), desc.jsonPath);
     for (const char* common : {"type", "name", "visible", "viewpoint"}) r.accept(common);
