@@ -17,6 +17,7 @@ enum class ImageUse {
     DepthAttachment,      ///< depth test + write
     DepthRead,            ///< depth test only, or sampled as depth
     SampledFragment,
+    SampledGraphics,      ///< sampled from vertex and fragment shaders (e.g. terrain heights)
     SampledCompute,
     StorageCompute,       ///< read/write from compute shaders
     TransferSrc,

@@ -27,4 +27,14 @@ void Uploader::toImage(VkCommandBuffer cmd, Image& dst, const void* data, VkDevi
     bytes_ += size;
 }
 
+void Uploader::toImageRegions(VkCommandBuffer cmd, Image& dst, const void* data, VkDeviceSize size,
+                              std::span<const VkBufferImageCopy> regions) {
+    Buffer staging(device_, size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::Upload, "staging");
+    staging.write(data, size);
+    transition(cmd, dst, ImageUse::TransferDst);
+    vkCmdCopyBufferToImage(cmd, staging.vk(), dst.vk(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                           static_cast<uint32_t>(regions.size()), regions.data());
+    bytes_ += size;
+}
+
 }  // namespace orbis::gpu

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 
 namespace orbis::gpu {
 
@@ -27,6 +28,12 @@ public:
     /// TransferDst use: transition it to its sampled use afterwards. Called while recording.
     void toImage(VkCommandBuffer cmd, Image& dst, const void* data, VkDeviceSize size, uint32_t layer = 0,
                  VkOffset3D offset = {0, 0, 0}, VkExtent3D extent = {0, 0, 0});
+
+    /// Copies one staging block into several subresources of `dst` (e.g. every mip level of
+    /// one array layer); each region's bufferOffset is relative to `data`. Leaves `dst` in
+    /// TransferDst use. Called while recording.
+    void toImageRegions(VkCommandBuffer cmd, Image& dst, const void* data, VkDeviceSize size,
+                        std::span<const VkBufferImageCopy> regions);
 
     uint64_t bytesUploaded() const { return bytes_; }
     void resetCounter() { bytes_ = 0; }

@@ -85,6 +85,7 @@ Renderer::Renderer(gpu::Device& device, uint32_t width, uint32_t height)
     services_.colorFormat = gpu::RenderTarget::kColorFormat;
     services_.depthFormat = gpu::RenderTarget::kDepthFormat;
     services_.frameSetLayout = frameSetLayout_.vk();
+    services_.framesInFlight = ring_.framesInFlight();
     services_.jobs = [this]() -> jobs::ThreadPool& { return jobs(); };
 }
 
@@ -169,15 +170,35 @@ void Renderer::recordPass(scene::Pass pass, const char* name, scene::Scene& scen
     timer_.end(cmd, scope);
 }
 
-FrameResult Renderer::render(scene::Scene& scene, bool readback) {
+int Renderer::settle(scene::Scene& scene, double maxSeconds) {
+    const auto start = std::chrono::steady_clock::now();
+    int frames = 0;
+    do {
+        const FrameResult f = render(scene, /*readback=*/false, /*draw=*/false);
+        device_.wait(f.timelineValue);
+        ++frames;
+        if (!scene.busy()) break;
+        // Let the workers load rather than spin: a frame that draws nothing is cheap, but
+        // selection and uploads still take the main thread.
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    } while (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < maxSeconds);
+    return frames;
+}
+
+FrameResult Renderer::render(scene::Scene& scene, bool readback) { return render(scene, readback, true); }
+
+FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw) {
     const auto t0 = std::chrono::steady_clock::now();
     // GPU objects are built before the frame starts recording, and only for visible layers.
     for (auto& r : scene.resources())
         if (r.visible && !r.layer->prepared()) prepareLayer(*r.layer);
 
-    // The near plane follows the camera's height (reversed-Z keeps precision at any range).
-    const double height = globe::Ellipsoid::wgs84().toGeodetic(scene.camera().position()).height;
-    scene.camera().setNear(scene::Camera::autoNear(height));
+    // The near plane follows the camera's height above the ground (reversed-Z keeps precision
+    // at any range).
+    const globe::Geodetic eye = globe::Ellipsoid::wgs84().toGeodetic(scene.camera().position());
+    const double height = eye.height;
+    const double ground = scene.heightAt(eye.lonDeg, eye.latDeg).value_or(0.0);
+    scene.camera().setNear(scene::Camera::autoNear(height - std::min(ground, height)));
 
     gpu::FrameRing::Frame& frame = ring_.begin();
     timer_.beginFrame(frame.cmd, frame.slot);
@@ -199,14 +220,18 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback) {
     rc.frame = &ctx;
     rc.frameSet = frameSets_[frame.slot];
     rc.uploader = &uploader_;
+    rc.slot = frame.slot;
 
+    for (auto& r : scene.resources())
+        if (r.visible) r.layer->recordTransfers(rc);
     // The opaque pass always runs (it clears); later passes only when a visible layer uses them.
-    recordPass(scene::Pass::Opaque, passName(scene::Pass::Opaque), scene, rc, true, scene.desc().background);
-    for (scene::Pass pass : {scene::Pass::Points, scene::Pass::Fmv, scene::Pass::Volume, scene::Pass::Overlay}) {
-        const bool used = std::any_of(scene.resources().begin(), scene.resources().end(), [&](const scene::Resource& r) {
-            return r.visible && r.layer->drawsIn(pass);
-        });
-        if (used) recordPass(pass, passName(pass), scene, rc, false, scene.desc().background);
+    if (draw) {
+        recordPass(scene::Pass::Opaque, passName(scene::Pass::Opaque), scene, rc, true, scene.desc().background);
+        for (scene::Pass pass : {scene::Pass::Points, scene::Pass::Fmv, scene::Pass::Volume, scene::Pass::Overlay}) {
+            const bool used = std::any_of(scene.resources().begin(), scene.resources().end(),
+                                          [&](const scene::Resource& r) { return r.visible && r.layer->drawsIn(pass); });
+            if (used) recordPass(pass, passName(pass), scene, rc, false, scene.desc().background);
+        }
     }
     if (readback) {
         const int scope = timer_.begin(frame.cmd, "readback");

@@ -40,6 +40,10 @@ public:
 
     /// Updates the visible layers, records every pass and submits. Main thread only.
     FrameResult render(scene::Scene& scene, bool readback);
+    /// Runs frames that update, load and upload but draw nothing, until no visible layer is
+    /// busy or `maxSeconds` have passed; returns the frames run. Batch renders call it before
+    /// the frame they keep, so the picture has every tile the view needs.
+    int settle(scene::Scene& scene, double maxSeconds);
     /// Blocks until the frame is done, then returns its pixels (RGBA8 sRGB, top row first).
     std::vector<uint8_t> readPixels(const FrameResult& frame);
     /// Blocks until the frame is done, then returns its per-pass GPU times.
@@ -55,6 +59,7 @@ public:
     bool jobsStarted() const { return jobs_ != nullptr; }
 
 private:
+    FrameResult render(scene::Scene& scene, bool readback, bool draw);
     void prepareLayer(scene::Layer& layer);
     void writeFrameUniforms(uint32_t slot, const scene::Scene& scene, const scene::FrameContext& ctx);
     void recordPass(scene::Pass pass, const char* name, scene::Scene& scene, const scene::RecordContext& rc,

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -34,6 +35,7 @@ struct RenderServices {
     VkFormat colorFormat = VK_FORMAT_UNDEFINED;
     VkFormat depthFormat = VK_FORMAT_UNDEFINED;
     VkDescriptorSetLayout frameSetLayout = VK_NULL_HANDLE;   ///< set 0: FrameUniforms
+    uint32_t framesInFlight = 2;                              ///< RecordContext::slot < this
     /// The shared worker pool, started on first call (a scene that needs no threads starts none).
     std::function<jobs::ThreadPool&()> jobs;
 };
@@ -52,6 +54,7 @@ struct RecordContext {
     const FrameContext* frame = nullptr;
     VkDescriptorSet frameSet = VK_NULL_HANDLE;
     gpu::Uploader* uploader = nullptr;
+    uint32_t slot = 0;   ///< frame-in-flight index: per-frame buffers written by the CPU use it
 };
 
 class Layer {
@@ -69,11 +72,22 @@ public:
     /// Per-frame CPU work (selection, time). Main thread only.
     virtual void update(const FrameContext&) {}
     virtual bool drawsIn(Pass pass) const = 0;
+    /// Records uploads and other transfers for this frame, before the first pass begins
+    /// (outside any rendering scope). Called only for visible, prepared layers.
+    virtual void recordTransfers(const RecordContext&) {}
     /// Records the layer's commands for `pass`. Called while recording, inside the pass.
     virtual void record(Pass pass, const RecordContext& context) = 0;
 
     /// GPU memory the layer holds, for the stats.
     virtual uint64_t gpuBytes() const { return 0; }
+    /// Height of the ground (metres above the ellipsoid, as drawn) at a point, for layers that
+    /// are ground (terrain); nothing where the layer knows no height. Main thread only.
+    virtual std::optional<double> groundHeightAt(double /*lonDeg*/, double /*latDeg*/) const { return std::nullopt; }
+    /// True while the layer still has work in flight that would change the picture (tiles
+    /// loading or waiting for upload). Batch renders wait for it to clear.
+    virtual bool busy() const { return false; }
+    /// One line for progress and stats ("tiles 120 drawn, 4 loading"); empty when nothing to say.
+    virtual std::string status() const { return {}; }
 
 private:
     bool prepared_ = false;

@@ -34,4 +34,17 @@ Resource* Scene::find(const std::string& name) {
 
 void Scene::goHome() { camera_.setPose(globe::poseFromViewpoint(desc_.viewpoint)); }
 
+std::optional<double> Scene::heightAt(double lonDeg, double latDeg) const {
+    for (const auto& r : resources_)
+        if (r.visible && r.layer->prepared())
+            if (auto h = r.layer->groundHeightAt(lonDeg, latDeg)) return h;
+    return std::nullopt;
+}
+
+bool Scene::busy() const {
+    for (const auto& r : resources_)
+        if (r.visible && r.layer->prepared() && r.layer->busy()) return true;
+    return false;
+}
+
 }  // namespace orbis::scene

@@ -39,6 +39,13 @@ public:
     TimeServer& time() { return time_; }
     const TimeServer& time() const { return time_; }
 
+    /// The elevation query: ground height (metres above the ellipsoid, as drawn) at a point
+    /// from the first visible ground layer that knows it (terrain), else nothing (the
+    /// ellipsoid). Used by camera collision, the near plane, clamping and FMV.
+    std::optional<double> heightAt(double lonDeg, double latDeg) const;
+    /// True while a visible layer still loads what the current view needs.
+    bool busy() const;
+
     /// Puts the camera at the scene's viewpoint (the "Home" view).
     void goHome();
 
