@@ -1,11 +1,13 @@
 #include "layers/BuiltinLayers.h"
 
 #include "layers/globe/GlobeLayer.h"
+#include "layers/terrain/TerrainLayer.h"
 
 namespace orbis::layers {
 
 void registerBuiltinLayers(scene::LayerRegistry& registry) {
     registry.add("globe", "WGS84 ellipsoid with graticule, sun lighting and sky", &GlobeLayer::create);
+    registry.add("terrain", "WGS84 quadtree terrain streaming DEMs and imagery through GDAL", &TerrainLayer::create);
 }
 
 }  // namespace orbis::layers

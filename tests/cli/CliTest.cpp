@@ -113,7 +113,7 @@ TEST(Cli, InfoOnMissingOrUnknownFileExitsOne) {
 TEST(Cli, InfoOnSceneListsLayers) {
     const CliRun r = run(std::string("info ") + ORBIS_DEFAULT_SCENE);
     EXPECT_EQ(r.exitCode, 0) << r.output;
-    EXPECT_NE(r.output.find("\"type\": \"globe\""), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("\"type\": \"terrain\""), std::string::npos) << r.output;
 }
 
 class CliGpu : public ::testing::Test {

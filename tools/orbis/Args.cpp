@@ -1,6 +1,7 @@
 #include "tools/orbis/Args.h"
 
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 
 namespace orbis::cli {
@@ -53,6 +54,19 @@ std::optional<long> Args::integer(const std::string& name, long min, long max) c
     auto [ptr, ec] = std::from_chars(v->data(), v->data() + v->size(), out);
     if (ec != std::errc() || ptr != v->data() + v->size())
         throw UsageError{"option " + name + " expects an integer, got '" + *v + "'"};
+    if (out < min || out > max)
+        throw UsageError{"option " + name + " must be in [" + std::to_string(min) + ", " + std::to_string(max) +
+                         "], got " + *v};
+    return out;
+}
+
+std::optional<double> Args::number(const std::string& name, double min, double max) const {
+    auto v = value(name);
+    if (!v) return std::nullopt;
+    double out = 0;
+    auto [ptr, ec] = std::from_chars(v->data(), v->data() + v->size(), out);
+    if (ec != std::errc() || ptr != v->data() + v->size() || !std::isfinite(out))
+        throw UsageError{"option " + name + " expects a number, got '" + *v + "'"};
     if (out < min || out > max)
         throw UsageError{"option " + name + " must be in [" + std::to_string(min) + ", " + std::to_string(max) +
                          "], got " + *v};

@@ -28,6 +28,8 @@ public:
 
     /// Integer in [min, max]; throws UsageError naming the option.
     std::optional<long> integer(const std::string& name, long min, long max) const;
+    /// Finite number in [min, max]; throws UsageError naming the option.
+    std::optional<double> number(const std::string& name, double min, double max) const;
     /// "WxH" with both in [1, 16384]; throws UsageError.
     std::optional<std::pair<uint32_t, uint32_t>> size(const std::string& name) const;
 

@@ -5,6 +5,8 @@
 #include "layers/BuiltinLayers.h"
 #include "tools/orbis/Session.h"
 
+#include "globe/RasterSource.h"
+
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
@@ -16,7 +18,7 @@ namespace {
 const char* kHelp =
     "usage: orbis info [FILE] [options]\n"
     "Without FILE: the Vulkan devices, the one Orbis would pick, its driver and the features used.\n"
-    "With FILE: what the file holds, as JSON. Readers so far: scene files (.json).\n";
+    "With FILE: what the file holds, as JSON. Readers so far: scene files (.json) and rasters (GDAL).\n";
 
 std::string version(uint32_t v) {
     return std::to_string(VK_API_VERSION_MAJOR(v)) + "." + std::to_string(VK_API_VERSION_MINOR(v)) + "." +
@@ -109,8 +111,15 @@ int infoCommand(const std::vector<std::string>& argv) {
     }
     const std::string ext = std::filesystem::path(file).extension().string();
     if (ext == ".json") return sceneInfo(file);
-    std::fprintf(stderr, "orbis: %s: no reader for '%s' files in this build (readers: scene .json)\n", file.c_str(),
-                 ext.c_str());
+    // Everything else is tried as a raster (GeoTIFF, DTED, VRT, JP2, netCDF 2-D, ...).
+    auto raster = globe::describeRasterJson(file);
+    if (raster) {
+        std::printf("%s\n", raster->c_str());
+        return kOk;
+    }
+    std::fprintf(stderr, "orbis: %s\n", raster.message().c_str());
+    std::fprintf(stderr, "orbis: %s: no reader for this file (readers: scene .json, rasters GDAL opens)\n",
+                 file.c_str());
     return kBadInput;
 }
 

@@ -17,14 +17,16 @@ const char* kHelp =
     "Renders one frame of SCENE headlessly and writes it as a PNG.\n"
     "  -o, --output FILE  the PNG to write (required)\n"
     "  --size WxH         image size in pixels (default 1280x720)\n"
-    "  --time T           virtual time: ISO-8601 (2026-03-20T08:00:00Z) or seconds after the scene start\n";
+    "  --time T           virtual time: ISO-8601 (2026-03-20T08:00:00Z) or seconds after the scene start\n"
+    "  --wait S           wait at most S seconds for streamed data (tiles) before the frame (default 300)\n"
+    "  --first-frame      render the very first frame, without waiting for any data\n";
 }
 
 int renderCommand(const std::vector<std::string>& argv) {
     std::set<std::string> valued = gpuValuedOptions();
-    valued.insert({"--output", "--size", "--time"});
+    valued.insert({"--output", "--size", "--time", "--wait"});
     std::set<std::string> flags = gpuFlagOptions();
-    flags.insert("--help");
+    flags.insert({"--help", "--first-frame"});
     Args args(argv, valued, flags, {{"-o", "--output"}, {"-h", "--help"}});
     if (args.flag("--help")) {
         std::printf("%s%s", kHelp, gpuOptionsHelp().c_str());
@@ -44,7 +46,14 @@ int renderCommand(const std::vector<std::string>& argv) {
     std::unique_ptr<scene::Scene> scene = std::move(loaded).value();
     render::Renderer renderer(*gpu.device, width, height);
     scene->time().advance(0.0);
+    if (!args.flag("--first-frame")) {
+        const double wait = args.number("--wait", 0.0, 86400.0).value_or(300.0);
+        const int frames = renderer.settle(*scene, wait);
+        if (scene->busy()) log::warn("still loading after ", wait, " s (", frames, " frames): the image may lack detail");
+    }
     const auto frame = renderer.render(*scene, /*readback=*/true);
+    for (const auto& r : scene->resources())
+        if (r.visible && !r.layer->status().empty()) log::info(r.name, ": ", r.layer->status());
     ImageRgba8 image{width, height, renderer.readPixels(frame)};
     if (auto ok = writePng(*output, image); !ok) {
         std::fprintf(stderr, "orbis: %s\n", ok.message().c_str());

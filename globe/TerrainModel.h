@@ -1,0 +1,165 @@
+#pragma once
+// The CPU side of the streamed terrain: the raster sources, the tile pager (loads on the
+// engine's worker pool with priorities and cancellation) and the LRU tile cache with a byte
+// budget. It knows which tile data is ready, which ancestor stands in for missing data
+// (scale/bias fallback), the height range of a tile for culling, and answers heightAt() over
+// the loaded data. No Vulkan: the terrain layer uploads what this holds.
+//
+// Data layers: layer 0 is elevation (every DEM composited: the finest source wins, its holes
+// are filled by coarser sources, then by the parent tile, then by the ellipsoid); layers
+// 1..N are the imagery layers in scene order.
+//
+// Loading goes one level at a time down each tile's chain of ancestors, so coarse data always
+// arrives first and every tile has an ancestor to stand in for it.
+
+#include "engine/jobs/ThreadPool.h"
+#include "globe/RasterSource.h"
+#include "globe/TileKey.h"
+#include "globe/TileSelector.h"
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace orbis::globe {
+
+/// Heights of a tile's corner-aligned grid (row 0 north), never NaN.
+struct ElevationData {
+    int size = 0;
+    std::vector<float> heights;
+    float minHeight = 0.0f, maxHeight = 0.0f;
+    size_t bytes() const { return sizeof(*this) + heights.size() * sizeof(float); }
+    /// Bilinear height at tile texture coordinates (u east, v south, 0..1, corner-aligned).
+    float sample(double u, double v) const;
+};
+
+/// An imagery tile with its full mip chain (sRGB RGBA8, level 0 first, each level tightly packed).
+struct ImageryData {
+    int size = 0;
+    std::vector<uint8_t> rgba;
+    std::vector<size_t> mipOffsets;   ///< byte offset of each level in rgba
+    size_t bytes() const { return sizeof(*this) + rgba.size(); }
+    int mipLevels() const { return int(mipOffsets.size()); }
+};
+
+/// Builds the mip chain of a square RGBA8 sRGB image (box filter in linear light, alpha-weighted).
+ImageryData buildImageryMips(int size, std::vector<uint8_t> rgbaLevel0);
+
+struct DataKey {
+    uint32_t layer = 0;
+    TileKey tile;
+    bool operator==(const DataKey&) const = default;
+};
+struct DataKeyHash {
+    size_t operator()(const DataKey& k) const noexcept { return TileKeyHash{}(k.tile) * 31u + k.layer; }
+};
+
+enum class DataState { Missing, Loading, Ready, Empty, Failed };
+
+struct TerrainModelSettings {
+    int gridSize = 65;                           ///< elevation samples per tile side
+    int imageSize = 256;                         ///< imagery pixels per tile side
+    uint64_t cpuBudgetBytes = 256ull << 20;      ///< tile data kept in memory
+    uint32_t maxLevel = 22;
+};
+
+struct PagerStats {
+    uint64_t started = 0, completed = 0, cancelled = 0, failed = 0, empty = 0;
+    uint64_t evicted = 0;
+    size_t loading = 0;          ///< jobs queued or running now
+    uint64_t loadNanoseconds = 0;  ///< summed time inside load functions (worker threads)
+};
+
+class TerrainModel {
+public:
+    /// `pool` may be null: loads then run inline inside request() (tests, tools).
+    TerrainModel(const TerrainModelSettings& settings, std::vector<std::shared_ptr<RasterSource>> elevation,
+                 std::vector<std::shared_ptr<RasterSource>> imagery, jobs::ThreadPool* pool);
+    ~TerrainModel();
+    TerrainModel(const TerrainModel&) = delete;
+    TerrainModel& operator=(const TerrainModel&) = delete;
+
+    const TerrainModelSettings& settings() const { return settings_; }
+    uint32_t layerCount() const { return uint32_t(1 + imagery_.size()); }
+    bool hasElevation() const { return !elevation_.empty(); }
+    /// Deepest level at which a layer has data worth loading.
+    uint32_t maxDataLevel(uint32_t layer) const;
+    /// Coarsest level a layer can be read at (huge files without overviews start deeper).
+    uint32_t minDataLevel(uint32_t layer) const;
+
+    /// Starts a frame: collects finished loads into the cache. Main thread.
+    void beginFrame(uint64_t frameNumber);
+    /// Asks for `tile`'s data in `layer`. Loads the next missing level on the way down from
+    /// the deepest ready ancestor (coarse first), with a priority from the level and the
+    /// distance to the camera (near first). Marks the data in use this frame (LRU).
+    void request(uint32_t layer, const TileKey& tile, double distance);
+    /// Ends a frame: cancels loads that nobody asked for this frame, trims the cache to its budget.
+    void endFrame();
+
+    DataState state(uint32_t layer, const TileKey& tile) const;
+    /// The deepest ancestor-or-self of `tile` whose data in `layer` is ready, if any.
+    std::optional<TileKey> readyAncestor(uint32_t layer, const TileKey& tile) const;
+    std::shared_ptr<const ElevationData> elevation(const TileKey& tile) const;
+    std::shared_ptr<const ImageryData> imagery(uint32_t layer, const TileKey& tile) const;
+
+    /// Terrain height above the ellipsoid (metres, unexaggerated) from the finest loaded data;
+    /// nothing when no loaded elevation tile covers the point.
+    std::optional<double> heightAt(double lonDeg, double latDeg) const;
+    /// Conservative height range of a tile from its own or an ancestor's loaded data.
+    TileHeightRange heightRange(const TileKey& tile) const;
+
+    /// Blocks until every load in flight has finished and been collected (tests, batch renders).
+    void waitIdle();
+    bool loading() const { return loadingCount_ > 0; }
+    uint64_t cpuBytes() const { return cpuBytes_; }
+    const PagerStats& stats() const { return stats_; }
+    /// Errors met so far, one line each (first few only).
+    const std::vector<std::string>& errors() const { return errors_; }
+
+private:
+    struct LoadResult {
+        std::shared_ptr<const ElevationData> elevation;
+        std::shared_ptr<const ImageryData> imagery;
+        bool empty = false;
+        bool descend = false;   ///< empty here, but finer levels may have data
+        std::string error;
+        uint64_t nanoseconds = 0;
+    };
+    struct Entry {
+        DataState state = DataState::Missing;
+        std::shared_ptr<const ElevationData> elevation;
+        std::shared_ptr<const ImageryData> imagery;
+        size_t bytes = 0;
+        bool descend = false;
+        uint64_t lastUsed = 0;
+        jobs::Job<LoadResult> job;
+    };
+
+    const Entry* find(uint32_t layer, const TileKey& tile) const;
+    void startLoad(const DataKey& key, Entry& entry, double priority);
+    void finishLoad(const DataKey& key, Entry& entry, LoadResult result);
+    void collectFinished();
+    void trim();
+    LoadResult loadElevation(const TileKey& tile, std::shared_ptr<const ElevationData> ancestor, uint32_t ancestorLevel,
+                             const jobs::CancelToken& cancel) const;
+    LoadResult loadImagery(uint32_t layer, const TileKey& tile, const jobs::CancelToken& cancel) const;
+    void noteError(const std::string& message);
+
+    TerrainModelSettings settings_;
+    std::vector<std::shared_ptr<RasterSource>> elevation_;   // finest first
+    std::vector<std::shared_ptr<RasterSource>> imagery_;
+    jobs::ThreadPool* pool_;
+    std::unordered_map<DataKey, Entry, DataKeyHash> entries_;
+    uint64_t frame_ = 0;
+    uint64_t cpuBytes_ = 0;
+    size_t loadingCount_ = 0;
+    uint32_t deepestElevation_ = 0;
+    PagerStats stats_;
+    std::vector<std::string> errors_;
+};
+
+}  // namespace orbis::globe

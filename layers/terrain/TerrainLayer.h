@@ -1,0 +1,169 @@
+#pragma once
+// "terrain": the WGS84 globe streamed from DEMs and imagery that GDAL reads, as a quadtree of
+// tiles selected by screen-space error. See DESIGN.md "Globe tiling".
+//
+//   {"type": "terrain", "name": "Earth",
+//    "elevation": ["dem.tif", {"path": "other.tif", "band": 1, "noData": -32768}],
+//    "imagery": [{"name": "Landsat", "path": "L7.tif", "bands": [3, 2, 1], "range": [0, 255],
+//                 "opacity": 1.0, "visible": true},
+//                {"name": "OSM", "xyz": "http://127.0.0.1:8080/{z}/{x}/{y}.png"}],
+//    "maxScreenSpaceError": 2, "gridSize": 65, "imageSize": 256, "maxLevel": 22,
+//    "verticalExaggeration": 1, "color": [0.1, 0.24, 0.48], "lighting": "sun" | "headlight",
+//    "sky": true, "cpuCacheMB": 256, "gpuCacheMB": 512, "uploadBudgetMB": 32, "tileBorders": false}
+//
+// A source that cannot be opened is logged once and left out: the terrain still draws (the
+// ellipsoid in the base colour stands in for it).
+
+#include "engine/gpu/Buffer.h"
+#include "engine/gpu/Handle.h"
+#include "engine/gpu/Image.h"
+#include "engine/scene/Layer.h"
+#include "engine/scene/SceneDesc.h"
+#include "globe/RasterSource.h"
+#include "globe/TerrainModel.h"
+#include "globe/TileSelector.h"
+
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace orbis::layers {
+
+struct ImageryLayerSettings {
+    std::string name;
+    globe::RasterSourceOptions source;
+    double opacity = 1.0;
+    bool visible = true;
+};
+
+struct TerrainSettings {
+    std::vector<globe::RasterSourceOptions> elevation;
+    std::vector<ImageryLayerSettings> imagery;
+    double maxScreenSpaceError = 2.0;
+    int gridSize = 65;
+    int imageSize = 256;
+    uint32_t maxLevel = 22;
+    double verticalExaggeration = 1.0;
+    glm::dvec3 color{0.10, 0.24, 0.48};   ///< sRGB, where no imagery
+    bool sunLighting = true;
+    bool sky = true;
+    uint64_t cpuCacheBytes = 256ull << 20;
+    uint64_t gpuCacheBytes = 512ull << 20;
+    uint64_t uploadBudgetBytes = 32ull << 20;   ///< per frame, tile data (meshes are never held back)
+    bool tileBorders = false;
+};
+
+struct TerrainStats {
+    size_t tilesDrawn = 0;
+    size_t tilesWithOwnElevation = 0;   ///< drawn with their own data (not an ancestor's)
+    size_t uploadsThisFrame = 0;
+    uint64_t uploadBytesThisFrame = 0;
+    uint32_t deepestLevel = 0;
+    globe::SelectionStats selection;
+};
+
+class TerrainLayer : public scene::Layer {
+public:
+    static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
+
+    explicit TerrainLayer(TerrainSettings settings);
+    ~TerrainLayer() override;
+
+    std::string_view type() const override { return "terrain"; }
+    void prepare(const scene::RenderServices& services) override;
+    void update(const scene::FrameContext& frame) override;
+    bool drawsIn(scene::Pass pass) const override { return pass == scene::Pass::Opaque; }
+    void recordTransfers(const scene::RecordContext& context) override;
+    void record(scene::Pass pass, const scene::RecordContext& context) override;
+    uint64_t gpuBytes() const override;
+    bool busy() const override;
+    std::string status() const override;
+
+    TerrainSettings& settings() { return settings_; }
+    const TerrainSettings& settings() const { return settings_; }
+    const TerrainStats& stats() const { return stats_; }
+    /// The per-tile draw records of the last frame (shader::TileDraw each), for tests.
+    const std::vector<uint8_t>& drawRecords() const { return drawData_; }
+    /// The tiles selected for the last frame.
+    const std::vector<globe::SelectedTile>& selection() const { return selector_->selection(); }
+    /// The CPU model (sources, pager, cache); null before prepare().
+    globe::TerrainModel* model() { return model_.get(); }
+    const globe::TerrainModel* model() const { return model_.get(); }
+    /// Terrain height (metres above the ellipsoid, exaggerated as drawn) at a point, from the
+    /// loaded data; nothing when nothing is loaded there.
+    std::optional<double> heightAt(double lonDeg, double latDeg) const;
+    std::optional<double> groundHeightAt(double lonDeg, double latDeg) const override { return heightAt(lonDeg, latDeg); }
+    /// Problems met while opening sources and loading tiles.
+    const std::vector<std::string>& errors() const { return errors_; }
+
+private:
+    struct Slot {
+        globe::DataKey owner;
+        uint64_t lastUsed = 0;
+        bool taken = false;
+    };
+    struct SlotPool {
+        uint32_t slotsPerPage = 0, maxPages = 0;
+        uint64_t pageBytes = 0;
+        std::vector<Slot> slots;
+        std::vector<uint32_t> freeSlots;
+        std::unordered_map<globe::DataKey, uint32_t, globe::DataKeyHash> resident;
+        uint32_t pages() const { return slotsPerPage ? uint32_t(slots.size() / slotsPerPage) : 0; }
+    };
+    struct PendingUpload {
+        uint32_t kind;   // 0 mesh, 1 elevation, 2 imagery
+        uint32_t slot;
+        globe::TileKey tile;
+        uint32_t layer;
+    };
+
+    std::optional<uint32_t> acquireSlot(SlotPool& pool, const globe::DataKey& owner, bool mayExceedBudget);
+    void addPage(uint32_t kind);
+    uint64_t allocatedBytes() const;   ///< tile pools
+    uint64_t fixedBytes() const;       ///< index and draw buffers
+    void writeDescriptors(uint32_t frameSlot);
+
+    TerrainSettings settings_;
+    std::vector<std::string> errors_;
+    std::unique_ptr<globe::TerrainModel> model_;
+    std::unique_ptr<globe::TileSelector> selector_;
+    scene::RenderServices services_;
+    uint64_t frame_ = 0;
+
+    // GPU residency.
+    SlotPool meshes_, elevation_, imagery_;
+    std::vector<gpu::Buffer> meshPages_;
+    std::vector<gpu::Image> elevationPages_, imageryPages_;
+    gpu::Image dummyElevation_, dummyImagery_;
+    gpu::Buffer indices_;
+    uint32_t indexCount_ = 0;
+    std::vector<PendingUpload> uploads_;
+    std::unordered_map<globe::TileKey, glm::dvec3, globe::TileKeyHash> meshCenters_;
+
+    // Per frame in flight: draw list and its descriptor set.
+    std::vector<gpu::Buffer> drawBuffers_;
+    std::vector<VkDescriptorSet> sets_;
+    std::vector<uint64_t> setVersion_;
+    uint64_t descriptorVersion_ = 1;
+    uint32_t maxDraws_ = 8192;
+    struct DrawItem {
+        uint32_t meshSlot;
+        uint32_t drawIndex;
+    };
+    std::vector<DrawItem> drawItems_;
+    std::vector<uint8_t> drawData_;   // TileDraw records for this frame
+
+    gpu::DescriptorSetLayout setLayout_;
+    gpu::DescriptorPool descriptorPool_;
+    gpu::Sampler heightSampler_, imagerySampler_;
+    gpu::PipelineLayout layout_;
+    gpu::Pipeline surface_, sky_;
+
+    TerrainStats stats_;
+    bool warnedDrawCap_ = false, warnedBudget_ = false;
+    bool deferred_ = false;                 ///< ready data waited for upload budget this frame
+    std::vector<size_t> imageryIndex_;      ///< model imagery layer i -> settings_.imagery index
+};
+
+}  // namespace orbis::layers

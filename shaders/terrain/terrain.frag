@@ -1,0 +1,72 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "shared/FrameUniforms.h"
+#include "shared/TerrainTypes.h"
+
+layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
+layout(set = 1, binding = 0, std430) readonly buffer DrawBlock { TileDraw draws[]; };
+layout(set = 1, binding = 2) uniform sampler2DArray imageryPages[kImageryPages];
+layout(push_constant) uniform PushBlock { TerrainPush pc; };
+
+layout(location = 0) in vec3 vNormal;
+layout(location = 1) in vec2 vUv;
+layout(location = 2) in vec3 vFromEye;
+layout(location = 3) flat in int vDraw;
+
+layout(location = 0) out vec4 outColor;
+
+// lavapipe cannot index sampler arrays with a variable (shaderSampledImageArrayDynamicIndexing
+// is off), so each page is picked with a constant index. Implicit derivatives inside the
+// branches are not reliable (the compiler cannot prove the branch uniform), so the gradients
+// are taken outside, in uniform control flow, and passed in.
+vec4 fetchImagery(int page, vec3 tc, vec2 gx, vec2 gy) {
+    switch (page) {
+        case 0: return textureGrad(imageryPages[0], tc, gx, gy);
+        case 1: return textureGrad(imageryPages[1], tc, gx, gy);
+        case 2: return textureGrad(imageryPages[2], tc, gx, gy);
+        case 3: return textureGrad(imageryPages[3], tc, gx, gy);
+        case 4: return textureGrad(imageryPages[4], tc, gx, gy);
+        case 5: return textureGrad(imageryPages[5], tc, gx, gy);
+        case 6: return textureGrad(imageryPages[6], tc, gx, gy);
+        default: return textureGrad(imageryPages[7], tc, gx, gy);
+    }
+}
+
+void main() {
+    TileDraw d = draws[vDraw];
+    vec3 color = pc.baseColor.rgb;
+    vec2 uvDx = dFdx(vUv), uvDy = dFdy(vUv);
+    // Imagery layers in scene order, each over the ones before it.
+    for (int i = 0; i < int(kTerrainMaxImagery); ++i) {
+        int slot = d.imagerySlot[i];
+        if (slot < 0) continue;
+        vec2 t = vUv * d.imageryScaleBias[i].xy + d.imageryScaleBias[i].zw;
+        int page = slot / int(kImagerySlotsPerPage);
+        vec2 scale = d.imageryScaleBias[i].xy;
+        vec4 c = fetchImagery(page, vec3(t, float(slot % int(kImagerySlotsPerPage))), uvDx * scale, uvDy * scale);
+        color = mix(color, c.rgb, c.a * pc.imageryOpacity[i]);
+    }
+
+    vec3 n = normalize(vNormal);
+    vec3 toEye = normalize(-vFromEye);
+    bool sun = pc.params.x > 0.5;
+    vec3 toLight = sun ? frame.sunDirection.xyz : toEye;
+    float ndl = dot(n, toLight);
+    float lit = sun ? 0.06 + 0.94 * max(ndl, 0.0) : 0.25 + 0.75 * max(ndl, 0.0);
+    color *= lit;
+
+    // Aerial perspective: the optical depth grows with the length of the path through the air
+    // (short near the ground, up to one air mass times the slant when seen from space).
+    float dist = length(vFromEye);
+    float cosZenith = max(dot(n, toEye), 0.03);
+    float opticalDepth = 0.12 * min(dist / 8000.0, 1.0 / cosZenith);
+    float haze = 1.0 - exp(-opticalDepth);
+    float day = sun ? smoothstep(-0.1, 0.2, dot(normalize(vFromEye + frame.eyeEcef.xyz), frame.sunDirection.xyz)) : 1.0;
+    color = mix(color, vec3(0.32, 0.52, 0.85) * 0.55 * day, haze);
+
+    if (pc.params.y > 0.5) {   // debug: tile borders
+        vec2 e = min(vUv, 1.0 - vUv) / max(fwidth(vUv), vec2(1e-6));
+        if (min(e.x, e.y) < 1.0) color = vec3(1.0, 0.9, 0.1);
+    }
+    outColor = vec4(color, 1.0);
+}

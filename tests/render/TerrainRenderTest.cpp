@@ -1,0 +1,311 @@
+// The streamed terrain on lavapipe with validation: golden images, no background through the
+// globe on the first frame, no cracks once loaded, poles and antimeridian, a camera 1 m above a
+// mountain top (no jitter), 40 000 km out, bad inputs, memory budgets, and real data from
+// ../shared/data when it is there.
+#include "engine/gpu/Device.h"
+#include "engine/jobs/ThreadPool.h"
+#include "globe/Ellipsoid.h"
+#include "layers/terrain/TerrainLayer.h"
+#include "tests/render/RenderHelpers.h"
+#include "tests/render/TerrainFixtures.h"
+#include "tests/support/GoldenImage.h"
+#include "tests/support/GpuTest.h"
+
+#include <chrono>
+#include <cstdio>
+
+namespace orbis::test {
+namespace {
+
+std::string jsonString(const std::string& s) { return nlohmann::json(s).dump(); }
+
+/// A terrain scene over the mountain fixture (or `layerJson` when given).
+std::string terrainScene(const std::string& viewpoint, const std::string& layerJson, const std::string& background,
+                         const std::string& time = "2026-06-21T06:30:00Z") {
+    return R"({"viewpoint": )" + viewpoint + R"(, "time": {"start": ")" + time + R"(", "end": ")" + time +
+           R"("}, "background": )" + background + R"(, "layers": [)" + layerJson + "]}";
+}
+
+std::string mountainLayer(const std::string& extra = "") {
+    const auto& f = terrainFixtures();
+    return R"({"type": "terrain", "name": "Mountain", "elevation": [)" + jsonString(f.dem) +
+           R"(], "imagery": [{"path": )" + jsonString(f.image) + "}]" + extra + "}";
+}
+
+std::string worldLayer(const std::string& extra = "") {
+    const std::string dir = std::string(ORBIS_SOURCE_DIR) + "/assets/generated/";
+    return R"({"type": "terrain", "name": "World", "elevation": [)" + jsonString(dir + "world-relief.tif") +
+           R"(], "imagery": [{"path": )" + jsonString(dir + "world-colour.tif") + "}]" + extra + "}";
+}
+
+const char* kRed = "[1, 0, 0]";
+const char* kDark = "[0, 0, 0.012]";
+
+class TerrainRender : public GpuTest {
+protected:
+    void SetUp() override {
+        GpuTest::SetUp();
+        layers::registerBuiltinLayers(registry_);
+    }
+
+    std::unique_ptr<scene::Scene> load(const std::string& json) { return buildScene(json, registry_); }
+
+    /// Renders after loading everything the view needs (settle), or the very first frame.
+    ImageRgba8 render(scene::Scene& scene, bool settle = true, uint32_t w = 320, uint32_t h = 240) {
+        if (!renderer_ || renderer_->width() != w || renderer_->height() != h)
+            renderer_ = std::make_unique<render::Renderer>(device(), w, h);
+        scene.time().advance(0.0);
+        if (settle) {
+            renderer_->settle(scene, 120.0);
+            EXPECT_FALSE(scene.busy()) << "still loading after 120 s";
+        }
+        const auto frame = renderer_->render(scene, true);
+        return ImageRgba8{w, h, renderer_->readPixels(frame)};
+    }
+
+    static layers::TerrainLayer& terrain(scene::Scene& scene) {
+        return dynamic_cast<layers::TerrainLayer&>(*scene.resources().front().layer);
+    }
+
+    /// Pixels inside the ellipsoid's silhouette (the pixel and its 4 neighbours see the
+    /// ellipsoid) that still show the pure red background.
+    static size_t redInsideGlobe(const ImageRgba8& img, const scene::Camera& camera) {
+        const auto& ell = globe::Ellipsoid::wgs84();
+        const double aspect = double(img.width) / img.height;
+        const auto hits = [&](double x, double y) {
+            const glm::dvec3 d = camera.rayDirection(2.0 * x / img.width - 1.0, 2.0 * y / img.height - 1.0, aspect);
+            return ell.intersectRay(camera.position(), d).has_value();
+        };
+        size_t red = 0;
+        for (uint32_t y = 0; y < img.height; ++y)
+            for (uint32_t x = 0; x < img.width; ++x) {
+                const uint8_t* p = &img.pixels[(size_t(y) * img.width + x) * 4];
+                if (!(p[0] > 250 && p[1] < 5 && p[2] < 5)) continue;
+                const double cx = x + 0.5, cy = y + 0.5;
+                if (hits(cx, cy) && hits(cx - 1, cy) && hits(cx + 1, cy) && hits(cx, cy - 1) && hits(cx, cy + 1)) ++red;
+            }
+        return red;
+    }
+
+    scene::LayerRegistry registry_;
+    std::unique_ptr<render::Renderer> renderer_;
+};
+
+bool worldAvailable() {
+    return std::filesystem::exists(std::string(ORBIS_SOURCE_DIR) + "/assets/generated/world-relief.tif");
+}
+
+TEST_F(TerrainRender, FirstFrameShowsNoBackgroundThroughTheGlobe) {
+    // Nothing is loaded on the first frame: every selected tile stands on the ellipsoid.
+    auto scene = load(terrainScene(R"({"lon": 7, "lat": 46, "range": 12000000})", mountainLayer(R"(, "sky": false)"), kRed));
+    ASSERT_TRUE(scene);
+    const auto img = render(*scene, /*settle=*/false);
+    EXPECT_EQ(redInsideGlobe(img, scene->camera()), 0u);
+    EXPECT_GT(terrain(*scene).stats().tilesDrawn, 0u);
+}
+
+TEST_F(TerrainRender, MountainMatchesGoldenWithoutCracks) {
+    auto scene = load(terrainScene(R"({"lon": 7, "lat": 46, "height": 1500, "heading": 30, "pitch": -25, "range": 90000})",
+                                   mountainLayer(R"(, "sky": false)"), kRed));
+    ASSERT_TRUE(scene);
+    const auto img = render(*scene);
+    EXPECT_EQ(redInsideGlobe(img, scene->camera()), 0u) << "cracks or holes between tiles";
+    EXPECT_TRUE(matchesGolden(img, "terrain_mountain"));
+    const auto& stats = terrain(*scene).stats();
+    EXPECT_GT(stats.deepestLevel, 6u);
+    EXPECT_GT(stats.tilesWithOwnElevation, 0u);
+    // Settled: every drawn tile over the DEM has its own data (or, past the DEM's finest
+    // level, its ancestor at that level), never a coarser stand-in.
+    const auto* model = terrain(*scene).model();
+    const globe::GeoExtent dem{6.0, 45.0, 8.0, 47.0};
+    size_t overDem = 0;
+    for (const auto& t : terrain(*scene).selection()) {
+        if (!t.key.extent().intersects(dem)) continue;
+        ++overDem;
+        const globe::TileKey own = t.key.ancestor(std::min(t.key.level, model->maxDataLevel(0)));
+        EXPECT_EQ(model->state(0, own), globe::DataState::Ready) << own.toString();
+    }
+    EXPECT_GT(overDem, 4u);
+    EXPECT_TRUE(terrain(*scene).errors().empty());
+}
+
+TEST_F(TerrainRender, HeightAtMatchesTheDem) {
+    auto scene = load(terrainScene(R"({"lon": 7, "lat": 46, "height": 1500, "pitch": -60, "range": 40000})",
+                                   mountainLayer(), kDark));
+    ASSERT_TRUE(scene);
+    render(*scene);
+    for (const auto& [lon, lat] : {std::pair{7.0, 46.0}, {6.93, 45.97}, {7.1, 46.05}}) {
+        const auto h = scene->heightAt(lon, lat);
+        ASSERT_TRUE(h.has_value()) << lon << ", " << lat;
+        EXPECT_NEAR(*h, TerrainFixtures::height(lon, lat), 25.0) << lon << ", " << lat;
+    }
+    // Outside the DEM: the ellipsoid.
+    const auto sea = scene->heightAt(-30.0, 10.0);
+    EXPECT_TRUE(!sea || *sea == 0.0);
+}
+
+TEST_F(TerrainRender, OneMetreAboveTheSummitDoesNotJitter) {
+    // Find the summit's height from a first load, then put the eye 1 m above it.
+    auto probe = load(terrainScene(R"({"lon": 7, "lat": 46, "pitch": -89, "range": 5000})", mountainLayer(), kDark));
+    ASSERT_TRUE(probe);
+    render(*probe);
+    const auto peak = probe->heightAt(TerrainFixtures::kPeakLon, TerrainFixtures::kPeakLat);
+    ASSERT_TRUE(peak.has_value());
+    // The eye 1 m above the summit looking east, 10 degrees down; then the same moved 1 mm east.
+    const auto eyeAt = [&](double eastMetres) {
+        const double dLon = eastMetres / (6378137.0 * std::cos(glm::radians(TerrainFixtures::kPeakLat))) * 180.0 /
+                            glm::pi<double>();
+        return globe::poseFromEye({TerrainFixtures::kPeakLon + dLon, TerrainFixtures::kPeakLat, *peak + 1.0}, 90.0, -10.0);
+    };
+    auto a = load(terrainScene(R"({"lon": 7, "lat": 46, "range": 1000})", mountainLayer(), kDark));
+    auto b = load(terrainScene(R"({"lon": 7, "lat": 46, "range": 1000})", mountainLayer(), kDark));
+    ASSERT_TRUE(a && b);
+    a->camera().setPose(eyeAt(0.0));
+    b->camera().setPose(eyeAt(0.001));
+    const auto imgA = render(*a);
+    const auto imgB = render(*b);
+    EXPECT_TRUE(matchesGolden(imgA, "terrain_one_metre"));
+    EXPECT_TRUE(imagesAgree(imgA, imgB, "terrain_one_metre_moved", 5, size_t(0.001 * imgA.width * imgA.height)));
+}
+
+TEST_F(TerrainRender, FortyThousandKilometresOut) {
+    if (!worldAvailable()) GTEST_SKIP() << "assets/generated not built";
+    auto scene = load(terrainScene(R"({"lon": -60, "lat": -10, "range": 40000000})", worldLayer(), kDark));
+    ASSERT_TRUE(scene);
+    const auto img = render(*scene);
+    EXPECT_TRUE(matchesGolden(img, "terrain_far"));
+}
+
+TEST_F(TerrainRender, PolesAndAntimeridianHaveNoHoles) {
+    if (!worldAvailable()) GTEST_SKIP() << "assets/generated not built";
+    const std::pair<const char*, const char*> views[] = {
+        {"terrain_north_pole", R"({"lon": 0, "lat": 90, "range": 4000000})"},
+        {"terrain_south_pole", R"({"lon": 30, "lat": -90, "range": 600000, "pitch": -60})"},
+        {"terrain_antimeridian", R"({"lon": 180, "lat": 0, "range": 800000, "pitch": -50, "heading": 270})"},
+    };
+    for (const auto& [name, vp] : views) {
+        auto scene = load(terrainScene(vp, worldLayer(R"(, "sky": false)"), kRed, "2026-03-20T00:00:00Z"));
+        ASSERT_TRUE(scene);
+        const auto img = render(*scene);
+        EXPECT_EQ(redInsideGlobe(img, scene->camera()), 0u) << name;
+        EXPECT_TRUE(matchesGolden(img, name)) << name;
+    }
+}
+
+TEST_F(TerrainRender, DefaultSceneMatchesGolden) {
+    if (!worldAvailable()) GTEST_SKIP() << "assets/generated not built";
+    auto desc = scene::parseSceneFile(std::string(ORBIS_SOURCE_DIR) + "/assets/scenes/default.json");
+    ASSERT_TRUE(desc.ok()) << desc.message();
+    auto scene = scene::Scene::build(std::move(desc).value(), registry_);
+    ASSERT_TRUE(scene.ok()) << scene.message();
+    const auto img = render(**scene);
+    EXPECT_TRUE(matchesGolden(img, "terrain_default"));
+}
+
+TEST_F(TerrainRender, BadSourcesAreReportedAndLeftOut) {
+    const auto& f = terrainFixtures();
+    const std::string layer = R"({"type": "terrain", "name": "Bad", "sky": false, "elevation": [)" +
+                              jsonString((f.dir / "missing.tif").string()) + ", " + jsonString(f.corrupt) + ", " +
+                              jsonString(f.noCrs) + ", " + jsonString(f.huge) + "]}";
+    auto scene = load(terrainScene(R"({"lon": 7, "lat": 46, "range": 3000000})", layer, kRed));
+    ASSERT_TRUE(scene);
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto img = render(*scene);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const auto& errors = terrain(*scene).errors();
+    ASSERT_EQ(errors.size(), 3u);
+    EXPECT_NE(errors[0].find("missing.tif"), std::string::npos) << errors[0];
+    EXPECT_NE(errors[1].find("corrupt.tif"), std::string::npos) << errors[1];
+    EXPECT_NE(errors[2].find("no-crs.tif"), std::string::npos) << errors[2];
+    // The placeholder: the ellipsoid, whole.
+    EXPECT_EQ(redInsideGlobe(img, scene->camera()), 0u);
+    EXPECT_LT(seconds, 60.0) << "the 10^6 x 10^6 file must not be read in full";
+}
+
+TEST_F(TerrainRender, MemoryStaysWithinBudgetsOnALongFlight) {
+    if (!worldAvailable()) GTEST_SKIP() << "assets/generated not built";
+    auto scene = load(terrainScene(R"({"lon": 0, "lat": 0, "range": 20000000})",
+                                   worldLayer(R"(, "cpuCacheMB": 16, "gpuCacheMB": 48, "sky": false)"), kDark));
+    ASSERT_TRUE(scene);
+    auto& layer = terrain(*scene);
+    uint64_t peakCpu = 0, peakGpu = 0;
+    // Low over many places: far more tiles than the budgets hold.
+    for (int i = 0; i < 16; ++i) {
+        globe::Viewpoint vp;
+        vp.lonDeg = -170.0 + i * 23.0;
+        vp.latDeg = -60.0 + (i % 8) * 17.0;
+        vp.range = 60000.0;
+        vp.pitchDeg = -40.0;
+        scene->camera().setPose(globe::poseFromViewpoint(vp));
+        render(*scene, true, 256, 192);
+        peakCpu = std::max(peakCpu, layer.model()->cpuBytes());
+        peakGpu = std::max(peakGpu, layer.gpuBytes());
+    }
+    EXPECT_LE(peakCpu, uint64_t(16.0 * 1.1 * (1 << 20)));
+    EXPECT_LE(peakGpu, uint64_t(48.0 * 1.1 * (1 << 20)));
+    EXPECT_GT(layer.model()->stats().evicted, 0u) << "the flight should have needed evictions";
+}
+
+// ---- real data from ../shared/data (skipped when absent) -------------------------------
+
+class SharedDataTerrain : public TerrainRender {
+protected:
+    void SetUp() override {
+        TerrainRender::SetUp();
+        data_ = sharedDataDir();
+        if (data_.empty()) GTEST_SKIP() << "../shared/data is absent";
+    }
+    std::string path(const char* rel) const { return jsonString((data_ / rel).string()); }
+    std::filesystem::path data_;
+};
+
+TEST_F(SharedDataTerrain, OlindaUtmDemWithLandsatBands321) {
+    const std::string layer = R"({"type": "terrain", "name": "Olinda", "verticalExaggeration": 10, "elevation": [)" +
+                              path("dem/olinda_dem_utm25s.tif") + R"(], "imagery": [{"path": )" +
+                              path("imagery/L7_ETMs.tif") + R"(, "bands": [3, 2, 1]}]})";
+    auto scene = load(terrainScene(R"({"lon": -34.87, "lat": -8.0, "pitch": -45, "heading": 20, "range": 14000})", layer, kDark,
+                                   "2026-06-21T13:00:00Z"));
+    ASSERT_TRUE(scene);
+    const auto img = render(*scene);
+    EXPECT_TRUE(matchesGolden(img, "terrain_olinda"));
+    EXPECT_TRUE(terrain(*scene).errors().empty());
+    // Where GDAL says: gdallocationinfo -wgs84 gives the nearest pixel; the bilinear height lies
+    // within its 3x3 neighbourhood's range (values read with gdal_translate -srcwin).
+    struct Probe { double lon, lat, lo, hi; };
+    for (const Probe& p : {Probe{-34.88, -8.02, 2, 9}, Probe{-34.86, -8.00, 14, 22}}) {
+        const auto h = terrain(*scene).model()->heightAt(p.lon, p.lat);
+        ASSERT_TRUE(h.has_value());
+        EXPECT_GE(*h, p.lo - 1.0) << p.lon << ", " << p.lat;
+        EXPECT_LE(*h, p.hi + 1.0) << p.lon << ", " << p.lat;
+    }
+}
+
+TEST_F(SharedDataTerrain, LuxembourgNodataHolesFallBackWithoutSpikes) {
+    const std::string layer = R"({"type": "terrain", "name": "Lux", "verticalExaggeration": 8, "elevation": [)" +
+                              path("dem/lux_elev.tif") + "]}";
+    auto scene = load(terrainScene(R"({"lon": 6.13, "lat": 49.8, "pitch": -40, "range": 90000})", layer, kDark));
+    ASSERT_TRUE(scene);
+    const auto img = render(*scene);
+    EXPECT_TRUE(matchesGolden(img, "terrain_luxembourg"));
+    // No spikes: every loaded height is within the DEM's valid range (or the ellipsoid).
+    for (double lat = 49.45; lat < 50.19; lat += 0.01)
+        for (double lon = 5.75; lon < 6.53; lon += 0.01) {
+            const auto h = terrain(*scene).model()->heightAt(lon, lat);
+            if (!h) continue;
+            EXPECT_GE(*h, 0.0);
+            EXPECT_LE(*h, 560.0);
+        }
+}
+
+TEST_F(SharedDataTerrain, WorldImageryOverTheWholeGlobe) {
+    const std::string layer = R"({"type": "terrain", "name": "World", "imagery": [{"path": )" +
+                              path("imagery/world.tif") + R"(}, {"path": )" + path("imagery/boston-inset-wgs84.tif") + "}]}";
+    auto scene = load(terrainScene(R"({"lon": -40, "lat": 35, "range": 15000000})", layer, kDark,
+                                   "2026-03-20T14:00:00Z"));
+    ASSERT_TRUE(scene);
+    const auto img = render(*scene);
+    EXPECT_TRUE(matchesGolden(img, "terrain_world"));
+}
+
+}  // namespace
+}  // namespace orbis::test
