@@ -80,6 +80,11 @@ public:
 
     /// GPU memory the layer holds, for the stats.
     virtual uint64_t gpuBytes() const { return 0; }
+    /// Items drawn in the last frame (tiles, chunks, ...), for the stats and benchmark tables.
+    virtual uint64_t itemsDrawn() const { return 0; }
+    /// Sets a numeric quality knob by name (benchmark sweeps: "maxScreenSpaceError", ...).
+    /// False when the layer has no such knob.
+    virtual bool setParameter(std::string_view /*name*/, double /*value*/) { return false; }
     /// Height of the ground (metres above the ellipsoid, as drawn) at a point, for layers that
     /// are ground (terrain); nothing where the layer knows no height. Main thread only.
     virtual std::optional<double> groundHeightAt(double /*lonDeg*/, double /*latDeg*/) const { return std::nullopt; }

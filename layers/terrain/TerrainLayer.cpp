@@ -465,7 +465,11 @@ void TerrainLayer::update(const scene::FrameContext& frame) {
         d.modelViewProj = glm::mat4(proj * camera.modelViewRelativeToEye(center));
         const double cell = key.sizeDeg() * 111320.0 / double(settings_.gridSize - 1);
         const globe::TileHeightRange hr = heights(key);
-        const double skirt = std::min(std::max(cell, 0.5 * (hr.maxHeight - hr.minHeight)), 5.0e4) + 5.0;
+        // Deep enough for the gap between a tile and a coarser neighbour: the chord sag of the
+        // coarser grid (twice this cell) plus part of the height range; any deeper only costs
+        // fill rate where skirts show at grazing angles.
+        const double sag = (2.0 * cell) * (2.0 * cell) / (8.0 * 6371000.0);
+        const double skirt = std::min(sag + 0.25 * (hr.maxHeight - hr.minHeight), 5.0e4) + 10.0;
         d.originFromEye = glm::vec4(glm::vec3(center - camera.position()), float(skirt));
         d.elevation = glm::ivec4(-1, settings_.gridSize, 0, 0);
         d.elevationScaleBias = glm::vec4(1, 1, 0, 0);
@@ -485,14 +489,14 @@ void TerrainLayer::update(const scene::FrameContext& frame) {
         }
         const uint32_t drawIndex = uint32_t(drawItems_.size());
         std::memcpy(drawData_.data() + drawIndex * sizeof(d), &d, sizeof(d));
-        drawItems_.push_back({meshSlot, drawIndex});
+        drawItems_.push_back({meshSlot, drawIndex, selected[i].distance});
         stats_.deepestLevel = std::max(stats_.deepestLevel, key.level);
     }
     drawData_.resize(drawItems_.size() * sizeof(shader::TileDraw));
-    // Fewer vertex-buffer binds: draw page by page.
-    std::stable_sort(drawItems_.begin(), drawItems_.end(), [](const DrawItem& a, const DrawItem& b) {
-        return a.meshSlot / kMeshSlotsPerPage < b.meshSlot / kMeshSlotsPerPage;
-    });
+    // Front to back (the selection's distance), so the depth test rejects hidden terrain
+    // before it is shaded; vertex buffers are rebound only when the page changes.
+    std::stable_sort(drawItems_.begin(), drawItems_.end(),
+                     [](const DrawItem& a, const DrawItem& b) { return a.distance < b.distance; });
     stats_.tilesDrawn = drawItems_.size();
     stats_.uploadsThisFrame = uploads_.size();
     stats_.uploadBytesThisFrame = uploadBytes;
@@ -645,6 +649,24 @@ uint64_t TerrainLayer::fixedBytes() const {
 }
 
 uint64_t TerrainLayer::gpuBytes() const { return fixedBytes() + allocatedBytes(); }
+
+bool TerrainLayer::setParameter(std::string_view name, double value) {
+    if (name == "maxScreenSpaceError" && value > 0.0) {
+        settings_.maxScreenSpaceError = value;
+        if (selector_) {
+            globe::SelectorSettings s = selector_->settings();
+            s.maxScreenSpaceError = value;
+            selector_->setSettings(s);
+            selector_->reset();
+        }
+        return true;
+    }
+    if (name == "verticalExaggeration" && value >= 0.0) {
+        settings_.verticalExaggeration = value;
+        return true;
+    }
+    return false;
+}
 
 bool TerrainLayer::busy() const { return (model_ && model_->loading()) || deferred_; }
 

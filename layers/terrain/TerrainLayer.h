@@ -78,6 +78,8 @@ public:
     void record(scene::Pass pass, const scene::RecordContext& context) override;
     uint64_t gpuBytes() const override;
     bool busy() const override;
+    bool setParameter(std::string_view name, double value) override;
+    uint64_t itemsDrawn() const override { return stats_.tilesDrawn; }
     std::string status() const override;
 
     TerrainSettings& settings() { return settings_; }
@@ -150,6 +152,7 @@ private:
     struct DrawItem {
         uint32_t meshSlot;
         uint32_t drawIndex;
+        double distance;
     };
     std::vector<DrawItem> drawItems_;
     std::vector<uint8_t> drawData_;   // TileDraw records for this frame

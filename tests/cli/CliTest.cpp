@@ -160,3 +160,30 @@ TEST_F(CliGpu, UnknownDeviceExitsOne) {
 
 }  // namespace
 }  // namespace orbis::test
+
+namespace orbis::test {
+namespace {
+
+TEST_F(CliGpu, BenchSweepReportsErrorAgainstRunTimeAndWritesAPlot) {
+    const auto plot = std::filesystem::temp_directory_path() / "orbis-cli-sweep.png";
+    std::filesystem::remove(plot);
+    const CliRun r = run(std::string("bench ") + ORBIS_DEFAULT_SCENE +
+                         " --sweep maxScreenSpaceError=2,16 --frames 1 --warmup 0 --size 160x120 --plot " + plot.string());
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("RMSE"), std::string::npos) << r.output;
+    EXPECT_TRUE(std::filesystem::exists(plot));
+    // A knob no layer has is a clear error.
+    const CliRun bad = run(std::string("bench ") + ORBIS_DEFAULT_SCENE + " --sweep noSuchKnob=1,2 --frames 1 --size 64x48");
+    EXPECT_EQ(bad.exitCode, 1) << bad.output;
+    EXPECT_NE(bad.output.find("noSuchKnob"), std::string::npos) << bad.output;
+}
+
+TEST_F(CliGpu, BenchFollowsACameraPath) {
+    const CliRun r = run(std::string("bench ") + ORBIS_DEFAULT_SCENE + " --camera-path " + ORBIS_SOURCE_DIR +
+                         "/assets/paths/flythrough.json --frames 3 --warmup 0 --size 96x64 --json");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("\"camera_path\""), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace orbis::test

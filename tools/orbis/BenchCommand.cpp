@@ -2,11 +2,16 @@
 #include "tools/orbis/Commands.h"
 
 #include "engine/core/Log.h"
+#include "engine/scene/CameraPath.h"
+#include "tools/orbis/Plot.h"
 #include "tools/orbis/Session.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdlib>
+#include <optional>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <map>
@@ -22,7 +27,13 @@ const char* kHelp =
     "  --warmup N         frames rendered first and not measured (default 5)\n"
     "  --size WxH         image size (default 1920x1080)\n"
     "  --time T           virtual time: ISO-8601 or seconds after the scene start\n"
-    "  --json             print JSON instead of a table\n";
+    "  --json             print JSON instead of a table\n"
+    "  --camera-path FILE the camera follows this path (orbis-camera-path JSON) over the measured\n"
+    "                     frames, streaming as it goes: a fly-through\n"
+    "  --sweep K=v1,v2,.. error against run time: for each value of the quality knob K (e.g.\n"
+    "                     maxScreenSpaceError=1,2,4,8,16) wait for the data, time the frames, and\n"
+    "                     compare the image with the first value's (the reference): RMSE, PSNR\n"
+    "  --plot FILE        with --sweep: the PNG plot of RMSE against ms/frame (default orbis-sweep.png)\n";
 
 struct Stats {
     double min = 0, median = 0, p95 = 0, mean = 0;
@@ -43,11 +54,123 @@ Stats summarize(std::vector<double> v) {
 nlohmann::json toJson(const Stats& s) {
     return {{"min", s.min}, {"median", s.median}, {"p95", s.p95}, {"mean", s.mean}};
 }
+
+/// Root-mean-square difference over the RGB channels, in 0..255 units.
+double rmse(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+    double sum = 0.0;
+    size_t n = 0;
+    for (size_t i = 0; i + 3 < a.size() && i + 3 < b.size(); i += 4)
+        for (size_t c = 0; c < 3; ++c, ++n) {
+            const double d = double(a[i + c]) - double(b[i + c]);
+            sum += d * d;
+        }
+    return n ? std::sqrt(sum / double(n)) : 0.0;
+}
+
+double psnr(double rmseValue) { return rmseValue > 0.0 ? 20.0 * std::log10(255.0 / rmseValue) : INFINITY; }
+
+uint64_t itemsDrawn(const scene::Scene& scene) {
+    uint64_t n = 0;
+    for (const auto& r : scene.resources())
+        if (r.visible) n += r.layer->itemsDrawn();
+    return n;
+}
+
+/// `orbis bench --sweep K=v1,v2,...`: one row per value.
+int sweep(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer, long frames, long warmup) {
+    const std::string spec = *args.value("--sweep");
+    const auto eq = spec.find('=');
+    if (eq == std::string::npos || eq == 0) throw UsageError{"--sweep expects NAME=v1,v2,... got '" + spec + "'"};
+    const std::string name = spec.substr(0, eq);
+    std::vector<double> values;
+    for (size_t start = eq + 1; start <= spec.size();) {
+        const size_t end = std::min(spec.find(',', start), spec.size());
+        const std::string item = spec.substr(start, end - start);
+        char* stop = nullptr;
+        const double v = std::strtod(item.c_str(), &stop);
+        if (item.empty() || *stop != '\0' || !std::isfinite(v)) throw UsageError{"--sweep: '" + item + "' is not a number"};
+        values.push_back(v);
+        start = end + 1;
+    }
+    if (values.size() < 2) throw UsageError{"--sweep needs at least two values (the first is the reference)"};
+
+    struct Row {
+        double value, frameMs, gpuMs, cpuMs, rmse, psnr;
+        uint64_t items;
+    };
+    std::vector<Row> rows;
+    std::vector<uint8_t> reference;
+    for (double v : values) {
+        bool known = false;
+        for (auto& r : scene.resources())
+            if (r.visible) known = r.layer->setParameter(name, v) || known;
+        if (!known) {
+            std::fprintf(stderr, "orbis: no visible layer of %s has a parameter '%s'\n", args.positional()[0].c_str(),
+                         name.c_str());
+            return kBadInput;
+        }
+        scene.time().advance(0.0);
+        renderer.settle(scene, 600.0);
+        std::vector<double> wall, gpuTotal, cpu;
+        for (long i = 0; i < warmup + frames; ++i) {
+            const auto t0 = std::chrono::steady_clock::now();
+            const auto frame = renderer.render(scene, false);
+            const auto times = renderer.gpuTimes(frame);
+            if (i < warmup) continue;
+            wall.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+            cpu.push_back(frame.cpuMs);
+            double total = 0.0;
+            for (const auto& p : times) total += p.ms;
+            gpuTotal.push_back(total);
+        }
+        const auto frame = renderer.render(scene, true);
+        const std::vector<uint8_t> pixels = renderer.readPixels(frame);
+        if (reference.empty()) reference = pixels;
+        const double e = rmse(reference, pixels);
+        rows.push_back({v, summarize(wall).median, summarize(gpuTotal).median, summarize(cpu).median, e, psnr(e),
+                        itemsDrawn(scene)});
+    }
+
+    const auto& info = gpu.device->info();
+    if (args.flag("--json")) {
+        nlohmann::json out;
+        out["scene"] = args.positional()[0];
+        out["device"] = {{"name", info.name}, {"type", info.type}};
+        out["size"] = {renderer.width(), renderer.height()};
+        out["parameter"] = name;
+        for (const auto& r : rows)
+            out["rows"].push_back({{"value", r.value}, {"frame_ms", r.frameMs}, {"gpu_ms", r.gpuMs}, {"cpu_ms", r.cpuMs},
+                                   {"items", r.items}, {"rmse", r.rmse}, {"psnr", std::isfinite(r.psnr) ? r.psnr : 999.0}});
+        std::printf("%s\n", out.dump(2).c_str());
+    } else {
+        std::printf("orbis bench %s --sweep %s  %ux%u  %ld frames each  device: %s (%s)\n", args.positional()[0].c_str(),
+                    name.c_str(), renderer.width(), renderer.height(), frames, info.name.c_str(), info.type.c_str());
+        std::printf("%-12s %12s %10s %10s %8s %10s %10s\n", name.substr(0, 12).c_str(), "frame ms", "gpu ms", "cpu ms",
+                    "items", "RMSE", "PSNR dB");
+        for (const auto& r : rows)
+            std::printf("%-12g %12.2f %10.2f %10.2f %8llu %10.3f %10.2f\n", r.value, r.frameMs, r.gpuMs, r.cpuMs,
+                        static_cast<unsigned long long>(r.items), r.rmse, r.psnr);
+        std::printf("(medians; error against the first value's image, in 0..255 units)\n");
+    }
+    std::vector<PlotPoint> points;
+    for (const auto& r : rows) {
+        char label[32];
+        std::snprintf(label, sizeof label, "%g", r.value);
+        points.push_back({r.frameMs, r.rmse, label});
+    }
+    const std::string plotFile = args.value("--plot").value_or("orbis-sweep.png");
+    if (auto ok = writePng(plotFile, plotPoints(points)); !ok) {
+        std::fprintf(stderr, "orbis: %s\n", ok.message().c_str());
+        return kBadInput;
+    }
+    log::info("wrote the plot ", plotFile, " (x: ms per frame, y: RMSE against ", name, "=", values.front(), ")");
+    return validationExitCode(gpu);
+}
 }  // namespace
 
 int benchCommand(const std::vector<std::string>& argv) {
     std::set<std::string> valued = gpuValuedOptions();
-    valued.insert({"--frames", "--warmup", "--size", "--time"});
+    valued.insert({"--frames", "--warmup", "--size", "--time", "--camera-path", "--sweep", "--plot"});
     std::set<std::string> flags = gpuFlagOptions();
     flags.insert({"--help", "--json"});
     Args args(argv, valued, flags, {{"-h", "--help"}});
@@ -63,8 +186,19 @@ int benchCommand(const std::vector<std::string>& argv) {
     auto loaded = loadSceneForCommand(args);
     if (!loaded) return kBadInput;
     GpuSession gpu = openGpu(args);
+    std::optional<scene::CameraPath> path;
+    if (auto file = args.value("--camera-path")) {
+        auto parsed = scene::CameraPath::parseFile(*file);
+        if (!parsed) {
+            std::fprintf(stderr, "orbis: %s\n", parsed.message().c_str());
+            return kBadInput;
+        }
+        path = std::move(parsed).value();
+    }
     std::unique_ptr<scene::Scene> scene = std::move(loaded).value();
     render::Renderer renderer(*gpu.device, width, height);
+    if (args.value("--sweep")) return sweep(args, gpu, *scene, renderer, frames, warmup);
+    std::vector<double> items;
 
     std::vector<double> cpu, wall, gpuTotal;
     std::map<std::string, std::vector<double>> passes;
@@ -74,12 +208,18 @@ int benchCommand(const std::vector<std::string>& argv) {
     for (long i = 0; i < warmup + frames; ++i) {
         const auto t0 = std::chrono::steady_clock::now();
         scene->time().advance(i == 0 ? 0.0 : kFrameSeconds);
+        if (path) {
+            // The measured frames sweep the whole path; warm-up frames stay at its start.
+            const double f = i < warmup || frames < 2 ? 0.0 : double(i - warmup) / double(frames - 1);
+            scene->camera().setPose(globe::poseFromViewpoint(path->at(path->startTime() + f * path->duration())));
+        }
         const auto frame = renderer.render(*scene, /*readback=*/false);
         const auto times = renderer.gpuTimes(frame);
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         if (i < warmup) continue;
         cpu.push_back(frame.cpuMs);
         wall.push_back(ms);
+        items.push_back(double(itemsDrawn(*scene)));
         double total = 0.0;
         for (const auto& p : times) {
             if (!passes.count(p.name)) passOrder.push_back(p.name);
@@ -100,6 +240,8 @@ int benchCommand(const std::vector<std::string>& argv) {
         out["cpu_ms"] = toJson(summarize(cpu));
         out["frame_ms"] = toJson(summarize(wall));
         out["gpu_ms"]["total"] = toJson(summarize(gpuTotal));
+        out["items_drawn"] = toJson(summarize(items));
+        if (path) out["camera_path"] = *args.value("--camera-path");
         for (const auto& name : passOrder) out["gpu_ms"]["passes"][name] = toJson(summarize(passes[name]));
         std::printf("%s\n", out.dump(2).c_str());
     } else {
@@ -112,6 +254,7 @@ int benchCommand(const std::vector<std::string>& argv) {
         row("frame (wall)", summarize(wall));
         row("cpu", summarize(cpu));
         row("gpu total", summarize(gpuTotal));
+        row("items drawn", summarize(items));
         for (const auto& name : passOrder) row("gpu " + name, summarize(passes[name]));
     }
     return validationExitCode(gpu);
