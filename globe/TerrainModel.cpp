@@ -298,6 +298,13 @@ void TerrainModel::trim() {
     }
 }
 
+std::vector<DataKey> TerrainModel::loadedKeys() const {
+    std::vector<DataKey> keys;
+    for (const auto& [key, e] : entries_)
+        if (e.state == DataState::Ready || e.state == DataState::Empty) keys.push_back(key);
+    return keys;
+}
+
 void TerrainModel::waitIdle() {
     while (loadingCount_ > 0) {
         for (auto& [key, e] : entries_)

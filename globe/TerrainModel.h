@@ -112,6 +112,11 @@ public:
     /// Conservative height range of a tile from its own or an ancestor's loaded data.
     TileHeightRange heightRange(const TileKey& tile) const;
 
+    /// Every piece of data loaded so far (Ready or Empty), for benchmarks.
+    std::vector<DataKey> loadedKeys() const;
+    /// The sources, finest elevation first.
+    const std::vector<std::shared_ptr<RasterSource>>& elevationSources() const { return elevation_; }
+    const std::vector<std::shared_ptr<RasterSource>>& imagerySources() const { return imagery_; }
     /// Blocks until every load in flight has finished and been collected (tests, batch renders).
     void waitIdle();
     bool loading() const { return loadingCount_ > 0; }

@@ -80,6 +80,8 @@ public:
 
     /// GPU memory the layer holds, for the stats.
     virtual uint64_t gpuBytes() const { return 0; }
+    /// CPU memory the layer holds in caches (tiles, chunks), for the stats.
+    virtual uint64_t cacheBytes() const { return 0; }
     /// Items drawn in the last frame (tiles, chunks, ...), for the stats and benchmark tables.
     virtual uint64_t itemsDrawn() const { return 0; }
     /// Sets a numeric quality knob by name (benchmark sweeps: "maxScreenSpaceError", ...).

@@ -77,6 +77,7 @@ public:
     void recordTransfers(const scene::RecordContext& context) override;
     void record(scene::Pass pass, const scene::RecordContext& context) override;
     uint64_t gpuBytes() const override;
+    uint64_t cacheBytes() const override { return model_ ? model_->cpuBytes() : 0; }
     bool busy() const override;
     bool setParameter(std::string_view name, double value) override;
     uint64_t itemsDrawn() const override { return stats_.tilesDrawn; }

@@ -46,6 +46,8 @@ TerrainFixtures make() {
     f.noCrs = (f.dir / "no-crs.tif").string();
     f.corrupt = (f.dir / "corrupt.tif").string();
     f.huge = (f.dir / "huge.tif").string();
+    f.holed = (f.dir / "holed.tif").string();
+    f.coarse = (f.dir / "coarse.tif").string();
 
     {   // DEM: pixel centres on a 0.005 deg grid from lon 6 (so pixel edges at 6 -/+ 0.0025).
         const int n = 401;
@@ -58,6 +60,30 @@ TerrainFixtures make() {
         GDALRasterBandH b = GDALGetRasterBand(ds, 1);
         GDALSetRasterNoDataValue(b, -32768);
         if (GDALRasterIO(b, GF_Write, 0, 0, n, n, v.data(), n, n, GDT_Int16, 0, 0) != CE_None)
+            throw std::runtime_error("fixture write failed");
+        GDALClose(ds);
+    }
+    {   // The same DEM with a nodata hole around the summit.
+        const int n = 401;
+        const double px = 2.0 / (n - 1);
+        GDALDatasetH ds = create(f.holed, n, n, 1, GDT_Int16, nullptr, true, 6.0 - px / 2, 47.0 + px / 2, px);
+        std::vector<int16_t> v(size_t(n) * n);
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const double lon = 6.0 + i * px, lat = 47.0 - j * px;
+                const bool hole = lon > 6.9 && lon < 7.1 && lat > 45.9 && lat < 46.1;
+                v[size_t(j) * n + i] = hole ? int16_t(-32768) : int16_t(std::lround(TerrainFixtures::height(lon, lat)));
+            }
+        GDALRasterBandH b = GDALGetRasterBand(ds, 1);
+        GDALSetRasterNoDataValue(b, -32768);
+        if (GDALRasterIO(b, GF_Write, 0, 0, n, n, v.data(), n, n, GDT_Int16, 0, 0) != CE_None)
+            throw std::runtime_error("fixture write failed");
+        GDALClose(ds);
+    }
+    {   // A coarse constant DEM under it.
+        GDALDatasetH ds = create(f.coarse, 80, 80, 1, GDT_Float32, nullptr, true, 5.0, 48.0, 0.05);
+        std::vector<float> v(80 * 80, float(TerrainFixtures::kCoarseHeight));
+        if (GDALRasterIO(GDALGetRasterBand(ds, 1), GF_Write, 0, 0, 80, 80, v.data(), 80, 80, GDT_Float32, 0, 0) != CE_None)
             throw std::runtime_error("fixture write failed");
         GDALClose(ds);
     }

@@ -14,6 +14,9 @@ struct TerrainFixtures {
     std::string noCrs;      ///< a GeoTIFF without a coordinate reference system
     std::string corrupt;    ///< a TIFF cut short
     std::string huge;       ///< declares 1 000 000 x 1 000 000 pixels (sparse: a few KB on disk)
+    std::string holed;      ///< the mountain DEM with a nodata square over lon 6.9..7.1, lat 45.9..46.1
+    std::string coarse;     ///< kCoarseHeight m everywhere over lon 5..9, lat 44..48, 0.05 deg pixels
+    static constexpr double kCoarseHeight = 1234.0;
     static constexpr double kPeak = 4000.0;
     static constexpr double kPeakLon = 7.0, kPeakLat = 46.0;
     /// The DEM's height function (metres): what the fixture encodes, before Int16 rounding.

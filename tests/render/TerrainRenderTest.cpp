@@ -168,6 +168,40 @@ TEST_F(TerrainRender, OneMetreAboveTheSummitDoesNotJitter) {
     EXPECT_TRUE(imagesAgree(imgA, imgB, "terrain_one_metre_moved", 5, size_t(0.001 * imgA.width * imgA.height)));
 }
 
+TEST(TerrainModel, DemsStackFinestWinsAndCoarserFillsHoles) {
+    const auto& f = terrainFixtures();
+    std::vector<std::shared_ptr<globe::RasterSource>> dems;
+    for (const auto& path : {f.coarse, f.holed}) {   // coarse first: the model sorts finest first
+        globe::RasterSourceOptions o;
+        o.path = path;
+        o.role = globe::RasterRole::Elevation;
+        auto s = globe::RasterSource::open(o);
+        ASSERT_TRUE(s.ok()) << s.message();
+        dems.push_back(*s);
+    }
+    globe::TerrainModel model({}, dems, {}, nullptr);   // no pool: loads run inline
+    model.beginFrame(1);
+    const auto load = [&](double lon, double lat, bool covered = true) {
+        const auto key = globe::TileKey::containing(lon, lat, 10);
+        model.request(0, key, 0.0);
+        // Outside every source the chain stops at the first empty ancestor.
+        if (covered) {
+            EXPECT_EQ(model.state(0, key), globe::DataState::Ready);
+        }
+        return model.heightAt(lon, lat).value_or(-1e9);
+    };
+    // The fine DEM where it has data.
+    EXPECT_NEAR(load(7.5, 46.5), TerrainFixtures::height(7.5, 46.5), 25.0);
+    EXPECT_NEAR(load(6.5, 45.4), TerrainFixtures::height(6.5, 45.4), 25.0);
+    // Its nodata hole: the coarser DEM, not a spike to the ellipsoid.
+    EXPECT_NEAR(load(7.0, 46.0), TerrainFixtures::kCoarseHeight, 1.0);
+    // Outside the fine DEM, inside the coarse one.
+    EXPECT_NEAR(load(5.5, 44.5), TerrainFixtures::kCoarseHeight, 1.0);
+    // Outside both: the ellipsoid.
+    EXPECT_EQ(load(20.0, 10.0, false), 0.0);
+    EXPECT_EQ(model.state(0, globe::TileKey::containing(20.0, 10.0, 10)), globe::DataState::Missing);
+}
+
 TEST_F(TerrainRender, FortyThousandKilometresOut) {
     if (!worldAvailable()) GTEST_SKIP() << "assets/generated not built";
     auto scene = load(terrainScene(R"({"lon": -60, "lat": -10, "range": 40000000})", worldLayer(), kDark));

@@ -9,12 +9,14 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <sys/resource.h>
 #include <cstdlib>
 #include <optional>
 #include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <map>
+#include <thread>
 
 namespace orbis::cli {
 
@@ -33,6 +35,8 @@ const char* kHelp =
     "  --sweep K=v1,v2,.. error against run time: for each value of the quality knob K (e.g.\n"
     "                     maxScreenSpaceError=1,2,4,8,16) wait for the data, time the frames, and\n"
     "                     compare the image with the first value's (the reference): RMSE, PSNR\n"
+    "  --tiles LEVEL      tile throughput: the pager against a bare loop of GDAL reads over the same\n"
+    "                     tiles of LEVEL (and their ancestors) on --threads N threads (default: cores)\n"
     "  --plot FILE        with --sweep: the PNG plot of RMSE against ms/frame (default orbis-sweep.png)\n";
 
 struct Stats {
@@ -68,6 +72,26 @@ double rmse(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
 }
 
 double psnr(double rmseValue) { return rmseValue > 0.0 ? 20.0 * std::log10(255.0 / rmseValue) : INFINITY; }
+
+uint64_t layerGpuBytes(const scene::Scene& scene) {
+    uint64_t n = 0;
+    for (const auto& r : scene.resources())
+        if (r.layer->prepared()) n += r.layer->gpuBytes();
+    return n;
+}
+
+uint64_t layerCacheBytes(const scene::Scene& scene) {
+    uint64_t n = 0;
+    for (const auto& r : scene.resources()) n += r.layer->cacheBytes();
+    return n;
+}
+
+/// Peak resident set size of this process, bytes.
+uint64_t peakRssBytes() {
+    struct rusage usage {};
+    getrusage(RUSAGE_SELF, &usage);
+    return uint64_t(usage.ru_maxrss) * 1024;
+}
 
 uint64_t itemsDrawn(const scene::Scene& scene) {
     uint64_t n = 0;
@@ -168,9 +192,12 @@ int sweep(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Render
 }
 }  // namespace
 
+/// `orbis bench --tiles LEVEL` (TileBench.cpp).
+int tileBench(const Args& args, scene::Scene& scene, long level, unsigned threads);
+
 int benchCommand(const std::vector<std::string>& argv) {
     std::set<std::string> valued = gpuValuedOptions();
-    valued.insert({"--frames", "--warmup", "--size", "--time", "--camera-path", "--sweep", "--plot"});
+    valued.insert({"--frames", "--warmup", "--size", "--time", "--camera-path", "--sweep", "--plot", "--tiles", "--threads"});
     std::set<std::string> flags = gpuFlagOptions();
     flags.insert({"--help", "--json"});
     Args args(argv, valued, flags, {{"-h", "--help"}});
@@ -196,9 +223,15 @@ int benchCommand(const std::vector<std::string>& argv) {
         path = std::move(parsed).value();
     }
     std::unique_ptr<scene::Scene> scene = std::move(loaded).value();
+    if (auto level = args.integer("--tiles", 0, 22)) {
+        const unsigned threads = unsigned(args.integer("--threads", 1, 256).value_or(
+            std::max(1u, std::thread::hardware_concurrency())));
+        return tileBench(args, *scene, *level, threads);
+    }
     render::Renderer renderer(*gpu.device, width, height);
     if (args.value("--sweep")) return sweep(args, gpu, *scene, renderer, frames, warmup);
     std::vector<double> items;
+    uint64_t maxGpuBytes = 0, maxCacheBytes = 0;
 
     std::vector<double> cpu, wall, gpuTotal;
     std::map<std::string, std::vector<double>> passes;
@@ -220,6 +253,8 @@ int benchCommand(const std::vector<std::string>& argv) {
         cpu.push_back(frame.cpuMs);
         wall.push_back(ms);
         items.push_back(double(itemsDrawn(*scene)));
+        maxGpuBytes = std::max(maxGpuBytes, layerGpuBytes(*scene));
+        maxCacheBytes = std::max(maxCacheBytes, layerCacheBytes(*scene));
         double total = 0.0;
         for (const auto& p : times) {
             if (!passes.count(p.name)) passOrder.push_back(p.name);
@@ -241,6 +276,9 @@ int benchCommand(const std::vector<std::string>& argv) {
         out["frame_ms"] = toJson(summarize(wall));
         out["gpu_ms"]["total"] = toJson(summarize(gpuTotal));
         out["items_drawn"] = toJson(summarize(items));
+        out["memory_mb"] = {{"layers_gpu_max", double(maxGpuBytes) / 1048576.0},
+                            {"layers_cache_max", double(maxCacheBytes) / 1048576.0},
+                            {"process_rss_peak", double(peakRssBytes()) / 1048576.0}};
         if (path) out["camera_path"] = *args.value("--camera-path");
         for (const auto& name : passOrder) out["gpu_ms"]["passes"][name] = toJson(summarize(passes[name]));
         std::printf("%s\n", out.dump(2).c_str());
@@ -255,6 +293,8 @@ int benchCommand(const std::vector<std::string>& argv) {
         row("cpu", summarize(cpu));
         row("gpu total", summarize(gpuTotal));
         row("items drawn", summarize(items));
+        std::printf("memory: layers' GPU %.1f MB max, layers' caches %.1f MB max, process RSS peak %.1f MB\n",
+                    double(maxGpuBytes) / 1048576.0, double(maxCacheBytes) / 1048576.0, double(peakRssBytes()) / 1048576.0);
         for (const auto& name : passOrder) row("gpu " + name, summarize(passes[name]));
     }
     return validationExitCode(gpu);

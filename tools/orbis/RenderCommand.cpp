@@ -4,10 +4,13 @@
 #include "engine/core/Log.h"
 #include "engine/core/Png.h"
 #include "engine/gpu/VkCheck.h"
+#include "engine/scene/CameraPath.h"
 #include "tools/orbis/Session.h"
 
 #include <chrono>
+#include <cctype>
 #include <cstdio>
+#include <optional>
 
 namespace orbis::cli {
 
@@ -19,12 +22,33 @@ const char* kHelp =
     "  --size WxH         image size in pixels (default 1280x720)\n"
     "  --time T           virtual time: ISO-8601 (2026-03-20T08:00:00Z) or seconds after the scene start\n"
     "  --wait S           wait at most S seconds for streamed data (tiles) before the frame (default 300)\n"
-    "  --first-frame      render the very first frame, without waiting for any data\n";
+    "  --first-frame      render the very first frame, without waiting for any data\n"
+    "  --camera-path FILE take the camera from this path (orbis-camera-path JSON): at --path-time S\n"
+    "                     (seconds, default the path's start), or, when OUT contains a printf\n"
+    "                     pattern such as frame_%04d.png, as --frames N images along the whole path\n"
+    "  --path-time S      see --camera-path\n"
+    "  --frames N         see --camera-path (default 30)\n";
 }
+
+namespace {
+/// OUT with its one "%d" / "%04d" replaced by the frame number. Anything else after a '%' is
+/// a usage error (the pattern never reaches printf).
+std::string frameFileName(const std::string& pattern, long frame) {
+    const size_t p = pattern.find('%');
+    size_t q = p + 1;
+    while (q < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[q]))) ++q;
+    if (q >= pattern.size() || pattern[q] != 'd' || pattern.find('%', q) != std::string::npos || q - p - 1 > 2)
+        throw UsageError{"-o: a frame pattern takes one %d or %0Nd (N < 100), got '" + pattern + "'"};
+    const int width = q > p + 1 ? std::stoi(pattern.substr(p + 1, q - p - 1)) : 0;
+    std::string number = std::to_string(frame);
+    if (int(number.size()) < width) number.insert(0, size_t(width) - number.size(), '0');
+    return pattern.substr(0, p) + number + pattern.substr(q + 1);
+}
+}  // namespace
 
 int renderCommand(const std::vector<std::string>& argv) {
     std::set<std::string> valued = gpuValuedOptions();
-    valued.insert({"--output", "--size", "--time", "--wait"});
+    valued.insert({"--output", "--size", "--time", "--wait", "--camera-path", "--path-time", "--frames"});
     std::set<std::string> flags = gpuFlagOptions();
     flags.insert({"--help", "--first-frame"});
     Args args(argv, valued, flags, {{"-o", "--output"}, {"-h", "--help"}});
@@ -45,19 +69,40 @@ int renderCommand(const std::vector<std::string>& argv) {
     // Declared after the device so that its layers are destroyed first.
     std::unique_ptr<scene::Scene> scene = std::move(loaded).value();
     render::Renderer renderer(*gpu.device, width, height);
-    scene->time().advance(0.0);
-    if (!args.flag("--first-frame")) {
-        const double wait = args.number("--wait", 0.0, 86400.0).value_or(300.0);
-        const int frames = renderer.settle(*scene, wait);
-        if (scene->busy()) log::warn("still loading after ", wait, " s (", frames, " frames): the image may lack detail");
+    std::optional<scene::CameraPath> path;
+    if (auto file = args.value("--camera-path")) {
+        auto parsed = scene::CameraPath::parseFile(*file);
+        if (!parsed) {
+            std::fprintf(stderr, "orbis: %s\n", parsed.message().c_str());
+            return kBadInput;
+        }
+        path = std::move(parsed).value();
     }
-    const auto frame = renderer.render(*scene, /*readback=*/true);
-    for (const auto& r : scene->resources())
-        if (r.visible && !r.layer->status().empty()) log::info(r.name, ": ", r.layer->status());
-    ImageRgba8 image{width, height, renderer.readPixels(frame)};
-    if (auto ok = writePng(*output, image); !ok) {
-        std::fprintf(stderr, "orbis: %s\n", ok.message().c_str());
-        return kBadInput;
+    const bool sequence = path && output->find('%') != std::string::npos;
+    if (sequence) (void)frameFileName(*output, 0);   // a bad pattern is a usage error before any work
+    const long count = sequence ? args.integer("--frames", 1, 100000).value_or(30) : 1;
+    const double wait = args.number("--wait", 0.0, 86400.0).value_or(300.0);
+    scene->time().advance(0.0);
+    for (long i = 0; i < count; ++i) {
+        if (path) {
+            const double t = sequence ? path->startTime() + (count > 1 ? double(i) / double(count - 1) : 0.0) * path->duration()
+                                      : args.number("--path-time", -1e9, 1e9).value_or(path->startTime());
+            scene->camera().setPose(globe::poseFromViewpoint(path->at(t)));
+        }
+        if (!args.flag("--first-frame")) {
+            const int frames = renderer.settle(*scene, wait);
+            if (scene->busy()) log::warn("still loading after ", wait, " s (", frames, " frames): the image may lack detail");
+        }
+        const auto frame = renderer.render(*scene, /*readback=*/true);
+        for (const auto& r : scene->resources())
+            if (r.visible && !r.layer->status().empty()) log::info(r.name, ": ", r.layer->status());
+        ImageRgba8 image{width, height, renderer.readPixels(frame)};
+        const std::string file = sequence ? frameFileName(*output, i) : *output;
+        if (auto ok = writePng(file, image); !ok) {
+            std::fprintf(stderr, "orbis: %s\n", ok.message().c_str());
+            return kBadInput;
+        }
+        if (sequence) std::printf("wrote %s\n", file.c_str());
     }
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     log::info("wrote ", *output, " (", width, "x", height, ") in ", ms, " ms on ", gpu.device->info().name);
