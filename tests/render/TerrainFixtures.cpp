@@ -6,6 +6,10 @@
 #include <gdal.h>
 #include <ogr_srs_api.h>
 
+#include <unistd.h>
+
+#include <cctype>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <stdexcept>
@@ -36,11 +40,9 @@ GDALDatasetH create(const std::string& path, int w, int h, int bands, GDALDataTy
     return ds;
 }
 
-TerrainFixtures make() {
-    GDALAllRegister();
+TerrainFixtures paths(const std::filesystem::path& dir) {
     TerrainFixtures f;
-    f.dir = std::filesystem::path(testOutputDir()) / "terrain-fixtures";
-    std::filesystem::create_directories(f.dir);
+    f.dir = dir;
     f.dem = (f.dir / "mountain.tif").string();
     f.image = (f.dir / "mountain-rgb.tif").string();
     f.noCrs = (f.dir / "no-crs.tif").string();
@@ -48,7 +50,11 @@ TerrainFixtures make() {
     f.huge = (f.dir / "huge.tif").string();
     f.holed = (f.dir / "holed.tif").string();
     f.coarse = (f.dir / "coarse.tif").string();
+    return f;
+}
 
+/// Writes every fixture into f.dir.
+void write(const TerrainFixtures& f) {
     {   // DEM: pixel centres on a 0.005 deg grid from lon 6 (so pixel edges at 6 -/+ 0.0025).
         const int n = 401;
         const double px = 2.0 / (n - 1);
@@ -124,11 +130,47 @@ TerrainFixtures make() {
         out.write(bytes.data(), std::streamsize(bytes.size() / 3));
     }
     {
-        const char* opts[] = {"TILED=YES", "SPARSE_OK=TRUE", "BIGTIFF=YES", nullptr};
+        // 1024-pixel blocks keep the block index (and so the file) near 15 MB.
+        const char* opts[] = {"TILED=YES", "BLOCKXSIZE=1024", "BLOCKYSIZE=1024", "SPARSE_OK=TRUE", "BIGTIFF=YES",
+                              nullptr};
         GDALDatasetH ds = create(f.huge, 1000000, 1000000, 1, GDT_Int16, opts, true, -180.0, 90.0, 180.0 / 1000000);
         GDALClose(ds);
     }
-    return f;
+}
+
+/// Test processes run in parallel (ctest -j), so the fixtures are written once per build of this
+/// file into a folder named after its compile time, built under a private name and published with
+/// an atomic rename: no process ever reads a file another one is still writing.
+TerrainFixtures make() {
+    namespace fs = std::filesystem;
+    GDALAllRegister();
+    std::string stamp = std::string(__DATE__ "-" __TIME__);
+    for (char& c : stamp)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '-';
+    const fs::path root = testOutputDir();
+    const std::string name = "terrain-fixtures-" + stamp;
+    const fs::path final = root / name;
+    if (fs::exists(final / "complete")) return paths(final);
+
+    const fs::path tmp = root / ("terrain-fixtures-tmp-" + std::to_string(::getpid()));
+    fs::remove_all(tmp);
+    fs::create_directories(tmp);
+    write(paths(tmp));
+    std::ofstream(tmp / "complete") << "ok\n";
+    std::error_code ec;
+    fs::rename(tmp, final, ec);
+    if (ec) fs::remove_all(tmp, ec);   // another process published first: use its copy
+    if (!fs::exists(final / "complete")) throw std::runtime_error("cannot publish fixtures in " + final.string());
+
+    // Earlier builds' fixtures, and leftovers of processes that died while writing.
+    for (const auto& e : fs::directory_iterator(root, ec)) {
+        const std::string n = e.path().filename().string();
+        const bool old = n.starts_with("terrain-fixtures") && n != name && !n.starts_with("terrain-fixtures-tmp-");
+        const bool deadTmp = n.starts_with("terrain-fixtures-tmp-") &&
+                             fs::last_write_time(e.path(), ec) < fs::file_time_type::clock::now() - std::chrono::hours(1);
+        if (old || deadTmp) fs::remove_all(e.path(), ec);
+    }
+    return paths(final);
 }
 
 }  // namespace

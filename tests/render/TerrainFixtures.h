@@ -13,7 +13,7 @@ struct TerrainFixtures {
     std::string image;      ///< EPSG:4326, same area, 512x512 RGB: a colour gradient with a grid
     std::string noCrs;      ///< a GeoTIFF without a coordinate reference system
     std::string corrupt;    ///< a TIFF cut short
-    std::string huge;       ///< declares 1 000 000 x 1 000 000 pixels (sparse: a few KB on disk)
+    std::string huge;       ///< declares 1 000 000 x 1 000 000 pixels (sparse: ~15 MB of block index on disk)
     std::string holed;      ///< the mountain DEM with a nodata square over lon 6.9..7.1, lat 45.9..46.1
     std::string coarse;     ///< kCoarseHeight m everywhere over lon 5..9, lat 44..48, 0.05 deg pixels
     static constexpr double kCoarseHeight = 1234.0;
@@ -23,7 +23,7 @@ struct TerrainFixtures {
     static double height(double lonDeg, double latDeg);
 };
 
-/// Writes the fixtures once per process into the test output folder.
+/// The fixtures, written once per build into the test output folder (safe under ctest -j).
 const TerrainFixtures& terrainFixtures();
 
 /// ../shared/data from the source tree, or empty when absent.
