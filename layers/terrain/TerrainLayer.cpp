@@ -282,6 +282,9 @@ void TerrainLayer::prepare(const scene::RenderServices& services) {
                           {2, 0, VK_FORMAT_R16G16_UNORM, offsetof(globe::TileVertex, uv)},
                           {3, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(globe::TileVertex, cellMetres)}};
     surface.cullMode = VK_CULL_MODE_NONE;   // skirts face both ways; hidden faces lose the depth test
+    gpu::Specialization spec;
+    spec.set<int32_t>(0, int32_t(imageryIndex_.size()));
+    surface.specialization = &spec;
     surface.colorFormat = services.colorFormat;
     surface.depthFormat = services.depthFormat;
     surface.name = "terrain surface";
@@ -617,7 +620,8 @@ void TerrainLayer::record(scene::Pass, const scene::RecordContext& rc) {
                                srgbToLinear(settings_.color.b), float(settings_.verticalExaggeration));
     for (uint32_t l = 0; l < imageryIndex_.size(); ++l)
         push.imageryOpacity[int(l)] = float(settings_.imagery[imageryIndex_[l]].opacity);
-    push.params = glm::vec4(settings_.sunLighting ? 1.0f : 0.0f, settings_.tileBorders ? 1.0f : 0.0f, 0, 0);
+    push.params = glm::vec4(settings_.sunLighting ? 1.0f : 0.0f, settings_.tileBorders ? 1.0f : 0.0f,
+                            float(settings_.imageSize), 0);
     const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     vkCmdPushConstants(cmd, layout_.vk(), stages, 0, sizeof(push), &push);
 

@@ -29,7 +29,7 @@ struct TileDraw {
 struct TerrainPush {
     vec4 baseColor;            // rgb: colour where no imagery (linear); a: vertical exaggeration
     vec4 imageryOpacity;       // per imagery layer
-    vec4 params;               // x: 1 = sun lighting, 0 = headlight; y: 1 = tile borders (debug)
+    vec4 params;               // x: 1 = sun lighting, 0 = headlight; y: 1 = tile borders (debug); z: imagery tile size (px)
 };
 
 ORBIS_NAMESPACE_END

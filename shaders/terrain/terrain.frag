@@ -8,6 +8,9 @@ layout(set = 1, binding = 0, std430) readonly buffer DrawBlock { TileDraw draws[
 layout(set = 1, binding = 2) uniform sampler2DArray imageryPages[kImageryPages];
 layout(push_constant) uniform PushBlock { TerrainPush pc; };
 
+// Imagery layers this pipeline blends (the scene's count): unused layers cost nothing.
+layout(constant_id = 0) const int kImageryLayers = 4;
+
 layout(location = 0) in vec3 vNormal;
 layout(location = 1) in vec2 vUv;
 layout(location = 2) in vec3 vFromEye;
@@ -17,33 +20,37 @@ layout(location = 0) out vec4 outColor;
 
 // lavapipe cannot index sampler arrays with a variable (shaderSampledImageArrayDynamicIndexing
 // is off), so each page is picked with a constant index. Implicit derivatives inside the
-// branches are not reliable (the compiler cannot prove the branch uniform), so the gradients
-// are taken outside, in uniform control flow, and passed in.
-vec4 fetchImagery(int page, vec3 tc, vec2 gx, vec2 gy) {
+// branches are not reliable (the compiler cannot prove the branch uniform), so the level of
+// detail is computed outside, in uniform control flow, and passed in (textureLod is also much
+// cheaper than textureGrad on CPU rasterisers).
+vec4 fetchImagery(int page, vec3 tc, float lod) {
     switch (page) {
-        case 0: return textureGrad(imageryPages[0], tc, gx, gy);
-        case 1: return textureGrad(imageryPages[1], tc, gx, gy);
-        case 2: return textureGrad(imageryPages[2], tc, gx, gy);
-        case 3: return textureGrad(imageryPages[3], tc, gx, gy);
-        case 4: return textureGrad(imageryPages[4], tc, gx, gy);
-        case 5: return textureGrad(imageryPages[5], tc, gx, gy);
-        case 6: return textureGrad(imageryPages[6], tc, gx, gy);
-        default: return textureGrad(imageryPages[7], tc, gx, gy);
+        case 0: return textureLod(imageryPages[0], tc, lod);
+        case 1: return textureLod(imageryPages[1], tc, lod);
+        case 2: return textureLod(imageryPages[2], tc, lod);
+        case 3: return textureLod(imageryPages[3], tc, lod);
+        case 4: return textureLod(imageryPages[4], tc, lod);
+        case 5: return textureLod(imageryPages[5], tc, lod);
+        case 6: return textureLod(imageryPages[6], tc, lod);
+        default: return textureLod(imageryPages[7], tc, lod);
     }
 }
 
 void main() {
     TileDraw d = draws[vDraw];
     vec3 color = pc.baseColor.rgb;
-    vec2 uvDx = dFdx(vUv), uvDy = dFdy(vUv);
+    // Texels of an own-level imagery tile per pixel, squared; an ancestor's scale shrinks it.
+    vec2 uvDx = dFdx(vUv) * pc.params.z, uvDy = dFdy(vUv) * pc.params.z;
+    float footprint2 = max(dot(uvDx, uvDx), dot(uvDy, uvDy));
     // Imagery layers in scene order, each over the ones before it.
-    for (int i = 0; i < int(kTerrainMaxImagery); ++i) {
+    for (int i = 0; i < kImageryLayers; ++i) {
         int slot = d.imagerySlot[i];
         if (slot < 0) continue;
         vec2 t = vUv * d.imageryScaleBias[i].xy + d.imageryScaleBias[i].zw;
         int page = slot / int(kImagerySlotsPerPage);
-        vec2 scale = d.imageryScaleBias[i].xy;
-        vec4 c = fetchImagery(page, vec3(t, float(slot % int(kImagerySlotsPerPage))), uvDx * scale, uvDy * scale);
+        float scale = d.imageryScaleBias[i].x;
+        float lod = 0.5 * log2(max(footprint2 * scale * scale, 1e-12));
+        vec4 c = fetchImagery(page, vec3(t, float(slot % int(kImagerySlotsPerPage))), lod);
         color = mix(color, c.rgb, c.a * pc.imageryOpacity[i]);
     }
 
