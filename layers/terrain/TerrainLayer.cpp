@@ -50,6 +50,11 @@ Result<globe::RasterSourceOptions> readSource(const nlohmann::json& value, const
     const auto xyz = r.string("xyz", std::string());
     if (file && !file->empty()) o.path = scene.resolve(*file).string();
     if (xyz && !xyz->empty()) o.xyzUrl = *xyz;
+    if (auto maxZoom = r.number("maxZoom", 18.0, 0.0, 30.0)) {
+        if (*maxZoom != std::floor(*maxZoom)) r.fail("maxZoom", "must be an integer zoom level");
+        o.xyzMaxZoom = int(*maxZoom);
+    }
+    if (r.ok() && r.has("maxZoom") && o.xyzUrl.empty()) r.fail("maxZoom", "only applies to an \"xyz\" source");
     if (r.ok() && o.path.empty() == o.xyzUrl.empty())
         r.fail(o.path.empty() ? "path" : "xyz", "give exactly one of \"path\" and \"xyz\"");
     if (role == globe::RasterRole::Elevation) {

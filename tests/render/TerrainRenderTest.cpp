@@ -10,9 +10,16 @@
 #include "tests/render/TerrainFixtures.h"
 #include "tests/support/GoldenImage.h"
 #include "tests/support/GpuTest.h"
+#include "tests/support/HttpServer.h"
+#include "tests/support/XyzTiles.h"
+
+#include <gdal.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 
 namespace orbis::test {
 namespace {
@@ -254,6 +261,104 @@ TEST_F(TerrainRender, BadSourcesAreReportedAndLeftOut) {
     // The placeholder: the ellipsoid, whole.
     EXPECT_EQ(redInsideGlobe(img, scene->camera()), 0u);
     EXPECT_LT(seconds, 60.0) << "the 10^6 x 10^6 file must not be read in full";
+}
+
+TEST_F(TerrainRender, XyzImageryFromALocalServerLandsWhereTheSameImageFromAFileDoes) {
+    // The same colour field twice: XYZ PNG tiles (web mercator) served over HTTP on 127.0.0.1,
+    // and a local geodetic GeoTIFF. Rendered from the same view, the two images must agree.
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(testOutputDir()) / ("xyz-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    ASSERT_EQ(writeXyzTiles(dir / "tiles", 3), "");
+    const std::string local = (dir / "same-colours.tif").string();
+    {
+        const int w = 1440, h = 720;   // 0.25 deg pixels
+        GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GTiff"), local.c_str(), w, h, 3, GDT_Byte, nullptr);
+        ASSERT_NE(ds, nullptr);
+        const double gt[6] = {-180.0, 0.25, 0, 90.0, 0, -0.25};
+        GDALSetGeoTransform(ds, const_cast<double*>(gt));
+        GDALSetProjection(ds, "EPSG:4326");
+        std::vector<uint8_t> px(size_t(w) * h * 3);
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) {
+                uint8_t* p = &px[(size_t(j) * w + i) * 3];
+                p[0] = xyzRedAt(-180.0 + (i + 0.5) * 0.25);
+                p[1] = xyzGreenAt(90.0 - (j + 0.5) * 0.25);
+                p[2] = 128;
+            }
+        ASSERT_EQ(GDALDatasetRasterIO(ds, GF_Write, 0, 0, w, h, px.data(), w, h, GDT_Byte, 3, nullptr, 3, 3 * w, 1),
+                  CE_None);
+        GDALClose(ds);
+    }
+    HttpServer server(dir / "tiles");
+    ASSERT_TRUE(server.running()) << server.error();
+    ::setenv("ORBIS_CACHE_DIR", (dir / "cache").c_str(), 1);   // GDAL's WMS disk cache
+
+    const char* view = R"({"lon": 30, "lat": 10, "pitch": -90, "range": 6000000})";
+    const auto layer = [](const std::string& source) {
+        return R"({"type": "terrain", "name": "Imagery", "sky": false, "lighting": "headlight", "imagery": [)" +
+               source + "]}";
+    };
+    auto remote = load(terrainScene(view, layer(R"({"xyz": )" + jsonString(server.url() + "/{z}/{x}/{y}.png") +
+                                                 R"(, "maxZoom": 3})"),
+                                    kDark));
+    ASSERT_TRUE(remote);
+    const auto a = render(*remote);
+    EXPECT_TRUE(terrain(*remote).errors().empty());
+    EXPECT_GT(server.requestCount(), 0);
+    EXPECT_EQ(server.notFoundCount(), 0);
+    auto file = load(terrainScene(view, layer(R"({"path": )" + jsonString(local) + "}"), kDark));
+    ASSERT_TRUE(file);
+    const auto b = render(*file);
+    ::unsetenv("ORBIS_CACHE_DIR");
+
+    // The field is a smooth ramp, so both resamplings agree to rounding; a tile in the wrong
+    // place, flipped or in the wrong projection would be tens of levels off.
+    size_t globePixels = 0, over2 = 0;
+    int worst = 0;
+    for (size_t i = 0; i < a.pixels.size(); i += 4) {
+        if (b.pixels[i + 2] < 20) continue;   // background
+        ++globePixels;
+        for (int c = 0; c < 3; ++c) {
+            const int d = std::abs(int(a.pixels[i + c]) - int(b.pixels[i + c]));
+            worst = std::max(worst, d);
+            if (d > 2) ++over2;
+        }
+    }
+    EXPECT_GT(globePixels, a.pixels.size() / 4 / 2);
+    EXPECT_LE(worst, 6);
+    EXPECT_LT(over2, globePixels / 100) << "pixels differing by more than 2 levels";
+    // And the image is the field, not a flat colour: red grows eastward across the view.
+    const auto red = [&](uint32_t x) { return int(a.pixels[(size_t(a.height / 2) * a.width + x) * 4]); };
+    EXPECT_GT(red(a.width * 3 / 4) - red(a.width / 4), 12);
+    EXPECT_TRUE(matchesGolden(a, "terrain_xyz"));
+    fs::remove_all(dir);
+}
+
+TEST(TerrainSettings, BadSourceEntriesNameTheKeyAndTheProblem) {
+    scene::LayerRegistry registry;
+    layers::registerBuiltinLayers(registry);
+    const auto build = [&](const std::string& imagery) -> std::string {
+        const std::string json = R"({"layers": [{"type": "terrain", "imagery": [)" + imagery + "]}]}";
+        auto desc = scene::parseSceneText(json, "bad.json", ".");
+        if (!desc) return desc.message();
+        auto scene = scene::Scene::build(std::move(desc).value(), registry);
+        return scene ? std::string() : scene.message();
+    };
+    EXPECT_EQ(build(R"({"xyz": "http://127.0.0.1:1/{z}/{x}/{y}.png", "maxZoom": 5})"), "");
+    const struct { const char* imagery; const char* key; const char* problem; } cases[] = {
+        {R"({"path": "a.tif", "maxZoom": 5})", "maxZoom", "only applies to an \"xyz\" source"},
+        {R"({"xyz": "http://h/{z}/{x}/{y}.png", "maxZoom": 2.5})", "maxZoom", "integer"},
+        {R"({"xyz": "http://h/{z}/{x}/{y}.png", "maxZoom": 40})", "maxZoom", "30"},
+        {R"({"xyz": "http://h/{z}/{x}/{y}.png", "path": "a.tif"})", "xyz", "exactly one of"},
+        {R"({"name": "nothing"})", "path", "exactly one of"},
+    };
+    for (const auto& c : cases) {
+        const std::string message = build(c.imagery);
+        EXPECT_NE(message.find("bad.json"), std::string::npos) << c.imagery << " -> " << message;
+        EXPECT_NE(message.find(c.key), std::string::npos) << c.imagery << " -> " << message;
+        EXPECT_NE(message.find(c.problem), std::string::npos) << c.imagery << " -> " << message;
+    }
 }
 
 TEST_F(TerrainRender, MemoryStaysWithinBudgetsOnALongFlight) {

@@ -4,6 +4,7 @@
 
 #include "engine/jobs/ThreadPool.h"
 #include "tests/support/HttpServer.h"
+#include "tests/support/XyzTiles.h"
 
 #include <cpl_conv.h>
 #include <cpl_string.h>
@@ -564,48 +565,9 @@ TEST(RasterSource, DescribeJsonListsDriverCrsAndLevels) {
 // ---------------------------------------------------------------------------------------------
 // XYZ tiles over HTTP
 
-namespace {
-
-// Colours of the synthetic XYZ image: red follows longitude, green latitude.
-uint8_t redAt(double lon) { return uint8_t(std::lround((lon + 180.0) / 360.0 * 255.0)); }
-uint8_t greenAt(double lat) { return uint8_t(std::lround((lat + 90.0) / 180.0 * 255.0)); }
-
-/// Web-mercator PNG tiles z/x/y.png for zoom 0..2, written with GDAL's PNG driver.
-void writeXyzTiles(const fs::path& root) {
-    GDALAllRegister();
-    constexpr double kR = 6378137.0, kHalf = kPi * kR;
-    for (int z = 0; z <= 2; ++z)
-        for (int x = 0; x < (1 << z); ++x)
-            for (int y = 0; y < (1 << z); ++y) {
-                GDALDatasetH mem = GDALCreate(GDALGetDriverByName("MEM"), "", 256, 256, 3, GDT_Byte, nullptr);
-                const double span = 2 * kHalf / (1 << z), px = span / 256;
-                std::vector<uint8_t> r(256 * 256), g(256 * 256), b(256 * 256, 128);
-                for (int j = 0; j < 256; ++j)
-                    for (int i = 0; i < 256; ++i) {
-                        const double mx = -kHalf + x * span + (i + 0.5) * px, my = kHalf - y * span - (j + 0.5) * px;
-                        const double lon = mx / kR * 180.0 / kPi, lat = std::atan(std::sinh(my / kR)) * 180.0 / kPi;
-                        r[size_t(j * 256 + i)] = redAt(lon);
-                        g[size_t(j * 256 + i)] = greenAt(lat);
-                    }
-                uint8_t* planes[3] = {r.data(), g.data(), b.data()};
-                for (int k = 0; k < 3; ++k)
-                    EXPECT_EQ(GDALRasterIO(GDALGetRasterBand(mem, k + 1), GF_Write, 0, 0, 256, 256, planes[k], 256, 256,
-                                           GDT_Byte, 0, 0),
-                              CE_None);
-                const fs::path file = root / std::to_string(z) / std::to_string(x) / (std::to_string(y) + ".png");
-                fs::create_directories(file.parent_path());
-                GDALDatasetH png = GDALCreateCopy(GDALGetDriverByName("PNG"), file.c_str(), mem, FALSE, nullptr, nullptr, nullptr);
-                EXPECT_NE(png, nullptr);
-                if (png) GDALClose(png);
-                GDALClose(mem);
-            }
-}
-
-}  // namespace
-
 TEST(RasterSourceRemote, XyzTilesMatchTheSourceColours) {
     const fs::path root = TempDir::path() / "xyz";
-    writeXyzTiles(root);
+    ASSERT_EQ(test::writeXyzTiles(root, 2), "");
     test::HttpServer server(root);
     ASSERT_TRUE(server.running()) << server.error();
     RasterSourceOptions o;
@@ -625,8 +587,8 @@ TEST(RasterSourceRemote, XyzTilesMatchTheSourceColours) {
         const double lon = e.west + (i + 0.5) * e.width() / 64, lat = e.north - (j + 0.5) * e.height() / 64;
         const uint8_t* p = &t->rgba[size_t((j * 64 + i) * 4)];
         // 3 levels: resampling of a ramp through 0.35 deg source pixels plus rounding.
-        EXPECT_NEAR(p[0], redAt(lon), 3) << lon << ", " << lat;
-        EXPECT_NEAR(p[1], greenAt(lat), 3) << lon << ", " << lat;
+        EXPECT_NEAR(p[0], test::xyzRedAt(lon), 3) << lon << ", " << lat;
+        EXPECT_NEAR(p[1], test::xyzGreenAt(lat), 3) << lon << ", " << lat;
         EXPECT_NEAR(p[2], 128, 2);
         EXPECT_EQ(p[3], 255);
     }
