@@ -8,14 +8,17 @@
 
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
 #include <sys/resource.h>
-#include <cstdlib>
-#include <optional>
-#include <cmath>
+#include <unistd.h>
+
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <map>
+#include <optional>
 #include <thread>
 
 namespace orbis::cli {
@@ -92,6 +95,20 @@ uint64_t peakRssBytes() {
     getrusage(RUSAGE_SELF, &usage);
     return uint64_t(usage.ru_maxrss) * 1024;
 }
+
+/// Resident set size of this process now, bytes (0 where /proc is not there).
+uint64_t currentRssBytes() {
+    std::ifstream statm("/proc/self/statm");
+    uint64_t size = 0, resident = 0;
+    if (!(statm >> size >> resident)) return 0;
+    return resident * uint64_t(sysconf(_SC_PAGESIZE));
+}
+
+/// Memory at one point of a run, for the "no growth once the caches are full" check.
+struct MemorySample {
+    double at = 0.0;   // fraction of the measured frames
+    uint64_t rss = 0, layersGpu = 0, layersCache = 0;
+};
 
 uint64_t itemsDrawn(const scene::Scene& scene) {
     uint64_t n = 0;
@@ -232,6 +249,7 @@ int benchCommand(const std::vector<std::string>& argv) {
     if (args.value("--sweep")) return sweep(args, gpu, *scene, renderer, frames, warmup);
     std::vector<double> items;
     uint64_t maxGpuBytes = 0, maxCacheBytes = 0;
+    std::vector<MemorySample> memory;   // at every tenth of the measured frames
 
     std::vector<double> cpu, wall, gpuTotal;
     std::map<std::string, std::vector<double>> passes;
@@ -255,6 +273,10 @@ int benchCommand(const std::vector<std::string>& argv) {
         items.push_back(double(itemsDrawn(*scene)));
         maxGpuBytes = std::max(maxGpuBytes, layerGpuBytes(*scene));
         maxCacheBytes = std::max(maxCacheBytes, layerCacheBytes(*scene));
+        const long done = i - warmup + 1;
+        if (done * 10 / frames != (done - 1) * 10 / frames)
+            memory.push_back({double(done) / double(frames), currentRssBytes(), layerGpuBytes(*scene),
+                              layerCacheBytes(*scene)});
         double total = 0.0;
         for (const auto& p : times) {
             if (!passes.count(p.name)) passOrder.push_back(p.name);
@@ -279,6 +301,11 @@ int benchCommand(const std::vector<std::string>& argv) {
         out["memory_mb"] = {{"layers_gpu_max", double(maxGpuBytes) / 1048576.0},
                             {"layers_cache_max", double(maxCacheBytes) / 1048576.0},
                             {"process_rss_peak", double(peakRssBytes()) / 1048576.0}};
+        for (const auto& m : memory)
+            out["memory_mb"]["timeline"].push_back({{"at", m.at},
+                                                    {"rss", double(m.rss) / 1048576.0},
+                                                    {"layers_gpu", double(m.layersGpu) / 1048576.0},
+                                                    {"layers_cache", double(m.layersCache) / 1048576.0}});
         if (path) out["camera_path"] = *args.value("--camera-path");
         for (const auto& name : passOrder) out["gpu_ms"]["passes"][name] = toJson(summarize(passes[name]));
         std::printf("%s\n", out.dump(2).c_str());
@@ -295,6 +322,11 @@ int benchCommand(const std::vector<std::string>& argv) {
         row("items drawn", summarize(items));
         std::printf("memory: layers' GPU %.1f MB max, layers' caches %.1f MB max, process RSS peak %.1f MB\n",
                     double(maxGpuBytes) / 1048576.0, double(maxCacheBytes) / 1048576.0, double(peakRssBytes()) / 1048576.0);
+        std::printf("memory over the run (MB: RSS / layers' GPU / layers' caches):");
+        for (const auto& m : memory)
+            std::printf(" %.0f%% %.0f/%.0f/%.0f", m.at * 100.0, double(m.rss) / 1048576.0,
+                        double(m.layersGpu) / 1048576.0, double(m.layersCache) / 1048576.0);
+        std::printf("\n");
         for (const auto& name : passOrder) row("gpu " + name, summarize(passes[name]));
     }
     return validationExitCode(gpu);
