@@ -108,6 +108,7 @@ uint64_t currentRssBytes() {
 struct MemorySample {
     double at = 0.0;   // fraction of the measured frames
     uint64_t rss = 0, layersGpu = 0, layersCache = 0;
+    uint64_t deviceReserved = 0;   // every vkAllocateMemory block of the process
 };
 
 uint64_t itemsDrawn(const scene::Scene& scene) {
@@ -249,7 +250,7 @@ int benchCommand(const std::vector<std::string>& argv) {
     if (args.value("--sweep")) return sweep(args, gpu, *scene, renderer, frames, warmup);
     std::vector<double> items;
     uint64_t maxGpuBytes = 0, maxCacheBytes = 0;
-    std::vector<MemorySample> memory;   // at every tenth of the measured frames
+    std::vector<MemorySample> memory;   // at the first measured frame and every tenth of them
 
     std::vector<double> cpu, wall, gpuTotal;
     std::map<std::string, std::vector<double>> passes;
@@ -274,9 +275,9 @@ int benchCommand(const std::vector<std::string>& argv) {
         maxGpuBytes = std::max(maxGpuBytes, layerGpuBytes(*scene));
         maxCacheBytes = std::max(maxCacheBytes, layerCacheBytes(*scene));
         const long done = i - warmup + 1;
-        if (done * 10 / frames != (done - 1) * 10 / frames)
+        if (done == 1 || done * 10 / frames != (done - 1) * 10 / frames)
             memory.push_back({double(done) / double(frames), currentRssBytes(), layerGpuBytes(*scene),
-                              layerCacheBytes(*scene)});
+                              layerCacheBytes(*scene), gpu.device->allocator().stats().bytesReserved});
         double total = 0.0;
         for (const auto& p : times) {
             if (!passes.count(p.name)) passOrder.push_back(p.name);
@@ -305,7 +306,8 @@ int benchCommand(const std::vector<std::string>& argv) {
             out["memory_mb"]["timeline"].push_back({{"at", m.at},
                                                     {"rss", double(m.rss) / 1048576.0},
                                                     {"layers_gpu", double(m.layersGpu) / 1048576.0},
-                                                    {"layers_cache", double(m.layersCache) / 1048576.0}});
+                                                    {"layers_cache", double(m.layersCache) / 1048576.0},
+                                                    {"device_reserved", double(m.deviceReserved) / 1048576.0}});
         if (path) out["camera_path"] = *args.value("--camera-path");
         for (const auto& name : passOrder) out["gpu_ms"]["passes"][name] = toJson(summarize(passes[name]));
         std::printf("%s\n", out.dump(2).c_str());
@@ -322,10 +324,11 @@ int benchCommand(const std::vector<std::string>& argv) {
         row("items drawn", summarize(items));
         std::printf("memory: layers' GPU %.1f MB max, layers' caches %.1f MB max, process RSS peak %.1f MB\n",
                     double(maxGpuBytes) / 1048576.0, double(maxCacheBytes) / 1048576.0, double(peakRssBytes()) / 1048576.0);
-        std::printf("memory over the run (MB: RSS / layers' GPU / layers' caches):");
+        std::printf("memory over the run (MB: RSS / layers' GPU / layers' caches / device memory reserved):");
         for (const auto& m : memory)
-            std::printf(" %.0f%% %.0f/%.0f/%.0f", m.at * 100.0, double(m.rss) / 1048576.0,
-                        double(m.layersGpu) / 1048576.0, double(m.layersCache) / 1048576.0);
+            std::printf(" %.0f%%: %.0f/%.0f/%.0f/%.0f", m.at * 100.0, double(m.rss) / 1048576.0,
+                        double(m.layersGpu) / 1048576.0, double(m.layersCache) / 1048576.0,
+                        double(m.deviceReserved) / 1048576.0);
         std::printf("\n");
         for (const auto& name : passOrder) row("gpu " + name, summarize(passes[name]));
     }
