@@ -84,7 +84,10 @@ void GlobeLayer::prepare(const scene::RenderServices& services) {
         sky.fragmentSpirv = kSpv_globe_sky_frag;
         sky.layout = layout_.vk();
         sky.cullMode = VK_CULL_MODE_NONE;
-        sky.depthTest = false;
+        // Drawn last at the far plane (depth 0, reversed-Z): only pixels nothing else covered
+        // pass the depth test, so the sky costs nothing under the surface.
+        sky.depthTest = true;
+        sky.depthCompare = VK_COMPARE_OP_EQUAL;
         sky.depthWrite = false;
         sky.colorFormat = services.colorFormat;
         sky.depthFormat = services.depthFormat;
@@ -107,12 +110,6 @@ void GlobeLayer::record(scene::Pass, const scene::RecordContext& rc) {
                                srgbToLinear(settings_.color.b), 1.0f);
     const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
 
-    if (sky_) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, sky_.vk());
-        vkCmdPushConstants(cmd, layout_.vk(), stages, 0, sizeof(push), &push);
-        vkCmdDraw(cmd, 3, 1, 0, 0);
-    }
-
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, surface_.vk());
     const VkDeviceSize offset = 0;
     const VkBuffer vb = vertices_.vk();
@@ -132,6 +129,11 @@ void GlobeLayer::record(scene::Pass, const scene::RecordContext& rc) {
         vkCmdPushConstants(cmd, layout_.vk(), stages, 0, sizeof(push), &push);
         vkCmdDrawIndexed(cmd, uint32_t(mesh_.indices.size()), 1, 0, int32_t(i * mesh_.verticesPerPatch()), 0);
         ++patchesDrawn_;
+    }
+    if (sky_) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, sky_.vk());
+        vkCmdPushConstants(cmd, layout_.vk(), stages, 0, sizeof(push), &push);
+        vkCmdDraw(cmd, 3, 1, 0, 0);
     }
 }
 

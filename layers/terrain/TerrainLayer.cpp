@@ -301,7 +301,10 @@ void TerrainLayer::prepare(const scene::RenderServices& services) {
         sky.fragmentSpirv = kSpv_globe_sky_frag;
         sky.layout = layout_.vk();
         sky.cullMode = VK_CULL_MODE_NONE;
-        sky.depthTest = false;
+        // Drawn last at the far plane (depth 0, reversed-Z): only pixels nothing else covered
+        // pass the depth test, so the sky costs nothing under the surface.
+        sky.depthTest = true;
+        sky.depthCompare = VK_COMPARE_OP_EQUAL;
         sky.depthWrite = false;
         sky.colorFormat = services.colorFormat;
         sky.depthFormat = services.depthFormat;
@@ -630,11 +633,14 @@ void TerrainLayer::record(scene::Pass, const scene::RecordContext& rc) {
     const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     vkCmdPushConstants(cmd, layout_.vk(), stages, 0, sizeof(push), &push);
 
+    if (!drawItems_.empty()) drawSurface(cmd);
     if (sky_) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, sky_.vk());
         vkCmdDraw(cmd, 3, 1, 0, 0);
     }
-    if (drawItems_.empty()) return;
+}
+
+void TerrainLayer::drawSurface(VkCommandBuffer cmd) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, surface_.vk());
     vkCmdBindIndexBuffer(cmd, indices_.vk(), 0, VK_INDEX_TYPE_UINT32);
     const uint32_t verts = globe::tileVertexCount(settings_.gridSize);

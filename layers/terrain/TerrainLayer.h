@@ -126,6 +126,8 @@ private:
     uint64_t allocatedBytes() const;   ///< tile pools
     uint64_t fixedBytes() const;       ///< index and draw buffers
     void writeDescriptors(uint32_t frameSlot);
+    /// The selected tiles, front to back (descriptor sets and push constants already set).
+    void drawSurface(VkCommandBuffer cmd);
 
     TerrainSettings settings_;
     std::vector<std::string> errors_;
