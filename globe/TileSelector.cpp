@@ -227,6 +227,11 @@ double TileSelector::geometricError(const TileKey& key, int gridSize, const Elli
     return kHeightmapQuality * ellipsoid.equatorialRadius() * glm::radians(key.sizeDeg()) / cells;
 }
 
+double TileSelector::curvatureError(const TileKey& key, int gridSize, const Ellipsoid& ellipsoid) {
+    const double cell = glm::radians(key.sizeDeg()) / double(std::max(gridSize, 2) - 1);
+    return ellipsoid.equatorialRadius() * (1.0 - std::cos(0.5 * cell));
+}
+
 bool TileSelector::wasRefined(const TileKey& key) const {
     return std::binary_search(refinedPrev_.begin(), refinedPrev_.end(), key);
 }
@@ -281,7 +286,9 @@ const std::vector<SelectedTile>& TileSelector::select(const SelectorView& view, 
     // closest anything can be drawn, so it is the closest distance that means anything.
     minDistance_ = view.nearPlane > 0.0 ? view.nearPlane : 1.0;
     for (uint32_t l = 0; l <= TileKey::kMaxLevel; ++l)
-        geometricError_[l] = geometricError(TileKey{l, 0, 0}, settings_.gridSize, *ellipsoid_);
+        geometricError_[l] = l < settings_.detailLevel
+                                 ? geometricError(TileKey{l, 0, 0}, settings_.gridSize, *ellipsoid_)
+                                 : curvatureError(TileKey{l, 0, 0}, settings_.gridSize, *ellipsoid_);
 
     for (const TileKey& root : TileKey::roots()) {
         Node n;

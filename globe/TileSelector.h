@@ -36,6 +36,12 @@ struct SelectorSettings {
     uint32_t minLevel = 0;
     /// Samples per tile edge of the terrain mesh; sets the geometric error of a tile.
     int gridSize = 65;
+    /// Finest level at which the sources have detail (their finest data level): a tile there
+    /// already draws every data sample, and deeper tiles only show the same data, upsampled.
+    /// From this level on a tile's error is what its grid misses of the ellipsoid's curvature
+    /// (millimetres at level 12), so refinement stops at the data's resolution instead of
+    /// spending tiles that add nothing. The default keeps refining on the grid's error alone.
+    uint32_t detailLevel = 30;
     /// A tile refined last frame stays refined until its error drops below
     /// maxScreenSpaceError * (1 - hysteresis).
     double hysteresis = 0.15;
@@ -104,6 +110,9 @@ public:
     /// Metric error of drawing `key` with a gridSize x gridSize mesh: a quarter of the grid's
     /// cell size at the equator (see TileSelector.cpp for why).
     static double geometricError(const TileKey& key, int gridSize, const Ellipsoid& ellipsoid = Ellipsoid::wgs84());
+    /// Metric error of a tile whose data is drawn in full: the sagitta of one grid cell's arc
+    /// on the equator (the flat triangles under the curved ellipsoid).
+    static double curvatureError(const TileKey& key, int gridSize, const Ellipsoid& ellipsoid = Ellipsoid::wgs84());
 
 private:
     struct Node {

@@ -175,6 +175,9 @@ void TerrainLayer::prepare(const scene::RenderServices& services) {
     sel.maxScreenSpaceError = settings_.maxScreenSpaceError;
     sel.maxLevel = settings_.maxLevel;
     sel.gridSize = settings_.gridSize;
+    sel.detailLevel = 0;   // no sources: the ellipsoid's curvature alone sets the error
+    for (uint32_t l = 0; l < model_->layerCount(); ++l)
+        if (l > 0 || model_->hasElevation()) sel.detailLevel = std::max(sel.detailLevel, model_->maxDataLevel(l));
     selector_ = std::make_unique<globe::TileSelector>(sel);
 
     // Residency pools: pages are allocated on demand, up to the GPU budget.

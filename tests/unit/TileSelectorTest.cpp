@@ -293,6 +293,37 @@ TEST(TileSelector, LowerErrorThresholdSelectsMoreAndDeeperTiles) {
     EXPECT_GT(lastLevel, 10u);
 }
 
+TEST(TileSelector, RefinementStopsAtTheDataDetailLevelUnlessCurvatureNeedsMore) {
+    // A kilometre from a point in the Alps looking ahead: without a data limit the grid error
+    // alone refines deep. With data no finer than level 9 the tiles stop at 9: past it only the
+    // ellipsoid's curvature within a cell could show, and over a level-9 cell (610 m) that arc's
+    // sagitta is 7 mm, under 2 px from anything farther than 5 m.
+    const SelectorView view = viewOf(poseFromViewpoint({8.0, 46.5, 0.0, 30.0, -20.0, 1000.0}));
+    TileSelector unlimited;
+    unlimited.select(view, flat);
+    ASSERT_GT(unlimited.stats().maxLevelReached, 12u);
+
+    SelectorSettings s;
+    s.detailLevel = 9;
+    TileSelector limited(s);
+    const auto& tiles = limited.select(view, flat);
+    EXPECT_TRUE(disjoint(tiles));
+    EXPECT_LT(tiles.size(), unlimited.selection().size() / 2);
+    EXPECT_EQ(limited.stats().maxLevelReached, 9u);
+    for (const auto& t : tiles) EXPECT_LE(t.screenSpaceError, s.maxScreenSpaceError) << t.key.toString();
+    const double sagitta9 = TileSelector::curvatureError(TileKey{9, 0, 0}, 65);
+    EXPECT_NEAR(sagitta9, 6378137.0 * (1.0 - std::cos(0.5 * (180.0 / 512.0 / 64.0) * 3.14159265358979 / 180.0)), 1e-12);
+    EXPECT_NEAR(sagitta9, 0.0073, 0.0001);
+
+    // No data at all (detailLevel 0): the ellipsoid alone, so a camera far out needs few tiles
+    // but one 1 m above the ground still refines until the facets hug the ellipsoid.
+    s.detailLevel = 0;
+    TileSelector bare(s);
+    bare.select(lookingDownFrom(8.0, 46.5, 1.0), flat);
+    EXPECT_GT(bare.stats().maxLevelReached, 9u);
+    for (const auto& t : bare.selection()) EXPECT_LE(t.screenSpaceError, s.maxScreenSpaceError) << t.key.toString();
+}
+
 TEST(TileSelector, LowViewWithConservativeHeightsIsFastAndBounded) {
     // 4.5 km up in the Alps looking toward the horizon. With the conservative [-500, 9000] m
     // ranges the eye is inside every nearby tile, so tiles under it go to maxLevel: more tiles
