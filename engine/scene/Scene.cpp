@@ -1,5 +1,7 @@
 #include "engine/scene/Scene.h"
 
+#include "globe/Ellipsoid.h"
+
 namespace orbis::scene {
 
 Result<std::unique_ptr<Scene>> Scene::build(SceneDesc desc, const LayerRegistry& registry) {
@@ -39,6 +41,17 @@ std::optional<double> Scene::heightAt(double lonDeg, double latDeg) const {
         if (r.visible && r.layer->prepared())
             if (auto h = r.layer->groundHeightAt(lonDeg, latDeg)) return h;
     return std::nullopt;
+}
+
+globe::Pose Scene::keptAboveGround(globe::Pose pose, double clearance) const {
+    const auto& ellipsoid = globe::Ellipsoid::wgs84();
+    globe::Geodetic eye = ellipsoid.toGeodetic(pose.position);
+    const auto ground = heightAt(eye.lonDeg, eye.latDeg);
+    if (ground && eye.height < *ground + clearance) {
+        eye.height = *ground + clearance;
+        pose.position = ellipsoid.toEcef(eye);
+    }
+    return pose;
 }
 
 bool Scene::busy() const {

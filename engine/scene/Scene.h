@@ -43,6 +43,10 @@ public:
     /// from the first visible ground layer that knows it (terrain), else nothing (the
     /// ellipsoid). Used by camera collision, the near plane, clamping and FMV.
     std::optional<double> heightAt(double lonDeg, double latDeg) const;
+    /// `pose` with the eye lifted along the vertical, if needed, to at least `clearance` metres
+    /// above the ground where heightAt knows it (orientation unchanged). Scripted camera paths
+    /// go through it so that no frame is rendered from under the terrain.
+    globe::Pose keptAboveGround(globe::Pose pose, double clearance = 2.0) const;
     /// True while a visible layer still loads what the current view needs.
     bool busy() const;
 

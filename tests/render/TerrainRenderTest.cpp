@@ -209,6 +209,28 @@ TEST(TerrainModel, DemsStackFinestWinsAndCoarserFillsHoles) {
     EXPECT_EQ(model.state(0, globe::TileKey::containing(20.0, 10.0, 10)), globe::DataState::Missing);
 }
 
+TEST_F(TerrainRender, CameraPathPosesAreKeptAboveTheGround) {
+    auto scene = load(terrainScene(R"({"lon": 7, "lat": 46, "height": 1500, "pitch": -60, "range": 40000})",
+                                   mountainLayer(), kDark));
+    ASSERT_TRUE(scene);
+    render(*scene);
+    const auto& ell = globe::Ellipsoid::wgs84();
+    const auto ground = scene->heightAt(7.0, 46.0);
+    ASSERT_TRUE(ground.has_value());
+    ASSERT_GT(*ground, 3000.0);
+    // An eye inside the mountain comes out 2 m above its surface, straight up, same orientation.
+    const globe::Pose inside = globe::poseFromEye({7.0, 46.0, 100.0}, 30.0, -10.0);
+    const globe::Pose kept = scene->keptAboveGround(inside);
+    const globe::Geodetic g = ell.toGeodetic(kept.position);
+    EXPECT_NEAR(g.height, *ground + 2.0, 1e-6);
+    EXPECT_NEAR(g.lonDeg, 7.0, 1e-9);
+    EXPECT_NEAR(g.latDeg, 46.0, 1e-9);
+    EXPECT_EQ(kept.orientation, inside.orientation);
+    // An eye in the air is left alone.
+    const globe::Pose above = globe::poseFromEye({7.0, 46.0, *ground + 50.0}, 30.0, -10.0);
+    EXPECT_EQ(scene->keptAboveGround(above).position, above.position);
+}
+
 TEST_F(TerrainRender, FortyThousandKilometresOut) {
     if (!worldAvailable()) GTEST_SKIP() << "assets/generated not built";
     auto scene = load(terrainScene(R"({"lon": -60, "lat": -10, "range": 40000000})", worldLayer(), kDark));

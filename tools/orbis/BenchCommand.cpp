@@ -263,7 +263,8 @@ int benchCommand(const std::vector<std::string>& argv) {
         if (path) {
             // The measured frames sweep the whole path; warm-up frames stay at its start.
             const double f = i < warmup || frames < 2 ? 0.0 : double(i - warmup) / double(frames - 1);
-            scene->camera().setPose(globe::poseFromViewpoint(path->at(path->startTime() + f * path->duration())));
+            scene->camera().setPose(
+                scene->keptAboveGround(globe::poseFromViewpoint(path->at(path->startTime() + f * path->duration()))));
         }
         const auto frame = renderer.render(*scene, /*readback=*/false);
         const auto times = renderer.gpuTimes(frame);

@@ -87,10 +87,16 @@ int renderCommand(const std::vector<std::string>& argv) {
         if (path) {
             const double t = sequence ? path->startTime() + (count > 1 ? double(i) / double(count - 1) : 0.0) * path->duration()
                                       : args.number("--path-time", -1e9, 1e9).value_or(path->startTime());
-            scene->camera().setPose(globe::poseFromViewpoint(path->at(t)));
+            scene->camera().setPose(scene->keptAboveGround(globe::poseFromViewpoint(path->at(t))));
         }
         if (!args.flag("--first-frame")) {
-            const int frames = renderer.settle(*scene, wait);
+            int frames = renderer.settle(*scene, wait);
+            // The ground under the eye may only be known now that the view has loaded.
+            const globe::Pose lifted = scene->keptAboveGround(scene->camera().pose());
+            if (path && lifted.position != scene->camera().pose().position) {
+                scene->camera().setPose(lifted);
+                frames += renderer.settle(*scene, wait);
+            }
             if (scene->busy()) log::warn("still loading after ", wait, " s (", frames, " frames): the image may lack detail");
         }
         const auto frame = renderer.render(*scene, /*readback=*/true);
