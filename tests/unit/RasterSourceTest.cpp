@@ -9,6 +9,7 @@
 #include <cpl_conv.h>
 #include <cpl_string.h>
 #include <gdal.h>
+#include <gdal_utils.h>
 #include <ogr_srs_api.h>
 
 #include <gtest/gtest.h>
@@ -342,6 +343,80 @@ TEST(RasterSource, ElevationMatchesAnalyticHeights) {
             const double lon = coarse.west + i * coarse.width() / 64, lat = coarse.north - j * coarse.height() / 64;
             EXPECT_NEAR(c->heights[size_t(j * 65 + i)], heightAt(lon, lat), 0.25) << "at " << lon << ", " << lat;
         }
+}
+
+TEST(RasterSource, DtedVrtJpeg2000AndNetcdfDemsReadLikeGeoTiff) {
+    // The same heights through four more GDAL drivers. DTED needs its own 1-degree cell
+    // geometry (level 0: 121 x 121 posts, pixel-is-point); JPEG 2000 stores integers, written
+    // reversibly (lossless), so the heights are rounded to the metre.
+    GDALAllRegister();
+    const fs::path dir = TempDir::path() / "formats";
+    fs::create_directories(dir);
+    std::vector<std::pair<std::string, double>> files;   // file, tolerance (m)
+
+    {   // VRT over the GeoTIFF.
+        GDALDatasetH tif = GDALOpen(demLonLat().c_str(), GA_ReadOnly);
+        ASSERT_NE(tif, nullptr);
+        const std::string vrt = (dir / "dem.vrt").string();
+        GDALDatasetH out = GDALCreateCopy(GDALGetDriverByName("VRT"), vrt.c_str(), tif, FALSE, nullptr, nullptr, nullptr);
+        ASSERT_NE(out, nullptr) << CPLGetLastErrorMsg();
+        GDALClose(out);
+        // netCDF (CF lat/lon variables, _FillValue from the nodata value).
+        const std::string nc = (dir / "dem.nc").string();
+        out = GDALCreateCopy(GDALGetDriverByName("netCDF"), nc.c_str(), tif, FALSE, nullptr, nullptr, nullptr);
+        ASSERT_NE(out, nullptr) << CPLGetLastErrorMsg();
+        GDALClose(out);
+        // JPEG 2000, Int16, lossless.
+        const std::string jp2 = (dir / "dem.jp2").string();
+        const char* translateArgs[] = {"-ot", "Int16", "-of", "JP2OpenJPEG", "-co", "REVERSIBLE=YES", "-co",
+                                       "QUALITY=100", nullptr};
+        GDALTranslateOptions* t = GDALTranslateOptionsNew(const_cast<char**>(translateArgs), nullptr);
+        int usageError = 0;
+        out = GDALTranslate(jp2.c_str(), tif, t, &usageError);
+        GDALTranslateOptionsFree(t);
+        ASSERT_NE(out, nullptr) << CPLGetLastErrorMsg();
+        GDALClose(out);
+        GDALClose(tif);
+        files = {{vrt, 0.01}, {nc, 0.01}, {jp2, 0.51}};
+    }
+    {   // DTED level 0 of the cell lon 10..11, lat 45..46.
+        constexpr int kPosts = 121;
+        constexpr double kStep = 1.0 / (kPosts - 1);
+        GDALDatasetH mem = GDALCreate(GDALGetDriverByName("MEM"), "", kPosts, kPosts, 1, GDT_Int16, nullptr);
+        double gt[6] = {10.0 - 0.5 * kStep, kStep, 0, 46.0 + 0.5 * kStep, 0, -kStep};
+        GDALSetGeoTransform(mem, gt);
+        GDALSetProjection(mem, wktOf(4326).c_str());
+        std::vector<int16_t> v(kPosts * kPosts);
+        for (int j = 0; j < kPosts; ++j)
+            for (int i = 0; i < kPosts; ++i)
+                v[size_t(j * kPosts + i)] = int16_t(std::lround(heightAt(10.0 + i * kStep, 46.0 - j * kStep)));
+        ASSERT_EQ(GDALRasterIO(GDALGetRasterBand(mem, 1), GF_Write, 0, 0, kPosts, kPosts, v.data(), kPosts, kPosts,
+                               GDT_Int16, 0, 0),
+                  CE_None);
+        const std::string dt0 = (dir / "n45e010.dt0").string();
+        GDALDatasetH out = GDALCreateCopy(GDALGetDriverByName("DTED"), dt0.c_str(), mem, FALSE, nullptr, nullptr, nullptr);
+        GDALClose(mem);
+        ASSERT_NE(out, nullptr) << CPLGetLastErrorMsg();
+        GDALClose(out);
+        files.emplace_back(dt0, 0.51);
+    }
+
+    const GeoExtent e{10.2, 45.2, 10.52, 45.52};   // inside the DTED cell, away from the hole
+    for (const auto& [file, tolerance] : files) {
+        auto src = openDem(file);
+        ASSERT_TRUE(src.ok()) << file << ": " << src.message();
+        auto t = (*src)->readElevation(e, 65);
+        ASSERT_TRUE(t.ok()) << file << ": " << t.message();
+        ASSERT_TRUE(t->anyValid) << file;
+        double worst = 0.0;
+        for (int j = 0; j < 65; j += 4)
+            for (int i = 0; i < 65; i += 4) {
+                const double lon = e.west + i * e.width() / 64, lat = e.north - j * e.height() / 64;
+                worst = std::max(worst, std::abs(double(t->heights[size_t(j * 65 + i)]) - heightAt(lon, lat)));
+            }
+        EXPECT_LE(worst, tolerance) << file;
+        std::printf("%s: worst height error %.4f m\n", fs::path(file).filename().c_str(), worst);
+    }
 }
 
 TEST(RasterSource, NodataBecomesNaNWithoutSpikes) {
