@@ -294,6 +294,7 @@ TEST_F(TerrainRender, XyzImageryFromALocalServerLandsWhereTheSameImageFromAFileD
     ASSERT_EQ(writeXyzTiles(dir / "tiles", 3), "");
     const std::string local = (dir / "same-colours.tif").string();
     {
+        GDALAllRegister();
         const int w = 1440, h = 720;   // 0.25 deg pixels
         GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GTiff"), local.c_str(), w, h, 3, GDT_Byte, nullptr);
         ASSERT_NE(ds, nullptr);
@@ -381,6 +382,58 @@ TEST(TerrainSettings, BadSourceEntriesNameTheKeyAndTheProblem) {
         EXPECT_NE(message.find(c.key), std::string::npos) << c.imagery << " -> " << message;
         EXPECT_NE(message.find(c.problem), std::string::npos) << c.imagery << " -> " << message;
     }
+}
+
+TEST_F(TerrainRender, ImageryLayersBlendInOrderWithOpacityAndVisibility) {
+    // Flat colours over the whole globe: red, then blue at half opacity on top. Blending is in
+    // linear light, so it must look exactly like one layer of the linear mix (0.5, 0, 0.5),
+    // which is sRGB (188, 0, 188). A hidden or fully transparent layer must change nothing.
+    namespace fs = std::filesystem;
+    GDALAllRegister();
+    const fs::path dir = fs::path(testOutputDir()) / ("blend-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const auto flat = [&](const char* name, uint8_t r, uint8_t g, uint8_t b) {
+        const std::string file = (dir / name).string();
+        GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GTiff"), file.c_str(), 8, 4, 3, GDT_Byte, nullptr);
+        EXPECT_NE(ds, nullptr);
+        const double gt[6] = {-180.0, 45.0, 0, 90.0, 0, -45.0};
+        GDALSetGeoTransform(ds, const_cast<double*>(gt));
+        GDALSetProjection(ds, "EPSG:4326");
+        for (int band = 1; band <= 3; ++band) {
+            std::vector<uint8_t> v(32, band == 1 ? r : band == 2 ? g : b);
+            EXPECT_EQ(GDALRasterIO(GDALGetRasterBand(ds, band), GF_Write, 0, 0, 8, 4, v.data(), 8, 4, GDT_Byte, 0, 0),
+                      CE_None);
+        }
+        GDALClose(ds);
+        return jsonString(file);
+    };
+    const std::string red = flat("red.tif", 255, 0, 0), blue = flat("blue.tif", 0, 0, 255),
+                      mixed = flat("mixed.tif", 188, 0, 188);
+    const auto renderWith = [&](const std::string& imagery) {
+        auto scene = load(terrainScene(R"({"lon": 20, "lat": 10, "range": 12000000})",
+                                       R"({"type": "terrain", "name": "Blend", "sky": false, "imagery": [)" + imagery + "]}",
+                                       kDark));
+        EXPECT_TRUE(scene);
+        return scene ? render(*scene) : ImageRgba8{};
+    };
+    const auto maxDifference = [](const ImageRgba8& a, const ImageRgba8& b) {
+        int worst = 0;
+        for (size_t i = 0; i < a.pixels.size() && i < b.pixels.size(); ++i)
+            worst = std::max(worst, std::abs(int(a.pixels[i]) - int(b.pixels[i])));
+        return a.pixels.size() == b.pixels.size() ? worst : 256;
+    };
+    const auto blended = renderWith(R"({"path": )" + red + R"(}, {"path": )" + blue + R"(, "opacity": 0.5})");
+    const auto reference = renderWith(R"({"path": )" + mixed + "}");
+    const auto redOnly = renderWith(R"({"path": )" + red + "}");
+    EXPECT_LE(maxDifference(blended, reference), 2);
+    EXPECT_GT(maxDifference(blended, redOnly), 60);   // the blue layer does show
+    EXPECT_LE(maxDifference(renderWith(R"({"path": )" + red + R"(}, {"path": )" + blue + R"(, "visible": false})"), redOnly),
+              0);
+    EXPECT_LE(maxDifference(renderWith(R"({"path": )" + red + R"(}, {"path": )" + blue + R"(, "opacity": 0})"), redOnly),
+              0);
+    // Order matters: blue under red at full opacity is red.
+    EXPECT_LE(maxDifference(renderWith(R"({"path": )" + blue + R"(}, {"path": )" + red + "}"), redOnly), 0);
+    fs::remove_all(dir);
 }
 
 TEST_F(TerrainRender, MemoryStaysWithinBudgetsOnALongFlight) {
