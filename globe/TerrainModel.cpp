@@ -351,21 +351,26 @@ TerrainModel::LoadResult TerrainModel::loadElevation(const TileKey& tile, std::s
     LoadResult out;
     const int n = settings_.gridSize;
     const GeoExtent extent = tile.extent();
-    std::vector<float> h(size_t(n) * size_t(n), std::numeric_limits<float>::quiet_NaN());
+    // Read with a one-sample border (n + 2 samples over the extent grown by one sample spacing:
+    // the same sample positions inside), for gradients that match the neighbours'.
+    const int m = n + 2;
+    const double dx = extent.width() / (n - 1), dy = extent.height() / (n - 1);
+    const GeoExtent grown{extent.west - dx, extent.south - dy, extent.east + dx, extent.north + dy};
+    std::vector<float> g(size_t(m) * size_t(m), std::numeric_limits<float>::quiet_NaN());
     bool covered = false;
     for (const auto& source : elevation_) {
         if (!source->covers(extent) || tile.level < source->minLevel()) continue;
         covered = true;
         if (cancel.cancelled()) throw jobs::Cancelled();
-        auto r = source->readElevation(extent, n, &cancel);
+        auto r = source->readElevation(grown, m, &cancel);
         if (!r) {
             if (cancel.cancelled()) throw jobs::Cancelled();
             out.error = r.message();
             return out;
         }
         if (!r->anyValid) continue;
-        for (size_t i = 0; i < h.size(); ++i)
-            if (std::isnan(h[i]) && !std::isnan(r->heights[i])) h[i] = r->heights[i];
+        for (size_t i = 0; i < g.size(); ++i)
+            if (std::isnan(g[i]) && std::isfinite(r->heights[i])) g[i] = r->heights[i];
     }
     // No source reaches this tile: nor any of its descendants. A source that reaches it but
     // has no sample here (a small DEM between the coarse grid's samples, a nodata area) still
@@ -379,16 +384,42 @@ TerrainModel::LoadResult TerrainModel::loadElevation(const TileKey& tile, std::s
     // Holes: the nearest loaded ancestor's heights at the same place, else the ellipsoid.
     // Never a spike.
     const glm::dvec4 sb = parent ? tile.scaleBiasWithin(tile.ancestor(parentLevel)) : glm::dvec4(1, 1, 0, 0);
+    const auto at = [&](int i, int j) -> float& { return g[size_t((j + 1) * m + (i + 1))]; };   // i, j in -1..n
+    std::vector<float> h(size_t(n) * size_t(n));
     float lo = std::numeric_limits<float>::max(), hi = -lo;
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
-            float& v = h[size_t(j * n + i)];
-            if (std::isnan(v) || !std::isfinite(v)) {
+            float& v = at(i, j);
+            if (!std::isfinite(v)) {
                 const double u = double(i) / (n - 1), w = double(j) / (n - 1);
                 v = parent ? parent->sample(u * sb.x + sb.z, w * sb.y + sb.w) : 0.0f;
             }
+            h[size_t(j * n + i)] = v;
             lo = std::min(lo, v);
             hi = std::max(hi, v);
+        }
+    // Border samples without data: the ancestor's where it reaches them (as for holes), else
+    // (beyond a pole or the antimeridian, past every DEM) extrapolated linearly, which makes the
+    // difference there one-sided.
+    if (parent) {
+        const auto fill = [&](int i, int j) {
+            float& v = at(i, j);
+            const double u = (double(i) / (n - 1)) * sb.x + sb.z, w = (double(j) / (n - 1)) * sb.y + sb.w;
+            if (!std::isfinite(v) && u >= 0.0 && u <= 1.0 && w >= 0.0 && w <= 1.0) v = parent->sample(u, w);
+        };
+        for (int k = 0; k < n; ++k) fill(-1, k), fill(n, k), fill(k, -1), fill(k, n);
+    }
+    for (int k = 0; k < n; ++k) {
+        if (!std::isfinite(at(-1, k))) at(-1, k) = 2.0f * at(0, k) - at(1, k);
+        if (!std::isfinite(at(n, k))) at(n, k) = 2.0f * at(n - 1, k) - at(n - 2, k);
+        if (!std::isfinite(at(k, -1))) at(k, -1) = 2.0f * at(k, 0) - at(k, 1);
+        if (!std::isfinite(at(k, n))) at(k, n) = 2.0f * at(k, n - 1) - at(k, n - 2);
+    }
+    data->gradients.resize(size_t(n) * size_t(n) * 2);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            data->gradients[size_t(j * n + i) * 2] = 0.5f * (at(i + 1, j) - at(i - 1, j));
+            data->gradients[size_t(j * n + i) * 2 + 1] = 0.5f * (at(i, j + 1) - at(i, j - 1));
         }
     data->heights = std::move(h);
     data->minHeight = lo;

@@ -27,12 +27,16 @@
 
 namespace orbis::globe {
 
-/// Heights of a tile's corner-aligned grid (row 0 north), never NaN.
+/// Heights of a tile's corner-aligned grid (row 0 north), never NaN, and their gradients.
 struct ElevationData {
     int size = 0;
     std::vector<float> heights;
+    /// Per sample: the height change per sample step east, then south (central differences
+    /// that reach one sample into the neighbouring tiles, so that normals interpolated from them
+    /// match across tile edges; one-sided where the neighbour has no data).
+    std::vector<float> gradients;
     float minHeight = 0.0f, maxHeight = 0.0f;
-    size_t bytes() const { return sizeof(*this) + heights.size() * sizeof(float); }
+    size_t bytes() const { return sizeof(*this) + (heights.size() + gradients.size()) * sizeof(float); }
     /// Bilinear height at tile texture coordinates (u east, v south, 0..1, corner-aligned).
     float sample(double u, double v) const;
 };

@@ -575,21 +575,16 @@ void TerrainLayer::recordTransfers(const scene::RecordContext& rc) {
             } else if (u.kind == kElevation) {
                 const auto data = model_->elevation(u.tile);
                 const uint32_t page = u.slot / shader::kElevationSlotsPerPage;
-                // Height and its central-difference gradient per sample (one-sided at the
-                // edges): interpolating the gradient gives continuous normals.
+                // Height and its gradient per sample (computed by the loader): interpolating
+                // the gradient gives continuous normals.
                 const auto& h = data->heights;
                 std::vector<float> texels(h.size() * 4);
-                for (int j = 0; j < n; ++j)
-                    for (int i = 0; i < n; ++i) {
-                        const auto at = [&](int x, int y) { return h[size_t(std::clamp(y, 0, n - 1) * n + std::clamp(x, 0, n - 1))]; };
-                        const int i0 = std::max(i - 1, 0), i1 = std::min(i + 1, n - 1);
-                        const int j0 = std::max(j - 1, 0), j1 = std::min(j + 1, n - 1);
-                        float* t = &texels[size_t(j * n + i) * 4];
-                        t[0] = at(i, j);
-                        t[1] = (at(i1, j) - at(i0, j)) / float(i1 - i0);
-                        t[2] = (at(i, j1) - at(i, j0)) / float(j1 - j0);
-                        t[3] = 0.0f;
-                    }
+                for (size_t i = 0; i < h.size(); ++i) {
+                    texels[i * 4] = h[i];
+                    texels[i * 4 + 1] = data->gradients[i * 2];
+                    texels[i * 4 + 2] = data->gradients[i * 2 + 1];
+                    texels[i * 4 + 3] = 0.0f;
+                }
                 rc.uploader->toImage(cmd, elevationPages_[page], texels.data(), texels.size() * sizeof(float),
                                      u.slot % shader::kElevationSlotsPerPage);
                 elevTouched[page] = true;

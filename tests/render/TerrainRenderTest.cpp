@@ -151,6 +151,62 @@ TEST_F(TerrainRender, HeightAtMatchesTheDem) {
     EXPECT_TRUE(!sea || *sea == 0.0);
 }
 
+TEST_F(TerrainRender, GradientsMatchAcrossTileEdges) {
+    // Loaded neighbours share their edge samples; with the one-sample border read with each
+    // tile, both compute the same central differences there, so lighting has no seam. (GDAL's
+    // approximate transformer moves samples by up to 1/8 pixel between reads: centimetres.)
+    auto scene = load(terrainScene(R"({"lon": 7, "lat": 46, "height": 1500, "pitch": -60, "range": 40000})",
+                                   mountainLayer(), kDark));
+    ASSERT_TRUE(scene);
+    render(*scene);
+    const auto* model = terrain(*scene).model();
+    const int n = model->settings().gridSize;
+    int pairs = 0;
+    double worst = 0.0, largest = 0.0, worstHeight = 0.0, worstOneSided = 0.0;
+    for (const auto& t : terrain(*scene).selection()) {
+        if (t.key.level > model->maxDataLevel(0)) continue;
+        const auto a = model->elevation(t.key);
+        const auto east = t.key.neighbour(1, 0), south = t.key.neighbour(0, 1);
+        if (!a) continue;
+        for (int dir = 0; dir < 2; ++dir) {
+            const auto& nk = dir == 0 ? east : south;
+            const auto b = nk ? model->elevation(*nk) : nullptr;
+            if (!b) continue;
+            ++pairs;
+            const globe::GeoExtent e = t.key.extent();
+            for (int k = 0; k < n; ++k) {
+                // Only where both tiles have the DEM's own samples around the edge (outside it
+                // they are filled from ancestors, which differ between neighbours).
+                const double lon = dir == 0 ? e.east : e.west + k * e.width() / (n - 1);
+                const double lat = dir == 0 ? e.north - k * e.height() / (n - 1) : e.south;
+                const double margin = 2.0 * e.width() / (n - 1);
+                if (!(lon > 6.0 + margin && lon < 8.0 - margin && lat > 45.0 + margin && lat < 47.0 - margin)) continue;
+                // East pair: A's column n-1 is B's column 0; south pair: A's row n-1 is B's row 0.
+                const size_t ia = dir == 0 ? size_t(k * n + n - 1) : size_t((n - 1) * n + k);
+                const size_t ib = dir == 0 ? size_t(k * n) : size_t(k);
+                worstHeight = std::max(worstHeight, double(std::abs(a->heights[ia] - b->heights[ib])));
+                // What one-sided differences at the edge (no border) would give, for scale.
+                const size_t step = dir == 0 ? 1 : size_t(n);
+                const double oneSidedA = a->heights[ia] - a->heights[ia - step];
+                const double oneSidedB = b->heights[ib + step] - b->heights[ib];
+                worstOneSided = std::max(worstOneSided, std::abs(oneSidedA - oneSidedB));
+                for (int c = 0; c < 2; ++c) {
+                    worst = std::max(worst, double(std::abs(a->gradients[ia * 2 + c] - b->gradients[ib * 2 + c])));
+                    largest = std::max(largest, double(std::abs(a->gradients[ia * 2 + c])));
+                }
+            }
+        }
+    }
+    ASSERT_GT(pairs, 3);
+    EXPECT_GT(largest, 5.0);   // metres per sample: the slopes are real
+    std::printf("%d pairs: edge heights differ by %.4f m at most, gradients by %.4f m (one-sided ones would by "
+                "%.4f m; largest %.1f m per sample)\n",
+                pairs, worstHeight, worst, worstOneSided, largest);
+    EXPECT_LE(worstHeight, 0.5);
+    EXPECT_LE(worst, 5e-3 * largest) << "over " << pairs << " neighbouring pairs";
+    EXPECT_LT(worst * 5.0, worstOneSided);
+}
+
 TEST_F(TerrainRender, OneMetreAboveTheSummitDoesNotJitter) {
     // Find the summit's height from a first load, then put the eye 1 m above it.
     auto probe = load(terrainScene(R"({"lon": 7, "lat": 46, "pitch": -89, "range": 5000})", mountainLayer(), kDark));

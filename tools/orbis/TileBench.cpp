@@ -95,8 +95,12 @@ int tileBench(const Args& args, scene::Scene& scene, long level, unsigned thread
                     const auto& key = keys[k];
                     const auto extent = key.tile.extent();
                     if (key.layer == 0) {
+                        // The pager's read: the tile's grid with a one-sample border.
+                        const double dx = extent.width() / (ms.gridSize - 1), dy = extent.height() / (ms.gridSize - 1);
+                        const globe::GeoExtent grown{extent.west - dx, extent.south - dy, extent.east + dx,
+                                                     extent.north + dy};
                         for (const auto& s : dems)
-                            if (s->covers(extent)) (void)s->readElevation(extent, ms.gridSize);
+                            if (s->covers(extent)) (void)s->readElevation(grown, ms.gridSize + 2);
                     } else if (images[key.layer - 1]->covers(extent)) {
                         (void)images[key.layer - 1]->readImagery(extent, ms.imageSize);
                     }
