@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <malloc.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -325,6 +326,10 @@ int benchCommand(const std::vector<std::string>& argv) {
         row("items drawn", summarize(items));
         std::printf("memory: layers' GPU %.1f MB max, layers' caches %.1f MB max, process RSS peak %.1f MB\n",
                     double(maxGpuBytes) / 1048576.0, double(maxCacheBytes) / 1048576.0, double(peakRssBytes()) / 1048576.0);
+        const struct mallinfo2 heap = mallinfo2();   // where RSS beyond the budgets goes
+        std::printf("heap (glibc): %.1f MB in use, %.1f MB freed but kept in its arenas, %.1f MB mapped blocks\n",
+                    double(heap.uordblks) / 1048576.0, double(heap.fordblks) / 1048576.0,
+                    double(heap.hblkhd) / 1048576.0);
         std::printf("memory over the run (MB: RSS / layers' GPU / layers' caches / device memory reserved):");
         for (const auto& m : memory)
             std::printf(" %.0f%%: %.0f/%.0f/%.0f/%.0f", m.at * 100.0, double(m.rss) / 1048576.0,

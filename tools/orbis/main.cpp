@@ -4,6 +4,8 @@
 #include "tools/orbis/Commands.h"
 #include "tools/orbis/Session.h"
 
+#include <malloc.h>
+
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -25,6 +27,11 @@ const char* kUsage =
 
 int main(int argc, char** argv) {
     using namespace orbis;
+    // Tiles (imagery with mips: ~350 KB) and GDAL's warp buffers come and go all the time. By
+    // default glibc raises its mmap threshold after the first such free, then serves them from
+    // the heap, where they fragment: a long flight kept ~75 MB of freed memory resident. A
+    // fixed threshold maps them and gives them back on free.
+    mallopt(M_MMAP_THRESHOLD, 128 * 1024);
     std::vector<std::string> args(argv + 1, argv + argc);
     // Global options come before the command.
     log::setLevel(log::Level::Warn);
