@@ -1,0 +1,226 @@
+#pragma once
+// Internals of RasterSource shared by RasterSource.cpp (the public API: open, reads, describe)
+// and RasterSourceGdal.cpp (GDAL configuration, the handle pool, warping, inspecting a file).
+// Not part of the globe module's interface: include it from those two files only.
+
+#include "globe/RasterSource.h"
+
+#include "engine/core/Log.h"
+#include "engine/jobs/ThreadPool.h"
+
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <cpl_string.h>
+#include <cpl_vsi.h>
+#include <gdal.h>
+#include <gdal_alg.h>
+#include <gdalwarper.h>
+#include <ogr_srs_api.h>
+
+#include <array>
+#include <condition_variable>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace orbis::globe {
+namespace raster_detail {
+
+constexpr int kMaxTileSize = 4096;
+constexpr double kApproxErrorPx = 0.125;  // gdalwarp's default -et: invisible, several x faster
+constexpr int kMaxWarpOpsPerLevel = 4;    // tile sizes cached per pooled handle and level
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+// GDAL's block cache (decoded source blocks), unless GDAL_CACHEMAX says otherwise. Finished
+// tiles live in the pager's own LRU cache, so this only serves neighbouring tiles that read the
+// same blocks: 64 MB reads as fast as 256 MB (bench --tiles) and keeps the process's memory
+// close to the layer budgets.
+constexpr GIntBig kGdalBlockCacheBytes = GIntBig(64) << 20;
+
+/// Sets GDAL's configuration (HTTP timeouts, WMS cache, block cache) once, on the first open().
+void configureGdalOnce();
+
+// ---------------------------------------------------------------------------------------------
+// GDAL's messages for this thread, captured instead of printed (GDAL's handler stack is per
+// thread). Keeps the first few failures; warnings go to the debug log.
+
+class GdalErrors {
+public:
+    GdalErrors() { CPLPushErrorHandlerEx(&GdalErrors::handler, this); }
+    ~GdalErrors() { CPLPopErrorHandler(); }
+    GdalErrors(const GdalErrors&) = delete;
+    GdalErrors& operator=(const GdalErrors&) = delete;
+
+    bool any() const { return !messages_.empty(); }
+    /// "; "-joined failures, or `fallback` when GDAL said nothing.
+    std::string text(const char* fallback = "unknown GDAL error") const {
+        if (messages_.empty()) return fallback;
+        std::string s;
+        for (const auto& m : messages_) s += (s.empty() ? "" : "; ") + m;
+        return s;
+    }
+    void clear() { messages_.clear(); }
+
+private:
+    static void CPL_STDCALL handler(CPLErr level, CPLErrorNum, const char* msg) {
+        auto* self = static_cast<GdalErrors*>(CPLGetErrorHandlerUserData());
+        if (!self || !msg) return;
+        if (level >= CE_Failure) {
+            log::debug("GDAL: ", msg);
+            if (self->messages_.size() < 3) self->messages_.emplace_back(std::string(msg).substr(0, 400));
+        } else if (level == CE_Warning) {
+            log::debug("GDAL: ", msg);
+        }
+    }
+    std::vector<std::string> messages_;
+};
+
+bool isRemotePath(const std::string& path);
+std::string xmlEscape(const std::string& s);
+/// A GDAL WMS (TMS minidriver) description of an XYZ server: EPSG:3857, 256-pixel tiles, y down,
+/// four bands (alpha 0 where the server has no tile: 404/204 are empty blocks, not errors).
+std::string xyzToWmsXml(const std::string& xyzUrl, int maxZoom, const std::string& cacheDir);
+/// GDAL's resampling algorithm by gdalwarp's name (-r); *ok = false for an unknown name.
+GDALResampleAlg resampleAlg(const std::string& name, bool* ok);
+std::string fmtExtent(const GeoExtent& e);
+
+// One resolution of the source inside a pooled handle: the dataset (full resolution or opened
+// with OVERVIEW_LEVEL), its transformer to the tile grid and warp operations per tile size.
+struct WarpOp {
+    int size = 0;
+    std::unique_ptr<GDALWarpOperation> op;
+    GDALDatasetH alphaDst = nullptr;  // imagery: MEM dataset whose last band receives alpha
+
+    WarpOp() = default;
+    WarpOp(WarpOp&& o) noexcept { *this = std::move(o); }
+    WarpOp& operator=(WarpOp&& o) noexcept {
+        std::swap(size, o.size);
+        std::swap(op, o.op);
+        std::swap(alphaDst, o.alphaDst);
+        return *this;
+    }
+    ~WarpOp() {
+        op.reset();  // before the dataset it writes to
+        if (alphaDst) GDALClose(alphaDst);
+    }
+};
+
+struct Level {
+    GDALDatasetH ds = nullptr;
+    void* genImg = nullptr;  // owned by `approx`
+    void* approx = nullptr;
+    std::vector<WarpOp> ops;  // they use `approx` and `ds`: destroyed first
+
+    Level() = default;
+    Level(Level&& o) noexcept { *this = std::move(o); }
+    Level& operator=(Level&& o) noexcept {
+        std::swap(ds, o.ds);
+        std::swap(genImg, o.genImg);
+        std::swap(approx, o.approx);
+        std::swap(ops, o.ops);
+        return *this;
+    }
+    ~Level() {
+        ops.clear();
+        if (approx) GDALDestroyApproxTransformer(approx);
+        if (ds) GDALClose(ds);
+    }
+};
+
+struct Handle {
+    std::vector<Level> levels;  // index = overview level + 1 (0 = full resolution); opened lazily
+    const jobs::CancelToken* cancel = nullptr;  // the current call's, for the progress callback
+};
+
+/// GDALWarpOperation's progress callback: stops the warp when the handle's call is cancelled.
+int CPL_STDCALL warpProgress(double, const char*, void* arg);
+
+inline bool isCancelled(const jobs::CancelToken* c) { return c && c->cancelled(); }
+
+/// Closes a dataset at the end of a scope.
+struct DatasetGuard {
+    GDALDatasetH ds;
+    ~DatasetGuard() {
+        if (ds) GDALClose(ds);
+    }
+};
+
+inline const char* typeName(GDALDataType t) { return GDALGetDataTypeName(t) ? GDALGetDataTypeName(t) : "?"; }
+
+}  // namespace raster_detail
+
+struct RasterSource::Impl {
+    using Handle = raster_detail::Handle;
+    using Level = raster_detail::Level;
+    using WarpOp = raster_detail::WarpOp;
+    using GdalErrors = raster_detail::GdalErrors;
+    RasterSourceOptions options;
+    std::string name;      // for messages: the path or URL
+    std::string openPath;  // what GDALOpenEx gets (the WMS XML for an XYZ URL)
+    RasterRole role = RasterRole::Imagery;
+
+    // What the file is (fixed at open).
+    struct BandInfo {
+        std::string type, interp;
+        std::optional<double> noData;
+        double scale = 1.0, offset = 0.0;
+    };
+    std::vector<BandInfo> bandInfo;  // every band of the file
+    std::string driver;
+    int width = 0, height = 0, bandCount = 0;
+    std::string crsName, crsEpsg;
+    bool assumedLonLat = false;
+    std::vector<std::pair<int, int>> overviews;  // of the first read band, GDAL's order
+    GeoExtent coverage;
+    double resolutionDeg = 0.0;
+    uint32_t minLevel = 0;
+
+    // How it is read (fixed at open).
+    std::vector<int> bands;  // data bands: 1 (elevation, grey, palette) or 3 (RGB)
+    int srcAlpha = 0;
+    bool palette = false;
+    std::array<std::array<uint8_t, 4>, 256> paletteRgba{};
+    GDALDataType workType = GDT_Float32;
+    std::vector<double> noData;                         // per data band (NaN: none); empty if none
+    std::vector<std::pair<double, double>> valueRange;  // imagery, non-Byte: per data band
+    double valueScale = 1.0, valueOffset = 0.0;         // elevation: band scale/offset
+    GDALResampleAlg resample = GRA_Bilinear;
+
+    // The handle pool.
+    int maxHandles = 2;
+    mutable std::mutex poolMutex;
+    mutable std::condition_variable poolCv;
+    mutable std::vector<std::unique_ptr<Handle>> idle;
+    mutable int opened = 0;
+
+    ~Impl() {
+        GdalErrors quiet;  // closing handles
+        idle.clear();
+    }
+
+    Error error(const std::string& what) const { return makeError(name + ": " + what); }
+
+    // Opening, in this order.
+    Result<bool> inspect(GDALDatasetH ds);
+    Result<bool> planBands(GDALDatasetH ds);
+    Result<bool> computeCoverage(Level& full);
+    void computeLevels();
+    Result<bool> probe(GDALDatasetH ds) const;
+
+    Result<bool> makeTransformer(Level& level) const;
+    Result<std::unique_ptr<Handle>> openHandle(GDALDatasetH alreadyOpen = nullptr) const;
+    Result<bool> ensureLevel(Handle& h, int level) const;
+    Result<std::unique_ptr<Handle>> checkout(const jobs::CancelToken* cancel) const;
+    void giveBack(std::unique_ptr<Handle> h) const;
+
+    uint64_t sourcePixelsAt(uint32_t level, int tileSize) const;
+    int overviewFor(double srcPixelsPerTilePixel) const;
+    Result<WarpOp*> warpOp(Handle& h, Level& level, int size) const;
+    Result<bool> warp(const GeoExtent& extent, int size, bool cornerAligned, const jobs::CancelToken* cancel,
+                      void* bandsOut, uint8_t* alphaOut) const;
+};
+
+}  // namespace orbis::globe
