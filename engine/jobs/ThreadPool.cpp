@@ -153,7 +153,8 @@ std::atomic<int> gLiveWorkers{0};
 // Linux limits thread names to 15 characters; keep the index, shorten the base.
 std::string threadName(const std::string& base, unsigned index) {
     constexpr std::size_t kMaxName = 15;
-    const std::string suffix = "-" + std::to_string(index);
+    std::string suffix(1, '-');
+    suffix += std::to_string(index);
     const std::size_t room = suffix.size() < kMaxName ? kMaxName - suffix.size() : 0;
     return (base.substr(0, room) + suffix).substr(0, kMaxName);
 }
