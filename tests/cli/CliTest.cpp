@@ -110,6 +110,15 @@ TEST(Cli, InfoOnMissingOrUnknownFileExitsOne) {
     EXPECT_NE(r.output.find("no reader"), std::string::npos);
 }
 
+TEST(Cli, InfoOnNetcdfListsVolumeVariables) {
+    const std::string file = std::string(ORBIS_SOURCE_DIR) + "/../shared/data/netcdf/echam5_rectilinear_grid_3D.nc";
+    if (!std::filesystem::exists(file)) GTEST_SKIP() << "no " << file << " (../shared/data is optional)";
+    const CliRun r = run("info " + file);
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    for (const char* s : {"\"name\": \"/t\"", "\"grid\": [", "\"vertical\": \"pressure\"", "\"lonWraps\": true"})
+        EXPECT_NE(r.output.find(s), std::string::npos) << s << "\n" << r.output;
+}
+
 TEST(Cli, InfoOnSceneListsLayers) {
     const CliRun r = run(std::string("info ") + ORBIS_DEFAULT_SCENE);
     EXPECT_EQ(r.exitCode, 0) << r.output;

@@ -6,6 +6,7 @@
 #include "tools/orbis/Session.h"
 
 #include "globe/RasterSource.h"
+#include "layers/volume/VolumeReader.h"
 
 #include <nlohmann/json.hpp>
 
@@ -18,7 +19,8 @@ namespace {
 const char* kHelp =
     "usage: orbis info [FILE] [options]\n"
     "Without FILE: the Vulkan devices, the one Orbis would pick, its driver and the features used.\n"
-    "With FILE: what the file holds, as JSON. Readers so far: scene files (.json) and rasters (GDAL).\n";
+    "With FILE: what the file holds, as JSON. Readers so far: scene files (.json), volumes (netCDF and\n"
+    "other multidimensional files: variables, dimensions, ranges) and rasters (GDAL).\n";
 
 std::string version(uint32_t v) {
     return std::to_string(VK_API_VERSION_MAJOR(v)) + "." + std::to_string(VK_API_VERSION_MINOR(v)) + "." +
@@ -111,6 +113,16 @@ int infoCommand(const std::vector<std::string>& argv) {
     }
     const std::string ext = std::filesystem::path(file).extension().string();
     if (ext == ".json") return sceneInfo(file);
+    // Files with variables of three or more dimensions (netCDF, HDF5, Zarr): the volume reader.
+    if (layers::looksLikeVolumeFile(file)) {
+        auto volume = layers::describeVolumeJson(file);
+        if (volume) {
+            std::printf("%s\n", volume->c_str());
+            return kOk;
+        }
+        std::fprintf(stderr, "orbis: %s\n", volume.message().c_str());
+        return kBadInput;
+    }
     // Everything else is tried as a raster (GeoTIFF, DTED, VRT, JP2, netCDF 2-D, ...).
     auto raster = globe::describeRasterJson(file);
     if (raster) {
@@ -118,7 +130,7 @@ int infoCommand(const std::vector<std::string>& argv) {
         return kOk;
     }
     std::fprintf(stderr, "orbis: %s\n", raster.message().c_str());
-    std::fprintf(stderr, "orbis: %s: no reader for this file (readers: scene .json, rasters GDAL opens)\n",
+    std::fprintf(stderr, "orbis: %s: no reader for this file (readers: scene .json, netCDF volumes, rasters GDAL opens)\n",
                  file.c_str());
     return kBadInput;
 }
