@@ -1,0 +1,154 @@
+// What the volume renderer prepares on the CPU: axis lookups, the min/max brick grid and the
+// transfer function.
+#include "layers/volume/VolumeData.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace orbis::layers {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+/// Worst |lookup - exact| in voxels over dense coordinates of an axis.
+double worstVoxelError(const std::vector<double>& c, size_t tableSize) {
+    const AxisLookup a = AxisLookup::build(c, tableSize);
+    double worst = 0.0;
+    for (int s = 0; s <= 10000; ++s) {
+        const double x = c.front() + (c.back() - c.front()) * s / 10000.0;
+        worst = std::max(worst, std::abs(a.lookup(x) - a.exact(c, x)) * double(c.size()));
+    }
+    return worst;
+}
+
+VolumeField fieldOf(size_t nx, size_t ny, size_t nz) {
+    VolumeField f;
+    for (size_t i = 0; i < nx; ++i) f.lonDeg.push_back(double(i));
+    for (size_t j = 0; j < ny; ++j) f.latDeg.push_back(double(j));
+    for (size_t k = 0; k < nz; ++k) f.heightM.push_back(double(k) * 100.0);
+    f.values.assign(nx * ny * nz, 0.0f);
+    return f;
+}
+
+}  // namespace
+
+TEST(AxisLookup, UniformAxesAreExactAndSamplesSitAtTexelCentres) {
+    const std::vector<double> c{-180, -90, 0, 90};
+    const AxisLookup a = AxisLookup::build(c);
+    EXPECT_TRUE(a.uniform);
+    EXPECT_TRUE(a.table.empty());
+    for (size_t i = 0; i < c.size(); ++i) EXPECT_DOUBLE_EQ(a.lookup(c[i]), (double(i) + 0.5) / 4.0);
+    EXPECT_DOUBLE_EQ(a.lookup(-135), 1.0 / 4.0);
+    EXPECT_DOUBLE_EQ(a.lookup(-1000), 0.5 / 4.0);   // clamped to the first sample
+    EXPECT_DOUBLE_EQ(a.lookup(1000), 3.5 / 4.0);
+}
+
+TEST(AxisLookup, IrregularAxesGoThroughATableWithSmallError) {
+    // Gaussian-like latitudes (ECHAM5's T63 grid is within 0.01 deg of uniform) and pressure
+    // levels turned into heights (spacing grows from 700 m to 5 km).
+    std::vector<double> gauss;
+    for (int j = 0; j < 96; ++j) gauss.push_back(-88.572 + j * (2 * 88.572 / 95) + 0.01 * std::sin(j * 0.3));
+    std::vector<double> heights;
+    for (double p : {100000., 92500., 85000., 77500., 70000., 60000., 50000., 40000., 30000., 25000., 20000., 15000.,
+                     10000., 7000., 5000., 3000., 1000.})
+        heights.push_back(standardAtmosphereHeight(p));
+    EXPECT_FALSE(AxisLookup::build(gauss).uniform);
+    EXPECT_FALSE(AxisLookup::build(heights).uniform);
+    const double gauss256 = worstVoxelError(gauss, 256), heights256 = worstVoxelError(heights, 256);
+    const double heights1024 = worstVoxelError(heights, 1024);
+    std::printf("axis lookup, worst error in voxels: Gaussian lat (256) %.5f, heights (256) %.4f, (1024) %.5f\n",
+                gauss256, heights256, heights1024);
+    EXPECT_LT(gauss256, 0.01);
+    EXPECT_LT(heights256, 0.05);
+    EXPECT_LT(heights1024, heights256 / 3.0);
+    // Samples still land on texel centres (to the table's resolution).
+    const AxisLookup a = AxisLookup::build(heights, 1024);
+    for (size_t k = 0; k < heights.size(); ++k)
+        EXPECT_NEAR(a.lookup(heights[k]), (double(k) + 0.5) / double(heights.size()), 0.02 / double(heights.size()));
+}
+
+TEST(BrickGrid, MinMaxCoverEachBrickAndItsFilterMargin) {
+    VolumeField f = fieldOf(20, 10, 9);
+    for (size_t k = 0; k < 9; ++k)
+        for (size_t j = 0; j < 10; ++j)
+            for (size_t i = 0; i < 20; ++i) f.values[(k * 10 + j) * 20 + i] = float(i + 100 * j + 10000 * k);
+    // A hole of no data filling the bricks (1, 0, 0) and (1, 1, 0) but not their margins.
+    for (size_t k = 0; k < 8; ++k)
+        for (size_t j = 0; j < 10; ++j)
+            for (size_t i = 8; i < 16; ++i) f.values[(k * 10 + j) * 20 + i] = kNaN;
+    const BrickGrid g = buildBrickGrid(f, 8);
+    EXPECT_EQ(g.bx, 3u);
+    EXPECT_EQ(g.by, 2u);
+    EXPECT_EQ(g.bz, 2u);
+    // Brick (0,0,0) covers voxels 0..8 in each axis (the margin included).
+    EXPECT_EQ(g.at(0, 0, 0).first, 0.0f);
+    // Its largest value is at (8, 8, 8): i = 8 is no data below k = 8 but valid at k = 8.
+    EXPECT_EQ(g.at(0, 0, 0).second, float(8 + 100 * 8 + 10000 * 8));
+    // The holed brick still sees its margin voxels (i = 16) and the k = 8 layer.
+    EXPECT_EQ(g.at(1, 0, 0).first, 16.0f);
+    EXPECT_EQ(g.at(2, 1, 1).second, float(19 + 100 * 9 + 10000 * 8));
+    EXPECT_EQ(g.emptyBricks(), 0u);
+
+    VolumeField empty = fieldOf(4, 4, 4);
+    std::fill(empty.values.begin(), empty.values.end(), kNaN);
+    const BrickGrid e = buildBrickGrid(empty, 2);
+    EXPECT_EQ(e.emptyBricks(), e.minMax.size());
+    EXPECT_GT(e.at(0, 0, 0).first, e.at(0, 0, 0).second);
+}
+
+TEST(TransferFunction, ColourMapEndsOpacityPointsAndErrors) {
+    TransferFunctionDesc d;
+    d.colorMap = "greys";
+    d.rangeMin = 200;
+    d.rangeMax = 300;
+    auto t = buildTransferTable(d, 256);
+    ASSERT_TRUE(t.ok()) << t.message();
+    ASSERT_EQ(t->size(), 256u);
+    EXPECT_FLOAT_EQ((*t)[0][0], 0.0f);
+    EXPECT_FLOAT_EQ((*t)[255][1], 1.0f);
+    // Interpolated in linear light: the middle entry is halfway in linear units.
+    EXPECT_NEAR((*t)[128][2], 128.0 / 255.0, 1e-6);
+    EXPECT_FLOAT_EQ((*t)[0][3], 0.0f);   // default ramp
+    EXPECT_FLOAT_EQ((*t)[255][3], 1.0f);
+
+    d.colorMap = "viridis";
+    d.opacity = {{250, 0.0}, {260, 0.8}, {270, 0.0}};
+    d.opacityScale = 0.5;
+    t = buildTransferTable(d, 101);   // one entry per data unit
+    ASSERT_TRUE(t.ok()) << t.message();
+    EXPECT_FLOAT_EQ((*t)[0][3], 0.0f);
+    EXPECT_NEAR((*t)[55][3], 0.2, 1e-6);   // 255: halfway up, scaled by 0.5
+    EXPECT_NEAR((*t)[60][3], 0.4, 1e-6);
+    EXPECT_FLOAT_EQ((*t)[100][3], 0.0f);
+    // viridis: dark purple to yellow, in linear light.
+    EXPECT_LT((*t)[0][1], 0.01f);
+    EXPECT_GT((*t)[100][0], 0.9f);
+    EXPECT_GT((*t)[100][1], 0.75f);
+
+    d.colorMap = "rainbow-ish";
+    EXPECT_NE(buildTransferTable(d).message().find("unknown colour map \"rainbow-ish\" (known: viridis"),
+              std::string::npos);
+    d.colorMap = "magma";
+    d.rangeMin = d.rangeMax = 5;
+    EXPECT_NE(buildTransferTable(d).message().find("low < high"), std::string::npos);
+    d.rangeMax = 6;
+    d.opacity = {{5, 1.5}};
+    EXPECT_FALSE(buildTransferTable(d).ok());
+    for (const auto& name : colorMapNames()) EXPECT_TRUE(hasColorMap(name)) << name;
+}
+
+TEST(TransferFunction, OpacityCorrectionDoesNotDependOnTheStepCount) {
+    const double a = 0.3;
+    EXPECT_DOUBLE_EQ(correctOpacity(a, 1.0, 1.0), a);
+    const double half = correctOpacity(a, 0.5, 1.0);
+    EXPECT_NEAR(1.0 - (1.0 - half) * (1.0 - half), a, 1e-12);   // two half steps = one step
+    const double tenth = correctOpacity(a, 0.1, 1.0);
+    EXPECT_NEAR(1.0 - std::pow(1.0 - tenth, 10.0), a, 1e-12);
+    EXPECT_EQ(correctOpacity(1.0, 0.01, 1.0), 1.0);
+    EXPECT_EQ(correctOpacity(0.0, 7.0, 1.0), 0.0);
+}
+
+}  // namespace orbis::layers
