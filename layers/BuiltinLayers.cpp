@@ -2,12 +2,14 @@
 
 #include "layers/globe/GlobeLayer.h"
 #include "layers/terrain/TerrainLayer.h"
+#include "layers/volume/VolumeLayer.h"
 
 namespace orbis::layers {
 
 void registerBuiltinLayers(scene::LayerRegistry& registry) {
     registry.add("globe", "WGS84 ellipsoid with graticule, sun lighting and sky", &GlobeLayer::create);
     registry.add("terrain", "WGS84 quadtree terrain streaming DEMs and imagery through GDAL", &TerrainLayer::create);
+    registry.add("volume", "netCDF scalar field in a curved geo-box, ray cast on the GPU", &VolumeLayer::create);
 }
 
 }  // namespace orbis::layers

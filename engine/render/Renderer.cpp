@@ -31,6 +31,16 @@ const char* passName(scene::Pass p) {
     return "?";
 }
 
+/// GPU timer scope of the compute work recorded before a pass.
+const char* computeName(scene::Pass p) {
+    switch (p) {
+        case scene::Pass::Points: return "points compute";
+        case scene::Pass::Fmv: return "fmv compute";
+        case scene::Pass::Volume: return "volume compute";
+        default: return "compute";
+    }
+}
+
 }  // namespace
 
 Renderer::Renderer(gpu::Device& device, uint32_t width, uint32_t height)
@@ -230,7 +240,23 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw) {
         for (scene::Pass pass : {scene::Pass::Points, scene::Pass::Fmv, scene::Pass::Volume, scene::Pass::Overlay}) {
             const bool used = std::any_of(scene.resources().begin(), scene.resources().end(),
                                           [&](const scene::Resource& r) { return r.visible && r.layer->drawsIn(pass); });
-            if (used) recordPass(pass, passName(pass), scene, rc, false, scene.desc().background);
+            if (!used) continue;
+            const bool computes = std::any_of(scene.resources().begin(), scene.resources().end(),
+                                              [&](const scene::Resource& r) {
+                                                  return r.visible && r.layer->drawsIn(pass) && r.layer->computesBefore(pass);
+                                              });
+            if (computes) {
+                // Compute before the pass (ray casting): the depth so far is read, not written.
+                gpu::transition(rc.cmd, target_->depth(), gpu::ImageUse::SampledCompute);
+                scene::RecordContext crc = rc;
+                crc.sceneDepth = &target_->depth();
+                const int scope = timer_.begin(rc.cmd, computeName(pass));
+                for (auto& r : scene.resources())
+                    if (r.visible && r.layer->drawsIn(pass) && r.layer->computesBefore(pass))
+                        r.layer->recordCompute(pass, crc);
+                timer_.end(rc.cmd, scope);
+            }
+            recordPass(pass, passName(pass), scene, rc, false, scene.desc().background);
         }
     }
     if (readback) {

@@ -18,6 +18,7 @@
 namespace orbis::gpu {
 class Device;
 class Uploader;
+class Image;
 }  // namespace orbis::gpu
 namespace orbis::jobs {
 class ThreadPool;
@@ -55,6 +56,8 @@ struct RecordContext {
     VkDescriptorSet frameSet = VK_NULL_HANDLE;
     gpu::Uploader* uploader = nullptr;
     uint32_t slot = 0;   ///< frame-in-flight index: per-frame buffers written by the CPU use it
+    /// recordCompute only: the scene depth so far (reversed-Z, D32), in ImageUse::SampledCompute.
+    gpu::Image* sceneDepth = nullptr;
 };
 
 class Layer {
@@ -77,6 +80,11 @@ public:
     virtual void recordTransfers(const RecordContext&) {}
     /// Records the layer's commands for `pass`. Called while recording, inside the pass.
     virtual void record(Pass pass, const RecordContext& context) = 0;
+    /// True when the layer dispatches compute work before `pass` (volume ray casting): then
+    /// recordCompute is called after the passes before it, outside any rendering scope, with
+    /// the scene depth readable, and record() follows inside the pass (e.g. to composite).
+    virtual bool computesBefore(Pass) const { return false; }
+    virtual void recordCompute(Pass, const RecordContext&) {}
 
     /// GPU memory the layer holds, for the stats.
     virtual uint64_t gpuBytes() const { return 0; }

@@ -1,0 +1,468 @@
+#include "layers/volume/VolumeLayer.h"
+
+#include "engine/core/Log.h"
+#include "engine/gpu/Barriers.h"
+#include "engine/gpu/Device.h"
+#include "engine/gpu/Pipeline.h"
+#include "engine/gpu/Uploader.h"
+#include "engine/gpu/VkCheck.h"
+#include "engine/scene/JsonReader.h"
+#include "globe/Ellipsoid.h"
+#include "shared/FrameUniforms.h"
+#include "shared/VolumeTypes.h"
+#include "spv/volume/composite.frag.h"
+#include "spv/volume/composite.vert.h"
+#include "spv/volume/raycast.comp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace orbis::layers {
+
+// ---------------------------------------------------------------------------------------------
+// Synthetic fields
+
+VolumeField makeSyntheticVolume(const SyntheticVolume& s) {
+    VolumeField f;
+    f.variable = "synthetic ";
+    f.variable += s.field;
+    const auto axis = [](double a, double b, size_t n) {
+        std::vector<double> v(n);
+        for (size_t i = 0; i < n; ++i) v[i] = n > 1 ? a + (b - a) * double(i) / double(n - 1) : a;
+        return v;
+    };
+    f.lonDeg = axis(s.west, s.east, s.nx);
+    f.latDeg = axis(s.south, s.north, s.ny);
+    f.heightM = axis(s.bottom, s.top, s.nz);
+    f.verticalRaw = f.heightM;
+    f.verticalUnits.assign(1, 'm');   // (not = "m": GCC 12 -Wrestrict false positive)
+    f.values.resize(s.nx * s.ny * s.nz);
+    const double cx = 0.5 * double(s.nx - 1), cy = 0.5 * double(s.ny - 1), cz = 0.5 * double(s.nz - 1);
+    for (size_t k = 0; k < s.nz; ++k)
+        for (size_t j = 0; j < s.ny; ++j)
+            for (size_t i = 0; i < s.nx; ++i) {
+                double v;
+                if (s.field == "constant") v = 1.0;
+                else if (s.field == "empty") v = std::numeric_limits<double>::quiet_NaN();
+                else if (s.field == "waves")
+                    v = std::sin(6.0 * double(i) / double(s.nx)) * std::sin(5.0 * double(j) / double(s.ny)) *
+                        std::cos(4.0 * double(k) / double(s.nz));
+                else
+                    v = std::sqrt((i - cx) * (i - cx) + (j - cy) * (j - cy) + (k - cz) * (k - cz));
+                f.values[(k * s.ny + j) * s.nx + i] = float(v);
+            }
+    float lo = std::numeric_limits<float>::max(), hi = -lo;
+    for (float v : f.values)
+        if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v), ++f.validCount;
+    if (f.validCount) f.minValue = lo, f.maxValue = hi;
+    return f;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scene file
+
+Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc& desc, const scene::SceneDesc& scene) {
+    scene::JsonReader r(desc.settings, scene.file.string(), desc.jsonPath);
+    for (const char* common : {"type", "name", "visible", "viewpoint"}) r.accept(common);
+    const std::string where = scene.file.string() + ": " + desc.jsonPath;
+    VolumeSettings s;
+
+    // The data: a file or a synthetic field.
+    std::optional<VolumeField> field;
+    const auto path = r.string("path", std::string());
+    const nlohmann::json* synthetic = r.object("synthetic");
+    if (path && !path->empty() && synthetic) r.fail("synthetic", "give either \"path\" or \"synthetic\", not both");
+    if (synthetic && r.ok()) {
+        scene::JsonReader sr(*synthetic, scene.file.string(), desc.jsonPath + "/synthetic");
+        SyntheticVolume sv;
+        sv.field = sr.string("field", sv.field).value_or(sv.field);
+        if (sv.field != "sphere" && sv.field != "waves" && sv.field != "constant" && sv.field != "empty")
+            sr.fail("field", "expected \"sphere\", \"waves\", \"constant\" or \"empty\" (all no data)");
+        if (auto size = sr.numbers("size", 3, std::vector<double>{64, 64, 64}); size && size->size() == 3) {
+            for (double n : *size)
+                if (n < 2 || n > 1024 || n != std::floor(n)) sr.fail("size", "each size is an integer from 2 to 1024");
+            sv.nx = size_t((*size)[0]), sv.ny = size_t((*size)[1]), sv.nz = size_t((*size)[2]);
+        }
+        const auto pair = [&](const char* key, double& lo, double& hi, double min, double max) {
+            if (auto v = sr.numbers(key, 2, std::vector<double>{lo, hi}); v && v->size() == 2) {
+                if (!((*v)[0] < (*v)[1]) || (*v)[0] < min || (*v)[1] > max)
+                    sr.fail(key, "must be [low, high] with low < high within " + std::to_string(int(min)) + " .. " +
+                                     std::to_string(int(max)));
+                lo = (*v)[0], hi = (*v)[1];
+            }
+        };
+        pair("lon", sv.west, sv.east, -360, 360);
+        pair("lat", sv.south, sv.north, -90, 90);
+        pair("height", sv.bottom, sv.top, -1e6, 1e7);
+        if (sv.east - sv.west > 360.0) sr.fail("lon", "spans more than 360 degrees");
+        if (auto done = sr.finish(); !done) return done.error();
+        field = makeSyntheticVolume(sv);
+    } else if (path && !path->empty() && r.ok()) {
+        VolumeReadOptions o;
+        o.path = scene.resolve(*path).string();
+        o.variable = r.string("variable", std::string()).value_or("");
+        if (r.ok() && o.variable.empty()) r.fail("variable", "name the variable to show");
+        o.timeIndex = size_t(r.number("timeStep", 0.0, 0.0, 1e9).value_or(0.0));
+        if (auto p = r.string("pressureToHeight", std::string("standard"))) {
+            if (*p == "standard") o.pressureToHeight = PressureToHeight::StandardAtmosphere;
+            else if (*p == "scaleHeight") o.pressureToHeight = PressureToHeight::ScaleHeight;
+            else r.fail("pressureToHeight", "expected \"standard\" or \"scaleHeight\"");
+        }
+        if (r.ok()) {
+            auto read = readVolume(o);
+            if (!read) return makeError(where + ": " + read.message());
+            field = std::move(read).value();
+        }
+    } else if (r.ok()) {
+        r.fail("path", "give the data: \"path\" (with \"variable\") or \"synthetic\"");
+    }
+
+    if (const nlohmann::json* modes = r.array("mode")) {
+        for (const auto& m : *modes) {
+            const std::string mode = m.is_string() ? m.get<std::string>() : std::string();
+            if (mode == "dvr") continue;
+            if (mode == "iso" || mode == "slice")
+                r.fail("mode", "\"" + mode + "\" is not implemented yet (issue 4: isosurfaces and slice planes)");
+            else
+                r.fail("mode", "expected \"dvr\", \"iso\" or \"slice\"");
+        }
+    }
+    s.steps = int(r.number("steps", s.steps, 1.0, 4096.0).value_or(s.steps));
+    s.transfer.colorMap = r.string("colorMap", s.transfer.colorMap).value_or(s.transfer.colorMap);
+    if (!hasColorMap(s.transfer.colorMap)) {
+        std::string names;
+        for (const auto& n : colorMapNames()) names += (names.empty() ? "" : ", ") + n;
+        r.fail("colorMap", "unknown colour map \"" + s.transfer.colorMap + "\" (known: " + names + ")");
+    }
+    if (r.has("range")) {
+        if (auto range = r.numbers("range", 2); range && range->size() == 2) {
+            if (!((*range)[1] > (*range)[0])) r.fail("range", "must be [low, high] with low < high");
+            s.transfer.rangeMin = (*range)[0], s.transfer.rangeMax = (*range)[1];
+            s.rangeFromData = false;
+        }
+    }
+    if (const nlohmann::json* points = r.array("opacity")) {
+        for (const auto& p : *points) {
+            if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number() || p[1].get<double>() < 0.0 ||
+                p[1].get<double>() > 1.0) {
+                r.fail("opacity", "each point is [value, alpha] with alpha in 0..1");
+                break;
+            }
+            s.transfer.opacity.push_back({p[0].get<double>(), p[1].get<double>()});
+        }
+    }
+    s.transfer.opacityScale = r.number("opacityScale", 1.0, 0.0, 1000.0).value_or(1.0);
+    s.verticalExaggeration = r.number("verticalExaggeration", 1.0, 0.001, 10000.0).value_or(1.0);
+    if (auto done = r.finish(); !done) return done.error();
+
+    if (s.rangeFromData) {
+        if (field->validCount == 0) {
+            s.transfer.rangeMin = 0.0, s.transfer.rangeMax = 1.0;   // nothing to show; any range
+        } else {
+            s.transfer.rangeMin = field->minValue;
+            s.transfer.rangeMax = field->maxValue > field->minValue ? double(field->maxValue) : field->minValue + 1.0;
+        }
+    }
+    if (auto table = buildTransferTable(s.transfer); !table) return makeError(where + ": " + table.message());
+    return std::unique_ptr<scene::Layer>(new VolumeLayer(std::move(*field), std::move(s)));
+}
+
+VolumeLayer::VolumeLayer(VolumeField field, VolumeSettings settings)
+    : field_(std::move(field)), settings_(std::move(settings)) {}
+
+VolumeLayer::~VolumeLayer() = default;
+
+// ---------------------------------------------------------------------------------------------
+// GPU resources
+
+void VolumeLayer::prepare(const scene::RenderServices& services) {
+    servicesCopy_ = services;
+    services_ = &servicesCopy_;
+    gpu::Device& device = *services.device;
+    const auto& ell = globe::Ellipsoid::wgs84();
+    const double ex = settings_.verticalExaggeration;
+
+    // Longitudes: a periodic field gets its first column again at the end (first + 360), so
+    // that filtering across the seam is continuous.
+    lonAxis_ = field_.lonDeg;
+    const size_t nx = field_.nx(), ny = field_.ny(), nz = field_.nz();
+    const bool wrapColumn = field_.lonWraps && lonAxis_.back() < lonAxis_.front() + 360.0 - 1e-9;
+    if (wrapColumn) lonAxis_.push_back(lonAxis_.front() + 360.0);
+    const size_t gx = lonAxis_.size();
+    std::vector<float> texels(gx * ny * nz);
+    for (size_t k = 0; k < nz; ++k)
+        for (size_t j = 0; j < ny; ++j)
+            for (size_t i = 0; i < gx; ++i) texels[(k * ny + j) * gx + i] = field_.values[(k * ny + j) * nx + (i % nx)];
+    lookups_ = {AxisLookup::build(lonAxis_, shader::kVolumeAxisTable),
+                AxisLookup::build(field_.latDeg, shader::kVolumeAxisTable),
+                AxisLookup::build(field_.heightM, shader::kVolumeAxisTable)};
+    std::vector<float> axisTable(3 * shader::kVolumeAxisTable, 0.0f);
+    for (size_t a = 0; a < 3; ++a)
+        for (size_t t = 0; t < lookups_[a].table.size() && t < shader::kVolumeAxisTable; ++t)
+            axisTable[a * shader::kVolumeAxisTable + t] = lookups_[a].table[t];
+
+    // The box's frame: origin on the bottom surface at the box's centre; bounds from a dense
+    // sample of its boundary (the top bulges outward between samples: a margin covers it).
+    const double lonC = 0.5 * (lonAxis_.front() + lonAxis_.back()), latC = 0.5 * (field_.latDeg.front() + field_.latDeg.back());
+    const double hLo = field_.heightM.front() * ex, hHi = field_.heightM.back() * ex;
+    origin_ = ell.toEcef(lonC, latC, hLo);
+    boxMin_ = glm::dvec3(std::numeric_limits<double>::max());
+    boxMax_ = -boxMin_;
+    constexpr int kSamples = 48;
+    for (int a = 0; a <= kSamples; ++a)
+        for (int b = 0; b <= kSamples; ++b)
+            for (double h : {hLo, hHi}) {
+                const double lon = lonAxis_.front() + (lonAxis_.back() - lonAxis_.front()) * a / kSamples;
+                const double lat = field_.latDeg.front() + (field_.latDeg.back() - field_.latDeg.front()) * b / kSamples;
+                const glm::dvec3 p = ell.toEcef(lon, lat, h) - origin_;
+                boxMin_ = glm::min(boxMin_, p);
+                boxMax_ = glm::max(boxMax_, p);
+            }
+    const double spanLon = glm::radians(lonAxis_.back() - lonAxis_.front()) / kSamples;
+    const double spanLat = glm::radians(field_.latDeg.back() - field_.latDeg.front()) / kSamples;
+    const double bulge = (ell.equatorialRadius() + hHi) * (1.0 - std::cos(0.5 * std::max(spanLon, spanLat))) + 1.0;
+    boxMin_ -= glm::dvec3(bulge);
+    boxMax_ += glm::dvec3(bulge);
+    innerRadius_ = ell.polarRadius() + hLo - 1.0;
+    outerRadius_ = ell.equatorialRadius() + hHi + 1.0;
+
+    gpu::ImageDesc fd;
+    fd.type = VK_IMAGE_TYPE_3D;
+    fd.viewType = VK_IMAGE_VIEW_TYPE_3D;
+    fd.format = VK_FORMAT_R32_SFLOAT;
+    fd.extent = {uint32_t(gx), uint32_t(ny), uint32_t(nz)};
+    fd.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    fd.name = "volume field";
+    fieldImage_ = gpu::Image(device, fd);
+    auto table = buildTransferTable(settings_.transfer, 256);
+    std::vector<uint16_t> tf(256 * 4);
+    const auto half = [](float v) {   // IEEE half from float (values in 0..1)
+        uint32_t bits;
+        std::memcpy(&bits, &v, 4);
+        const uint32_t sign = (bits >> 16) & 0x8000u;
+        const int exp = int((bits >> 23) & 0xff) - 127 + 15;
+        const uint32_t mant = bits & 0x7fffffu;
+        if (exp <= 0) return uint16_t(sign);
+        if (exp >= 31) return uint16_t(sign | 0x7c00u);
+        return uint16_t(sign | (uint32_t(exp) << 10) | (mant >> 13));
+    };
+    for (size_t t = 0; t < 256; ++t)
+        for (size_t c = 0; c < 4; ++c) tf[t * 4 + c] = half((*table)[t][c]);
+    gpu::ImageDesc td;
+    td.type = VK_IMAGE_TYPE_1D;
+    td.viewType = VK_IMAGE_VIEW_TYPE_1D;
+    td.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    td.extent = {256, 1, 1};
+    td.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    td.name = "volume transfer function";
+    transferImage_ = gpu::Image(device, td);
+    axisBuffer_ = gpu::Buffer(device, axisTable.size() * sizeof(float),
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                              gpu::MemoryUsage::GpuOnly, "volume axis tables");
+    device.runOnce([&](VkCommandBuffer cmd) {
+        services.uploader->toImage(cmd, fieldImage_, texels.data(), texels.size() * sizeof(float));
+        services.uploader->toImage(cmd, transferImage_, tf.data(), tf.size() * sizeof(uint16_t));
+        services.uploader->toBuffer(cmd, axisBuffer_, axisTable.data(), axisTable.size() * sizeof(float));
+        gpu::transition(cmd, fieldImage_, gpu::ImageUse::SampledCompute);
+        gpu::transition(cmd, transferImage_, gpu::ImageUse::SampledCompute);
+        gpu::bufferBarrier(cmd, axisBuffer_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    });
+
+    VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    si.magFilter = si.minFilter = VK_FILTER_LINEAR;
+    si.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    si.maxLod = 0.0f;
+    VkSampler sampler = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateSampler(device.vk(), &si, nullptr, &sampler));
+    linearSampler_ = gpu::Sampler(device, sampler);
+    si.magFilter = si.minFilter = VK_FILTER_NEAREST;
+    VK_CHECK(vkCreateSampler(device.vk(), &si, nullptr, &sampler));
+    nearestSampler_ = gpu::Sampler(device, sampler);
+
+    const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
+    const VkDescriptorSetLayoutBinding bindings[] = {
+        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, cs, nullptr},
+        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, cs, nullptr},
+        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, nullptr},
+        {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, cs, nullptr},
+        {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, cs, nullptr},
+        {5, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, nullptr},
+        {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+    };
+    VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    li.bindingCount = 7;
+    li.pBindings = bindings;
+    VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateDescriptorSetLayout(device.vk(), &li, nullptr, &setLayout));
+    setLayout_ = gpu::DescriptorSetLayout(device, setLayout);
+    const uint32_t frames = services.framesInFlight;
+    const VkDescriptorPoolSize sizes[] = {
+        {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frames},
+        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frames},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4 * frames},
+        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, frames},
+    };
+    VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pi.maxSets = frames;
+    pi.poolSizeCount = 4;
+    pi.pPoolSizes = sizes;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateDescriptorPool(device.vk(), &pi, nullptr, &pool));
+    descriptorPool_ = gpu::DescriptorPool(device, pool);
+    sets_.resize(frames);
+    for (uint32_t f = 0; f < frames; ++f) {
+        VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+        ai.descriptorPool = descriptorPool_.vk();
+        ai.descriptorSetCount = 1;
+        ai.pSetLayouts = &setLayout;
+        VK_CHECK(vkAllocateDescriptorSets(device.vk(), &ai, &sets_[f]));
+        setVersion_.push_back(0);
+        uniformBuffers_.emplace_back(device, sizeof(shader::VolumeUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                     gpu::MemoryUsage::Upload, "volume uniforms");
+    }
+    const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, setLayout_.vk()};
+    layout_ = gpu::createPipelineLayout(device, setLayouts, {});
+    castPipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_volume_raycast_comp, nullptr, "volume ray cast");
+    gpu::GraphicsPipelineDesc composite;
+    composite.vertexSpirv = kSpv_volume_composite_vert;
+    composite.fragmentSpirv = kSpv_volume_composite_frag;
+    composite.layout = layout_.vk();
+    composite.cullMode = VK_CULL_MODE_NONE;
+    composite.depthTest = false;
+    composite.depthWrite = false;
+    composite.alphaBlend = true;
+    composite.colorFormat = services.colorFormat;
+    composite.depthFormat = services.depthFormat;
+    composite.name = "volume composite";
+    compositePipeline_ = gpu::createGraphicsPipeline(device, composite);
+}
+
+void VolumeLayer::ensureCastImage(uint32_t width, uint32_t height) {
+    if (castImage_ && castImage_.extent().width == width && castImage_.extent().height == height) return;
+    gpu::ImageDesc d;
+    d.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    d.extent = {width, height, 1};
+    d.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    d.name = "volume ray-cast image";
+    castImage_ = gpu::Image(*services_->device, d);   // the old one is retired after its frames
+    ++imagesVersion_;
+}
+
+void VolumeLayer::writeDescriptors(uint32_t f) {
+    {
+        const VkDescriptorBufferInfo ubo{uniformBuffers_[f].vk(), 0, sizeof(shader::VolumeUniforms)};
+        const VkDescriptorBufferInfo axes{axisBuffer_.vk(), 0, VK_WHOLE_SIZE};
+        const VkDescriptorImageInfo fieldInfo{linearSampler_.vk(), fieldImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+        const VkDescriptorImageInfo tfInfo{linearSampler_.vk(), transferImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+        const VkDescriptorImageInfo depthInfo{nearestSampler_.vk(), boundDepth_->view(),
+                                              VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+        const VkDescriptorImageInfo storeInfo{VK_NULL_HANDLE, castImage_.view(), VK_IMAGE_LAYOUT_GENERAL};
+        const VkDescriptorImageInfo readInfo{nearestSampler_.vk(), castImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+        VkWriteDescriptorSet w[7] = {};
+        for (uint32_t b = 0; b < 7; ++b) {
+            w[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+            w[b].dstSet = sets_[f];
+            w[b].dstBinding = b;
+            w[b].descriptorCount = 1;
+        }
+        w[0].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, w[0].pBufferInfo = &ubo;
+        w[1].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, w[1].pImageInfo = &fieldInfo;
+        w[2].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, w[2].pBufferInfo = &axes;
+        w[3].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, w[3].pImageInfo = &tfInfo;
+        w[4].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, w[4].pImageInfo = &depthInfo;
+        w[5].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, w[5].pImageInfo = &storeInfo;
+        w[6].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, w[6].pImageInfo = &readInfo;
+        vkUpdateDescriptorSets(services_->device->vk(), 7, w, 0, nullptr);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Frames
+
+void VolumeLayer::update(const scene::FrameContext&) { ++frameCounter_; }
+
+void VolumeLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
+    const scene::FrameContext& frame = *rc.frame;
+    ensureCastImage(frame.width, frame.height);
+    if (boundDepth_ != rc.sceneDepth) {
+        boundDepth_ = rc.sceneDepth;
+        ++imagesVersion_;
+    }
+    // Each frame slot's set is rewritten when the images it names changed; the slot's previous
+    // frame has completed by now (the frame ring waited for it).
+    if (setVersion_[rc.slot] != imagesVersion_) {
+        writeDescriptors(rc.slot);
+        setVersion_[rc.slot] = imagesVersion_;
+    }
+
+    const auto& ell = globe::Ellipsoid::wgs84();
+    const scene::Camera& camera = *frame.camera;
+    const glm::dvec3 eye = camera.position() - origin_;
+    const double diagonal = glm::length(boxMax_ - boxMin_);
+    const double step = diagonal / double(settings_.steps);
+    const double rho0 = std::hypot(origin_.x, origin_.y);
+    const glm::dmat4 view = camera.viewRotation();
+    const glm::dvec3 forward = -glm::dvec3(view[0][2], view[1][2], view[2][2]);
+    const double a = ell.equatorialRadius(), b = ell.polarRadius();
+    shader::VolumeUniforms u{};
+    u.eyeFromOrigin = glm::vec4(glm::vec3(eye), float(step));
+    u.originAxis = glm::vec4(float(rho0), float(origin_.z), float(std::atan2(origin_.y, origin_.x)), float(diagonal / 100.0));
+    u.boxMin = glm::vec4(glm::vec3(boxMin_), float(camera.nearPlane()));
+    u.boxMax = glm::vec4(glm::vec3(boxMax_), float(settings_.steps + 2));
+    u.lonRange = glm::vec4(float(lonAxis_.front()), float(lonAxis_.back()), field_.lonWraps ? 1.0f : 0.0f,
+                           float(settings_.verticalExaggeration));
+    u.latRange = glm::vec4(float(field_.latDeg.front()), float(field_.latDeg.back()), float(field_.heightM.front()),
+                           float(field_.heightM.back()));
+    const double rangeMin = settings_.transfer.rangeMin, rangeMax = settings_.transfer.rangeMax;
+    u.dataRange = glm::vec4(float(rangeMin), float(1.0 / (rangeMax - rangeMin)), 1.0f, float(frameCounter_ % 65536));
+    u.axisUniform = glm::vec4(lookups_[0].uniform ? 1.0f : 0.0f, lookups_[1].uniform ? 1.0f : 0.0f,
+                              lookups_[2].uniform ? 1.0f : 0.0f, float(lonAxis_.size()));
+    u.samples = glm::vec4(float(lonAxis_.size()), float(field_.ny()), float(field_.nz()), float((1.0 - ell.flattening()) * (1.0 - ell.flattening())));
+    u.forward = glm::vec4(glm::vec3(forward), float(a));
+    u.radii = glm::vec4(float(innerRadius_), float(outerRadius_), float(b), 0.0f);
+    uniformBuffers_[rc.slot].write(&u, sizeof(u));
+
+    VkCommandBuffer cmd = rc.cmd;
+    gpu::transition(cmd, castImage_, gpu::ImageUse::StorageCompute);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, castPipeline_.vk());
+    const VkDescriptorSet sets[] = {rc.frameSet, sets_[rc.slot]};
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), 0, 2, sets, 0, nullptr);
+    const uint32_t g = shader::kVolumeGroupSize;
+    vkCmdDispatch(cmd, (frame.width + g - 1) / g, (frame.height + g - 1) / g, 1);
+    gpu::transition(cmd, castImage_, gpu::ImageUse::SampledFragment);
+}
+
+void VolumeLayer::record(scene::Pass, const scene::RecordContext& rc) {
+    if (!castImage_ || !boundDepth_) return;
+    VkCommandBuffer cmd = rc.cmd;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, compositePipeline_.vk());
+    const VkDescriptorSet sets[] = {rc.frameSet, sets_[rc.slot]};
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+}
+
+uint64_t VolumeLayer::gpuBytes() const {
+    uint64_t bytes = uint64_t(lonAxis_.size()) * field_.ny() * field_.nz() * 4 + 256 * 8 +
+                     3 * shader::kVolumeAxisTable * 4;
+    if (castImage_) bytes += uint64_t(castImage_.extent().width) * castImage_.extent().height * 8;
+    return bytes;
+}
+
+bool VolumeLayer::setParameter(std::string_view name, double value) {
+    if (name == "steps") {
+        settings_.steps = std::clamp(int(std::lround(value)), 1, 4096);
+        return true;
+    }
+    return false;
+}
+
+std::string VolumeLayer::status() const {
+    return field_.variable + ": " + std::to_string(field_.nx()) + " x " + std::to_string(field_.ny()) + " x " +
+           std::to_string(field_.nz()) + ", " + std::to_string(settings_.steps) + " steps";
+}
+
+}  // namespace orbis::layers

@@ -1,0 +1,40 @@
+// Volume ray casting (compute, before the volume pass) and its composite (fragment, in the pass).
+// Set 1 bindings: 0 VolumeUniforms (per frame), 1 the field (sampler3D, R32F, NaN = no data),
+// 2 axis lookup tables (storage buffer), 3 transfer function (sampler1D), 4 scene depth
+// (sampler2D), 5 the ray-cast image (rgba16f storage, premultiplied), 6 the same image sampled
+// by the composite.
+#ifndef ORBIS_SHADERS_SHARED_VOLUME_TYPES_H
+#define ORBIS_SHADERS_SHARED_VOLUME_TYPES_H
+
+#include "shared/Common.h"
+
+ORBIS_NAMESPACE_BEGIN
+
+ORBIS_CONST(uint, kVolumeSet, 1)
+ORBIS_CONST(uint, kVolumeAxisTable, 256)   // entries per irregular axis
+ORBIS_CONST(uint, kVolumeGroupSize, 8)     // compute workgroup: 8 x 8 pixels
+
+// std140: vec4 members only.
+struct VolumeUniforms {
+    // The volume's frame: an origin on the ellipsoid (ECEF, double on the CPU) and its local
+    // east/north/up axes. Rays are marched relative to the origin, in ECEF axes, in float.
+    vec4 eyeFromOrigin;     // xyz: eye minus origin (ECEF axes); w: step length (m)
+    vec4 originAxis;        // x: distance of the origin from the polar axis, y: its z, z: its longitude (rad), w: reference step (m)
+    vec4 boxMin;            // xyz: bounding box of the curved box in ECEF axes relative to the origin; w: near plane (m)
+    vec4 boxMax;            // xyz: as above; w: number of steps (cap)
+    vec4 lonRange;          // x: first lon (deg), y: last lon (deg, continuous), z: 1 if it wraps, w: vertical exaggeration
+    vec4 latRange;          // x: first lat, y: last lat (deg); z, w: first and last height (m, drawn: exaggerated)
+    vec4 dataRange;         // x: min, y: 1 / (max - min) for the transfer function; z: opacity scale; w: frame (jitter)
+    vec4 axisUniform;       // xyz: 1 if lon, lat, height are evenly spaced (else use the table); w: samples in lon
+    vec4 samples;           // x, y, z: samples in lon (incl. a wrap column), lat, height; w: 1 - e^2
+    vec4 forward;           // xyz: view direction (world); w: equatorial radius a
+    vec4 radii;             // x: inner bound radius, y: outer bound radius (metres from the Earth centre), z: polar radius b, w: unused
+};
+
+ORBIS_NAMESPACE_END
+
+#ifdef __cplusplus
+static_assert(sizeof(orbis::shader::VolumeUniforms) == 11 * 16, "VolumeUniforms layout changed");
+#endif
+
+#endif
