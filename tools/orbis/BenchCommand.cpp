@@ -201,6 +201,8 @@ int sweep(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Render
         std::snprintf(label, sizeof label, "%g", r.value);
         points.push_back({r.frameMs, r.rmse, label});
     }
+    // The curve runs from the fastest setting to the slowest, whatever order they were given in.
+    std::stable_sort(points.begin(), points.end(), [](const PlotPoint& a, const PlotPoint& b) { return a.x < b.x; });
     const std::string plotFile = args.value("--plot").value_or("orbis-sweep.png");
     if (auto ok = writePng(plotFile, plotPoints(points)); !ok) {
         std::fprintf(stderr, "orbis: %s\n", ok.message().c_str());
