@@ -120,15 +120,29 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
     }
 
     if (const nlohmann::json* modes = r.array("mode")) {
+        s.dvr = false;
+        bool iso = false;
         for (const auto& m : *modes) {
             const std::string mode = m.is_string() ? m.get<std::string>() : std::string();
-            if (mode == "dvr") continue;
-            if (mode == "iso" || mode == "slice")
-                r.fail("mode", "\"" + mode + "\" is not implemented yet (issue 4: isosurfaces and slice planes)");
+            if (mode == "dvr") s.dvr = true;
+            else if (mode == "iso") iso = true;
+            else if (mode == "slice")
+                r.fail("mode", "\"slice\" is not implemented yet (issue 4: slice planes)");
             else
                 r.fail("mode", "expected \"dvr\", \"iso\" or \"slice\"");
         }
+        if (r.ok() && !s.dvr && !iso) r.fail("mode", "name at least one mode");
+        if (iso) {
+            if (auto values = r.numbers("isovalues", 0); values) s.isovalues = *values;
+            if (r.ok() && (s.isovalues.empty() || s.isovalues.size() > shader::kVolumeMaxIso))
+                r.fail("isovalues", "mode \"iso\" needs 1 to " + std::to_string(shader::kVolumeMaxIso) + " isovalues");
+        } else if (r.has("isovalues")) {
+            r.fail("isovalues", "only used with mode \"iso\"");
+        }
+    } else if (r.has("isovalues")) {
+        r.fail("isovalues", "only used with mode \"iso\" (add \"mode\": [\"iso\"])");
     }
+    s.isoOpacity = r.number("isoOpacity", 1.0, 0.0, 1.0).value_or(1.0);
     s.steps = int(r.number("steps", s.steps, 1.0, 4096.0).value_or(s.steps));
     s.transfer.colorMap = r.string("colorMap", s.transfer.colorMap).value_or(s.transfer.colorMap);
     if (!hasColorMap(s.transfer.colorMap)) {
@@ -326,7 +340,10 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
     }
     const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, setLayout_.vk()};
     layout_ = gpu::createPipelineLayout(device, setLayouts, {});
-    castPipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_volume_raycast_comp, nullptr, "volume ray cast");
+    gpu::Specialization modes;
+    modes.set<VkBool32>(0, settings_.dvr ? VK_TRUE : VK_FALSE);
+    modes.set<int32_t>(1, int32_t(settings_.isovalues.size()));
+    castPipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_volume_raycast_comp, &modes, "volume ray cast");
     gpu::GraphicsPipelineDesc composite;
     composite.vertexSpirv = kSpv_volume_composite_vert;
     composite.fragmentSpirv = kSpv_volume_composite_frag;
@@ -423,7 +440,9 @@ void VolumeLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
                               lookups_[2].uniform ? 1.0f : 0.0f, float(lonAxis_.size()));
     u.samples = glm::vec4(float(lonAxis_.size()), float(field_.ny()), float(field_.nz()), float((1.0 - ell.flattening()) * (1.0 - ell.flattening())));
     u.forward = glm::vec4(glm::vec3(forward), float(a));
-    u.radii = glm::vec4(float(innerRadius_), float(outerRadius_), float(b), 0.0f);
+    u.radii = glm::vec4(float(innerRadius_), float(outerRadius_), float(b), float(settings_.isoOpacity));
+    for (size_t i = 0; i < settings_.isovalues.size() && i < shader::kVolumeMaxIso; ++i)
+        u.isovalues[i / 4][int(i % 4)] = float(settings_.isovalues[i]);
     uniformBuffers_[rc.slot].write(&u, sizeof(u));
 
     VkCommandBuffer cmd = rc.cmd;

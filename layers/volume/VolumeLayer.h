@@ -8,12 +8,15 @@
 //    -- or, instead of a file --
 //    "synthetic": {"field": "sphere" | "waves" | "constant" | "empty", "size": [64, 64, 64],
 //                  "lon": [-10, 10], "lat": [40, 60], "height": [0, 200000]},
-//    "mode": ["dvr"], "steps": 100, "colorMap": "viridis", "range": [200, 310],
+//    "mode": ["dvr", "iso"], "isovalues": [250, 280], "isoOpacity": 1,
+//    "steps": 100, "colorMap": "viridis", "range": [200, 310],
 //    "opacity": [[200, 0], [310, 0.5]], "opacityScale": 1, "verticalExaggeration": 1}
 //
 // The transfer function's opacity is per reference step (a hundredth of the box's diagonal),
-// so changing "steps" changes quality, not the look. Isosurfaces and slice planes are the next
-// modes (issue 4); asking for them now is an error that says so.
+// so changing "steps" changes quality, not the look. Isosurfaces are found by sign changes
+// between samples and refined by secant/bisection steps. Slice planes are the next mode
+// (issue 4); asking for them now is an error that says so. What the modes do not use is left
+// out of the compute pipeline (specialisation constants).
 
 #include "engine/gpu/Buffer.h"
 #include "engine/gpu/Handle.h"
@@ -33,6 +36,9 @@
 namespace orbis::layers {
 
 struct VolumeSettings {
+    bool dvr = true;
+    std::vector<double> isovalues;   ///< mode "iso": up to 8 surfaces, coloured by the colour map
+    double isoOpacity = 1.0;
     int steps = 100;
     TransferFunctionDesc transfer;
     bool rangeFromData = true;

@@ -13,6 +13,7 @@ ORBIS_NAMESPACE_BEGIN
 ORBIS_CONST(uint, kVolumeSet, 1)
 ORBIS_CONST(uint, kVolumeAxisTable, 256)   // entries per irregular axis
 ORBIS_CONST(uint, kVolumeGroupSize, 8)     // compute workgroup: 8 x 8 pixels
+ORBIS_CONST(uint, kVolumeMaxIso, 8)        // isovalues per volume
 
 // std140: vec4 members only.
 struct VolumeUniforms {
@@ -28,13 +29,14 @@ struct VolumeUniforms {
     vec4 axisUniform;       // xyz: 1 if lon, lat, height are evenly spaced (else use the table); w: samples in lon
     vec4 samples;           // x, y, z: samples in lon (incl. a wrap column), lat, height; w: 1 - e^2
     vec4 forward;           // xyz: view direction (world); w: equatorial radius a
-    vec4 radii;             // x: inner bound radius, y: outer bound radius (metres from the Earth centre), z: polar radius b, w: unused
+    vec4 radii;             // x: inner bound radius, y: outer bound radius (metres from the Earth centre), z: polar radius b, w: isosurface opacity
+    vec4 isovalues[2];      // up to kVolumeMaxIso isovalues (the pipeline's kIsoCount are used)
 };
 
 ORBIS_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(orbis::shader::VolumeUniforms) == 11 * 16, "VolumeUniforms layout changed");
+static_assert(sizeof(orbis::shader::VolumeUniforms) == 13 * 16, "VolumeUniforms layout changed");
 #endif
 
 #endif

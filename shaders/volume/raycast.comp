@@ -3,12 +3,18 @@
 #include "shared/FrameUniforms.h"
 #include "shared/VolumeTypes.h"
 
-// Direct volume rendering of a (lon, lat, height) grid in its curved box: one ray per pixel,
-// marched relative to the volume's origin (float, small numbers), each sample turned into
-// (lon, lat, height) in a numerically stable form, front-to-back compositing with opacity
-// corrected for the step, a jittered start, early termination, and an end at the scene depth.
+// Ray casting of a (lon, lat, height) grid in its curved box: one ray per pixel, marched
+// relative to the volume's origin (float, small numbers), each sample turned into (lon, lat,
+// height) in a numerically stable form. Direct volume rendering composites front to back with
+// opacity corrected for the step; isosurfaces are found by a sign change between samples, then
+// refined by secant/bisection steps, lit with Phong shading and a normal from central
+// differences. A jittered start, early termination, and an end at the scene depth.
 
 layout(local_size_x = 8, local_size_y = 8) in;
+
+// What the scene's modes use is compiled in; the rest is left out.
+layout(constant_id = 0) const bool kDvr = true;
+layout(constant_id = 1) const int kIsoCount = 0;   // isosurfaces (0 .. kVolumeMaxIso)
 
 layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
 layout(set = 1, binding = 0) uniform VolumeBlock { VolumeUniforms vol; };
@@ -46,6 +52,82 @@ float hash(uvec2 p, uint frameIndex) {
     return float(h & 0xffffu) / 65536.0;
 }
 
+// Shared per ray.
+vec3 gEye, gDir;
+float gC0, gS0;
+
+// The field at ray parameter t; false outside the box or where there is no data.
+bool sampleAt(float t, out float value) {
+    vec3 d = gEye + t * gDir;   // relative to the origin, ECEF axes
+    // Longitude relative to the origin's meridian: no large number is subtracted.
+    float xa = vol.originAxis.x + (d.x * gC0 + d.y * gS0);
+    float yb = d.y * gC0 - d.x * gS0;
+    float rho = length(vec2(xa, yb));
+    float z = vol.originAxis.y + d.z;
+    float lonDeg = degrees(vol.originAxis.z + atan(yb, xa));
+    lonDeg = vol.lonRange.x + mod(lonDeg - vol.lonRange.x, 360.0);
+    float phiC = atan(z, rho);
+    float latDeg = degrees(atan(z, rho * vol.samples.w));   // geodetic, near the surface
+    float cc = cos(phiC), ss = sin(phiC);
+    float a = vol.forward.w, b = vol.radii.z;
+    float rEll = a * b / sqrt(b * b * cc * cc + a * a * ss * ss);
+    float h = (length(vec2(rho, z)) - rEll) / vol.lonRange.w;
+    value = 0.0;
+    if (lonDeg > vol.lonRange.y || latDeg < vol.latRange.x || latDeg > vol.latRange.y || h < vol.latRange.z ||
+        h > vol.latRange.w)
+        return false;
+    vec3 tc = vec3(axisCoord(0, lonDeg, vol.lonRange.x, vol.lonRange.y, vol.samples.x, vol.axisUniform.x > 0.5),
+                   axisCoord(1, latDeg, vol.latRange.x, vol.latRange.y, vol.samples.y, vol.axisUniform.y > 0.5),
+                   axisCoord(2, h, vol.latRange.z, vol.latRange.w, vol.samples.z, vol.axisUniform.z > 0.5));
+    value = texture(field, tc).r;
+    return !isnan(value);
+}
+
+vec4 transferAt(float value) {
+    float f = clamp((value - vol.dataRange.x) * vol.dataRange.y, 0.0, 1.0);
+    return texture(transfer, (f * 255.0 + 0.5) / 256.0);
+}
+
+float isovalue(int i) { return vol.isovalues[i / 4][i % 4]; }
+
+// Where the field crosses `c` between ta (value va) and tb (value vb): regula falsi, with a
+// bisection step whenever the secant lands badly or a sample has no data.
+float refineCrossing(float ta, float va, float tb, float vb, float c) {
+    for (int k = 0; k < 8; ++k) {
+        float denom = vb - va;
+        float tm = abs(denom) > 1e-20 ? ta + (c - va) * (tb - ta) / denom : 0.5 * (ta + tb);
+        if (!(tm > ta && tm < tb) || k % 3 == 2) tm = 0.5 * (ta + tb);   // keep the bracket shrinking
+        float vm;
+        if (!sampleAt(tm, vm)) return tm;
+        if ((va - c) * (vm - c) <= 0.0) { tb = tm; vb = vm; }
+        else { ta = tm; va = vm; }
+    }
+    float denom = vb - va;
+    return abs(denom) > 1e-20 ? ta + (c - va) * (tb - ta) / denom : 0.5 * (ta + tb);
+}
+
+// Unit gradient direction of the field at t (world axes), by central differences over `e`
+// metres; zero gradients (constant fields) and no-data neighbours fall back to facing the eye.
+vec3 normalAt(float t, float e) {
+    vec3 p = gEye + t * gDir;
+    vec3 g = vec3(0.0);
+    for (int axis = 0; axis < 3; ++axis) {
+        vec3 off = vec3(0.0);
+        off[axis] = e;
+        // Sample along the ray's frame by moving the eye: the same position function is used.
+        vec3 saveEye = gEye;
+        float vp, vm;
+        gEye = saveEye + off;
+        bool okP = sampleAt(t, vp);
+        gEye = saveEye - off;
+        bool okM = sampleAt(t, vm);
+        gEye = saveEye;
+        if (okP && okM) g[axis] = (vp - vm) / (2.0 * e);
+    }
+    float len = length(g);
+    return len > 1e-30 ? -g / len : -gDir;   // pointing toward lower values
+}
+
 void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(outImage);
@@ -53,62 +135,72 @@ void main() {
 
     vec2 ndc = (vec2(px) + 0.5) / vec2(size) * 2.0 - 1.0;
     vec4 far = frame.clipToWorldDir * vec4(ndc, 1.0, 1.0);
-    vec3 dir = normalize(far.xyz / far.w);
-    vec3 eye = vol.eyeFromOrigin.xyz;
+    gDir = normalize(far.xyz / far.w);
+    gEye = vol.eyeFromOrigin.xyz;
+    gC0 = cos(vol.originAxis.z);
+    gS0 = sin(vol.originAxis.z);
 
     // The segment inside the box's bounds, before the scene's surface.
-    vec3 inv = 1.0 / dir;
-    vec3 ta = (vol.boxMin.xyz - eye) * inv, tb = (vol.boxMax.xyz - eye) * inv;
+    vec3 inv = 1.0 / gDir;
+    vec3 ta = (vol.boxMin.xyz - gEye) * inv, tb = (vol.boxMax.xyz - gEye) * inv;
     vec3 tlo = min(ta, tb), thi = max(ta, tb);
     float tEnter = max(max(tlo.x, tlo.y), max(tlo.z, 0.0));
     float tExit = min(min(thi.x, thi.y), thi.z);
-    float lon0 = vol.originAxis.z;
-    float c0 = cos(lon0), s0 = sin(lon0);
-    vec3 centre = -vec3(vol.originAxis.x * c0, vol.originAxis.x * s0, vol.originAxis.y);
-    vec2 outer = sphereHits(eye, dir, centre, vol.radii.y);
+    vec3 centre = -vec3(vol.originAxis.x * gC0, vol.originAxis.x * gS0, vol.originAxis.y);
+    vec2 outer = sphereHits(gEye, gDir, centre, vol.radii.y);
     tEnter = max(tEnter, outer.x);
     tExit = min(tExit, outer.y);
-    vec2 inner = sphereHits(eye, dir, centre, vol.radii.x);
+    vec2 inner = sphereHits(gEye, gDir, centre, vol.radii.x);
     if (inner.x > tEnter) tExit = min(tExit, inner.x);
     float depth = texelFetch(sceneDepth, px, 0).r;
-    if (depth > 0.0) tExit = min(tExit, vol.boxMin.w / depth / max(dot(dir, vol.forward.xyz), 1e-6));
+    if (depth > 0.0) tExit = min(tExit, vol.boxMin.w / depth / max(dot(gDir, vol.forward.xyz), 1e-6));
 
     vec4 acc = vec4(0.0);
     float stepLength = vol.eyeFromOrigin.w;
     if (tExit > tEnter) {
         float t = tEnter + hash(uvec2(px), uint(vol.dataRange.w)) * stepLength;
         int maxSteps = int(vol.boxMax.w);
-        float exaggeration = vol.lonRange.w;
-        float a = vol.forward.w, b = vol.radii.z;
+        bool sunLight = frame.sunDirection.w > 0.5;
+        float prevT = t, prevV = 0.0;
+        bool prevOk = false;
         for (int i = 0; i < maxSteps && t < tExit; ++i, t += stepLength) {
-            vec3 d = eye + t * dir;   // relative to the origin, ECEF axes
-            // Longitude relative to the origin's meridian: no large number is subtracted.
-            float xa = vol.originAxis.x + (d.x * c0 + d.y * s0);
-            float yb = d.y * c0 - d.x * s0;
-            float rho = length(vec2(xa, yb));
-            float z = vol.originAxis.y + d.z;
-            float lonDeg = degrees(lon0 + atan(yb, xa));
-            lonDeg = vol.lonRange.x + mod(lonDeg - vol.lonRange.x, 360.0);
-            float phiC = atan(z, rho);
-            float latDeg = degrees(atan(z, rho * vol.samples.w));   // geodetic, near the surface
-            float cc = cos(phiC), ss = sin(phiC);
-            float rEll = a * b / sqrt(b * b * cc * cc + a * a * ss * ss);
-            float h = (length(vec2(rho, z)) - rEll) / exaggeration;
-            if (lonDeg > vol.lonRange.y || latDeg < vol.latRange.x || latDeg > vol.latRange.y || h < vol.latRange.z ||
-                h > vol.latRange.w)
-                continue;
-            vec3 tc = vec3(axisCoord(0, lonDeg, vol.lonRange.x, vol.lonRange.y, vol.samples.x, vol.axisUniform.x > 0.5),
-                           axisCoord(1, latDeg, vol.latRange.x, vol.latRange.y, vol.samples.y, vol.axisUniform.y > 0.5),
-                           axisCoord(2, h, vol.latRange.z, vol.latRange.w, vol.samples.z, vol.axisUniform.z > 0.5));
-            float value = texture(field, tc).r;
-            if (isnan(value)) continue;   // no data: transparent
-            float f = clamp((value - vol.dataRange.x) * vol.dataRange.y, 0.0, 1.0);
-            vec4 tf = texture(transfer, (f * 255.0 + 0.5) / 256.0);
-            float alpha = clamp(tf.a * vol.dataRange.z, 0.0, 1.0);
-            alpha = 1.0 - pow(1.0 - min(alpha, 0.9999), stepLength / vol.originAxis.w);
-            acc.rgb += (1.0 - acc.a) * alpha * tf.rgb;
-            acc.a += (1.0 - acc.a) * alpha;
-            if (acc.a >= 0.99) break;
+            float value;
+            bool ok = sampleAt(t, value);
+            if (kIsoCount > 0 && ok && prevOk) {
+                // The nearest crossing in this step over all isovalues.
+                float tHit = 1e30;
+                int hit = -1;
+                for (int k = 0; k < kIsoCount; ++k) {
+                    float c = isovalue(k);
+                    if ((prevV - c) * (value - c) < 0.0 || (value == c && prevV != c)) {
+                        float th = refineCrossing(prevT, prevV, t, value, c);
+                        if (th < tHit) { tHit = th; hit = k; }
+                    }
+                }
+                if (hit >= 0) {
+                    vec3 n = normalAt(tHit, max(0.25 * stepLength, 1.0));
+                    if (dot(n, gDir) > 0.0) n = -n;   // the side facing the eye
+                    vec3 l = sunLight ? frame.sunDirection.xyz : -gDir;
+                    vec3 hv = normalize(l - gDir);
+                    vec3 base = transferAt(isovalue(hit)).rgb;
+                    vec3 lit = base * (0.25 + 0.75 * max(dot(n, l), 0.0)) + 0.25 * pow(max(dot(n, hv), 0.0), 32.0);
+                    float alpha = vol.radii.w;
+                    acc.rgb += (1.0 - acc.a) * alpha * lit;
+                    acc.a += (1.0 - acc.a) * alpha;
+                    if (acc.a >= 0.99) break;
+                }
+            }
+            if (kDvr && ok) {
+                vec4 tf = transferAt(value);
+                float alpha = clamp(tf.a * vol.dataRange.z, 0.0, 1.0);
+                alpha = 1.0 - pow(1.0 - min(alpha, 0.9999), stepLength / vol.originAxis.w);
+                acc.rgb += (1.0 - acc.a) * alpha * tf.rgb;
+                acc.a += (1.0 - acc.a) * alpha;
+                if (acc.a >= 0.99) break;
+            }
+            prevT = t;
+            prevV = value;
+            prevOk = ok;
         }
     }
     imageStore(outImage, px, acc);

@@ -128,6 +128,34 @@ TEST_F(VolumeRender, MoreStepsConvergeToTheReference) {
     EXPECT_LT(last, 2.0);
 }
 
+TEST_F(VolumeRender, IsosurfacesMatchGoldenAndSurviveStiffValues) {
+    const std::string iso = R"({"type": "volume", "name": "Shells", "synthetic": {"field": "sphere", "size": [48, 48, 48], )"
+                            R"("lon": [-10, 10], "lat": [40, 60], "height": [0, 800000]}, "mode": ["iso"], )"
+                            R"("isovalues": [12, 20], "isoOpacity": 0.6, "colorMap": "viridis", "range": [0, 24]})";
+    const auto img = render(volumeScene(kOblique, iso));
+    EXPECT_TRUE(matchesGolden(img, "volume_sphere_iso"));
+    const auto globeOnly = render(volumeScene(kOblique, ""));
+    EXPECT_GT(differing(img, globeOnly), size_t(img.width * img.height / 20));
+    // Both modes at once draw more than either.
+    std::string both = iso;
+    both.replace(both.find(R"("mode": ["iso"])"), 15, R"("mode": ["iso", "dvr"])");
+    EXPECT_GT(differing(render(volumeScene(kOblique, both)), img), 100u);
+
+    // An isovalue on grid values exactly (the sphere field is integer along the axes through
+    // its centre), a constant field whose every value is the isovalue (no crossing, no NaN
+    // normals), one step and 4096 steps: all render cleanly.
+    const auto exact = render(volumeScene(kOblique, std::string(iso).replace(iso.find("[12, 20]"), 8, "[10]")));
+    EXPECT_GT(differing(exact, globeOnly), 100u);
+    const auto constant = render(volumeScene(
+        kOblique, R"({"type": "volume", "name": "C", "synthetic": {"field": "constant", "size": [8, 8, 8], "lon": [-10, 10], "lat": [40, 60], "height": [0, 800000]}, "mode": ["iso"], "isovalues": [1]})"));
+    EXPECT_EQ(differing(constant, globeOnly, 0), 0u);
+    for (const char* steps : {"1", "4096"}) {
+        std::string s = iso;
+        s.insert(s.size() - 1, std::string(R"(, "steps": )") + steps);
+        ASSERT_FALSE(render(volumeScene(kOblique, s)).pixels.empty()) << steps;
+    }
+}
+
 TEST(VolumeSettings, BadScenesNameTheKeyAndTheProblem) {
     scene::LayerRegistry registry;
     layers::registerBuiltinLayers(registry);
@@ -142,7 +170,11 @@ TEST(VolumeSettings, BadScenesNameTheKeyAndTheProblem) {
         {R"({"type": "volume", "path": "missing.nc", "variable": "t"})", "missing.nc: no such file"},
         {R"({"type": "volume", "path": "x.nc"})", "/layers/0/variable: name the variable"},
         {R"({"type": "volume", "synthetic": {"field": "cube"}})", "expected \"sphere\""},
-        {R"({"type": "volume", "synthetic": {}, "mode": ["iso"]})", "\"iso\" is not implemented yet"},
+        {R"({"type": "volume", "synthetic": {}, "mode": ["slice"]})", "\"slice\" is not implemented yet"},
+        {R"({"type": "volume", "synthetic": {}, "mode": ["iso"]})", "/layers/0/isovalues: missing"},
+        {R"({"type": "volume", "synthetic": {}, "mode": ["iso"], "isovalues": []})", "needs 1 to 8 isovalues"},
+        {R"({"type": "volume", "synthetic": {}, "isovalues": [1]})", "only used with mode \"iso\""},
+        {R"({"type": "volume", "synthetic": {}, "mode": []})", "name at least one mode"},
         {R"({"type": "volume", "synthetic": {}, "steps": 0})", "/layers/0/steps"},
         {R"({"type": "volume", "synthetic": {}, "colorMap": "jet"})", "unknown colour map \"jet\""},
         {R"({"type": "volume", "synthetic": {}, "range": [5, 1]})", "low < high"},
