@@ -107,10 +107,12 @@ float refineCrossing(float ta, float va, float tb, float vb, float c) {
 }
 
 // Unit gradient direction of the field at t (world axes), by central differences over `e`
-// metres; zero gradients (constant fields) and no-data neighbours fall back to facing the eye.
+// metres (one-sided at the box's faces); zero gradients (constant fields) fall back to facing
+// the eye.
 vec3 normalAt(float t, float e) {
-    vec3 p = gEye + t * gDir;
     vec3 g = vec3(0.0);
+    float v0;
+    bool ok0 = sampleAt(t, v0);
     for (int axis = 0; axis < 3; ++axis) {
         vec3 off = vec3(0.0);
         off[axis] = e;
@@ -122,7 +124,11 @@ vec3 normalAt(float t, float e) {
         gEye = saveEye - off;
         bool okM = sampleAt(t, vm);
         gEye = saveEye;
+        // Central where both neighbours have data; one-sided at the box's faces and next to
+        // no-data cells.
         if (okP && okM) g[axis] = (vp - vm) / (2.0 * e);
+        else if (okP && ok0) g[axis] = (vp - v0) / e;
+        else if (okM && ok0) g[axis] = (v0 - vm) / e;
     }
     float len = length(g);
     return len > 1e-30 ? -g / len : -gDir;   // pointing toward lower values
