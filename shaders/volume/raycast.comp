@@ -66,12 +66,13 @@ bool sampleAt(float t, out float value) {
     float z = vol.originAxis.y + d.z;
     float lonDeg = degrees(vol.originAxis.z + atan(yb, xa));
     lonDeg = vol.lonRange.x + mod(lonDeg - vol.lonRange.x, 360.0);
-    float phiC = atan(z, rho);
     float latDeg = degrees(atan(z, rho * vol.samples.w));   // geodetic, near the surface
-    float cc = cos(phiC), ss = sin(phiC);
+    // Radius of the ellipsoid along the point's direction, without trigonometry:
+    // r = a b |p| / sqrt(b^2 rho^2 + a^2 z^2).
     float a = vol.forward.w, b = vol.radii.z;
-    float rEll = a * b / sqrt(b * b * cc * cc + a * a * ss * ss);
-    float h = (length(vec2(rho, z)) - rEll) / vol.lonRange.w;
+    float r = length(vec2(rho, z));
+    float rEll = a * b * r / length(vec2(b * rho, a * z));
+    float h = (r - rEll) / vol.lonRange.w;
     value = 0.0;
     if (lonDeg > vol.lonRange.y || latDeg < vol.latRange.x || latDeg > vol.latRange.y || h < vol.latRange.z ||
         h > vol.latRange.w)
