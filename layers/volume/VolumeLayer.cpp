@@ -239,8 +239,11 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
     const double bulge = (ell.equatorialRadius() + hHi) * (1.0 - std::cos(0.5 * std::max(spanLon, spanLat))) + 1.0;
     boxMin_ -= glm::dvec3(bulge);
     boxMax_ += glm::dvec3(bulge);
-    innerRadius_ = ell.polarRadius() + hLo - 1.0;
-    outerRadius_ = ell.equatorialRadius() + hHi + 1.0;
+    // The shell's surfaces, a little outside the data's heights: a scaled ellipsoid's radius
+    // differs from the ellipsoid's radius plus H by up to H times the flattening.
+    const double margin = std::max({1.0, 1e-3 * (hHi - hLo), 0.004 * std::max(std::abs(hLo), std::abs(hHi))});
+    shellLow_ = hLo - margin;
+    shellHigh_ = hHi + margin;
 
     gpu::ImageDesc fd;
     fd.type = VK_IMAGE_TYPE_3D;
@@ -429,7 +432,7 @@ void VolumeLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
     u.eyeFromOrigin = glm::vec4(glm::vec3(eye), float(step));
     u.originAxis = glm::vec4(float(rho0), float(origin_.z), float(std::atan2(origin_.y, origin_.x)), float(diagonal / 100.0));
     u.boxMin = glm::vec4(glm::vec3(boxMin_), float(camera.nearPlane()));
-    u.boxMax = glm::vec4(glm::vec3(boxMax_), float(settings_.steps + 2));
+    u.boxMax = glm::vec4(glm::vec3(boxMax_), float(settings_.steps * 4 + 8));   // per segment
     u.lonRange = glm::vec4(float(lonAxis_.front()), float(lonAxis_.back()), field_.lonWraps ? 1.0f : 0.0f,
                            float(settings_.verticalExaggeration));
     u.latRange = glm::vec4(float(field_.latDeg.front()), float(field_.latDeg.back()), float(field_.heightM.front()),
@@ -440,7 +443,21 @@ void VolumeLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
                               lookups_[2].uniform ? 1.0f : 0.0f, float(lonAxis_.size()));
     u.samples = glm::vec4(float(lonAxis_.size()), float(field_.ny()), float(field_.nz()), float((1.0 - ell.flattening()) * (1.0 - ell.flattening())));
     u.forward = glm::vec4(glm::vec3(forward), float(a));
-    u.radii = glm::vec4(float(innerRadius_), float(outerRadius_), float(b), float(settings_.isoOpacity));
+    u.radii = glm::vec4(0.0f, 0.0f, float(b), float(settings_.isoOpacity));
+    const auto shell = [&](double height, glm::vec4& scaled) {
+        const glm::dvec3 inv(1.0 / (a + height), 1.0 / (a + height), 1.0 / (b + height));
+        const glm::dvec3 os = origin_ * inv;
+        scaled = glm::vec4(glm::vec3(os), float(glm::dot(os, os) - 1.0));
+        return glm::dvec2(inv.x, inv.z);
+    };
+    const glm::dvec2 lowInv = shell(shellLow_, u.shellLo), highInv = shell(shellHigh_, u.shellHi);
+    u.shellScale = glm::vec4(float(lowInv.x), float(lowInv.y), float(highInv.x), float(highInv.y));
+    // "steps" across the diagonal of the normalised box (as a ray-caster counts samples along a
+    // cube's diagonal); opacity is per hundredth of that diagonal.
+    const double unitDiagonal = std::sqrt(3.0);
+    u.march = glm::vec4(float(unitDiagonal / settings_.steps), float(std::max(step / 16384.0, 0.01)),
+                        float(100.0 / unitDiagonal),
+                        float(std::clamp(step * 0.01, 5.0, 2000.0)));
     for (size_t i = 0; i < settings_.isovalues.size() && i < shader::kVolumeMaxIso; ++i)
         u.isovalues[i / 4][int(i % 4)] = float(settings_.isovalues[i]);
     uniformBuffers_[rc.slot].write(&u, sizeof(u));

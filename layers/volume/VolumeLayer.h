@@ -12,8 +12,10 @@
 //    "steps": 100, "colorMap": "viridis", "range": [200, 310],
 //    "opacity": [[200, 0], [310, 0.5]], "opacityScale": 1, "verticalExaggeration": 1}
 //
-// The transfer function's opacity is per reference step (a hundredth of the box's diagonal),
-// so changing "steps" changes quality, not the look. Isosurfaces are found by sign changes
+// Rays are clipped to the box and to the shell between its bottom and top heights, then sampled
+// in equal steps of the box's normalised coordinates ("steps" along its diagonal), so a thin
+// shell gets as many samples across as a thick box. The transfer function's opacity is per
+// hundredth of that diagonal, so changing "steps" changes quality, not the look. Isosurfaces are found by sign changes
 // between samples and refined by secant/bisection steps. Slice planes are the next mode
 // (issue 4); asking for them now is an error that says so. What the modes do not use is left
 // out of the compute pipeline (specialisation constants).
@@ -88,7 +90,7 @@ private:
     // The curved box in its frame (double on the CPU).
     glm::dvec3 origin_{0.0};
     glm::dvec3 boxMin_{0.0}, boxMax_{0.0};
-    double innerRadius_ = 0.0, outerRadius_ = 0.0;
+    double shellLow_ = 0.0, shellHigh_ = 0.0;   // drawn heights of the shell's surfaces (m)
     std::vector<double> lonAxis_;   // with the wrap column when the field is periodic
     std::array<AxisLookup, 3> lookups_;
     uint64_t frameCounter_ = 0;

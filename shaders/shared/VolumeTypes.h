@@ -31,12 +31,19 @@ struct VolumeUniforms {
     vec4 forward;           // xyz: view direction (world); w: equatorial radius a
     vec4 radii;             // x: inner bound radius, y: outer bound radius (metres from the Earth centre), z: polar radius b, w: isosurface opacity
     vec4 isovalues[2];      // up to kVolumeMaxIso isovalues (the pipeline's kIsoCount are used)
+    // The height range as two surfaces (ellipsoids with semi-axes a + H, b + H, H the drawn
+    // bottom and top heights): rays are clipped to the shell between them, in a form relative to
+    // the origin (no large numbers cancel).
+    vec4 shellScale;        // x: 1 / (a + Hlo), y: 1 / (b + Hlo), z: 1 / (a + Hhi), w: 1 / (b + Hhi)
+    vec4 shellLo;           // xyz: the origin scaled by the bottom surface's axes; w: |that|^2 - 1
+    vec4 shellHi;           // the same for the top surface
+    vec4 march;             // x: normalised step (sqrt 3 / steps); y: smallest step (m); z: opacity steps per normalised unit; w: probe (m)
 };
 
 ORBIS_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(orbis::shader::VolumeUniforms) == 13 * 16, "VolumeUniforms layout changed");
+static_assert(sizeof(orbis::shader::VolumeUniforms) == 17 * 16, "VolumeUniforms layout changed");
 #endif
 
 #endif

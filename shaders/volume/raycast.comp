@@ -24,6 +24,10 @@ layout(set = 1, binding = 3) uniform sampler1D transfer;
 layout(set = 1, binding = 4) uniform sampler2D sceneDepth;
 layout(set = 1, binding = 5, rgba16f) uniform writeonly image2D outImage;
 
+// Shared per ray.
+vec3 gEye, gDir;
+float gC0, gS0;
+
 // Coordinate -> texture coordinate along one axis (texel centres at the samples).
 float axisCoord(int axis, float x, float first, float last, float n, bool uniformAxis) {
     float f = clamp((x - first) / (last - first), 0.0, 1.0);
@@ -34,15 +38,20 @@ float axisCoord(int axis, float x, float first, float last, float n, bool unifor
     return mix(axisTable[base + t0], axisTable[base + t0 + 1], s - float(t0));
 }
 
-// Ray parameters where the ray enters and leaves a sphere (centre relative to the ray origin).
-vec2 sphereHits(vec3 origin, vec3 dir, vec3 centre, float radius) {
-    vec3 oc = origin - centre;
-    float b = dot(oc, dir);
-    float c = dot(oc, oc) - radius * radius;
-    float disc = b * b - c;
+// Where the ray meets the surface at height H (semi-axes a + H, a + H, b + H): t entering and
+// leaving. `os` is the origin scaled by 1 / axes, c0 = |os|^2 - 1 (from doubles on the CPU), so
+// the quadratic's constant term is small numbers only.
+vec2 shellHits(vec3 os, float c0, vec2 invAxes) {
+    vec3 sc = vec3(invAxes.x, invAxes.x, invAxes.y);
+    vec3 es = gEye * sc, w = gDir * sc;
+    float qa = dot(w, w);
+    float qb = dot(os + es, w);
+    float qc = c0 + 2.0 * dot(os, es) + dot(es, es);
+    float disc = qb * qb - qa * qc;
     if (disc < 0.0) return vec2(1e30, -1e30);
-    float s = sqrt(disc);
-    return vec2(-b - s, -b + s);
+    float q = -(qb + (qb >= 0.0 ? 1.0 : -1.0) * sqrt(disc));   // stable roots q / qa and qc / q
+    float r0 = q / qa, r1 = q != 0.0 ? qc / q : r0;
+    return vec2(min(r0, r1), max(r0, r1));
 }
 
 float hash(uvec2 p, uint frameIndex) {
@@ -52,12 +61,8 @@ float hash(uvec2 p, uint frameIndex) {
     return float(h & 0xffffu) / 65536.0;
 }
 
-// Shared per ray.
-vec3 gEye, gDir;
-float gC0, gS0;
-
-// The field at ray parameter t; false outside the box or where there is no data.
-bool sampleAt(float t, out float value) {
+// (lon, lat, height) of the point at ray parameter t: degrees, degrees, metres of data height.
+vec3 geoAt(float t) {
     vec3 d = gEye + t * gDir;   // relative to the origin, ECEF axes
     // Longitude relative to the origin's meridian: no large number is subtracted.
     float xa = vol.originAxis.x + (d.x * gC0 + d.y * gS0);
@@ -72,17 +77,30 @@ bool sampleAt(float t, out float value) {
     float a = vol.forward.w, b = vol.radii.z;
     float r = length(vec2(rho, z));
     float rEll = a * b * r / length(vec2(b * rho, a * z));
-    float h = (r - rEll) / vol.lonRange.w;
+    return vec3(lonDeg, latDeg, (r - rEll) / vol.lonRange.w);
+}
+
+// The position in the box's normalised coordinates (0..1 along lon, lat and height).
+vec3 normalised(vec3 geo) {
+    return vec3((geo.x - vol.lonRange.x) / (vol.lonRange.y - vol.lonRange.x),
+                (geo.y - vol.latRange.x) / (vol.latRange.y - vol.latRange.x),
+                (geo.z - vol.latRange.z) / (vol.latRange.w - vol.latRange.z));
+}
+
+// The field at a position; false outside the box or where there is no data.
+bool sampleGeo(vec3 geo, out float value) {
     value = 0.0;
-    if (lonDeg > vol.lonRange.y || latDeg < vol.latRange.x || latDeg > vol.latRange.y || h < vol.latRange.z ||
-        h > vol.latRange.w)
+    if (geo.x > vol.lonRange.y || geo.y < vol.latRange.x || geo.y > vol.latRange.y || geo.z < vol.latRange.z ||
+        geo.z > vol.latRange.w)
         return false;
-    vec3 tc = vec3(axisCoord(0, lonDeg, vol.lonRange.x, vol.lonRange.y, vol.samples.x, vol.axisUniform.x > 0.5),
-                   axisCoord(1, latDeg, vol.latRange.x, vol.latRange.y, vol.samples.y, vol.axisUniform.y > 0.5),
-                   axisCoord(2, h, vol.latRange.z, vol.latRange.w, vol.samples.z, vol.axisUniform.z > 0.5));
+    vec3 tc = vec3(axisCoord(0, geo.x, vol.lonRange.x, vol.lonRange.y, vol.samples.x, vol.axisUniform.x > 0.5),
+                   axisCoord(1, geo.y, vol.latRange.x, vol.latRange.y, vol.samples.y, vol.axisUniform.y > 0.5),
+                   axisCoord(2, geo.z, vol.latRange.z, vol.latRange.w, vol.samples.z, vol.axisUniform.z > 0.5));
     value = texture(field, tc).r;
     return !isnan(value);
 }
+
+bool sampleAt(float t, out float value) { return sampleGeo(geoAt(t), value); }
 
 vec4 transferAt(float value) {
     float f = clamp((value - vol.dataRange.x) * vol.dataRange.y, 0.0, 1.0);
@@ -147,32 +165,45 @@ void main() {
     gC0 = cos(vol.originAxis.z);
     gS0 = sin(vol.originAxis.z);
 
-    // The segment inside the box's bounds, before the scene's surface.
+    // The part of the ray inside the box's bounds and before the scene's surface...
     vec3 inv = 1.0 / gDir;
     vec3 ta = (vol.boxMin.xyz - gEye) * inv, tb = (vol.boxMax.xyz - gEye) * inv;
     vec3 tlo = min(ta, tb), thi = max(ta, tb);
     float tEnter = max(max(tlo.x, tlo.y), max(tlo.z, 0.0));
     float tExit = min(min(thi.x, thi.y), thi.z);
-    vec3 centre = -vec3(vol.originAxis.x * gC0, vol.originAxis.x * gS0, vol.originAxis.y);
-    vec2 outer = sphereHits(gEye, gDir, centre, vol.radii.y);
-    tEnter = max(tEnter, outer.x);
-    tExit = min(tExit, outer.y);
-    vec2 inner = sphereHits(gEye, gDir, centre, vol.radii.x);
-    if (inner.x > tEnter) tExit = min(tExit, inner.x);
     float depth = texelFetch(sceneDepth, px, 0).r;
     if (depth > 0.0) tExit = min(tExit, vol.boxMin.w / depth / max(dot(gDir, vol.forward.xyz), 1e-6));
+    // ...and between the bottom and top surfaces: up to two segments (in through the top and
+    // out through the bottom or the top again; or up from below the bottom).
+    vec2 top = shellHits(vol.shellHi.xyz, vol.shellHi.w, vol.shellScale.zw);
+    vec2 bottom = shellHits(vol.shellLo.xyz, vol.shellLo.w, vol.shellScale.xy);
+    vec2 segments[2];
+    segments[0] = vec2(top.x, bottom.x > top.x && bottom.x < bottom.y ? min(top.y, bottom.x) : top.y);
+    segments[1] = bottom.x < bottom.y && bottom.y > top.x && bottom.y < top.y ? vec2(bottom.y, top.y) : vec2(1e30, -1e30);
 
     vec4 acc = vec4(0.0);
-    float stepLength = vol.eyeFromOrigin.w;
-    if (tExit > tEnter) {
-        float t = tEnter + hash(uvec2(px), uint(vol.dataRange.w)) * stepLength;
-        int maxSteps = int(vol.boxMax.w);
-        bool sunLight = frame.sunDirection.w > 0.5;
-        float prevT = t, prevV = 0.0;
+    bool sunLight = frame.sunDirection.w > 0.5;
+    float dtMax = vol.eyeFromOrigin.w, dtMin = vol.march.y, target = vol.march.x;
+    int maxSteps = int(vol.boxMax.w);
+    float jitter = hash(uvec2(px), uint(vol.dataRange.w));
+    for (int sgi = 0; sgi < 2 && acc.a < 0.99; ++sgi) {
+        float t0 = max(segments[sgi].x, tEnter), t1 = min(segments[sgi].y, tExit);
+        if (!(t1 > t0)) continue;
+        // Steps of equal length in the box's normalised coordinates (a thin shell gets as many
+        // samples across as a thick box); the rate of change is probed at the entry, then
+        // followed from sample to sample.
+        vec3 nPrev = normalised(geoAt(t0));
+        float rate = length(normalised(geoAt(t0 + vol.march.w)) - nPrev) / vol.march.w;
+        float dt = clamp(target / max(rate, 1e-20), dtMin, dtMax);
+        float t = t0 + jitter * dt;
+        float prevT = t0, prevV = 0.0;
         bool prevOk = false;
-        for (int i = 0; i < maxSteps && t < tExit; ++i, t += stepLength) {
+        for (int i = 0; i < maxSteps && t < t1; ++i) {
+            vec3 geo = geoAt(t);
+            vec3 n = normalised(geo);
+            float ds = i == 0 ? target : length(n - nPrev);
             float value;
-            bool ok = sampleAt(t, value);
+            bool ok = sampleGeo(geo, value);
             if (kIsoCount > 0 && ok && prevOk) {
                 // The nearest crossing in this step over all isovalues.
                 float tHit = 1e30;
@@ -185,12 +216,12 @@ void main() {
                     }
                 }
                 if (hit >= 0) {
-                    vec3 n = normalAt(tHit, max(0.25 * stepLength, 1.0));
-                    if (dot(n, gDir) > 0.0) n = -n;   // the side facing the eye
+                    vec3 nrm = normalAt(tHit, max(0.25 * dt, 0.5));
+                    if (dot(nrm, gDir) > 0.0) nrm = -nrm;   // the side facing the eye
                     vec3 l = sunLight ? frame.sunDirection.xyz : -gDir;
                     vec3 hv = normalize(l - gDir);
                     vec3 base = transferAt(isovalue(hit)).rgb;
-                    vec3 lit = base * (0.25 + 0.75 * max(dot(n, l), 0.0)) + 0.25 * pow(max(dot(n, hv), 0.0), 32.0);
+                    vec3 lit = base * (0.25 + 0.75 * max(dot(nrm, l), 0.0)) + 0.25 * pow(max(dot(nrm, hv), 0.0), 32.0);
                     float alpha = vol.radii.w;
                     acc.rgb += (1.0 - acc.a) * alpha * lit;
                     acc.a += (1.0 - acc.a) * alpha;
@@ -200,14 +231,19 @@ void main() {
             if (kDvr && ok) {
                 vec4 tf = transferAt(value);
                 float alpha = clamp(tf.a * vol.dataRange.z, 0.0, 1.0);
-                alpha = 1.0 - pow(1.0 - min(alpha, 0.9999), stepLength / vol.originAxis.w);
+                // Opacity per 1/march.z of the normalised box, whatever the step.
+                alpha = 1.0 - pow(1.0 - min(alpha, 0.9999), min(ds, 2.0) * vol.march.z);
                 acc.rgb += (1.0 - acc.a) * alpha * tf.rgb;
                 acc.a += (1.0 - acc.a) * alpha;
                 if (acc.a >= 0.99) break;
             }
+            if (i > 0) rate = ds / max(t - prevT, 1e-6);
             prevT = t;
             prevV = value;
             prevOk = ok;
+            nPrev = n;
+            dt = clamp(target / max(rate, 1e-20), dtMin, min(dtMax, 2.0 * dt));
+            t += dt;
         }
     }
     imageStore(outImage, px, acc);
