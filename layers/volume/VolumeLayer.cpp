@@ -119,29 +119,50 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
         r.fail("path", "give the data: \"path\" (with \"variable\") or \"synthetic\"");
     }
 
+    bool iso = false, slice = false;
     if (const nlohmann::json* modes = r.array("mode")) {
         s.dvr = false;
-        bool iso = false;
         for (const auto& m : *modes) {
             const std::string mode = m.is_string() ? m.get<std::string>() : std::string();
             if (mode == "dvr") s.dvr = true;
             else if (mode == "iso") iso = true;
-            else if (mode == "slice")
-                r.fail("mode", "\"slice\" is not implemented yet (issue 4: slice planes)");
-            else
-                r.fail("mode", "expected \"dvr\", \"iso\" or \"slice\"");
+            else if (mode == "slice") slice = true;
+            else r.fail("mode", "expected \"dvr\", \"iso\" or \"slice\"");
         }
-        if (r.ok() && !s.dvr && !iso) r.fail("mode", "name at least one mode");
-        if (iso) {
-            if (auto values = r.numbers("isovalues", 0); values) s.isovalues = *values;
-            if (r.ok() && (s.isovalues.empty() || s.isovalues.size() > shader::kVolumeMaxIso))
-                r.fail("isovalues", "mode \"iso\" needs 1 to " + std::to_string(shader::kVolumeMaxIso) + " isovalues");
-        } else if (r.has("isovalues")) {
-            r.fail("isovalues", "only used with mode \"iso\"");
-        }
-    } else if (r.has("isovalues")) {
-        r.fail("isovalues", "only used with mode \"iso\" (add \"mode\": [\"iso\"])");
+        if (r.ok() && !s.dvr && !iso && !slice) r.fail("mode", "name at least one mode");
     }
+    if (iso) {
+        if (auto values = r.numbers("isovalues", 0); values) s.isovalues = *values;
+        if (r.ok() && (s.isovalues.empty() || s.isovalues.size() > shader::kVolumeMaxIso))
+            r.fail("isovalues", "mode \"iso\" needs 1 to " + std::to_string(shader::kVolumeMaxIso) + " isovalues");
+    } else if (r.has("isovalues")) {
+        r.fail("isovalues", "only used with mode \"iso\" (add \"iso\" to \"mode\")");
+    }
+    if (slice) {
+        if (const nlohmann::json* list = r.array("slices", true)) {
+            for (const auto& item : *list) {
+                VolumeSettings::Slice sl;
+                const bool one = item.is_object() && item.size() == 1 && item.begin().value().is_number();
+                const std::string key = one ? item.begin().key() : std::string();
+                if (key == "lon") sl.axis = VolumeSettings::Slice::Axis::Lon;
+                else if (key == "lat") sl.axis = VolumeSettings::Slice::Axis::Lat;
+                else if (key == "height") sl.axis = VolumeSettings::Slice::Axis::Height;
+                else {
+                    r.fail("slices", "each slice is {\"lon\": deg}, {\"lat\": deg} or {\"height\": m}");
+                    break;
+                }
+                sl.value = item.begin().value().get<double>();
+                if (sl.axis == VolumeSettings::Slice::Axis::Lat && !(std::abs(sl.value) < 89.0))
+                    r.fail("slices", "a latitude slice must be within -89 .. 89 degrees");
+                s.slices.push_back(sl);
+            }
+            if (r.ok() && (s.slices.empty() || s.slices.size() > shader::kVolumeMaxSlices))
+                r.fail("slices", "mode \"slice\" needs 1 to " + std::to_string(shader::kVolumeMaxSlices) + " slices");
+        }
+    } else if (r.has("slices")) {
+        r.fail("slices", "only used with mode \"slice\" (add \"slice\" to \"mode\")");
+    }
+    s.sliceOpacity = r.number("sliceOpacity", 1.0, 0.0, 1.0).value_or(1.0);
     s.isoOpacity = r.number("isoOpacity", 1.0, 0.0, 1.0).value_or(1.0);
     s.steps = int(r.number("steps", s.steps, 1.0, 4096.0).value_or(s.steps));
     s.transfer.colorMap = r.string("colorMap", s.transfer.colorMap).value_or(s.transfer.colorMap);
@@ -346,6 +367,7 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
     gpu::Specialization modes;
     modes.set<VkBool32>(0, settings_.dvr ? VK_TRUE : VK_FALSE);
     modes.set<int32_t>(1, int32_t(settings_.isovalues.size()));
+    modes.set<int32_t>(2, int32_t(settings_.slices.size()));
     castPipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_volume_raycast_comp, &modes, "volume ray cast");
     gpu::GraphicsPipelineDesc composite;
     composite.vertexSpirv = kSpv_volume_composite_vert;
@@ -451,6 +473,33 @@ void VolumeLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
         return glm::dvec2(inv.x, inv.z);
     };
     const glm::dvec2 lowInv = shell(shellLow_, u.shellLo), highInv = shell(shellHigh_, u.shellHi);
+    const double e2 = 1.0 - (1.0 - ell.flattening()) * (1.0 - ell.flattening());
+    for (size_t i = 0; i < settings_.slices.size() && i < shader::kVolumeMaxSlices; ++i) {
+        const auto& sl = settings_.slices[i];
+        glm::vec4& A = u.sliceA[i];
+        glm::vec4& B = u.sliceB[i];
+        if (sl.axis == VolumeSettings::Slice::Axis::Lon) {
+            const double lam = glm::radians(sl.value);
+            const glm::dvec3 n(-std::sin(lam), std::cos(lam), 0.0);
+            const double lon = lonAxis_.front() + std::fmod(std::fmod(sl.value - lonAxis_.front(), 360.0) + 360.0, 360.0);
+            A = glm::vec4(glm::vec3(n), 0.0f);
+            B = glm::vec4(float(glm::dot(n, origin_)), float(lon), 0.0f, 0.0f);
+        } else if (sl.axis == VolumeSettings::Slice::Axis::Lat) {
+            const double phi = glm::radians(sl.value), sinPhi = std::sin(phi);
+            const double apex = -e2 * a / std::sqrt(1.0 - e2 * sinPhi * sinPhi) * sinPhi;   // normals meet the axis here
+            const double k = std::tan(phi) * std::tan(phi);
+            const glm::dvec3 o(origin_.x, origin_.y, origin_.z - apex);
+            A = glm::vec4(glm::vec3(o), 1.0f);
+            B = glm::vec4(float(k), float(o.z * o.z - k * (o.x * o.x + o.y * o.y)), float(sl.value), 0.0f);
+        } else {
+            const double height = sl.value * settings_.verticalExaggeration;
+            glm::vec4 scaled;
+            const glm::dvec2 inv = shell(height, scaled);
+            A = glm::vec4(glm::vec3(scaled), 2.0f);
+            B = glm::vec4(scaled.w, float(inv.x), float(inv.y), float(sl.value));
+        }
+    }
+    u.sliceInfo = glm::vec4(float(settings_.sliceOpacity), 0.0f, 0.0f, 0.0f);
     u.shellScale = glm::vec4(float(lowInv.x), float(lowInv.y), float(highInv.x), float(highInv.y));
     // "steps" across the diagonal of the normalised box (as a ray-caster counts samples along a
     // cube's diagonal); opacity is per hundredth of that diagonal.

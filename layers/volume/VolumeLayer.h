@@ -8,17 +8,19 @@
 //    -- or, instead of a file --
 //    "synthetic": {"field": "sphere" | "waves" | "constant" | "empty", "size": [64, 64, 64],
 //                  "lon": [-10, 10], "lat": [40, 60], "height": [0, 200000]},
-//    "mode": ["dvr", "iso"], "isovalues": [250, 280], "isoOpacity": 1,
+//    "mode": ["dvr", "iso", "slice"], "isovalues": [250, 280], "isoOpacity": 1,
+//    "slices": [{"lon": 5}, {"lat": 45}, {"height": 10000}], "sliceOpacity": 1,
 //    "steps": 100, "colorMap": "viridis", "range": [200, 310],
 //    "opacity": [[200, 0], [310, 0.5]], "opacityScale": 1, "verticalExaggeration": 1}
 //
 // Rays are clipped to the box and to the shell between its bottom and top heights, then sampled
 // in equal steps of the box's normalised coordinates ("steps" along its diagonal), so a thin
 // shell gets as many samples across as a thick box. The transfer function's opacity is per
-// hundredth of that diagonal, so changing "steps" changes quality, not the look. Isosurfaces are found by sign changes
-// between samples and refined by secant/bisection steps. Slice planes are the next mode
-// (issue 4); asking for them now is an error that says so. What the modes do not use is left
-// out of the compute pipeline (specialisation constants).
+// hundredth of that diagonal, so changing "steps" changes quality, not the look. Isosurfaces
+// are found by sign changes between samples and refined by secant/bisection steps. Slices are
+// exact ray hits with a meridian half-plane, a cone of constant geodetic latitude or a surface
+// of constant height. What the modes do not use is left out of the compute pipeline
+// (specialisation constants).
 
 #include "engine/gpu/Buffer.h"
 #include "engine/gpu/Handle.h"
@@ -41,6 +43,14 @@ struct VolumeSettings {
     bool dvr = true;
     std::vector<double> isovalues;   ///< mode "iso": up to 8 surfaces, coloured by the colour map
     double isoOpacity = 1.0;
+    /// Mode "slice": up to 4 surfaces of constant longitude, latitude or height (data metres),
+    /// coloured by the colour map at the field's value.
+    struct Slice {
+        enum class Axis { Lon, Lat, Height } axis = Axis::Lon;
+        double value = 0.0;
+    };
+    std::vector<Slice> slices;
+    double sliceOpacity = 1.0;
     int steps = 100;
     TransferFunctionDesc transfer;
     bool rangeFromData = true;

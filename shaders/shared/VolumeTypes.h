@@ -14,6 +14,7 @@ ORBIS_CONST(uint, kVolumeSet, 1)
 ORBIS_CONST(uint, kVolumeAxisTable, 256)   // entries per irregular axis
 ORBIS_CONST(uint, kVolumeGroupSize, 8)     // compute workgroup: 8 x 8 pixels
 ORBIS_CONST(uint, kVolumeMaxIso, 8)        // isovalues per volume
+ORBIS_CONST(uint, kVolumeMaxSlices, 4)     // slice planes per volume
 
 // std140: vec4 members only.
 struct VolumeUniforms {
@@ -38,12 +39,21 @@ struct VolumeUniforms {
     vec4 shellLo;           // xyz: the origin scaled by the bottom surface's axes; w: |that|^2 - 1
     vec4 shellHi;           // the same for the top surface
     vec4 march;             // x: normalised step (sqrt 3 / steps); y: smallest step (m); z: opacity steps per normalised unit; w: probe (m)
+    // Slices, each an exact surface in origin-relative form (w of sliceA: 0 lon, 1 lat, 2 height):
+    //   lon (meridian half-plane): sliceA.xyz plane normal; sliceB.x normal . origin, y lon (deg)
+    //   lat (cone of constant geodetic latitude, apex on the axis): sliceA.xyz (Ox, Oy, Oz - apex);
+    //       sliceB.x tan^2(lat), y the constant term for the eye at the origin, z lat (deg)
+    //   height (surface at H): sliceA.xyz the origin scaled by 1 / axes; sliceB.x |that|^2 - 1,
+    //       y, z 1 / (a + H), 1 / (b + H), w height (m of data)
+    vec4 sliceA[4];
+    vec4 sliceB[4];
+    vec4 sliceInfo;         // x: slice opacity
 };
 
 ORBIS_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(orbis::shader::VolumeUniforms) == 17 * 16, "VolumeUniforms layout changed");
+static_assert(sizeof(orbis::shader::VolumeUniforms) == 26 * 16, "VolumeUniforms layout changed");
 #endif
 
 #endif

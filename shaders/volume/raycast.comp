@@ -15,6 +15,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 // What the scene's modes use is compiled in; the rest is left out.
 layout(constant_id = 0) const bool kDvr = true;
 layout(constant_id = 1) const int kIsoCount = 0;   // isosurfaces (0 .. kVolumeMaxIso)
+layout(constant_id = 2) const int kSliceCount = 0; // slice planes (0 .. kVolumeMaxSlices)
 
 layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
 layout(set = 1, binding = 0) uniform VolumeBlock { VolumeUniforms vol; };
@@ -153,6 +154,32 @@ vec3 normalAt(float t, float e) {
     return len > 1e-30 ? -g / len : -gDir;   // pointing toward lower values
 }
 
+// Ray parameters where the ray meets slice i (up to two; 1e30 where it does not).
+vec2 sliceHits(int i) {
+    vec4 A = vol.sliceA[i], B = vol.sliceB[i];
+    int kind = int(A.w + 0.5);
+    vec2 none = vec2(1e30);
+    if (kind == 0) {   // meridian plane through the axis: n . (O + eye + t dir) = 0
+        float nd = dot(A.xyz, gDir);
+        if (abs(nd) < 1e-12) return none;
+        return vec2(-(B.x + dot(A.xyz, gEye)) / nd, 1e30);
+    }
+    if (kind == 1) {   // cone (z - apex)^2 = k rho^2
+        float k = B.x;
+        vec3 e = gEye;
+        float qa = gDir.z * gDir.z - k * dot(gDir.xy, gDir.xy);
+        float qb = (A.z + e.z) * gDir.z - k * dot(A.xy + e.xy, gDir.xy);
+        float qc = B.y + 2.0 * (A.z * e.z - k * dot(A.xy, e.xy)) + (e.z * e.z - k * dot(e.xy, e.xy));
+        if (abs(qa) < 1e-20) return abs(qb) > 1e-20 ? vec2(-0.5 * qc / qb, 1e30) : none;
+        float disc = qb * qb - qa * qc;
+        if (disc < 0.0) return none;
+        float q = -(qb + (qb >= 0.0 ? 1.0 : -1.0) * sqrt(disc));
+        return vec2(q / qa, q != 0.0 ? qc / q : 1e30);
+    }
+    vec2 h = shellHits(A.xyz, B.x, B.yz);   // surface at a height
+    return h.x < h.y ? h : none;
+}
+
 void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(outImage);
@@ -181,12 +208,41 @@ void main() {
     segments[0] = vec2(top.x, bottom.x > top.x && bottom.x < bottom.y ? min(top.y, bottom.x) : top.y);
     segments[1] = bottom.x < bottom.y && bottom.y > top.x && bottom.y < top.y ? vec2(bottom.y, top.y) : vec2(1e30, -1e30);
 
+    // Slice hits in front of the scene, inside the box, sorted by distance.
+    float sliceT[8];
+    vec4 sliceColour[8];
+    int sliceHitCount = 0;
+    for (int i = 0; i < kSliceCount; ++i) {
+        vec2 hits = sliceHits(i);
+        for (int j = 0; j < 2; ++j) {
+            float th = hits[j];
+            if (!(th >= tEnter && th <= tExit) || th >= 1e29) continue;
+            vec3 geo = geoAt(th);
+            // The right half-plane or nappe: the hit is at the slice's coordinate.
+            int kind = int(vol.sliceA[i].w + 0.5);
+            if (kind == 0 && abs(geo.x - vol.sliceB[i].y) > 1.0) continue;
+            if (kind == 1 && abs(geo.y - vol.sliceB[i].z) > 1.0) continue;
+            float value;
+            if (!sampleGeo(geo, value)) continue;
+            vec4 c = vec4(transferAt(value).rgb, vol.sliceInfo.x);
+            int at = sliceHitCount++;
+            while (at > 0 && sliceT[at - 1] > th) {
+                sliceT[at] = sliceT[at - 1];
+                sliceColour[at] = sliceColour[at - 1];
+                --at;
+            }
+            sliceT[at] = th;
+            sliceColour[at] = c;
+        }
+    }
+    int nextSlice = 0;
+
     vec4 acc = vec4(0.0);
     bool sunLight = frame.sunDirection.w > 0.5;
     float dtMax = vol.eyeFromOrigin.w, dtMin = vol.march.y, target = vol.march.x;
     int maxSteps = int(vol.boxMax.w);
     float jitter = hash(uvec2(px), uint(vol.dataRange.w));
-    for (int sgi = 0; sgi < 2 && acc.a < 0.99; ++sgi) {
+    for (int sgi = 0; sgi < 2 && acc.a < 0.99 && (kDvr || kIsoCount > 0); ++sgi) {
         float t0 = max(segments[sgi].x, tEnter), t1 = min(segments[sgi].y, tExit);
         if (!(t1 > t0)) continue;
         // Steps of equal length in the box's normalised coordinates (a thin shell gets as many
@@ -199,6 +255,12 @@ void main() {
         float prevT = t0, prevV = 0.0;
         bool prevOk = false;
         for (int i = 0; i < maxSteps && t < t1; ++i) {
+            while (kSliceCount > 0 && nextSlice < sliceHitCount && sliceT[nextSlice] <= t) {
+                vec4 c = sliceColour[nextSlice++];
+                acc.rgb += (1.0 - acc.a) * c.a * c.rgb;
+                acc.a += (1.0 - acc.a) * c.a;
+            }
+            if (acc.a >= 0.99) break;
             vec3 geo = geoAt(t);
             vec3 n = normalised(geo);
             float ds = i == 0 ? target : length(n - nPrev);
@@ -245,6 +307,12 @@ void main() {
             dt = clamp(target / max(rate, 1e-20), dtMin, min(dtMax, 2.0 * dt));
             t += dt;
         }
+    }
+    // Slices beyond the last sample (or all of them when only slices are drawn).
+    while (kSliceCount > 0 && nextSlice < sliceHitCount && acc.a < 0.99) {
+        vec4 c = sliceColour[nextSlice++];
+        acc.rgb += (1.0 - acc.a) * c.a * c.rgb;
+        acc.a += (1.0 - acc.a) * c.a;
     }
     imageStore(outImage, px, acc);
 }

@@ -194,6 +194,60 @@ TEST_F(VolumeRender, IsosurfacesMatchGoldenAndSurviveStiffValues) {
     }
 }
 
+TEST_F(VolumeRender, SlicesMatchGoldenAndLieExactlyWhereAsked) {
+    const auto slices = [](const std::string& list) {
+        return R"({"type": "volume", "name": "Waves", "synthetic": {"field": "waves", "size": [64, 64, 64], )"
+               R"("lon": [-10, 10], "lat": [40, 60], "height": [0, 800000]}, "mode": ["slice"], "slices": )" +
+               list + R"(, "colorMap": "viridis", "range": [-1, 1]})";
+    };
+    const char* oblique = R"({"lon": 0, "lat": 50, "height": 300000, "heading": -40, "pitch": -40, "range": 3500000})";
+    const auto img = render(volumeScene(oblique, slices(R"([{"lon": 0}, {"lat": 50}, {"height": 200000}])")));
+    EXPECT_TRUE(matchesGolden(img, "volume_slices"));
+
+    // Seen from straight above a point five degrees off a slice, the meridian plane at lon 0 (or
+    // the cone of latitude 50) shows as a band from where its bottom edge (height 0) projects
+    // to where its top edge (800 km) projects. The band found along the image's centre line must
+    // match those projections to a pixel: a slice off by a fraction of a degree would not.
+    const auto bandCheck = [&](const char* viewpoint, const std::string& slice, double lon, double lat, bool alongX) {
+        SCOPED_TRACE(slice);
+        auto scene = load(volumeScene(viewpoint, slices(slice)));
+        ASSERT_TRUE(scene);
+        render::Renderer renderer(device(), 320, 240);
+        const auto a = renderOnce(renderer, *scene);
+        const auto bare = render(volumeScene(viewpoint, ""));
+        const auto& cam = scene->camera();
+        const glm::dmat4 viewProj = cam.projection(320.0 / 240.0) * cam.viewRotation();
+        const auto project = [&](double h) {
+            const glm::dvec4 c = viewProj * glm::dvec4(globe::Ellipsoid::wgs84().toEcef(lon, lat, h) - cam.position(), 1.0);
+            return alongX ? (c.x / c.w * 0.5 + 0.5) * 320.0 : (c.y / c.w * 0.5 + 0.5) * 240.0;
+        };
+        const double e0 = std::min(project(0.0), project(800000.0)), e1 = std::max(project(0.0), project(800000.0));
+        ASSERT_GT(e1 - e0, 5.0) << "the band should be several pixels wide";
+        int first = -1, last = -1;
+        const int n = alongX ? 320 : 240;
+        for (int k = 0; k < n; ++k) {
+            const uint32_t x = alongX ? uint32_t(k) : 160, y = alongX ? 120 : uint32_t(k);
+            const size_t i = (size_t(y) * 320 + x) * 4;
+            int d = 0;
+            for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(a.pixels[i + c]) - int(bare.pixels[i + c])));
+            if (d > 10) {
+                if (first < 0) first = k;
+                last = k;
+            }
+        }
+        ASSERT_GE(first, 0);
+        EXPECT_NEAR(first, e0, 1.5);
+        EXPECT_NEAR(last + 1, e1, 1.5);
+    };
+    bandCheck(R"({"lon": 5, "lat": 50, "pitch": -90, "range": 3000000})", R"([{"lon": 0}])", 0.0, 50.0, true);
+    bandCheck(R"({"lon": 0, "lat": 55, "pitch": -90, "range": 3000000})", R"([{"lat": 50}])", 0.0, 50.0, false);
+    const char* above = R"({"lon": 0, "lat": 50, "pitch": -90, "range": 3000000})";
+    const auto globeOnly = render(volumeScene(above, ""));
+    // A height slice seen from above covers the box's footprint.
+    const auto level = render(volumeScene(above, slices(R"([{"height": 400000}])")));
+    EXPECT_GT(differing(level, globeOnly), size_t(level.width * level.height / 10));
+}
+
 TEST(VolumeSettings, BadScenesNameTheKeyAndTheProblem) {
     scene::LayerRegistry registry;
     layers::registerBuiltinLayers(registry);
@@ -208,7 +262,10 @@ TEST(VolumeSettings, BadScenesNameTheKeyAndTheProblem) {
         {R"({"type": "volume", "path": "missing.nc", "variable": "t"})", "missing.nc: no such file"},
         {R"({"type": "volume", "path": "x.nc"})", "/layers/0/variable: name the variable"},
         {R"({"type": "volume", "synthetic": {"field": "cube"}})", "expected \"sphere\""},
-        {R"({"type": "volume", "synthetic": {}, "mode": ["slice"]})", "\"slice\" is not implemented yet"},
+        {R"({"type": "volume", "synthetic": {}, "mode": ["slice"]})", "/layers/0/slices: missing"},
+        {R"({"type": "volume", "synthetic": {}, "mode": ["slice"], "slices": [{"depth": 3}]})", "each slice is"},
+        {R"({"type": "volume", "synthetic": {}, "mode": ["slice"], "slices": [{"lat": 90}]})", "within -89 .. 89"},
+        {R"({"type": "volume", "synthetic": {}, "slices": [{"lon": 1}]})", "only used with mode \"slice\""},
         {R"({"type": "volume", "synthetic": {}, "mode": ["iso"]})", "/layers/0/isovalues: missing"},
         {R"({"type": "volume", "synthetic": {}, "mode": ["iso"], "isovalues": []})", "needs 1 to 8 isovalues"},
         {R"({"type": "volume", "synthetic": {}, "isovalues": [1]})", "only used with mode \"iso\""},
