@@ -180,6 +180,32 @@ vec2 sliceHits(int i) {
     return h.x < h.y ? h : none;
 }
 
+// This ray's slice hits: parameter (1e30: none) and colour, two per slice.
+float gSliceT[8];
+vec4 gSliceC[8];
+
+float nearestSlice() {
+    float t = 1e30;
+    for (int k = 0; k < 2 * kSliceCount; ++k) t = min(t, gSliceT[k]);
+    return t;
+}
+
+// Composites the nearest remaining slice hit over `acc`, removes it, returns the next one's t.
+float compositeNearestSlice(inout vec4 acc) {
+    float t = nearestSlice();
+    bool done = false;
+    for (int k = 0; k < 2 * kSliceCount; ++k) {
+        if (!done && gSliceT[k] == t) {
+            vec4 c = gSliceC[k];
+            acc.rgb += (1.0 - acc.a) * c.a * c.rgb;
+            acc.a += (1.0 - acc.a) * c.a;
+            gSliceT[k] = 1e30;
+            done = true;
+        }
+    }
+    return nearestSlice();
+}
+
 void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(outImage);
@@ -208,10 +234,10 @@ void main() {
     segments[0] = vec2(top.x, bottom.x > top.x && bottom.x < bottom.y ? min(top.y, bottom.x) : top.y);
     segments[1] = bottom.x < bottom.y && bottom.y > top.x && bottom.y < top.y ? vec2(bottom.y, top.y) : vec2(1e30, -1e30);
 
-    // Slice hits in front of the scene, inside the box, sorted by distance.
-    float sliceT[8];
-    vec4 sliceColour[8];
-    int sliceHitCount = 0;
+    // Slice hits in front of the scene, inside the box. The arrays are only ever indexed with
+    // loop counters of constant trip count (unrolled), never with data: dynamic indexing is
+    // very slow on CPU rasterisers.
+    for (int k = 0; k < 8; ++k) gSliceT[k] = 1e30;
     for (int i = 0; i < kSliceCount; ++i) {
         vec2 hits = sliceHits(i);
         for (int j = 0; j < 2; ++j) {
@@ -224,18 +250,11 @@ void main() {
             if (kind == 1 && abs(geo.y - vol.sliceB[i].z) > 1.0) continue;
             float value;
             if (!sampleGeo(geo, value)) continue;
-            vec4 c = vec4(transferAt(value).rgb, vol.sliceInfo.x);
-            int at = sliceHitCount++;
-            while (at > 0 && sliceT[at - 1] > th) {
-                sliceT[at] = sliceT[at - 1];
-                sliceColour[at] = sliceColour[at - 1];
-                --at;
-            }
-            sliceT[at] = th;
-            sliceColour[at] = c;
+            gSliceT[i * 2 + j] = th;
+            gSliceC[i * 2 + j] = vec4(transferAt(value).rgb, vol.sliceInfo.x);
         }
     }
-    int nextSlice = 0;
+    float nextSlice = nearestSlice();
 
     vec4 acc = vec4(0.0);
     bool sunLight = frame.sunDirection.w > 0.5;
@@ -255,11 +274,7 @@ void main() {
         float prevT = t0, prevV = 0.0;
         bool prevOk = false;
         for (int i = 0; i < maxSteps && t < t1; ++i) {
-            while (kSliceCount > 0 && nextSlice < sliceHitCount && sliceT[nextSlice] <= t) {
-                vec4 c = sliceColour[nextSlice++];
-                acc.rgb += (1.0 - acc.a) * c.a * c.rgb;
-                acc.a += (1.0 - acc.a) * c.a;
-            }
+            while (kSliceCount > 0 && nextSlice <= t) nextSlice = compositeNearestSlice(acc);
             if (acc.a >= 0.99) break;
             vec3 geo = geoAt(t);
             vec3 n = normalised(geo);
@@ -309,10 +324,6 @@ void main() {
         }
     }
     // Slices beyond the last sample (or all of them when only slices are drawn).
-    while (kSliceCount > 0 && nextSlice < sliceHitCount && acc.a < 0.99) {
-        vec4 c = sliceColour[nextSlice++];
-        acc.rgb += (1.0 - acc.a) * c.a * c.rgb;
-        acc.a += (1.0 - acc.a) * c.a;
-    }
+    while (kSliceCount > 0 && nextSlice < 1e29 && acc.a < 0.99) nextSlice = compositeNearestSlice(acc);
     imageStore(outImage, px, acc);
 }
