@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 
 namespace orbis::layers {
 
@@ -540,6 +541,26 @@ uint64_t VolumeLayer::gpuBytes() const {
 bool VolumeLayer::setParameter(std::string_view name, double value) {
     if (name == "steps") {
         settings_.steps = std::clamp(int(std::lround(value)), 1, 4096);
+        return true;
+    }
+    // Isovalues and slice positions live in the per-frame uniforms: moving them re-uploads
+    // nothing ("isovalue" is "isovalue0"; the count is fixed by the scene).
+    const auto indexed = [&](std::string_view prefix, size_t count) -> std::optional<size_t> {
+        if (name.substr(0, prefix.size()) != prefix) return std::nullopt;
+        const std::string_view rest = name.substr(prefix.size());
+        if (rest.empty()) return count > 0 ? std::optional<size_t>(0) : std::nullopt;
+        if (rest.size() != 1 || rest[0] < '0' || rest[0] > '9') return std::nullopt;
+        const size_t i = size_t(rest[0] - '0');
+        return i < count ? std::optional<size_t>(i) : std::nullopt;
+    };
+    if (!std::isfinite(value)) return false;
+    if (auto i = indexed("isovalue", settings_.isovalues.size())) {
+        settings_.isovalues[*i] = value;
+        return true;
+    }
+    if (auto i = indexed("slice", settings_.slices.size())) {
+        auto& sl = settings_.slices[*i];
+        sl.value = sl.axis == VolumeSettings::Slice::Axis::Lat ? std::clamp(value, -89.0, 89.0) : value;
         return true;
     }
     return false;

@@ -81,6 +81,8 @@ public:
     void recordCompute(scene::Pass pass, const scene::RecordContext& context) override;
     void record(scene::Pass pass, const scene::RecordContext& context) override;
     uint64_t gpuBytes() const override;
+    /// "steps", "isovalue" / "isovalue0".."isovalue7", "slice0".."slice3" (the slice's lon, lat
+    /// or height): uniforms only, nothing is re-uploaded.
     bool setParameter(std::string_view name, double value) override;
     std::string status() const override;
 

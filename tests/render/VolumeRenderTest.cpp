@@ -243,6 +243,22 @@ TEST_F(VolumeRender, SlicesMatchGoldenAndLieExactlyWhereAsked) {
     bandCheck(R"({"lon": 0, "lat": 55, "pitch": -90, "range": 3000000})", R"([{"lat": 50}])", 0.0, 50.0, false);
     const char* above = R"({"lon": 0, "lat": 50, "pitch": -90, "range": 3000000})";
     const auto globeOnly = render(volumeScene(above, ""));
+    // Moving a slice is a uniform change: the same scene with the slice moved live matches one
+    // built with it there.
+    {
+        auto moved = load(volumeScene(oblique, slices(R"([{"lon": 0}, {"lat": 50}, {"height": 200000}])")));
+        ASSERT_TRUE(moved);
+        auto& layer = dynamic_cast<layers::VolumeLayer&>(*moved->resources().back().layer);
+        EXPECT_TRUE(layer.setParameter("slice0", 4.0));
+        EXPECT_TRUE(layer.setParameter("slice2", 500000.0));
+        EXPECT_FALSE(layer.setParameter("slice3", 1.0));
+        EXPECT_FALSE(layer.setParameter("isovalue", 1.0));
+        render::Renderer renderer(device(), 320, 240);
+        const auto live = renderOnce(renderer, *moved);
+        const auto built = render(volumeScene(oblique, slices(R"([{"lon": 4}, {"lat": 50}, {"height": 500000}])")));
+        EXPECT_EQ(differing(live, built, 0), 0u);
+        EXPECT_GT(differing(live, img), 100u);
+    }
     // A height slice seen from above covers the box's footprint.
     const auto level = render(volumeScene(above, slices(R"([{"height": 400000}])")));
     EXPECT_GT(differing(level, globeOnly), size_t(level.width * level.height / 10));
