@@ -70,8 +70,16 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
     const std::string where = scene.file.string() + ": " + desc.jsonPath;
     VolumeSettings s;
 
-    // The data: a file or a synthetic field.
+    // The data: a file or a synthetic field, and how time picks its steps.
     std::optional<VolumeField> field;
+    std::vector<std::vector<float>> moreSteps;
+    std::vector<TimeNs> stepTimes;
+    if (auto mode = r.string("time", std::string("blend"))) {
+        if (*mode == "blend") s.timeMode = VolumeSettings::TimeMode::Blend;
+        else if (*mode == "nearest") s.timeMode = VolumeSettings::TimeMode::Nearest;
+        else if (*mode == "fixed") s.timeMode = VolumeSettings::TimeMode::Fixed;
+        else r.fail("time", "expected \"blend\", \"nearest\" or \"fixed\"");
+    }
     const auto path = r.string("path", std::string());
     const nlohmann::json* synthetic = r.object("synthetic");
     if (path && !path->empty() && synthetic) r.fail("synthetic", "give either \"path\" or \"synthetic\", not both");
@@ -98,8 +106,26 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
         pair("lat", sv.south, sv.north, -90, 90);
         pair("height", sv.bottom, sv.top, -1e6, 1e7);
         if (sv.east - sv.west > 360.0) sr.fail("lon", "spans more than 360 degrees");
+        if (const nlohmann::json* times = sr.array("times")) {
+            for (const auto& t : *times) {
+                auto parsed = t.is_string() ? parseIso8601(t.get<std::string>()) : Result<TimeNs>(makeError("not a string"));
+                if (!parsed) {
+                    sr.fail("times", "each time is an ISO 8601 instant");
+                    break;
+                }
+                if (!sv.times.empty() && *parsed <= sv.times.back()) sr.fail("times", "times must increase");
+                sv.times.push_back(*parsed);
+            }
+        }
         if (auto done = sr.finish(); !done) return done.error();
         field = makeSyntheticVolume(sv);
+        for (size_t step = 1; step < sv.times.size(); ++step) {
+            std::vector<float> v = field->values;
+            for (float& x : v) x += float(step);
+            moreSteps.push_back(std::move(v));
+        }
+        if (sv.times.size() > 1) field->maxValue += float(sv.times.size() - 1);
+        stepTimes = sv.times;
     } else if (path && !path->empty() && r.ok()) {
         VolumeReadOptions o;
         o.path = scene.resolve(*path).string();
@@ -115,6 +141,34 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
             auto read = readVolume(o);
             if (!read) return makeError(where + ": " + read.message());
             field = std::move(read).value();
+            // Every step, when virtual time animates the variable (and it fits).
+            const size_t steps = field->times.size();
+            if (s.timeMode != VolumeSettings::TimeMode::Fixed && steps > 1) {
+                const uint64_t stepBytes = uint64_t(field->values.size()) * sizeof(float);
+                if (stepBytes * steps > o.maxBytes || field->nz() * steps > 2048)
+                    return makeError(where + ": " + std::to_string(steps) + " time steps of " +
+                                     std::to_string(stepBytes >> 20) + " MB do not fit (memory budget " +
+                                     std::to_string(o.maxBytes >> 20) +
+                                     " MB, 2048 levels in all): set \"time\": \"fixed\" and pick a \"timeStep\"");
+                const size_t first = o.timeIndex;
+                std::vector<std::vector<float>> all(steps);
+                for (size_t i = 0; i < steps; ++i) {
+                    if (i == first) continue;
+                    VolumeReadOptions oi = o;
+                    oi.timeIndex = i;
+                    auto step = readVolume(oi);
+                    if (!step) return makeError(where + ": " + step.message());
+                    field->minValue = std::min(field->minValue, step->minValue);
+                    field->maxValue = std::max(field->maxValue, step->maxValue);
+                    field->validCount += step->validCount;
+                    all[i] = std::move(step->values);
+                }
+                all[first] = std::move(field->values);
+                field->values = std::move(all[0]);
+                field->timeIndex = 0;   // the values held are step 0's; the rest follow in order
+                for (size_t i = 1; i < steps; ++i) moreSteps.push_back(std::move(all[i]));
+                stepTimes = field->times;
+            }
         }
     } else if (r.ok()) {
         r.fail("path", "give the data: \"path\" (with \"variable\") or \"synthetic\"");
@@ -202,11 +256,16 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
         }
     }
     if (auto table = buildTransferTable(s.transfer); !table) return makeError(where + ": " + table.message());
-    return std::unique_ptr<scene::Layer>(new VolumeLayer(std::move(*field), std::move(s)));
+    return std::unique_ptr<scene::Layer>(
+        new VolumeLayer(std::move(*field), std::move(s), std::move(moreSteps), std::move(stepTimes)));
 }
 
-VolumeLayer::VolumeLayer(VolumeField field, VolumeSettings settings)
-    : field_(std::move(field)), settings_(std::move(settings)) {}
+VolumeLayer::VolumeLayer(VolumeField field, VolumeSettings settings, std::vector<std::vector<float>> moreSteps,
+                         std::vector<TimeNs> stepTimes)
+    : field_(std::move(field)), moreSteps_(std::move(moreSteps)), stepTimes_(std::move(stepTimes)),
+      settings_(std::move(settings)) {
+    if (stepTimes_.size() != 1 + moreSteps_.size()) stepTimes_.clear();   // no time axis to follow
+}
 
 VolumeLayer::~VolumeLayer() = default;
 
@@ -226,11 +285,16 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
     const size_t nx = field_.nx(), ny = field_.ny(), nz = field_.nz();
     const bool wrapColumn = field_.lonWraps && lonAxis_.back() < lonAxis_.front() + 360.0 - 1e-9;
     if (wrapColumn) lonAxis_.push_back(lonAxis_.front() + 360.0);
-    const size_t gx = lonAxis_.size();
-    std::vector<float> texels(gx * ny * nz);
-    for (size_t k = 0; k < nz; ++k)
-        for (size_t j = 0; j < ny; ++j)
-            for (size_t i = 0; i < gx; ++i) texels[(k * ny + j) * gx + i] = field_.values[(k * ny + j) * nx + (i % nx)];
+    const size_t gx = lonAxis_.size(), steps = 1 + moreSteps_.size();
+    // Time steps stacked along z: step s, level k is texel layer s * nz + k.
+    std::vector<float> texels(gx * ny * nz * steps);
+    for (size_t st = 0; st < steps; ++st) {
+        const std::vector<float>& v = st == 0 ? field_.values : moreSteps_[st - 1];
+        float* out = texels.data() + st * gx * ny * nz;
+        for (size_t k = 0; k < nz; ++k)
+            for (size_t j = 0; j < ny; ++j)
+                for (size_t i = 0; i < gx; ++i) out[(k * ny + j) * gx + i] = v[(k * ny + j) * nx + (i % nx)];
+    }
     lookups_ = {AxisLookup::build(lonAxis_, shader::kVolumeAxisTable),
                 AxisLookup::build(field_.latDeg, shader::kVolumeAxisTable),
                 AxisLookup::build(field_.heightM, shader::kVolumeAxisTable)};
@@ -271,7 +335,7 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
     fd.type = VK_IMAGE_TYPE_3D;
     fd.viewType = VK_IMAGE_VIEW_TYPE_3D;
     fd.format = VK_FORMAT_R32_SFLOAT;
-    fd.extent = {uint32_t(gx), uint32_t(ny), uint32_t(nz)};
+    fd.extent = {uint32_t(gx), uint32_t(ny), uint32_t(nz * steps)};
     fd.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     fd.name = "volume field";
     fieldImage_ = gpu::Image(device, fd);
@@ -426,7 +490,27 @@ void VolumeLayer::writeDescriptors(uint32_t f) {
 // ---------------------------------------------------------------------------------------------
 // Frames
 
-void VolumeLayer::update(const scene::FrameContext&) { ++frameCounter_; }
+void VolumeLayer::update(const scene::FrameContext& frame) {
+    ++frameCounter_;
+    stepA_ = stepB_ = stepWeight_ = 0.0f;
+    if (stepTimes_.size() < 2 || settings_.timeMode == VolumeSettings::TimeMode::Fixed) return;
+    const TimeNs t = frame.time;
+    const size_t last = stepTimes_.size() - 1;
+    if (t <= stepTimes_.front()) return;
+    if (t >= stepTimes_.back()) {
+        stepA_ = stepB_ = float(last);
+        return;
+    }
+    const size_t i = size_t(std::upper_bound(stepTimes_.begin(), stepTimes_.end(), t) - stepTimes_.begin()) - 1;
+    const double w = double(t - stepTimes_[i]) / double(stepTimes_[i + 1] - stepTimes_[i]);
+    if (settings_.timeMode == VolumeSettings::TimeMode::Nearest) {
+        stepA_ = stepB_ = float(w < 0.5 ? i : i + 1);
+    } else {
+        stepA_ = float(i);
+        stepB_ = float(i + 1);
+        stepWeight_ = float(w);
+    }
+}
 
 void VolumeLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
     const scene::FrameContext& frame = *rc.frame;
@@ -501,6 +585,7 @@ void VolumeLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
         }
     }
     u.sliceInfo = glm::vec4(float(settings_.sliceOpacity), 0.0f, 0.0f, 0.0f);
+    u.timeInfo = glm::vec4(stepA_, stepB_, stepWeight_, float(1 + moreSteps_.size()));
     u.shellScale = glm::vec4(float(lowInv.x), float(lowInv.y), float(highInv.x), float(highInv.y));
     // "steps" across the diagonal of the normalised box (as a ray-caster counts samples along a
     // cube's diagonal); opacity is per hundredth of that diagonal.
@@ -532,7 +617,7 @@ void VolumeLayer::record(scene::Pass, const scene::RecordContext& rc) {
 }
 
 uint64_t VolumeLayer::gpuBytes() const {
-    uint64_t bytes = uint64_t(lonAxis_.size()) * field_.ny() * field_.nz() * 4 + 256 * 8 +
+    uint64_t bytes = uint64_t(lonAxis_.size()) * field_.ny() * field_.nz() * 4 * (1 + moreSteps_.size()) + 256 * 8 +
                      3 * shader::kVolumeAxisTable * 4;
     if (castImage_) bytes += uint64_t(castImage_.extent().width) * castImage_.extent().height * 8;
     return bytes;

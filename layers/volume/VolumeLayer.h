@@ -7,7 +7,9 @@
 //    "path": "air.nc", "variable": "t", "timeStep": 0, "pressureToHeight": "standard" | "scaleHeight",
 //    -- or, instead of a file --
 //    "synthetic": {"field": "sphere" | "waves" | "constant" | "empty", "size": [64, 64, 64],
-//                  "lon": [-10, 10], "lat": [40, 60], "height": [0, 200000]},
+//                  "lon": [-10, 10], "lat": [40, 60], "height": [0, 200000],
+//                  "times": ["2026-06-21T00:00:00Z", "2026-06-21T06:00:00Z"]},
+//    "time": "blend" | "nearest" | "fixed",
 //    "mode": ["dvr", "iso", "slice"], "isovalues": [250, 280], "isoOpacity": 1,
 //    "slices": [{"lon": 5}, {"lat": 45}, {"height": 10000}], "sliceOpacity": 1,
 //    "steps": 100, "colorMap": "viridis", "range": [200, 310],
@@ -40,6 +42,9 @@
 namespace orbis::layers {
 
 struct VolumeSettings {
+    /// How virtual time picks the data's time step: "fixed" (timeStep), "nearest" step, or
+    /// "blend" linearly between the two steps around the current time.
+    enum class TimeMode { Fixed, Nearest, Blend } timeMode = TimeMode::Blend;
     bool dvr = true;
     std::vector<double> isovalues;   ///< mode "iso": up to 8 surfaces, coloured by the colour map
     double isoOpacity = 1.0;
@@ -64,13 +69,16 @@ struct SyntheticVolume {
     std::string field = "sphere";
     size_t nx = 64, ny = 64, nz = 64;
     double west = -10, east = 10, south = 40, north = 60, bottom = 0, top = 200000;
+    /// Time steps (UTC); step s holds the field plus s. Empty: one step, no time.
+    std::vector<TimeNs> times;
 };
 VolumeField makeSyntheticVolume(const SyntheticVolume& s);
 
 class VolumeLayer final : public scene::Layer {
 public:
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
-    VolumeLayer(VolumeField field, VolumeSettings settings);
+    VolumeLayer(VolumeField field, VolumeSettings settings, std::vector<std::vector<float>> moreSteps = {},
+                std::vector<TimeNs> stepTimes = {});
     ~VolumeLayer() override;
 
     std::string_view type() const override { return "volume"; }
@@ -87,6 +95,9 @@ public:
     std::string status() const override;
 
     const VolumeField& field() const { return field_; }
+    size_t timeSteps() const { return 1 + moreSteps_.size(); }
+    /// The steps shown now: (A, B, weight of B), from the last update().
+    glm::vec3 timeBlend() const { return {stepA_, stepB_, stepWeight_}; }
     const VolumeSettings& settings() const { return settings_; }
 
 private:
@@ -94,7 +105,10 @@ private:
     void ensureCastImage(uint32_t width, uint32_t height);
     void writeDescriptors(uint32_t frameSlot);
 
-    VolumeField field_;
+    VolumeField field_;                        // step 0 (or the fixed step), with the grid
+    std::vector<std::vector<float>> moreSteps_;   // the values of steps 1.., when time animates
+    std::vector<TimeNs> stepTimes_;              // one per uploaded step (empty: no time)
+    float stepA_ = 0.0f, stepB_ = 0.0f, stepWeight_ = 0.0f;
     VolumeSettings settings_;
     const scene::RenderServices* services_ = nullptr;
     scene::RenderServices servicesCopy_;

@@ -48,12 +48,13 @@ struct VolumeUniforms {
     vec4 sliceA[4];
     vec4 sliceB[4];
     vec4 sliceInfo;         // x: slice opacity
+    vec4 timeInfo;          // x, y: time steps shown (stacked along the texture's z), z: weight of y, w: steps
 };
 
 ORBIS_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(orbis::shader::VolumeUniforms) == 26 * 16, "VolumeUniforms layout changed");
+static_assert(sizeof(orbis::shader::VolumeUniforms) == 27 * 16, "VolumeUniforms layout changed");
 #endif
 
 #endif

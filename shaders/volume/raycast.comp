@@ -97,7 +97,12 @@ bool sampleGeo(vec3 geo, out float value) {
     vec3 tc = vec3(axisCoord(0, geo.x, vol.lonRange.x, vol.lonRange.y, vol.samples.x, vol.axisUniform.x > 0.5),
                    axisCoord(1, geo.y, vol.latRange.x, vol.latRange.y, vol.samples.y, vol.axisUniform.y > 0.5),
                    axisCoord(2, geo.z, vol.latRange.z, vol.latRange.w, vol.samples.z, vol.axisUniform.z > 0.5));
-    value = texture(field, tc).r;
+    // Time steps are stacked along z: step s occupies [s, s + 1) / steps, and tc.z stays half a
+    // texel inside one step, so filtering never mixes steps.
+    float steps = vol.timeInfo.w;
+    value = texture(field, vec3(tc.xy, (vol.timeInfo.x + tc.z) / steps)).r;
+    if (vol.timeInfo.z > 0.0)
+        value = mix(value, texture(field, vec3(tc.xy, (vol.timeInfo.y + tc.z) / steps)).r, vol.timeInfo.z);
     return !isnan(value);
 }
 

@@ -7,8 +7,13 @@
 #include "tests/render/RenderHelpers.h"
 #include "tests/support/GoldenImage.h"
 #include "tests/support/GpuTest.h"
+#include "tests/support/NetcdfWriter.h"
+
+#include <nlohmann/json.hpp>
+#include <unistd.h>
 
 #include <cmath>
+#include <filesystem>
 
 namespace orbis::test {
 namespace {
@@ -264,6 +269,84 @@ TEST_F(VolumeRender, SlicesMatchGoldenAndLieExactlyWhereAsked) {
     EXPECT_GT(differing(level, globeOnly), size_t(level.width * level.height / 10));
 }
 
+TEST_F(VolumeRender, TimeStepsFollowVirtualTime) {
+    // Two steps six hours apart; step s is the constant field plus s (1, then 2), drawn in greys
+    // with the range [1, 2]: brighter later. Blending is in between at the midpoint; "nearest"
+    // switches at it.
+    const auto sceneAt = [&](const char* time, const char* mode) {
+        return std::string(R"({"viewpoint": )") + kOblique + R"(, "time": {"start": ")" + time + R"(", "end": ")" + time +
+               R"("}, "layers": [{"type": "globe", "name": "Earth", "sky": false, "lighting": "headlight"}, )"
+               R"({"type": "volume", "name": "T", "time": ")" + mode +
+               R"(", "synthetic": {"field": "constant", "size": [8, 8, 8], "lon": [-10, 10], "lat": [40, 60], )"
+               R"("height": [0, 800000], "times": ["2026-06-21T00:00:00Z", "2026-06-21T06:00:00Z"]}, )"
+               R"("colorMap": "greys", "range": [1, 2], "opacity": [[1, 0.2], [2, 0.2]]}]})";
+    };
+    const auto brightness = [](const ImageRgba8& img) {
+        double sum = 0.0;
+        for (size_t i = 0; i < img.pixels.size(); i += 4) sum += img.pixels[i] + img.pixels[i + 1] + img.pixels[i + 2];
+        return sum;
+    };
+    const auto first = render(sceneAt("2026-06-21T00:00:00Z", "blend"));
+    const auto middle = render(sceneAt("2026-06-21T03:00:00Z", "blend"));
+    const auto last = render(sceneAt("2026-06-21T06:00:00Z", "blend"));
+    EXPECT_LT(brightness(first), brightness(middle));
+    EXPECT_LT(brightness(middle), brightness(last));
+    EXPECT_EQ(differing(render(sceneAt("2026-06-21T02:50:00Z", "nearest")), first, 0), 0u);
+    EXPECT_EQ(differing(render(sceneAt("2026-06-21T03:10:00Z", "nearest")), last, 0), 0u);
+    EXPECT_EQ(differing(render(sceneAt("2026-06-21T09:00:00Z", "blend")), last, 0), 0u);   // after the last step
+    EXPECT_EQ(differing(render(sceneAt("2026-06-21T03:00:00Z", "fixed")), first, 0), 0u);
+
+    auto scene = load(sceneAt("2026-06-21T01:30:00Z", "blend"));
+    ASSERT_TRUE(scene);
+    render::Renderer renderer(device(), 64, 48);
+    renderOnce(renderer, *scene);
+    const auto& layer = dynamic_cast<layers::VolumeLayer&>(*scene->resources().back().layer);
+    EXPECT_EQ(layer.timeSteps(), 2u);
+    EXPECT_NEAR(layer.timeBlend().z, 0.25f, 1e-6f);
+}
+
+TEST_F(VolumeRender, NetcdfTimeStepsAreAllLoadedAndBlended) {
+    // Three steps 6 h apart; the value is the step number times 10 plus the level index.
+    namespace fs = std::filesystem;
+    const fs::path file = fs::path(testOutputDir()) / ("steps-" + std::to_string(::getpid()) + ".nc");
+    ASSERT_EQ(writeNetcdf(file, {ncTime({0, 6, 12}), ncPressure({1000, 500, 200}, "hPa"), ncLat({40, 50, 60}), ncLon({-10, 0, 10})},
+                          {}, [](const std::vector<size_t>& i) { return 10.0 * double(i[0]) + double(i[1]); }),
+              "");
+    const auto layerJson = [&](const char* extra) {
+        return R"({"type": "volume", "name": "Steps", "path": )" + nlohmann::json(file.string()).dump() +
+               R"(, "variable": "t")" + extra + "}";
+    };
+    const auto build = [&](const std::string& time, const char* extra) {
+        auto scene = load(R"({"viewpoint": )" + std::string(kOblique) + R"(, "time": {"start": ")" + time +
+                          R"(", "end": ")" + time + R"("}, "layers": [)" + layerJson(extra) + "]}");
+        EXPECT_TRUE(scene);
+        if (scene) {
+            render::Renderer renderer(device(), 64, 48);
+            renderOnce(renderer, *scene);
+        }
+        return scene;
+    };
+    auto blended = build("2001-01-01T09:00:00Z", "");
+    ASSERT_TRUE(blended);
+    const auto& layer = dynamic_cast<layers::VolumeLayer&>(*blended->resources().back().layer);
+    EXPECT_EQ(layer.timeSteps(), 3u);
+    EXPECT_EQ(layer.timeBlend(), glm::vec3(1.0f, 2.0f, 0.5f));
+    EXPECT_EQ(layer.field().minValue, 0.0f);    // the range covers every step
+    EXPECT_EQ(layer.field().maxValue, 22.0f);
+    auto fixed = build("2001-01-01T09:00:00Z", R"(, "time": "fixed", "timeStep": 2)");
+    ASSERT_TRUE(fixed);
+    const auto& one = dynamic_cast<layers::VolumeLayer&>(*fixed->resources().back().layer);
+    EXPECT_EQ(one.timeSteps(), 1u);
+    EXPECT_EQ(one.field().minValue, 20.0f);
+    // Starting from another step still loads them all in order.
+    auto fromLast = build("2001-01-01T00:00:00Z", R"(, "timeStep": 2)");
+    ASSERT_TRUE(fromLast);
+    const auto& all = dynamic_cast<layers::VolumeLayer&>(*fromLast->resources().back().layer);
+    EXPECT_EQ(all.timeSteps(), 3u);
+    EXPECT_EQ(all.field().values.front(), 0.0f);   // step 0 first
+    fs::remove(file);
+}
+
 TEST(VolumeSettings, BadScenesNameTheKeyAndTheProblem) {
     scene::LayerRegistry registry;
     layers::registerBuiltinLayers(registry);
@@ -291,6 +374,9 @@ TEST(VolumeSettings, BadScenesNameTheKeyAndTheProblem) {
         {R"({"type": "volume", "synthetic": {}, "range": [5, 1]})", "low < high"},
         {R"({"type": "volume", "synthetic": {}, "opacity": [[0, 2]]})", "alpha in 0..1"},
         {R"({"type": "volume", "synthetic": {"lat": [80, 100]}})", "/layers/0/synthetic/lat"},
+        {R"({"type": "volume", "synthetic": {}, "time": "loop"})", "expected \"blend\""},
+        {R"({"type": "volume", "synthetic": {"times": ["2026-01-02T00:00:00Z", "2026-01-01T00:00:00Z"]}})", "times must increase"},
+        {R"({"type": "volume", "synthetic": {"times": ["yesterday"]}})", "ISO 8601"},
     };
     for (const auto& c : cases) {
         const std::string message = build(c.layer);

@@ -3,6 +3,8 @@
 // with GDAL's multidimensional netCDF writer; real files from ../shared/data when present.
 #include "layers/volume/VolumeReader.h"
 
+#include "tests/support/NetcdfWriter.h"
+
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -37,107 +39,18 @@ struct TempCleanup : ::testing::Environment {
 };
 [[maybe_unused]] auto* const gCleanup = ::testing::AddGlobalTestEnvironment(new TempCleanup);
 
-/// One dimension with its coordinate variable.
-struct Dim {
-    std::string name;
-    std::vector<double> values;
-    std::map<std::string, std::string> attrs;   // "units" goes through SetUnit
-    GDALDataType type = GDT_Float64;
-};
+using Dim = test::NcDim;
+using Variable = test::NcVariable;
 
-struct Variable {
-    std::string name = "t";
-    std::string group;   // "" = root, else a sub-group name
-    GDALDataType type = GDT_Float32;
-    std::map<std::string, std::string> attrs;
-    std::map<std::string, std::vector<double>> numericAttrs;
-    std::optional<double> noData, scale, offset;
-};
-
-void setAttr(GDALIHasAttribute& o, const std::string& k, const std::string& v) {
-    auto a = o.CreateAttribute(k, {}, GDALExtendedDataType::CreateString());
-    ASSERT_TRUE(a) << k;
-    ASSERT_TRUE(a->Write(v.c_str())) << k;
-}
-
-/// Writes a netCDF-4 file with `dims` (in the variable's order) and one variable whose value at
-/// a multi-index comes from `value`.
 void writeNc(const fs::path& file, const std::vector<Dim>& dims, const Variable& var,
              const std::function<double(const std::vector<size_t>&)>& value) {
-    GDALAllRegister();
-    auto* driver = GetGDALDriverManager()->GetDriverByName("netCDF");
-    ASSERT_NE(driver, nullptr);
-    const char* opts[] = {"FORMAT=NC4", nullptr};
-    GDALDatasetUniquePtr ds(driver->CreateMultiDimensional(file.c_str(), nullptr, const_cast<char**>(opts)));
-    ASSERT_TRUE(ds);
-    auto root = ds->GetRootGroup();
-    auto group = var.group.empty() ? root : root->CreateGroup(var.group);
-    ASSERT_TRUE(group);
-    std::vector<std::shared_ptr<GDALDimension>> gdims;
-    for (const auto& d : dims) {
-        auto gd = group->CreateDimension(d.name, "", "", d.values.size());
-        ASSERT_TRUE(gd) << d.name;
-        auto cv = group->CreateMDArray(d.name, {gd}, GDALExtendedDataType::Create(d.type));
-        ASSERT_TRUE(cv) << d.name;
-        for (const auto& [k, v] : d.attrs) {
-            if (k == "units") {
-                ASSERT_TRUE(cv->SetUnit(v));
-            } else {
-                setAttr(*cv, k, v);
-            }
-        }
-        const GUInt64 start = 0;
-        const size_t count = d.values.size();
-        ASSERT_TRUE(cv->Write(&start, &count, nullptr, nullptr, GDALExtendedDataType::Create(GDT_Float64), d.values.data()));
-        gdims.push_back(gd);
-    }
-    auto array = group->CreateMDArray(var.name, gdims, GDALExtendedDataType::Create(var.type));
-    ASSERT_TRUE(array);
-    for (const auto& [k, v] : var.attrs) {
-        if (k == "units") {
-            ASSERT_TRUE(array->SetUnit(v));
-        } else {
-            setAttr(*array, k, v);
-        }
-    }
-    if (var.noData) {
-        ASSERT_TRUE(array->SetNoDataValue(*var.noData));
-    }
-    if (var.scale) {
-        ASSERT_TRUE(array->SetScale(*var.scale));
-    }
-    if (var.offset) {
-        ASSERT_TRUE(array->SetOffset(*var.offset));
-    }
-    for (const auto& [k, v] : var.numericAttrs) {
-        auto a = array->CreateAttribute(k, {v.size()}, GDALExtendedDataType::Create(var.type));
-        ASSERT_TRUE(a) << k;
-        ASSERT_TRUE(a->Write(v.data(), v.size()));
-    }
-    size_t total = 1;
-    for (const auto& d : dims) total *= d.values.size();
-    std::vector<double> data(total);
-    std::vector<size_t> idx(dims.size(), 0);
-    for (size_t n = 0; n < total; ++n) {
-        data[n] = value(idx);
-        for (size_t d = dims.size(); d-- > 0;) {
-            if (++idx[d] < dims[d].values.size()) break;
-            idx[d] = 0;
-        }
-    }
-    std::vector<GUInt64> start(dims.size(), 0);
-    std::vector<size_t> count;
-    for (const auto& d : dims) count.push_back(d.values.size());
-    ASSERT_TRUE(array->Write(start.data(), count.data(), nullptr, nullptr, GDALExtendedDataType::Create(GDT_Float64),
-                             data.data()));
+    ASSERT_EQ(test::writeNetcdf(file, dims, var, value), "");
 }
 
-Dim lonDim(std::vector<double> v) { return {"lon", std::move(v), {{"units", "degrees_east"}, {"standard_name", "longitude"}}}; }
-Dim latDim(std::vector<double> v) { return {"lat", std::move(v), {{"units", "degrees_north"}, {"axis", "Y"}}}; }
-Dim presDim(std::vector<double> v, const char* units = "Pa") { return {"lev", std::move(v), {{"units", units}, {"axis", "Z"}}}; }
-Dim timeDim(std::vector<double> v) {
-    return {"time", std::move(v), {{"units", "hours since 2001-01-01 00:00:00"}, {"calendar", "standard"}}};
-}
+Dim lonDim(std::vector<double> v) { return test::ncLon(std::move(v)); }
+Dim latDim(std::vector<double> v) { return test::ncLat(std::move(v)); }
+Dim presDim(std::vector<double> v, const char* units = "Pa") { return test::ncPressure(std::move(v), units); }
+Dim timeDim(std::vector<double> v) { return test::ncTime(std::move(v)); }
 
 // The analytic field: separable, so a misplaced axis or flip shows at once.
 double field(double lon, double lat, double level, double time) { return lon + 1000.0 * lat + 0.01 * level + 1e6 * time; }
