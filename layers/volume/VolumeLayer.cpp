@@ -395,9 +395,10 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
         {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, cs, nullptr},
         {5, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, nullptr},
         {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, nullptr},
     };
     VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    li.bindingCount = 7;
+    li.bindingCount = 8;
     li.pBindings = bindings;
     VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
     VK_CHECK(vkCreateDescriptorSetLayout(device.vk(), &li, nullptr, &setLayout));
@@ -407,7 +408,7 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frames},
         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frames},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4 * frames},
-        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, frames},
+        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * frames},
     };
     VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pi.maxSets = frames;
@@ -433,6 +434,14 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
     modes.set<VkBool32>(0, settings_.dvr ? VK_TRUE : VK_FALSE);
     modes.set<int32_t>(1, int32_t(settings_.isovalues.size()));
     modes.set<int32_t>(2, int32_t(settings_.slices.size()));
+    modes.set<VkBool32>(3, hitOutput_ ? VK_TRUE : VK_FALSE);
+    modes.set<VkBool32>(4, refine_ ? VK_TRUE : VK_FALSE);
+    // Without measurement the hit image is a 1 x 1 stand-in that is never written.
+    gpu::ImageDesc hd;
+    hd.format = VK_FORMAT_R32_SFLOAT;
+    hd.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    hd.name = "volume hit distances";
+    hitImage_ = gpu::Image(device, hd);
     castPipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_volume_raycast_comp, &modes, "volume ray cast");
     gpu::GraphicsPipelineDesc composite;
     composite.vertexSpirv = kSpv_volume_composite_vert;
@@ -456,6 +465,13 @@ void VolumeLayer::ensureCastImage(uint32_t width, uint32_t height) {
     d.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
     d.name = "volume ray-cast image";
     castImage_ = gpu::Image(*services_->device, d);   // the old one is retired after its frames
+    if (hitOutput_) {
+        gpu::ImageDesc hd = hitImage_.desc();
+        hd.extent = {width, height, 1};
+        hitImage_ = gpu::Image(*services_->device, hd);
+        hitReadback_ = gpu::Buffer(*services_->device, uint64_t(width) * height * sizeof(float),
+                                   VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::Readback, "volume hit readback");
+    }
     ++imagesVersion_;
 }
 
@@ -469,8 +485,9 @@ void VolumeLayer::writeDescriptors(uint32_t f) {
                                               VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
         const VkDescriptorImageInfo storeInfo{VK_NULL_HANDLE, castImage_.view(), VK_IMAGE_LAYOUT_GENERAL};
         const VkDescriptorImageInfo readInfo{nearestSampler_.vk(), castImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-        VkWriteDescriptorSet w[7] = {};
-        for (uint32_t b = 0; b < 7; ++b) {
+        const VkDescriptorImageInfo hitInfo{VK_NULL_HANDLE, hitImage_.view(), VK_IMAGE_LAYOUT_GENERAL};
+        VkWriteDescriptorSet w[8] = {};
+        for (uint32_t b = 0; b < 8; ++b) {
             w[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
             w[b].dstSet = sets_[f];
             w[b].dstBinding = b;
@@ -483,7 +500,8 @@ void VolumeLayer::writeDescriptors(uint32_t f) {
         w[4].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, w[4].pImageInfo = &depthInfo;
         w[5].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, w[5].pImageInfo = &storeInfo;
         w[6].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, w[6].pImageInfo = &readInfo;
-        vkUpdateDescriptorSets(services_->device->vk(), 7, w, 0, nullptr);
+        w[7].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, w[7].pImageInfo = &hitInfo;
+        vkUpdateDescriptorSets(services_->device->vk(), 8, w, 0, nullptr);
     }
 }
 
@@ -598,13 +616,31 @@ void VolumeLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
     uniformBuffers_[rc.slot].write(&u, sizeof(u));
 
     VkCommandBuffer cmd = rc.cmd;
-    gpu::transition(cmd, castImage_, gpu::ImageUse::StorageCompute);
+    const gpu::ImageTransition writes[] = {{&castImage_, gpu::ImageUse::StorageCompute},
+                                           {&hitImage_, gpu::ImageUse::StorageCompute}};
+    gpu::transition(cmd, writes);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, castPipeline_.vk());
     const VkDescriptorSet sets[] = {rc.frameSet, sets_[rc.slot]};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), 0, 2, sets, 0, nullptr);
     const uint32_t g = shader::kVolumeGroupSize;
     vkCmdDispatch(cmd, (frame.width + g - 1) / g, (frame.height + g - 1) / g, 1);
     gpu::transition(cmd, castImage_, gpu::ImageUse::SampledFragment);
+    if (hitOutput_) {
+        gpu::transition(cmd, hitImage_, gpu::ImageUse::TransferSrc);
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {frame.width, frame.height, 1};
+        vkCmdCopyImageToBuffer(cmd, hitImage_.vk(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, hitReadback_.vk(), 1, &region);
+        gpu::bufferBarrier(cmd, hitReadback_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+    }
+}
+
+std::vector<float> VolumeLayer::hitDistances() const {
+    if (!hitOutput_ || !hitReadback_) return {};
+    const_cast<gpu::Buffer&>(hitReadback_).invalidate();
+    const auto* p = static_cast<const float*>(hitReadback_.mapped());
+    return std::vector<float>(p, p + hitReadback_.size() / sizeof(float));
 }
 
 void VolumeLayer::record(scene::Pass, const scene::RecordContext& rc) {

@@ -94,6 +94,13 @@ public:
     bool setParameter(std::string_view name, double value) override;
     std::string status() const override;
 
+    /// Measurement (tests, benchmarks), set before the first frame: write each ray's first
+    /// isosurface distance (metres from the eye along the ray; -1 for none), and find crossings
+    /// with or without secant/bisection refinement.
+    void setMeasurement(bool hitOutput, bool refine) { hitOutput_ = hitOutput, refine_ = refine; }
+    /// The distances written by the last frame (after it completed), row by row.
+    std::vector<float> hitDistances() const;
+
     const VolumeField& field() const { return field_; }
     size_t timeSteps() const { return 1 + moreSteps_.size(); }
     /// The steps shown now: (A, B, weight of B), from the last update().
@@ -131,6 +138,9 @@ private:
     gpu::PipelineLayout layout_;
     gpu::Pipeline castPipeline_, compositePipeline_;
     gpu::Image* boundDepth_ = nullptr;
+    bool hitOutput_ = false, refine_ = true;
+    gpu::Image hitImage_;        // r32f: the frame's size with hitOutput_, else 1 x 1 (never written)
+    gpu::Buffer hitReadback_;
     uint64_t imagesVersion_ = 1;            // bumped when the cast image or the depth changes
     std::vector<uint64_t> setVersion_;      // per frame slot: the version its set names
 };

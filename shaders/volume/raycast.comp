@@ -16,6 +16,10 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(constant_id = 0) const bool kDvr = true;
 layout(constant_id = 1) const int kIsoCount = 0;   // isosurfaces (0 .. kVolumeMaxIso)
 layout(constant_id = 2) const int kSliceCount = 0; // slice planes (0 .. kVolumeMaxSlices)
+// Measurement only (tests, benchmarks): write each ray's first isosurface distance, and find
+// crossings without refinement (at the sample after the sign change).
+layout(constant_id = 3) const bool kHitOutput = false;
+layout(constant_id = 4) const bool kRefine = true;
 
 layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
 layout(set = 1, binding = 0) uniform VolumeBlock { VolumeUniforms vol; };
@@ -24,6 +28,7 @@ layout(set = 1, binding = 2, std430) readonly buffer AxisBlock { float axisTable
 layout(set = 1, binding = 3) uniform sampler1D transfer;
 layout(set = 1, binding = 4) uniform sampler2D sceneDepth;
 layout(set = 1, binding = 5, rgba16f) uniform writeonly image2D outImage;
+layout(set = 1, binding = 7, r32f) uniform writeonly image2D hitImage;   // kHitOutput only
 
 // Shared per ray.
 vec3 gEye, gDir;
@@ -262,6 +267,7 @@ void main() {
     float nextSlice = nearestSlice();
 
     vec4 acc = vec4(0.0);
+    float firstHit = 1e30;
     bool sunLight = frame.sunDirection.w > 0.5;
     float dtMax = vol.eyeFromOrigin.w, dtMin = vol.march.y, target = vol.march.x;
     int maxSteps = int(vol.boxMax.w);
@@ -293,11 +299,12 @@ void main() {
                 for (int k = 0; k < kIsoCount; ++k) {
                     float c = isovalue(k);
                     if ((prevV - c) * (value - c) < 0.0 || (value == c && prevV != c)) {
-                        float th = refineCrossing(prevT, prevV, t, value, c);
+                        float th = kRefine ? refineCrossing(prevT, prevV, t, value, c) : t;
                         if (th < tHit) { tHit = th; hit = k; }
                     }
                 }
                 if (hit >= 0) {
+                    if (kHitOutput && firstHit >= 1e29) firstHit = tHit;
                     vec3 nrm = normalAt(tHit, max(0.25 * dt, 0.5));
                     if (dot(nrm, gDir) > 0.0) nrm = -nrm;   // the side facing the eye
                     vec3 l = sunLight ? frame.sunDirection.xyz : -gDir;
@@ -331,4 +338,5 @@ void main() {
     // Slices beyond the last sample (or all of them when only slices are drawn).
     while (kSliceCount > 0 && nextSlice < 1e29 && acc.a < 0.99) nextSlice = compositeNearestSlice(acc);
     imageStore(outImage, px, acc);
+    if (kHitOutput) imageStore(hitImage, px, vec4(firstHit < 1e29 ? firstHit : -1.0));
 }
