@@ -411,6 +411,16 @@ TEST_F(VolumeRender, IsosurfaceOfASphereFieldLiesAtItsRadius) {
     }
 }
 
+TEST_F(VolumeRender, Echam5TemperatureOverTheGlobe) {
+    const std::string file = std::string(ORBIS_SOURCE_DIR) + "/../shared/data/netcdf/echam5_rectilinear_grid_3D.nc";
+    if (!std::filesystem::exists(file)) GTEST_SKIP() << "no " << file << " (../shared/data is optional)";
+    const std::string layer = R"({"type": "volume", "name": "t", "path": )" + nlohmann::json(file).dump() +
+                              R"(, "variable": "t", "colorMap": "coolwarm", "range": [200, 305], )"
+                              R"("opacity": [[200, 0.0], [250, 0.02], [290, 0.1], [305, 0.4]], "verticalExaggeration": 40})";
+    const auto img = render(volumeScene(R"({"lon": 10, "lat": 30, "range": 22000000})", layer));
+    EXPECT_TRUE(matchesGolden(img, "volume_echam5"));
+}
+
 TEST(VolumeSettings, BadScenesNameTheKeyAndTheProblem) {
     scene::LayerRegistry registry;
     layers::registerBuiltinLayers(registry);
