@@ -436,6 +436,8 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
     modes.set<int32_t>(2, int32_t(settings_.slices.size()));
     modes.set<VkBool32>(3, hitOutput_ ? VK_TRUE : VK_FALSE);
     modes.set<VkBool32>(4, refine_ ? VK_TRUE : VK_FALSE);
+    const bool blends = !moreSteps_.empty() && stepTimes_.size() > 1 && settings_.timeMode == VolumeSettings::TimeMode::Blend;
+    modes.set<VkBool32>(5, blends ? VK_TRUE : VK_FALSE);
     // Without measurement the hit image is a 1 x 1 stand-in that is never written.
     gpu::ImageDesc hd;
     hd.format = VK_FORMAT_R32_SFLOAT;

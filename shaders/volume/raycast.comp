@@ -20,6 +20,8 @@ layout(constant_id = 2) const int kSliceCount = 0; // slice planes (0 .. kVolume
 // crossings without refinement (at the sample after the sign change).
 layout(constant_id = 3) const bool kHitOutput = false;
 layout(constant_id = 4) const bool kRefine = true;
+// Time steps blended at the current time: a second field fetch per sample (only then).
+layout(constant_id = 5) const bool kBlendSteps = false;
 
 layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
 layout(set = 1, binding = 0) uniform VolumeBlock { VolumeUniforms vol; };
@@ -106,7 +108,7 @@ bool sampleGeo(vec3 geo, out float value) {
     // texel inside one step, so filtering never mixes steps.
     float steps = vol.timeInfo.w;
     value = texture(field, vec3(tc.xy, (vol.timeInfo.x + tc.z) / steps)).r;
-    if (vol.timeInfo.z > 0.0)
+    if (kBlendSteps && vol.timeInfo.z > 0.0)
         value = mix(value, texture(field, vec3(tc.xy, (vol.timeInfo.y + tc.z) / steps)).r, vol.timeInfo.z);
     return !isnan(value);
 }
