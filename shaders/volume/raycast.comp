@@ -218,6 +218,32 @@ float compositeNearestSlice(inout vec4 acc) {
     return nearestSlice();
 }
 
+// The march along one segment: the sample position, step and the previous sample.
+float gT, gDt, gRate, gPrevT, gPrevV;
+bool gPrevOk;
+vec3 gNPrev;
+
+// Front-to-back compositing of one DVR sample standing for `ds` of the normalised box.
+void compositeSample(inout vec4 acc, float value, float ds) {
+    vec4 tf = transferAt(value);
+    float alpha = clamp(tf.a * vol.dataRange.z, 0.0, 1.0);
+    // Opacity per 1/march.z of the normalised box, whatever the step.
+    alpha = 1.0 - pow(1.0 - min(alpha, 0.9999), min(ds, 2.0) * vol.march.z);
+    acc.rgb += (1.0 - acc.a) * alpha * tf.rgb;
+    acc.a += (1.0 - acc.a) * alpha;
+}
+
+// Next sample: the step follows the rate at which the box's coordinates change along the ray.
+void advance(int i, float ds, float value, bool ok, vec3 n, float target, float dtMin, float dtMax) {
+    if (i > 0) gRate = ds / max(gT - gPrevT, 1e-6);
+    gPrevT = gT;
+    gPrevV = value;
+    gPrevOk = ok;
+    gNPrev = n;
+    gDt = clamp(target / max(gRate, 1e-20), dtMin, min(dtMax, 2.0 * gDt));
+    gT += gDt;
+}
+
 void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(outImage);
@@ -280,61 +306,68 @@ void main() {
         // Steps of equal length in the box's normalised coordinates (a thin shell gets as many
         // samples across as a thick box); the rate of change is probed at the entry, then
         // followed from sample to sample.
-        vec3 nPrev = normalised(geoAt(t0));
-        float rate = length(normalised(geoAt(t0 + vol.march.w)) - nPrev) / vol.march.w;
-        float dt = clamp(target / max(rate, 1e-20), dtMin, dtMax);
-        float t = t0 + jitter * dt;
-        float prevT = t0, prevV = 0.0;
-        bool prevOk = false;
-        for (int i = 0; i < maxSteps && t < t1; ++i) {
-            while (kSliceCount > 0 && nextSlice <= t) nextSlice = compositeNearestSlice(acc);
-            if (acc.a >= 0.99) break;
-            vec3 geo = geoAt(t);
-            vec3 n = normalised(geo);
-            float ds = i == 0 ? target : length(n - nPrev);
-            float value;
-            bool ok = sampleGeo(geo, value);
-            if (kIsoCount > 0 && ok && prevOk) {
-                // The nearest crossing in this step over all isovalues.
-                float tHit = 1e30;
-                int hit = -1;
-                for (int k = 0; k < kIsoCount; ++k) {
-                    float c = isovalue(k);
-                    if ((prevV - c) * (value - c) < 0.0 || (value == c && prevV != c)) {
-                        float th = kRefine ? refineCrossing(prevT, prevV, t, value, c) : t;
-                        if (th < tHit) { tHit = th; hit = k; }
-                    }
-                }
-                if (hit >= 0) {
-                    if (kHitOutput && firstHit >= 1e29) firstHit = tHit;
-                    vec3 nrm = normalAt(tHit, max(0.25 * dt, 0.5));
-                    if (dot(nrm, gDir) > 0.0) nrm = -nrm;   // the side facing the eye
-                    vec3 l = sunLight ? frame.sunDirection.xyz : -gDir;
-                    vec3 hv = normalize(l - gDir);
-                    vec3 base = transferAt(isovalue(hit)).rgb;
-                    vec3 lit = base * (0.25 + 0.75 * max(dot(nrm, l), 0.0)) + 0.25 * pow(max(dot(nrm, hv), 0.0), 32.0);
-                    float alpha = vol.radii.w;
-                    acc.rgb += (1.0 - acc.a) * alpha * lit;
-                    acc.a += (1.0 - acc.a) * alpha;
-                    if (acc.a >= 0.99) break;
-                }
-            }
-            if (kDvr && ok) {
-                vec4 tf = transferAt(value);
-                float alpha = clamp(tf.a * vol.dataRange.z, 0.0, 1.0);
-                // Opacity per 1/march.z of the normalised box, whatever the step.
-                alpha = 1.0 - pow(1.0 - min(alpha, 0.9999), min(ds, 2.0) * vol.march.z);
-                acc.rgb += (1.0 - acc.a) * alpha * tf.rgb;
-                acc.a += (1.0 - acc.a) * alpha;
+        gNPrev = normalised(geoAt(t0));
+        gRate = length(normalised(geoAt(t0 + vol.march.w)) - gNPrev) / vol.march.w;
+        gDt = clamp(target / max(gRate, 1e-20), dtMin, dtMax);
+        gT = t0 + jitter * gDt;
+        gPrevT = t0;
+        gPrevV = 0.0;
+        gPrevOk = false;
+        int i = 0;
+        // The march stops at each isosurface crossing, which is refined and shaded outside the
+        // marching loop, then goes on. On SIMD devices (CPU rasterisers) every lane pays for
+        // what any lane executes inside the loop: this way the expensive work runs once a hit
+        // instead of at every step.
+        for (;;) {
+            bool found = false;
+            int hitIso = 0;
+            vec3 n = gNPrev;
+            float ds = target, value = 0.0;
+            bool ok = false;
+            for (; i < maxSteps && gT < t1; ++i) {
+                while (kSliceCount > 0 && nextSlice <= gT) nextSlice = compositeNearestSlice(acc);
                 if (acc.a >= 0.99) break;
+                vec3 geo = geoAt(gT);
+                n = normalised(geo);
+                ds = i == 0 ? target : length(n - gNPrev);
+                ok = sampleGeo(geo, value);
+                if (kIsoCount > 0 && ok && gPrevOk) {
+                    // The nearest crossing in this step over all isovalues (by linear
+                    // interpolation; the chosen one is refined below).
+                    float best = 2.0;
+                    for (int k = 0; k < kIsoCount; ++k) {
+                        float c = isovalue(k);
+                        if ((gPrevV - c) * (value - c) < 0.0 || (value == c && gPrevV != c)) {
+                            float f = (c - gPrevV) / (value - gPrevV);
+                            if (f < best) { best = f; hitIso = k; }
+                        }
+                    }
+                    if (best <= 1.0) { found = true; break; }
+                }
+                if (kDvr && ok) compositeSample(acc, value, ds);
+                if (acc.a >= 0.99) break;
+                advance(i, ds, value, ok, n, target, dtMin, dtMax);
             }
-            if (i > 0) rate = ds / max(t - prevT, 1e-6);
-            prevT = t;
-            prevV = value;
-            prevOk = ok;
-            nPrev = n;
-            dt = clamp(target / max(rate, 1e-20), dtMin, min(dtMax, 2.0 * dt));
-            t += dt;
+            if (!found) break;
+            // The crossing between the previous sample and this one.
+            float c = isovalue(hitIso);
+            float tHit = kRefine ? refineCrossing(gPrevT, gPrevV, gT, value, c) : gT;
+            if (kHitOutput && firstHit >= 1e29) firstHit = tHit;
+            vec3 nrm = normalAt(tHit, max(0.25 * gDt, 0.5));
+            if (dot(nrm, gDir) > 0.0) nrm = -nrm;   // the side facing the eye
+            vec3 l = sunLight ? frame.sunDirection.xyz : -gDir;
+            vec3 hv = normalize(l - gDir);
+            vec3 base = transferAt(c).rgb;
+            vec3 lit = base * (0.25 + 0.75 * max(dot(nrm, l), 0.0)) + 0.25 * pow(max(dot(nrm, hv), 0.0), 32.0);
+            float alpha = vol.radii.w;
+            acc.rgb += (1.0 - acc.a) * alpha * lit;
+            acc.a += (1.0 - acc.a) * alpha;
+            if (acc.a >= 0.99) break;
+            // This sample's own contribution, then on.
+            if (kDvr) compositeSample(acc, value, ds);
+            if (acc.a >= 0.99) break;
+            advance(i, ds, value, ok, n, target, dtMin, dtMax);
+            ++i;
         }
     }
     // Slices beyond the last sample (or all of them when only slices are drawn).
