@@ -68,9 +68,13 @@ size_t BrickGrid::emptyBricks() const {
 }
 
 BrickGrid buildBrickGrid(const VolumeField& field, int brickSize) {
+    return buildBrickGrid(field.values.data(), field.nx(), field.ny(), field.nz(), brickSize);
+}
+
+BrickGrid buildBrickGrid(const float* values, size_t nx, size_t ny, size_t nz, int brickSize) {
     BrickGrid g;
     g.size = std::max(brickSize, 1);
-    const size_t s = size_t(g.size), nx = field.nx(), ny = field.ny(), nz = field.nz();
+    const size_t s = size_t(g.size);
     g.bx = (nx + s - 1) / s;
     g.by = (ny + s - 1) / s;
     g.bz = (nz + s - 1) / s;
@@ -84,13 +88,43 @@ BrickGrid buildBrickGrid(const VolumeField& field, int brickSize) {
                 for (size_t k = bk * s; k < std::min(nz, (bk + 1) * s + 1); ++k)
                     for (size_t j = bj * s; j < std::min(ny, (bj + 1) * s + 1); ++j)
                         for (size_t i = bi * s; i < std::min(nx, (bi + 1) * s + 1); ++i) {
-                            const float v = field.values[(k * ny + j) * nx + i];
+                            const float v = values[(k * ny + j) * nx + i];
                             if (!std::isfinite(v)) continue;
                             mm.first = std::min(mm.first, v);
                             mm.second = std::max(mm.second, v);
                         }
             }
     return g;
+}
+
+void mergeBrickGrid(BrickGrid& into, const BrickGrid& other) {
+    if (into.minMax.size() != other.minMax.size()) return;
+    for (size_t b = 0; b < into.minMax.size(); ++b) {
+        into.minMax[b].first = std::min(into.minMax[b].first, other.minMax[b].first);
+        into.minMax[b].second = std::max(into.minMax[b].second, other.minMax[b].second);
+    }
+}
+
+std::vector<uint32_t> brickOccupancy(const BrickGrid& grid, const std::vector<std::array<float, 4>>& table,
+                                     double rangeMin, double rangeMax, bool dvr, const std::vector<double>& isovalues) {
+    std::vector<uint32_t> bits((grid.minMax.size() + 31) / 32, 0u);
+    const size_t n = table.size();
+    const double scale = rangeMax > rangeMin ? 1.0 / (rangeMax - rangeMin) : 0.0;
+    // The largest opacity of the table between two positions (linear interpolation between
+    // entries: the largest lies at an entry or an end).
+    const auto entry = [&](double v) { return std::clamp((v - rangeMin) * scale, 0.0, 1.0) * double(n - 1); };
+    for (size_t b = 0; b < grid.minMax.size(); ++b) {
+        const auto [lo, hi] = grid.minMax[b];
+        if (!(lo <= hi)) continue;   // no valid values
+        bool visible = false;
+        for (double c : isovalues) visible = visible || (c >= double(lo) && c <= double(hi));
+        if (dvr && !visible && n > 0) {
+            const size_t first = size_t(std::floor(entry(lo))), last = std::min(n - 1, size_t(std::ceil(entry(hi))));
+            for (size_t e = first; e <= last && !visible; ++e) visible = table[e][3] > 0.0f;
+        }
+        if (visible) bits[b / 32] |= 1u << (b % 32);
+    }
+    return bits;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -47,6 +47,19 @@ struct BrickGrid {
     size_t emptyBricks() const;
 };
 BrickGrid buildBrickGrid(const VolumeField& field, int brickSize = 8);
+/// The same over a raw array of nx * ny * nz values (x fastest).
+BrickGrid buildBrickGrid(const float* values, size_t nx, size_t ny, size_t nz, int brickSize = 8);
+/// Widens each brick of `into` to cover the same brick of `other` (same layout): the union
+/// over time steps, which also holds for any blend of two steps.
+void mergeBrickGrid(BrickGrid& into, const BrickGrid& other);
+
+/// Which bricks can show anything, one bit each (bit b % 32 of word b / 32, bricks x fastest):
+/// with `dvr`, those where the transfer table (`table`, evenly spaced over [rangeMin,
+/// rangeMax], read with linear interpolation and clamped beyond the ends) has an opacity
+/// above zero anywhere in the brick's value range; and those whose range holds an isovalue.
+/// Bricks without valid values never do. Ray casting jumps over the others.
+std::vector<uint32_t> brickOccupancy(const BrickGrid& grid, const std::vector<std::array<float, 4>>& table,
+                                     double rangeMin, double rangeMax, bool dvr, const std::vector<double>& isovalues);
 
 /// A colour map by name: "viridis", "magma", "inferno", "plasma", "cividis", "coolwarm",
 /// "greys", "turbo". Colours are sRGB anchors, interpolated in linear light.

@@ -15,6 +15,7 @@
 #include "spv/volume/raycast.comp.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -47,7 +48,12 @@ VolumeField makeSyntheticVolume(const SyntheticVolume& s) {
                 double v;
                 if (s.field == "constant") v = 1.0;
                 else if (s.field == "empty") v = std::numeric_limits<double>::quiet_NaN();
-                else if (s.field == "waves")
+                else if (s.field == "peer") {
+                    const double x = -1.0 + 2.0 * double(i) / double(s.nx - 1), y = -1.0 + 2.0 * double(j) / double(s.ny - 1),
+                                 z = -1.0 + 2.0 * double(k) / double(s.nz - 1);
+                    const double r2 = (x - 0.3) * (x - 0.3) + (y + 0.2) * (y + 0.2) + (z - 0.2) * (z - 0.2);
+                    v = std::sin(3.0 * x) * std::cos(2.0 * y) * z + 1.5 * std::exp(-r2 / (2.0 * 0.3 * 0.3));
+                } else if (s.field == "waves")
                     v = std::sin(6.0 * double(i) / double(s.nx)) * std::sin(5.0 * double(j) / double(s.ny)) *
                         std::cos(4.0 * double(k) / double(s.nz));
                 else
@@ -87,8 +93,9 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
         scene::JsonReader sr(*synthetic, scene.file.string(), desc.jsonPath + "/synthetic");
         SyntheticVolume sv;
         sv.field = sr.string("field", sv.field).value_or(sv.field);
-        if (sv.field != "sphere" && sv.field != "waves" && sv.field != "constant" && sv.field != "empty")
-            sr.fail("field", "expected \"sphere\", \"waves\", \"constant\" or \"empty\" (all no data)");
+        if (sv.field != "sphere" && sv.field != "waves" && sv.field != "constant" && sv.field != "empty" &&
+            sv.field != "peer")
+            sr.fail("field", "expected \"sphere\", \"waves\", \"constant\", \"empty\" (all no data) or \"peer\"");
         if (auto size = sr.numbers("size", 3, std::vector<double>{64, 64, 64}); size && size->size() == 3) {
             for (double n : *size)
                 if (n < 2 || n > 1024 || n != std::floor(n)) sr.fail("size", "each size is an integer from 2 to 1024");
@@ -220,6 +227,7 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
     s.sliceOpacity = r.number("sliceOpacity", 1.0, 0.0, 1.0).value_or(1.0);
     s.isoOpacity = r.number("isoOpacity", 1.0, 0.0, 1.0).value_or(1.0);
     s.steps = int(r.number("steps", s.steps, 1.0, 4096.0).value_or(s.steps));
+    s.opacityUnit = r.number("opacityUnit", s.opacityUnit, 1e-6, 10.0).value_or(s.opacityUnit);
     s.transfer.colorMap = r.string("colorMap", s.transfer.colorMap).value_or(s.transfer.colorMap);
     if (!hasColorMap(s.transfer.colorMap)) {
         std::string names;
@@ -245,6 +253,7 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
     }
     s.transfer.opacityScale = r.number("opacityScale", 1.0, 0.0, 1000.0).value_or(1.0);
     s.verticalExaggeration = r.number("verticalExaggeration", 1.0, 0.001, 10000.0).value_or(1.0);
+    s.emptySkipping = r.boolean("emptySkipping", true).value_or(true);
     if (auto done = r.finish(); !done) return done.error();
 
     if (s.rangeFromData) {
@@ -303,6 +312,21 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
         for (size_t t = 0; t < lookups_[a].table.size() && t < shader::kVolumeAxisTable; ++t)
             axisTable[a * shader::kVolumeAxisTable + t] = lookups_[a].table[t];
 
+    // Min/max bricks over the uploaded texels (the wrap column included), widened over the
+    // time steps. The brick size keeps the bits within one vkCmdUpdateBuffer (64 KiB).
+    // Bricks of about a sixteenth of the largest dimension (measured on lavapipe: 16-voxel bricks
+    // at 256^3 jump further than 8-voxel ones and cost the same per sample).
+    int brickSize = 4;
+    while (brickSize * 32 <= int(std::max({gx, ny, nz}))) brickSize *= 2;
+    while (((gx + brickSize - 1) / brickSize) * ((ny + brickSize - 1) / brickSize) * ((nz + brickSize - 1) / brickSize) >
+           size_t(65536) * 8)
+        brickSize *= 2;
+    for (size_t st = 0; st < steps; ++st) {
+        BrickGrid g = buildBrickGrid(texels.data() + st * gx * ny * nz, gx, ny, nz, brickSize);
+        if (st == 0) bricks_ = std::move(g);
+        else mergeBrickGrid(bricks_, g);
+    }
+
     // The box's frame: origin on the bottom surface at the box's centre; bounds from a dense
     // sample of its boundary (the top bulges outward between samples: a margin covers it).
     const double lonC = 0.5 * (lonAxis_.front() + lonAxis_.back()), latC = 0.5 * (field_.latDeg.front() + field_.latDeg.back());
@@ -328,6 +352,18 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
     // The shell's surfaces, a little outside the data's heights: a scaled ellipsoid's radius
     // differs from the ellipsoid's radius plus H by up to H times the flattening.
     const double margin = std::max({1.0, 1e-3 * (hHi - hLo), 0.004 * std::max(std::abs(hLo), std::abs(hHi))});
+    // Jumps over empty bricks extrapolate the voxel coordinates linearly; along a straight ray
+    // height and latitude bend by about L^2 / 2R (longitude by L^2 / 2 rho, rho the distance from
+    // the axis), so a jump of L metres is kept to a quarter of the finest voxel of each axis.
+    const auto finest = [](const std::vector<double>& axis) {
+        double d = std::numeric_limits<double>::max();
+        for (size_t i = 1; i < axis.size(); ++i) d = std::min(d, std::abs(axis[i] - axis[i - 1]));
+        return axis.size() > 1 ? d : 0.0;
+    };
+    const double radius = ell.equatorialRadius() + std::max(0.0, hHi);
+    jumpLimit_ = glm::dvec2(std::min(std::sqrt(0.5 * radius * finest(field_.heightM) * ex),
+                                     radius * std::sqrt(0.5 * glm::radians(finest(field_.latDeg)))),
+                            std::sqrt(0.5 * glm::radians(finest(lonAxis_))));
     shellLow_ = hLo - margin;
     shellHigh_ = hHi + margin;
 
@@ -340,6 +376,11 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
     fd.name = "volume field";
     fieldImage_ = gpu::Image(device, fd);
     auto table = buildTransferTable(settings_.transfer, 256);
+    transferTable_ = *table;
+    updateOccupancy();
+    occupancyBuffer_ = gpu::Buffer(device, occupancy_.size() * sizeof(uint32_t),
+                                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                   gpu::MemoryUsage::GpuOnly, "volume brick bits");
     std::vector<uint16_t> tf(256 * 4);
     const auto half = [](float v) {   // IEEE half from float (values in 0..1)
         uint32_t bits;
@@ -368,6 +409,9 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
         services.uploader->toImage(cmd, fieldImage_, texels.data(), texels.size() * sizeof(float));
         services.uploader->toImage(cmd, transferImage_, tf.data(), tf.size() * sizeof(uint16_t));
         services.uploader->toBuffer(cmd, axisBuffer_, axisTable.data(), axisTable.size() * sizeof(float));
+        services.uploader->toBuffer(cmd, occupancyBuffer_, occupancy_.data(), occupancy_.size() * sizeof(uint32_t));
+        gpu::bufferBarrier(cmd, occupancyBuffer_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
         gpu::transition(cmd, fieldImage_, gpu::ImageUse::SampledCompute);
         gpu::transition(cmd, transferImage_, gpu::ImageUse::SampledCompute);
         gpu::bufferBarrier(cmd, axisBuffer_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
@@ -396,9 +440,10 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
         {5, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, nullptr},
         {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, nullptr},
+        {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, nullptr},
     };
     VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    li.bindingCount = 8;
+    li.bindingCount = 9;
     li.pBindings = bindings;
     VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
     VK_CHECK(vkCreateDescriptorSetLayout(device.vk(), &li, nullptr, &setLayout));
@@ -406,7 +451,7 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
     const uint32_t frames = services.framesInFlight;
     const VkDescriptorPoolSize sizes[] = {
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frames},
-        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frames},
+        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * frames},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4 * frames},
         {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * frames},
     };
@@ -438,6 +483,13 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
     modes.set<VkBool32>(4, refine_ ? VK_TRUE : VK_FALSE);
     const bool blends = !moreSteps_.empty() && stepTimes_.size() > 1 && settings_.timeMode == VolumeSettings::TimeMode::Blend;
     modes.set<VkBool32>(5, blends ? VK_TRUE : VK_FALSE);
+    // The brick test costs on every sample (~15 % on lavapipe): it is compiled in only when at
+    // least 1 brick in 16 can be skipped with the scene's settings (live edits keep the choice).
+    size_t visibleBricks = 0;
+    for (uint32_t word : occupancy_) visibleBricks += size_t(std::popcount(word));
+    skipEmpty_ = settings_.emptySkipping && (bricks_.minMax.size() - visibleBricks) * 16 >= bricks_.minMax.size();
+    modes.set<VkBool32>(7, skipEmpty_ ? VK_TRUE : VK_FALSE);
+    modes.set<int32_t>(6, int32_t((lookups_[0].uniform ? 1 : 0) | (lookups_[1].uniform ? 2 : 0) | (lookups_[2].uniform ? 4 : 0)));
     // Without measurement the hit image is a 1 x 1 stand-in that is never written.
     gpu::ImageDesc hd;
     hd.format = VK_FORMAT_R32_SFLOAT;
@@ -488,8 +540,9 @@ void VolumeLayer::writeDescriptors(uint32_t f) {
         const VkDescriptorImageInfo storeInfo{VK_NULL_HANDLE, castImage_.view(), VK_IMAGE_LAYOUT_GENERAL};
         const VkDescriptorImageInfo readInfo{nearestSampler_.vk(), castImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
         const VkDescriptorImageInfo hitInfo{VK_NULL_HANDLE, hitImage_.view(), VK_IMAGE_LAYOUT_GENERAL};
-        VkWriteDescriptorSet w[8] = {};
-        for (uint32_t b = 0; b < 8; ++b) {
+        const VkDescriptorBufferInfo bricks{occupancyBuffer_.vk(), 0, VK_WHOLE_SIZE};
+        VkWriteDescriptorSet w[9] = {};
+        for (uint32_t b = 0; b < 9; ++b) {
             w[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
             w[b].dstSet = sets_[f];
             w[b].dstBinding = b;
@@ -503,7 +556,8 @@ void VolumeLayer::writeDescriptors(uint32_t f) {
         w[5].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, w[5].pImageInfo = &storeInfo;
         w[6].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, w[6].pImageInfo = &readInfo;
         w[7].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, w[7].pImageInfo = &hitInfo;
-        vkUpdateDescriptorSets(services_->device->vk(), 8, w, 0, nullptr);
+        w[8].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, w[8].pBufferInfo = &bricks;
+        vkUpdateDescriptorSets(services_->device->vk(), 9, w, 0, nullptr);
     }
 }
 
@@ -566,8 +620,7 @@ void VolumeLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
                            float(field_.heightM.back()));
     const double rangeMin = settings_.transfer.rangeMin, rangeMax = settings_.transfer.rangeMax;
     u.dataRange = glm::vec4(float(rangeMin), float(1.0 / (rangeMax - rangeMin)), 1.0f, float(frameCounter_ % 65536));
-    u.axisUniform = glm::vec4(lookups_[0].uniform ? 1.0f : 0.0f, lookups_[1].uniform ? 1.0f : 0.0f,
-                              lookups_[2].uniform ? 1.0f : 0.0f, float(lonAxis_.size()));
+    u.bricks = glm::vec4(float(bricks_.bx), float(bricks_.by), float(bricks_.bz), float(bricks_.size));
     u.samples = glm::vec4(float(lonAxis_.size()), float(field_.ny()), float(field_.nz()), float((1.0 - ell.flattening()) * (1.0 - ell.flattening())));
     u.forward = glm::vec4(glm::vec3(forward), float(a));
     u.radii = glm::vec4(0.0f, 0.0f, float(b), float(settings_.isoOpacity));
@@ -604,20 +657,29 @@ void VolumeLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
             B = glm::vec4(scaled.w, float(inv.x), float(inv.y), float(sl.value));
         }
     }
-    u.sliceInfo = glm::vec4(float(settings_.sliceOpacity), 0.0f, 0.0f, 0.0f);
+    u.sliceInfo = glm::vec4(float(settings_.sliceOpacity), float(jumpLimit_.x), float(jumpLimit_.y), 0.0f);
     u.timeInfo = glm::vec4(stepA_, stepB_, stepWeight_, float(1 + moreSteps_.size()));
     u.shellScale = glm::vec4(float(lowInv.x), float(lowInv.y), float(highInv.x), float(highInv.y));
     // "steps" across the diagonal of the normalised box (as a ray-caster counts samples along a
-    // cube's diagonal); opacity is per hundredth of that diagonal.
+    // cube's diagonal); opacity is per "opacityUnit" of the normalised box.
     const double unitDiagonal = std::sqrt(3.0);
     u.march = glm::vec4(float(unitDiagonal / settings_.steps), float(std::max(step / 16384.0, 0.01)),
-                        float(100.0 / unitDiagonal),
+                        float(1.0 / settings_.opacityUnit),
                         float(std::clamp(step * 0.01, 5.0, 2000.0)));
     for (size_t i = 0; i < settings_.isovalues.size() && i < shader::kVolumeMaxIso; ++i)
         u.isovalues[i / 4][int(i % 4)] = float(settings_.isovalues[i]);
     uniformBuffers_[rc.slot].write(&u, sizeof(u));
 
     VkCommandBuffer cmd = rc.cmd;
+    if (occupancyDirty_) {
+        // After the earlier frames' reads; before this frame's.
+        updateOccupancy();
+        gpu::bufferBarrier(cmd, occupancyBuffer_, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                           VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+        vkCmdUpdateBuffer(cmd, occupancyBuffer_.vk(), 0, occupancy_.size() * sizeof(uint32_t), occupancy_.data());
+        gpu::bufferBarrier(cmd, occupancyBuffer_, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    }
     const gpu::ImageTransition writes[] = {{&castImage_, gpu::ImageUse::StorageCompute},
                                            {&hitImage_, gpu::ImageUse::StorageCompute}};
     gpu::transition(cmd, writes);
@@ -679,6 +741,12 @@ bool VolumeLayer::setParameter(std::string_view name, double value) {
     if (!std::isfinite(value)) return false;
     if (auto i = indexed("isovalue", settings_.isovalues.size())) {
         settings_.isovalues[*i] = value;
+        occupancyDirty_ = true;
+        return true;
+    }
+    if (name == "emptySkipping") {
+        settings_.emptySkipping = value != 0.0;
+        occupancyDirty_ = true;
         return true;
     }
     if (auto i = indexed("slice", settings_.slices.size())) {
@@ -687,6 +755,14 @@ bool VolumeLayer::setParameter(std::string_view name, double value) {
         return true;
     }
     return false;
+}
+
+void VolumeLayer::updateOccupancy() {
+    occupancy_ = brickOccupancy(bricks_, transferTable_, settings_.transfer.rangeMin, settings_.transfer.rangeMax,
+                                settings_.dvr, settings_.isovalues);
+    if (!settings_.emptySkipping) std::fill(occupancy_.begin(), occupancy_.end(), ~0u);
+    if (occupancy_.empty()) occupancy_.push_back(0u);
+    occupancyDirty_ = false;
 }
 
 std::string VolumeLayer::status() const {

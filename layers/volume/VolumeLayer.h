@@ -57,14 +57,22 @@ struct VolumeSettings {
     std::vector<Slice> slices;
     double sliceOpacity = 1.0;
     int steps = 100;
+    /// The length, in the box's normalised coordinates (each edge 1), over which a sample's
+    /// opacity is the transfer function's alpha (VTK's "scalar opacity unit distance", relative
+    /// to the box). Default: a hundredth of the normalised diagonal.
+    double opacityUnit = 0.017320508075688773;
     TransferFunctionDesc transfer;
     bool rangeFromData = true;
     double verticalExaggeration = 1.0;
+    /// Rays jump over bricks that show nothing under the transfer function and isovalues.
+    bool emptySkipping = true;
 };
 
 /// A synthetic field for tests and benchmarks: "sphere" is the distance from the grid's centre
 /// in voxel units (known geometry: every isosurface is a sphere in index space), "waves" a
-/// smooth product of sines, "constant" 1 everywhere (zero gradient), "empty" all no data.
+/// smooth product of sines, "constant" 1 everywhere (zero gradient), "empty" all no data,
+/// "peer" the field of the VTK peer benchmark (../shared/peers/vtk_peer.py) over the box mapped
+/// onto [-1, 1]^3: sin(3x) cos(2y) z + 1.5 exp(-|p - (0.3, -0.2, 0.2)|^2 / (2 0.3^2)).
 struct SyntheticVolume {
     std::string field = "sphere";
     size_t nx = 64, ny = 64, nz = 64;
@@ -90,7 +98,8 @@ public:
     void record(scene::Pass pass, const scene::RecordContext& context) override;
     uint64_t gpuBytes() const override;
     /// "steps", "isovalue" / "isovalue0".."isovalue7", "slice0".."slice3" (the slice's lon, lat
-    /// or height): uniforms only, nothing is re-uploaded.
+    /// or height): uniforms only, the field is not re-uploaded (an isovalue refreshes the brick
+    /// bits, 1 bit per brick). "emptySkipping" 0 or 1.
     bool setParameter(std::string_view name, double value) override;
     std::string status() const override;
 
@@ -106,6 +115,8 @@ public:
     /// The steps shown now: (A, B, weight of B), from the last update().
     glm::vec3 timeBlend() const { return {stepA_, stepB_, stepWeight_}; }
     const VolumeSettings& settings() const { return settings_; }
+    /// Whether the ray caster was built with empty-space skipping (after prepare()).
+    bool skipsEmptyBricks() const { return skipEmpty_; }
 
 private:
     void computeFrame();
@@ -123,6 +134,7 @@ private:
     // The curved box in its frame (double on the CPU).
     glm::dvec3 origin_{0.0};
     glm::dvec3 boxMin_{0.0}, boxMax_{0.0};
+    glm::dvec2 jumpLimit_{0.0};   // longest jump over empty bricks: metres; per metre from the axis
     double shellLow_ = 0.0, shellHigh_ = 0.0;   // drawn heights of the shell's surfaces (m)
     std::vector<double> lonAxis_;   // with the wrap column when the field is periodic
     std::array<AxisLookup, 3> lookups_;
@@ -130,6 +142,15 @@ private:
 
     gpu::Image fieldImage_, transferImage_, castImage_;
     gpu::Buffer axisBuffer_;
+    // Empty-space skipping: min/max per brick (the union over time steps) and one bit per brick
+    // for "can show something", refreshed when the isovalues or the setting change.
+    BrickGrid bricks_;
+    std::vector<std::array<float, 4>> transferTable_;
+    std::vector<uint32_t> occupancy_;
+    bool occupancyDirty_ = false;
+    bool skipEmpty_ = false;   // the pipeline tests bricks
+    gpu::Buffer occupancyBuffer_;
+    void updateOccupancy();
     std::vector<gpu::Buffer> uniformBuffers_;
     gpu::Sampler linearSampler_, nearestSampler_;
     gpu::DescriptorSetLayout setLayout_;

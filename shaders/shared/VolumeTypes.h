@@ -2,7 +2,8 @@
 // Set 1 bindings: 0 VolumeUniforms (per frame), 1 the field (sampler3D, R32F, NaN = no data),
 // 2 axis lookup tables (storage buffer), 3 transfer function (sampler1D), 4 scene depth
 // (sampler2D), 5 the ray-cast image (rgba16f storage, premultiplied), 6 the same image sampled
-// by the composite.
+// by the composite, 7 first-hit distances (measurement), 8 one bit per brick: can it show
+// anything (empty-space skipping).
 #ifndef ORBIS_SHADERS_SHARED_VOLUME_TYPES_H
 #define ORBIS_SHADERS_SHARED_VOLUME_TYPES_H
 
@@ -27,7 +28,7 @@ struct VolumeUniforms {
     vec4 lonRange;          // x: first lon (deg), y: last lon (deg, continuous), z: 1 if it wraps, w: vertical exaggeration
     vec4 latRange;          // x: first lat, y: last lat (deg); z, w: first and last height (m, drawn: exaggerated)
     vec4 dataRange;         // x: min, y: 1 / (max - min) for the transfer function; z: opacity scale; w: frame (jitter)
-    vec4 axisUniform;       // xyz: 1 if lon, lat, height are evenly spaced (else use the table); w: samples in lon
+    vec4 bricks;            // xyz: bricks along lon, lat, height (min/max bricks, one bit each); w: brick size (voxels)
     vec4 samples;           // x, y, z: samples in lon (incl. a wrap column), lat, height; w: 1 - e^2
     vec4 forward;           // xyz: view direction (world); w: equatorial radius a
     vec4 radii;             // x: inner bound radius, y: outer bound radius (metres from the Earth centre), z: polar radius b, w: isosurface opacity
@@ -47,7 +48,7 @@ struct VolumeUniforms {
     //       y, z 1 / (a + H), 1 / (b + H), w height (m of data)
     vec4 sliceA[4];
     vec4 sliceB[4];
-    vec4 sliceInfo;         // x: slice opacity
+    vec4 sliceInfo;         // x: slice opacity; y: longest jump over empty bricks (m), z: the same per metre from the axis
     vec4 timeInfo;          // x, y: time steps shown (stacked along the texture's z), z: weight of y, w: steps
 };
 

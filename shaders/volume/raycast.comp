@@ -22,6 +22,11 @@ layout(constant_id = 3) const bool kHitOutput = false;
 layout(constant_id = 4) const bool kRefine = true;
 // Time steps blended at the current time: a second field fetch per sample (only then).
 layout(constant_id = 5) const bool kBlendSteps = false;
+// Which axes are evenly spaced (bit 0 lon, 1 lat, 2 height): those map linearly, the others
+// through the lookup table. A constant, not a uniform: CPU devices run both sides of a branch.
+layout(constant_id = 6) const int kUniformAxes = 7;
+// Empty-space skipping: rays jump over bricks that show nothing.
+layout(constant_id = 7) const bool kSkipEmpty = true;
 
 layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
 layout(set = 1, binding = 0) uniform VolumeBlock { VolumeUniforms vol; };
@@ -31,10 +36,17 @@ layout(set = 1, binding = 3) uniform sampler1D transfer;
 layout(set = 1, binding = 4) uniform sampler2D sceneDepth;
 layout(set = 1, binding = 5, rgba16f) uniform writeonly image2D outImage;
 layout(set = 1, binding = 7, r32f) uniform writeonly image2D hitImage;   // kHitOutput only
+layout(set = 1, binding = 8, std430) readonly buffer BrickBlock { uint brickBits[]; };
 
 // Shared per ray.
 vec3 gEye, gDir;
 float gC0, gS0;
+
+// The last sample: distance from the polar axis (m), voxel coordinates, inside the box, and
+// whether its brick shows nothing.
+float gRho;
+vec3 gVox;
+bool gInBox = false, gEmpty = false;
 
 // Coordinate -> texture coordinate along one axis (texel centres at the samples).
 float axisCoord(int axis, float x, float first, float last, float n, bool uniformAxis) {
@@ -76,6 +88,7 @@ vec3 geoAt(float t) {
     float xa = vol.originAxis.x + (d.x * gC0 + d.y * gS0);
     float yb = d.y * gC0 - d.x * gS0;
     float rho = length(vec2(xa, yb));
+    gRho = rho;
     float z = vol.originAxis.y + d.z;
     float lonDeg = degrees(vol.originAxis.z + atan(yb, xa));
     lonDeg = vol.lonRange.x + mod(lonDeg - vol.lonRange.x, 360.0);
@@ -98,18 +111,25 @@ vec3 normalised(vec3 geo) {
 // The field at a position; false outside the box or where there is no data.
 bool sampleGeo(vec3 geo, out float value) {
     value = 0.0;
-    if (geo.x > vol.lonRange.y || geo.y < vol.latRange.x || geo.y > vol.latRange.y || geo.z < vol.latRange.z ||
-        geo.z > vol.latRange.w)
-        return false;
-    vec3 tc = vec3(axisCoord(0, geo.x, vol.lonRange.x, vol.lonRange.y, vol.samples.x, vol.axisUniform.x > 0.5),
-                   axisCoord(1, geo.y, vol.latRange.x, vol.latRange.y, vol.samples.y, vol.axisUniform.y > 0.5),
-                   axisCoord(2, geo.z, vol.latRange.z, vol.latRange.w, vol.samples.z, vol.axisUniform.z > 0.5));
+    gInBox = !(geo.x > vol.lonRange.y || geo.y < vol.latRange.x || geo.y > vol.latRange.y || geo.z < vol.latRange.z ||
+               geo.z > vol.latRange.w);
+    vec3 tc = vec3(axisCoord(0, geo.x, vol.lonRange.x, vol.lonRange.y, vol.samples.x, (kUniformAxes & 1) != 0),
+                   axisCoord(1, geo.y, vol.latRange.x, vol.latRange.y, vol.samples.y, (kUniformAxes & 2) != 0),
+                   axisCoord(2, geo.z, vol.latRange.z, vol.latRange.w, vol.samples.z, (kUniformAxes & 4) != 0));
+    // Its brick (a brick covers the voxels a linear sample reads): empty-space skipping.
+    if (kSkipEmpty) {
+        gVox = clamp(tc * vol.samples.xyz - 0.5, vec3(0.0), vol.samples.xyz - 1.0);
+        ivec3 b = min(ivec3(gVox / vol.bricks.w), ivec3(vol.bricks.xyz) - 1);
+        int brick = (b.z * int(vol.bricks.y) + b.y) * int(vol.bricks.x) + b.x;
+        gEmpty = gInBox && (brickBits[brick >> 5] & (1u << (brick & 31))) == 0u;
+    }
+    if (!gInBox) return false;
     // Time steps are stacked along z: step s occupies [s, s + 1) / steps, and tc.z stays half a
     // texel inside one step, so filtering never mixes steps.
     float steps = vol.timeInfo.w;
-    value = texture(field, vec3(tc.xy, (vol.timeInfo.x + tc.z) / steps)).r;
+    value = textureLod(field, vec3(tc.xy, (vol.timeInfo.x + tc.z) / steps), 0.0).r;
     if (kBlendSteps && vol.timeInfo.z > 0.0)
-        value = mix(value, texture(field, vec3(tc.xy, (vol.timeInfo.y + tc.z) / steps)).r, vol.timeInfo.z);
+        value = mix(value, textureLod(field, vec3(tc.xy, (vol.timeInfo.y + tc.z) / steps), 0.0).r, vol.timeInfo.z);
     return !isnan(value);
 }
 
@@ -117,7 +137,7 @@ bool sampleAt(float t, out float value) { return sampleGeo(geoAt(t), value); }
 
 vec4 transferAt(float value) {
     float f = clamp((value - vol.dataRange.x) * vol.dataRange.y, 0.0, 1.0);
-    return texture(transfer, (f * 255.0 + 0.5) / 256.0);
+    return textureLod(transfer, (f * 255.0 + 0.5) / 256.0, 0.0);
 }
 
 float isovalue(int i) { return vol.isovalues[i / 4][i % 4]; }
@@ -234,14 +254,32 @@ void compositeSample(inout vec4 acc, float value, float ds) {
 }
 
 // Next sample: the step follows the rate at which the box's coordinates change along the ray.
+// From a brick that shows nothing the ray jumps, in whole steps, to the first sample past the
+// brick (its exit extrapolated from the last two samples' voxel coordinates; the jump is kept
+// short enough that the curvature of (lon, lat, height) along the ray moves it < 1/4 voxel).
+float gJumpedFrom;   // > 0: the last advance jumped (the sample stands for one step, not the jump)
+vec3 gVoxPrev;
+bool gPrevIn;
 void advance(int i, float ds, float value, bool ok, vec3 n, float target, float dtMin, float dtMax) {
-    if (i > 0) gRate = ds / max(gT - gPrevT, 1e-6);
+    float span = max(gT - gPrevT, 1e-6);
+    if (i > 0) gRate = ds / span;
+    gDt = clamp(target / max(gRate, 1e-20), dtMin, min(dtMax, 2.0 * gDt));
+    float stepT = gDt;
+    if (kSkipEmpty && gEmpty && gPrevIn && i > 0) {
+        vec3 dv = (gVox - gVoxPrev) / span;   // voxels per metre
+        vec3 wall = (floor(gVox / vol.bricks.w) + step(0.0, dv)) * vol.bricks.w;
+        vec3 tw = mix(vec3(1e30), (wall - gVox) / dv, greaterThan(abs(dv), vec3(1e-20)));
+        float tJump = min(min(tw.x, tw.y), min(tw.z, min(vol.sliceInfo.y, gRho * vol.sliceInfo.z)));
+        stepT = (min(floor(max(tJump, 0.0) * 0.98 / gDt), 64.0) + 1.0) * gDt;
+    }
+    gJumpedFrom = stepT > 1.5 * gDt ? 1.0 : 0.0;
     gPrevT = gT;
     gPrevV = value;
     gPrevOk = ok;
     gNPrev = n;
-    gDt = clamp(target / max(gRate, 1e-20), dtMin, min(dtMax, 2.0 * gDt));
-    gT += gDt;
+    gVoxPrev = gVox;
+    gPrevIn = gInBox;
+    gT += stepT;
 }
 
 void main() {
@@ -313,6 +351,8 @@ void main() {
         gPrevT = t0;
         gPrevV = 0.0;
         gPrevOk = false;
+        gPrevIn = false;
+        gJumpedFrom = 0.0;
         int i = 0;
         // The march stops at each isosurface crossing, which is refined and shaded outside the
         // marching loop, then goes on. On SIMD devices (CPU rasterisers) every lane pays for
@@ -330,6 +370,7 @@ void main() {
                 vec3 geo = geoAt(gT);
                 n = normalised(geo);
                 ds = i == 0 ? target : length(n - gNPrev);
+                float dsSample = gJumpedFrom > 0.0 ? target : ds;
                 ok = sampleGeo(geo, value);
                 if (kIsoCount > 0 && ok && gPrevOk) {
                     // The nearest crossing in this step over all isovalues (by linear
@@ -344,13 +385,16 @@ void main() {
                     }
                     if (best <= 1.0) { found = true; break; }
                 }
-                if (kDvr && ok) compositeSample(acc, value, ds);
+                if (kDvr && ok) compositeSample(acc, value, dsSample);
                 if (acc.a >= 0.99) break;
                 advance(i, ds, value, ok, n, target, dtMin, dtMax);
             }
             if (!found) break;
             // The crossing between the previous sample and this one.
             float c = isovalue(hitIso);
+            vec3 saveVox = gVox;   // (the refinement and the normal sample elsewhere)
+            bool saveIn = gInBox, saveEmpty = gEmpty;
+            float saveRho = gRho;
             float tHit = kRefine ? refineCrossing(gPrevT, gPrevV, gT, value, c) : gT;
             if (kHitOutput && firstHit >= 1e29) firstHit = tHit;
             vec3 nrm = normalAt(tHit, max(0.25 * gDt, 0.5));
@@ -363,8 +407,9 @@ void main() {
             acc.rgb += (1.0 - acc.a) * alpha * lit;
             acc.a += (1.0 - acc.a) * alpha;
             if (acc.a >= 0.99) break;
+            gVox = saveVox, gInBox = saveIn, gEmpty = saveEmpty, gRho = saveRho;
             // This sample's own contribution, then on.
-            if (kDvr) compositeSample(acc, value, ds);
+            if (kDvr && ok) compositeSample(acc, value, gJumpedFrom > 0.0 ? target : ds);
             if (acc.a >= 0.99) break;
             advance(i, ds, value, ok, n, target, dtMin, dtMax);
             ++i;

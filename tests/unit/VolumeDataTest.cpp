@@ -99,6 +99,43 @@ TEST(BrickGrid, MinMaxCoverEachBrickAndItsFilterMargin) {
     EXPECT_GT(e.at(0, 0, 0).first, e.at(0, 0, 0).second);
 }
 
+TEST(BrickGrid, OccupancyFollowsTheTransferFunctionIsovaluesAndTime) {
+    // Four bricks along x with value ranges [0,1], [1,2], [2,3] and no data.
+    BrickGrid g;
+    g.bx = 4, g.by = 1, g.bz = 1;
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    g.minMax = {{0.0f, 1.0f}, {1.0f, 2.0f}, {2.0f, 3.0f}, {kInf, -kInf}};
+    // Opacity only above 2.5 (table over 0..4): only brick 2 can show.
+    TransferFunctionDesc tf;
+    tf.rangeMin = 0.0, tf.rangeMax = 4.0;
+    tf.opacity = {{0.0, 0.0}, {2.5, 0.0}, {3.0, 0.5}, {4.0, 0.5}};
+    const auto table = buildTransferTable(tf);
+    ASSERT_TRUE(table);
+    EXPECT_EQ(brickOccupancy(g, *table, 0.0, 4.0, true, {}), std::vector<uint32_t>{0b0100u});
+    // Without DVR only isovalues count: 1.5 lies in brick 1; 1.0 in bricks 0 and 1 (an isovalue
+    // equal to a brick's end); 9 in none. The no-data brick never shows.
+    EXPECT_EQ(brickOccupancy(g, *table, 0.0, 4.0, false, {1.5}), std::vector<uint32_t>{0b0010u});
+    EXPECT_EQ(brickOccupancy(g, *table, 0.0, 4.0, false, {1.0}), std::vector<uint32_t>{0b0011u});
+    EXPECT_EQ(brickOccupancy(g, *table, 0.0, 4.0, true, {1.0, 9.0}), std::vector<uint32_t>{0b0111u});
+    // The same table spread over 0..2 instead: opacity above 1.25. Brick 2 (values 2..3, past
+    // the end) reads the last entry (clamped); brick 1 reaches 2.
+    EXPECT_EQ(brickOccupancy(g, *table, 0.0, 2.0, true, {}), std::vector<uint32_t>{0b0110u});
+    // Time: the union over steps widens the ranges; brick 0 now reaches 2.6.
+    BrickGrid later = g;
+    later.minMax[0] = {2.6f, 2.6f};
+    mergeBrickGrid(g, later);
+    EXPECT_EQ(g.minMax[0], (std::pair<float, float>{0.0f, 2.6f}));
+    EXPECT_EQ(brickOccupancy(g, *table, 0.0, 4.0, true, {}), std::vector<uint32_t>{0b0101u});
+    // Bits past 32 bricks go to the next word.
+    BrickGrid big;
+    big.bx = 40, big.by = 1, big.bz = 1;
+    big.minMax.assign(40, {3.5f, 3.5f});
+    const auto bits = brickOccupancy(big, *table, 0.0, 4.0, true, {});
+    ASSERT_EQ(bits.size(), 2u);
+    EXPECT_EQ(bits[0], ~0u);
+    EXPECT_EQ(bits[1], 0xffu);
+}
+
 TEST(TransferFunction, ColourMapEndsOpacityPointsAndErrors) {
     TransferFunctionDesc d;
     d.colorMap = "greys";
