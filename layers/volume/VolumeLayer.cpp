@@ -392,8 +392,11 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
         if (exp >= 31) return uint16_t(sign | 0x7c00u);
         return uint16_t(sign | (uint32_t(exp) << 10) | (mant >> 13));
     };
-    for (size_t t = 0; t < 256; ++t)
-        for (size_t c = 0; c < 4; ++c) tf[t * 4 + c] = half((*table)[t][c]);
+    // Colour, and log2(1 - alpha) for the ray caster's opacity correction (one exp2 a sample).
+    for (size_t t = 0; t < 256; ++t) {
+        for (size_t c = 0; c < 3; ++c) tf[t * 4 + c] = half((*table)[t][c]);
+        tf[t * 4 + 3] = half(float(std::log2(1.0 - std::min(double((*table)[t][3]), 0.9999))));
+    }
     gpu::ImageDesc td;
     td.type = VK_IMAGE_TYPE_1D;
     td.viewType = VK_IMAGE_VIEW_TYPE_1D;

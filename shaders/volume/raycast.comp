@@ -243,12 +243,13 @@ float gT, gDt, gRate, gPrevT, gPrevV;
 bool gPrevOk;
 vec3 gNPrev;
 
-// Front-to-back compositing of one DVR sample standing for `ds` of the normalised box.
+// Front-to-back compositing of one DVR sample standing for `ds` of the normalised box. The
+// table's alpha channel holds log2(1 - alpha) (alpha clamped to 0.9999): the opacity of a step
+// of any length is one exp2 (no per-sample log).
 void compositeSample(inout vec4 acc, float value, float ds) {
     vec4 tf = transferAt(value);
-    float alpha = clamp(tf.a * vol.dataRange.z, 0.0, 1.0);
     // Opacity per 1/march.z of the normalised box, whatever the step.
-    alpha = 1.0 - pow(1.0 - min(alpha, 0.9999), min(ds, 2.0) * vol.march.z);
+    float alpha = 1.0 - exp2(tf.a * (min(ds, 2.0) * vol.march.z));
     acc.rgb += (1.0 - acc.a) * alpha * tf.rgb;
     acc.a += (1.0 - acc.a) * alpha;
 }
