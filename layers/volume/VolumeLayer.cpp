@@ -710,6 +710,17 @@ std::vector<float> VolumeLayer::hitDistances() const {
     return std::vector<float>(p, p + hitReadback_.size() / sizeof(float));
 }
 
+glm::dvec3 VolumeLayer::voxelAt(const glm::dvec3& ecef) const {
+    const globe::Geodetic g = globe::Ellipsoid::wgs84().toGeodetic(ecef);
+    const double first = lonAxis_.front();
+    const double lon = first + std::fmod(std::fmod(g.lonDeg - first, 360.0) + 360.0, 360.0);
+    const double coords[3] = {lon, g.latDeg, g.height / settings_.verticalExaggeration};
+    const std::vector<double>* axes[3] = {&lonAxis_, &field_.latDeg, &field_.heightM};
+    glm::dvec3 v(0.0);
+    for (int a = 0; a < 3; ++a) v[a] = lookups_[a].exact(*axes[a], coords[a]) * double(axes[a]->size()) - 0.5;
+    return v;
+}
+
 void VolumeLayer::record(scene::Pass, const scene::RecordContext& rc) {
     if (!castImage_ || !boundDepth_) return;
     VkCommandBuffer cmd = rc.cmd;

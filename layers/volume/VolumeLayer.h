@@ -109,6 +109,9 @@ public:
     void setMeasurement(bool hitOutput, bool refine) { hitOutput_ = hitOutput, refine_ = refine; }
     /// The distances written by the last frame (after it completed), row by row.
     std::vector<float> hitDistances() const;
+    /// Fractional voxel coordinates (along lon, lat, height; sample i at i) of an ECEF point,
+    /// in double precision: to measure how far apart two hits are, in voxels.
+    glm::dvec3 voxelAt(const glm::dvec3& ecef) const;
 
     const VolumeField& field() const { return field_; }
     size_t timeSteps() const { return 1 + moreSteps_.size(); }

@@ -3,6 +3,7 @@
 #include "tests/support/GpuTest.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <array>
 #include <cstdio>
@@ -185,6 +186,31 @@ TEST_F(CliGpu, BenchSweepReportsErrorAgainstRunTimeAndWritesAPlot) {
     const CliRun bad = run(std::string("bench ") + ORBIS_DEFAULT_SCENE + " --sweep noSuchKnob=1,2 --frames 1 --size 64x48");
     EXPECT_EQ(bad.exitCode, 1) << bad.output;
     EXPECT_NE(bad.output.find("noSuchKnob"), std::string::npos) << bad.output;
+}
+
+TEST_F(CliGpu, BenchIsoErrorReportsPositionErrorAgainstSteps) {
+    // The sphere field's isosurface 16 (a sphere of 16 voxels), coarse and fine, with and
+    // without refinement: refined hits sit on the reference's to a small fraction of a voxel;
+    // unrefined ones are off by about half a step.
+    const fs::path scene = tempFile("iso-error.json", R"({"viewpoint": {"lon": 0, "lat": 50, "height": 100000, "pitch": -35,
+        "range": 4500000}, "layers": [{"type": "volume", "name": "Sphere", "synthetic": {"field": "sphere",
+        "size": [48, 48, 48], "lon": [-10, 10], "lat": [40, 60], "height": [0, 800000]}, "mode": ["iso"], "isovalues": [16]}]})");
+    const CliRun r = run("bench " + scene.string() + " --iso-error 25,100 --frames 1 --warmup 0 --size 96x72 --json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const auto json = nlohmann::json::parse(r.output.substr(r.output.find('{'), r.output.rfind('}') - r.output.find('{') + 1));
+    ASSERT_EQ(json["rows"].size(), 4u) << r.output;
+    EXPECT_EQ(json["reference_steps"], 400);
+    for (const auto& row : json["rows"]) {
+        const double median = row["median_voxels"].get<double>();
+        if (row["refine"].get<bool>()) EXPECT_LT(median, 0.1) << row.dump();
+        else EXPECT_GT(median, 0.1) << row.dump();
+    }
+    // Unrefined: coarser steps are further off.
+    EXPECT_GT(json["rows"][0]["median_voxels"].get<double>(), json["rows"][2]["median_voxels"].get<double>());
+    // A scene without an isosurface is a clear error.
+    const CliRun bad = run(std::string("bench ") + ORBIS_DEFAULT_SCENE + " --iso-error 25,50 --frames 1 --size 64x48");
+    EXPECT_EQ(bad.exitCode, 1) << bad.output;
+    EXPECT_NE(bad.output.find("mode \"iso\""), std::string::npos) << bad.output;
 }
 
 TEST_F(CliGpu, BenchFollowsACameraPath) {
