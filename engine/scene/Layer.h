@@ -95,6 +95,9 @@ public:
     /// Sets a numeric quality knob by name (benchmark sweeps: "maxScreenSpaceError", ...).
     /// False when the layer has no such knob.
     virtual bool setParameter(std::string_view /*name*/, double /*value*/) { return false; }
+    /// Sets a named setting given as text (a colour map's name, ...), live. False when the
+    /// layer has no such setting or the value is not one of its choices.
+    virtual bool setOption(std::string_view /*name*/, std::string_view /*value*/) { return false; }
     /// Height of the ground (metres above the ellipsoid, as drawn) at a point, for layers that
     /// are ground (terrain); nothing where the layer knows no height. Main thread only.
     virtual std::optional<double> groundHeightAt(double /*lonDeg*/, double /*latDeg*/) const { return std::nullopt; }

@@ -375,28 +375,10 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
     fd.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     fd.name = "volume field";
     fieldImage_ = gpu::Image(device, fd);
-    auto table = buildTransferTable(settings_.transfer, 256);
-    transferTable_ = *table;
-    updateOccupancy();
+    std::vector<uint16_t> tf = transferTexels();
     occupancyBuffer_ = gpu::Buffer(device, occupancy_.size() * sizeof(uint32_t),
                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                    gpu::MemoryUsage::GpuOnly, "volume brick bits");
-    std::vector<uint16_t> tf(256 * 4);
-    const auto half = [](float v) {   // IEEE half from float (values in 0..1)
-        uint32_t bits;
-        std::memcpy(&bits, &v, 4);
-        const uint32_t sign = (bits >> 16) & 0x8000u;
-        const int exp = int((bits >> 23) & 0xff) - 127 + 15;
-        const uint32_t mant = bits & 0x7fffffu;
-        if (exp <= 0) return uint16_t(sign);
-        if (exp >= 31) return uint16_t(sign | 0x7c00u);
-        return uint16_t(sign | (uint32_t(exp) << 10) | (mant >> 13));
-    };
-    // Colour, and log2(1 - alpha) for the ray caster's opacity correction (one exp2 a sample).
-    for (size_t t = 0; t < 256; ++t) {
-        for (size_t c = 0; c < 3; ++c) tf[t * 4 + c] = half((*table)[t][c]);
-        tf[t * 4 + 3] = half(float(std::log2(1.0 - std::min(double((*table)[t][3]), 0.9999))));
-    }
     gpu::ImageDesc td;
     td.type = VK_IMAGE_TYPE_1D;
     td.viewType = VK_IMAGE_VIEW_TYPE_1D;
@@ -674,6 +656,14 @@ void VolumeLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
     uniformBuffers_[rc.slot].write(&u, sizeof(u));
 
     VkCommandBuffer cmd = rc.cmd;
+    if (transferDirty_) {
+        // After the earlier frames' reads (the transitions wait for them); before this frame's.
+        const std::vector<uint16_t> tf = transferTexels();
+        services_->uploader->toImage(cmd, transferImage_, tf.data(), tf.size() * sizeof(uint16_t));
+        gpu::transition(cmd, transferImage_, gpu::ImageUse::SampledCompute);
+        transferDirty_ = false;
+        occupancyDirty_ = true;
+    }
     if (occupancyDirty_) {
         // After the earlier frames' reads; before this frame's.
         updateOccupancy();
@@ -758,6 +748,25 @@ bool VolumeLayer::setParameter(std::string_view name, double value) {
         occupancyDirty_ = true;
         return true;
     }
+    if (name == "opacityUnit") {
+        if (!(value >= 1e-6 && value <= 10.0)) return false;
+        settings_.opacityUnit = value;
+        return true;
+    }
+    if (name == "rangeMin" || name == "rangeMax") {
+        auto& t = settings_.transfer;
+        const double lo = name == "rangeMin" ? value : t.rangeMin, hi = name == "rangeMax" ? value : t.rangeMax;
+        if (!(hi > lo)) return false;
+        t.rangeMin = lo, t.rangeMax = hi;
+        transferDirty_ = true;
+        return true;
+    }
+    if (name == "opacityScale") {
+        if (!(value >= 0.0 && value <= 1000.0)) return false;
+        settings_.transfer.opacityScale = value;
+        transferDirty_ = true;
+        return true;
+    }
     if (name == "emptySkipping") {
         settings_.emptySkipping = value != 0.0;
         occupancyDirty_ = true;
@@ -771,12 +780,42 @@ bool VolumeLayer::setParameter(std::string_view name, double value) {
     return false;
 }
 
+std::vector<uint16_t> VolumeLayer::transferTexels() {
+    auto table = buildTransferTable(settings_.transfer, 256);
+    if (table) transferTable_ = std::move(table).value();   // (the settings were checked: it builds)
+    updateOccupancy();
+    const auto half = [](float v) {   // IEEE half from float (|v| < 65504)
+        uint32_t bits;
+        std::memcpy(&bits, &v, 4);
+        const uint32_t sign = (bits >> 16) & 0x8000u;
+        const int exp = int((bits >> 23) & 0xff) - 127 + 15;
+        const uint32_t mant = bits & 0x7fffffu;
+        if (exp <= 0) return uint16_t(sign);
+        if (exp >= 31) return uint16_t(sign | 0x7c00u);
+        return uint16_t(sign | (uint32_t(exp) << 10) | (mant >> 13));
+    };
+    // Colour, and log2(1 - alpha) for the ray caster's opacity correction (one exp2 a sample).
+    std::vector<uint16_t> tf(transferTable_.size() * 4);
+    for (size_t t = 0; t < transferTable_.size(); ++t) {
+        for (size_t c = 0; c < 3; ++c) tf[t * 4 + c] = half(transferTable_[t][c]);
+        tf[t * 4 + 3] = half(float(std::log2(1.0 - std::min(double(transferTable_[t][3]), 0.9999))));
+    }
+    return tf;
+}
+
 void VolumeLayer::updateOccupancy() {
     occupancy_ = brickOccupancy(bricks_, transferTable_, settings_.transfer.rangeMin, settings_.transfer.rangeMax,
                                 settings_.dvr, settings_.isovalues);
     if (!settings_.emptySkipping) std::fill(occupancy_.begin(), occupancy_.end(), ~0u);
     if (occupancy_.empty()) occupancy_.push_back(0u);
     occupancyDirty_ = false;
+}
+
+bool VolumeLayer::setOption(std::string_view name, std::string_view value) {
+    if (name != "colorMap" || !hasColorMap(std::string(value))) return false;
+    settings_.transfer.colorMap = std::string(value);
+    transferDirty_ = true;
+    return true;
 }
 
 std::string VolumeLayer::status() const {

@@ -97,10 +97,14 @@ public:
     void recordCompute(scene::Pass pass, const scene::RecordContext& context) override;
     void record(scene::Pass pass, const scene::RecordContext& context) override;
     uint64_t gpuBytes() const override;
-    /// "steps", "isovalue" / "isovalue0".."isovalue7", "slice0".."slice3" (the slice's lon, lat
-    /// or height): uniforms only, the field is not re-uploaded (an isovalue refreshes the brick
-    /// bits, 1 bit per brick). "emptySkipping" 0 or 1.
+    /// Live edits; the field is never re-uploaded. Uniforms only: "steps", "isovalue" /
+    /// "isovalue0".."isovalue7" (also refreshes the brick bits, 1 bit per brick), "slice0"..
+    /// "slice3" (the slice's lon, lat or height), "opacityUnit". The transfer function (a
+    /// 256-entry table and the brick bits): "rangeMin", "rangeMax", "opacityScale".
+    /// "emptySkipping" 0 or 1.
     bool setParameter(std::string_view name, double value) override;
+    /// "colorMap": one of colorMapNames() (rebuilds the 256-entry table).
+    bool setOption(std::string_view name, std::string_view value) override;
     std::string status() const override;
 
     /// Measurement (tests, benchmarks), set before the first frame: write each ray's first
@@ -151,6 +155,8 @@ private:
     std::vector<std::array<float, 4>> transferTable_;
     std::vector<uint32_t> occupancy_;
     bool occupancyDirty_ = false;
+    bool transferDirty_ = false;   // the table changed: rebuilt and uploaded with the next frame
+    std::vector<uint16_t> transferTexels();   // rebuilds transferTable_; RGBA16F texels
     bool skipEmpty_ = false;   // the pipeline tests bricks
     gpu::Buffer occupancyBuffer_;
     void updateOccupancy();

@@ -196,6 +196,38 @@ TEST_F(VolumeRender, EmptySkippingLeavesTheImageAlone) {
     }
 }
 
+TEST_F(VolumeRender, TransferFunctionEditsApplyLive) {
+    // After a first frame, the colour map, the range and the opacity scale change: the next
+    // frame matches a scene built with those settings (its second frame: the jitter follows
+    // the frame count). A range ending at 20 makes values above 20 read the table's last,
+    // non-zero opacity, so bricks skipped before now show: the brick bits follow the table.
+    auto live = load(volumeScene(kOblique, sphereVolume()));
+    ASSERT_TRUE(live);
+    auto& layer = dynamic_cast<layers::VolumeLayer&>(*live->resources().back().layer);
+    render::Renderer renderer(device(), 320, 240);
+    const auto before = renderOnce(renderer, *live);
+    EXPECT_TRUE(layer.skipsEmptyBricks());
+    EXPECT_TRUE(layer.setOption("colorMap", "magma"));
+    EXPECT_TRUE(layer.setParameter("rangeMin", 2.0));
+    EXPECT_TRUE(layer.setParameter("rangeMax", 20.0));
+    EXPECT_TRUE(layer.setParameter("opacityScale", 1.5));
+    // Bad edits change nothing.
+    EXPECT_FALSE(layer.setOption("colorMap", "jet"));
+    EXPECT_FALSE(layer.setOption("colourMap", "magma"));
+    EXPECT_FALSE(layer.setParameter("rangeMin", 25.0));   // above the maximum
+    EXPECT_FALSE(layer.setParameter("opacityScale", -1.0));
+    const auto after = renderOnce(renderer, *live);
+    EXPECT_GT(differing(after, before), 1000u);
+
+    auto built = load(volumeScene(
+        kOblique, sphereVolume(R"(, "range": [2, 20], "opacityScale": 1.5)").replace(
+                      sphereVolume().find("viridis"), 7, "magma")));
+    ASSERT_TRUE(built);
+    render::Renderer renderer2(device(), 320, 240);
+    (void)renderOnce(renderer2, *built);
+    EXPECT_EQ(differing(renderOnce(renderer2, *built), after, 0), 0u);
+}
+
 TEST_F(VolumeRender, MoreStepsConvergeToTheReference) {
     // Error against the 1600-step image falls as the step count grows.
     const auto reference = render(volumeScene(kOblique, sphereVolume(R"(, "steps": 1600)")));
