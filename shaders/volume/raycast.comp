@@ -1,5 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 #include "shared/FrameUniforms.h"
 #include "shared/VolumeTypes.h"
 
@@ -218,7 +219,7 @@ vec4 gSliceC[8];
 
 float nearestSlice() {
     float t = 1e30;
-    for (int k = 0; k < 2 * kSliceCount; ++k) t = min(t, gSliceT[k]);
+    [[unroll]] for (int k = 0; k < 2 * kSliceCount; ++k) t = min(t, gSliceT[k]);
     return t;
 }
 
@@ -226,7 +227,7 @@ float nearestSlice() {
 float compositeNearestSlice(inout vec4 acc) {
     float t = nearestSlice();
     bool done = false;
-    for (int k = 0; k < 2 * kSliceCount; ++k) {
+    [[unroll]] for (int k = 0; k < 2 * kSliceCount; ++k) {
         if (!done && gSliceT[k] == t) {
             vec4 c = gSliceC[k];
             acc.rgb += (1.0 - acc.a) * c.a * c.rgb;
@@ -312,12 +313,13 @@ void main() {
     segments[1] = bottom.x < bottom.y && bottom.y > top.x && bottom.y < top.y ? vec2(bottom.y, top.y) : vec2(1e30, -1e30);
 
     // Slice hits in front of the scene, inside the box. The arrays are only ever indexed with
-    // loop counters of constant trip count (unrolled), never with data: dynamic indexing is
-    // very slow on CPU rasterisers.
-    for (int k = 0; k < 8; ++k) gSliceT[k] = 1e30;
-    for (int i = 0; i < kSliceCount; ++i) {
+    // loop counters of constant trip count, unrolled on request ([[unroll]]: lavapipe leaves
+    // loops this large rolled), never with data: dynamic indexing is very slow on CPU
+    // rasterisers (slices 143 -> 50 ms at 960x540 with the loops unrolled).
+    [[unroll]] for (int k = 0; k < 8; ++k) gSliceT[k] = 1e30;
+    [[unroll]] for (int i = 0; i < kSliceCount; ++i) {
         vec2 hits = sliceHits(i);
-        for (int j = 0; j < 2; ++j) {
+        [[unroll]] for (int j = 0; j < 2; ++j) {
             float th = hits[j];
             if (!(th >= tEnter && th <= tExit) || th >= 1e29) continue;
             vec3 geo = geoAt(th);
@@ -377,7 +379,7 @@ void main() {
                     // The nearest crossing in this step over all isovalues (by linear
                     // interpolation; the chosen one is refined below).
                     float best = 2.0;
-                    for (int k = 0; k < kIsoCount; ++k) {
+                    [[unroll]] for (int k = 0; k < kIsoCount; ++k) {
                         float c = isovalue(k);
                         if ((gPrevV - c) * (value - c) < 0.0 || (value == c && gPrevV != c)) {
                             float f = (c - gPrevV) / (value - gPrevV);
