@@ -23,6 +23,27 @@
 
 namespace orbis::layers {
 
+namespace {
+
+/// IEEE half from a float, rounded to nearest even; NaN stays NaN, overflow becomes infinity,
+/// values below the smallest normal half flush to zero.
+uint16_t halfFloat(float v) {
+    uint32_t bits;
+    std::memcpy(&bits, &v, 4);
+    const uint32_t sign = (bits >> 16) & 0x8000u;
+    const uint32_t absBits = bits & 0x7fffffffu;
+    if (absBits > 0x7f800000u) return uint16_t(sign | 0x7e00u);   // NaN
+    const int exp = int(absBits >> 23) - 127 + 15;
+    if (exp >= 31) return uint16_t(sign | 0x7c00u);
+    if (exp <= 0) return uint16_t(sign);
+    uint32_t h = (uint32_t(exp) << 10) | ((absBits & 0x7fffffu) >> 13);
+    const uint32_t rest = absBits & 0x1fffu;
+    if (rest > 0x1000u || (rest == 0x1000u && (h & 1u))) ++h;   // (a carry rounds up the exponent)
+    return uint16_t(sign | std::min(h, 0x7c00u));
+}
+
+}  // namespace
+
 // ---------------------------------------------------------------------------------------------
 // Synthetic fields
 
@@ -254,6 +275,10 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
     s.transfer.opacityScale = r.number("opacityScale", 1.0, 0.0, 1000.0).value_or(1.0);
     s.verticalExaggeration = r.number("verticalExaggeration", 1.0, 0.001, 10000.0).value_or(1.0);
     s.emptySkipping = r.boolean("emptySkipping", true).value_or(true);
+    if (auto format = r.string("fieldFormat", std::string("float32"))) {
+        if (*format == "float16") s.halfField = true;
+        else if (*format != "float32") r.fail("fieldFormat", "expected \"float32\" or \"float16\"");
+    }
     if (auto done = r.finish(); !done) return done.error();
 
     if (s.rangeFromData) {
@@ -326,6 +351,20 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
         if (st == 0) bricks_ = std::move(g);
         else mergeBrickGrid(bricks_, g);
     }
+    // Half floats: values relative to the data's range; the bricks widen by the rounding.
+    std::vector<uint16_t> halves;
+    fieldScale_ = glm::dvec2(1.0, 0.0);
+    if (settings_.halfField) {
+        const double lo = field_.validCount ? field_.minValue : 0.0, hi = field_.validCount ? field_.maxValue : 1.0;
+        fieldScale_ = glm::dvec2(hi > lo ? 0.5 * (hi - lo) : 1.0, 0.5 * (lo + hi));
+        halves.resize(texels.size());
+        for (size_t i = 0; i < texels.size(); ++i)
+            halves[i] = halfFloat(float((double(texels[i]) - fieldScale_.y) / fieldScale_.x));
+        const float widen = float(fieldScale_.x * std::ldexp(1.0, -10));
+        for (auto& mm : bricks_.minMax)
+            if (mm.first <= mm.second) mm.first -= widen, mm.second += widen;
+        std::vector<float>().swap(texels);
+    }
 
     // The box's frame: origin on the bottom surface at the box's centre; bounds from a dense
     // sample of its boundary (the top bulges outward between samples: a margin covers it).
@@ -370,7 +409,7 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
     gpu::ImageDesc fd;
     fd.type = VK_IMAGE_TYPE_3D;
     fd.viewType = VK_IMAGE_VIEW_TYPE_3D;
-    fd.format = VK_FORMAT_R32_SFLOAT;
+    fd.format = settings_.halfField ? VK_FORMAT_R16_SFLOAT : VK_FORMAT_R32_SFLOAT;
     fd.extent = {uint32_t(gx), uint32_t(ny), uint32_t(nz * steps)};
     fd.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     fd.name = "volume field";
@@ -391,7 +430,8 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                               gpu::MemoryUsage::GpuOnly, "volume axis tables");
     device.runOnce([&](VkCommandBuffer cmd) {
-        services.uploader->toImage(cmd, fieldImage_, texels.data(), texels.size() * sizeof(float));
+        if (settings_.halfField) services.uploader->toImage(cmd, fieldImage_, halves.data(), halves.size() * sizeof(uint16_t));
+        else services.uploader->toImage(cmd, fieldImage_, texels.data(), texels.size() * sizeof(float));
         services.uploader->toImage(cmd, transferImage_, tf.data(), tf.size() * sizeof(uint16_t));
         services.uploader->toBuffer(cmd, axisBuffer_, axisTable.data(), axisTable.size() * sizeof(float));
         services.uploader->toBuffer(cmd, occupancyBuffer_, occupancy_.data(), occupancy_.size() * sizeof(uint32_t));
@@ -608,7 +648,7 @@ void VolumeLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
     u.bricks = glm::vec4(float(bricks_.bx), float(bricks_.by), float(bricks_.bz), float(bricks_.size));
     u.samples = glm::vec4(float(lonAxis_.size()), float(field_.ny()), float(field_.nz()), float((1.0 - ell.flattening()) * (1.0 - ell.flattening())));
     u.forward = glm::vec4(glm::vec3(forward), float(a));
-    u.radii = glm::vec4(0.0f, 0.0f, float(b), float(settings_.isoOpacity));
+    u.radii = glm::vec4(float(fieldScale_.x), float(fieldScale_.y), float(b), float(settings_.isoOpacity));
     const auto shell = [&](double height, glm::vec4& scaled) {
         const glm::dvec3 inv(1.0 / (a + height), 1.0 / (a + height), 1.0 / (b + height));
         const glm::dvec3 os = origin_ * inv;
@@ -721,7 +761,8 @@ void VolumeLayer::record(scene::Pass, const scene::RecordContext& rc) {
 }
 
 uint64_t VolumeLayer::gpuBytes() const {
-    uint64_t bytes = uint64_t(lonAxis_.size()) * field_.ny() * field_.nz() * 4 * (1 + moreSteps_.size()) + 256 * 8 +
+    uint64_t bytes = uint64_t(lonAxis_.size()) * field_.ny() * field_.nz() * (settings_.halfField ? 2 : 4) *
+                         (1 + moreSteps_.size()) + 256 * 8 +
                      3 * shader::kVolumeAxisTable * 4;
     if (castImage_) bytes += uint64_t(castImage_.extent().width) * castImage_.extent().height * 8;
     return bytes;
@@ -784,21 +825,11 @@ std::vector<uint16_t> VolumeLayer::transferTexels() {
     auto table = buildTransferTable(settings_.transfer, 256);
     if (table) transferTable_ = std::move(table).value();   // (the settings were checked: it builds)
     updateOccupancy();
-    const auto half = [](float v) {   // IEEE half from float (|v| < 65504)
-        uint32_t bits;
-        std::memcpy(&bits, &v, 4);
-        const uint32_t sign = (bits >> 16) & 0x8000u;
-        const int exp = int((bits >> 23) & 0xff) - 127 + 15;
-        const uint32_t mant = bits & 0x7fffffu;
-        if (exp <= 0) return uint16_t(sign);
-        if (exp >= 31) return uint16_t(sign | 0x7c00u);
-        return uint16_t(sign | (uint32_t(exp) << 10) | (mant >> 13));
-    };
     // Colour, and log2(1 - alpha) for the ray caster's opacity correction (one exp2 a sample).
     std::vector<uint16_t> tf(transferTable_.size() * 4);
     for (size_t t = 0; t < transferTable_.size(); ++t) {
-        for (size_t c = 0; c < 3; ++c) tf[t * 4 + c] = half(transferTable_[t][c]);
-        tf[t * 4 + 3] = half(float(std::log2(1.0 - std::min(double(transferTable_[t][3]), 0.9999))));
+        for (size_t c = 0; c < 3; ++c) tf[t * 4 + c] = halfFloat(transferTable_[t][c]);
+        tf[t * 4 + 3] = halfFloat(float(std::log2(1.0 - std::min(double(transferTable_[t][3]), 0.9999))));
     }
     return tf;
 }

@@ -66,6 +66,11 @@ struct VolumeSettings {
     double verticalExaggeration = 1.0;
     /// Rays jump over bricks that show nothing under the transfer function and isovalues.
     bool emptySkipping = true;
+    /// The field on the GPU: "float32" (exact) or "float16": half the memory and ~10 % faster
+    /// on lavapipe; values are stored relative to the data's range (mid-range 0, ends +-1),
+    /// so they keep 11 significant bits of the range (0.05 % at its ends, finer near the middle);
+    /// no data stays NaN.
+    bool halfField = false;
 };
 
 /// A synthetic field for tests and benchmarks: "sphere" is the distance from the grid's centre
@@ -141,6 +146,7 @@ private:
     // The curved box in its frame (double on the CPU).
     glm::dvec3 origin_{0.0};
     glm::dvec3 boxMin_{0.0}, boxMax_{0.0};
+    glm::dvec2 fieldScale_{1.0, 0.0};   // value = stored * x + y
     glm::dvec2 jumpLimit_{0.0};   // longest jump over empty bricks: metres; per metre from the axis
     double shellLow_ = 0.0, shellHigh_ = 0.0;   // drawn heights of the shell's surfaces (m)
     std::vector<double> lonAxis_;   // with the wrap column when the field is periodic

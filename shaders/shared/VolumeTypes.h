@@ -1,5 +1,5 @@
 // Volume ray casting (compute, before the volume pass) and its composite (fragment, in the pass).
-// Set 1 bindings: 0 VolumeUniforms (per frame), 1 the field (sampler3D, R32F, NaN = no data),
+// Set 1 bindings: 0 VolumeUniforms (per frame), 1 the field (sampler3D, R32F or R16F, NaN = no data),
 // 2 axis lookup tables (storage buffer), 3 transfer function (sampler1D), 4 scene depth
 // (sampler2D), 5 the ray-cast image (rgba16f storage, premultiplied), 6 the same image sampled
 // by the composite, 7 first-hit distances (measurement), 8 one bit per brick: can it show
@@ -31,7 +31,7 @@ struct VolumeUniforms {
     vec4 bricks;            // xyz: bricks along lon, lat, height (min/max bricks, one bit each); w: brick size (voxels)
     vec4 samples;           // x, y, z: samples in lon (incl. a wrap column), lat, height; w: 1 - e^2
     vec4 forward;           // xyz: view direction (world); w: equatorial radius a
-    vec4 radii;             // x: inner bound radius, y: outer bound radius (metres from the Earth centre), z: polar radius b, w: isosurface opacity
+    vec4 radii;             // x, y: field value = stored * x + y (half floats are stored relative to the range); z: polar radius b, w: isosurface opacity
     vec4 isovalues[2];      // up to kVolumeMaxIso isovalues (the pipeline's kIsoCount are used)
     // The height range as two surfaces (ellipsoids with semi-axes a + H, b + H, H the drawn
     // bottom and top heights): rays are clipped to the shell between them, in a form relative to

@@ -131,6 +131,7 @@ bool sampleGeo(vec3 geo, out float value) {
     value = textureLod(field, vec3(tc.xy, (vol.timeInfo.x + tc.z) / steps), 0.0).r;
     if (kBlendSteps && vol.timeInfo.z > 0.0)
         value = mix(value, textureLod(field, vec3(tc.xy, (vol.timeInfo.y + tc.z) / steps), 0.0).r, vol.timeInfo.z);
+    value = value * vol.radii.x + vol.radii.y;   // half-float fields are stored relative to the range
     return !isnan(value);
 }
 

@@ -228,6 +228,32 @@ TEST_F(VolumeRender, TransferFunctionEditsApplyLive) {
     EXPECT_EQ(differing(renderOnce(renderer2, *built), after, 0), 0u);
 }
 
+TEST_F(VolumeRender, HalfFloatFieldsMatchFloatFields) {
+    // "fieldFormat": "float16" stores the field relative to its range in half floats: the image
+    // stays within a level or two of the float32 one, isosurfaces stay put, no data stays
+    // transparent (NaN survives), and the field takes half the memory.
+    const auto compare = [&](const std::string& extra, double maxRmse) {
+        auto full = load(volumeScene(kOblique, sphereVolume(extra)));
+        auto half = load(volumeScene(kOblique, sphereVolume(extra + R"(, "fieldFormat": "float16")")));
+        ASSERT_TRUE(full && half);
+        render::Renderer r1(device(), 320, 240), r2(device(), 320, 240);
+        const auto a = renderOnce(r1, *full), b = renderOnce(r2, *half);
+        ASSERT_EQ(a.pixels.size(), b.pixels.size());
+        double sum = 0.0;
+        for (size_t i = 0; i < a.pixels.size(); ++i) sum += std::pow(double(a.pixels[i]) - double(b.pixels[i]), 2.0);
+        EXPECT_LT(std::sqrt(sum / double(a.pixels.size())), maxRmse) << extra;
+        EXPECT_LT(differing(a, b, 6), a.pixels.size() / 4 / 1000) << extra;
+        const auto bytes = [](scene::Scene& s) { return s.resources().back().layer->gpuBytes(); };
+        EXPECT_EQ(bytes(*full) - bytes(*half), uint64_t(48 * 48 * 48 * 2)) << extra;   // 2 of 4 bytes a voxel
+    };
+    compare("", 0.5);
+    compare(R"(, "mode": ["iso"], "isovalues": [16])", 0.5);
+    const std::string emptyHalf =
+        R"({"type": "volume", "name": "E", "synthetic": {"field": "empty", "size": [8, 8, 8], "lon": [-10, 10], )"
+        R"("lat": [40, 60], "height": [0, 800000]}, "fieldFormat": "float16"})";
+    EXPECT_EQ(differing(render(volumeScene(kOblique, emptyHalf)), render(volumeScene(kOblique, ""))), 0u);
+}
+
 TEST_F(VolumeRender, MoreStepsConvergeToTheReference) {
     // Error against the 1600-step image falls as the step count grows.
     const auto reference = render(volumeScene(kOblique, sphereVolume(R"(, "steps": 1600)")));
@@ -528,6 +554,7 @@ TEST(VolumeSettings, BadScenesNameTheKeyAndTheProblem) {
         {R"({"type": "volume", "synthetic": {"times": ["yesterday"]}})", "ISO 8601"},
         {R"({"type": "volume", "synthetic": {}, "opacityUnit": 0})", "/layers/0/opacityUnit"},
         {R"({"type": "volume", "synthetic": {}, "emptySkipping": "yes"})", "/layers/0/emptySkipping"},
+        {R"({"type": "volume", "synthetic": {}, "fieldFormat": "float8"})", "expected \"float32\" or \"float16\""},
     };
     for (const auto& c : cases) {
         const std::string message = build(c.layer);
