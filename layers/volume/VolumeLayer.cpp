@@ -415,6 +415,7 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
     fd.name = "volume field";
     fieldImage_ = gpu::Image(device, fd);
     std::vector<uint16_t> tf = transferTexels();
+    updateOccupancy();
     occupancyBuffer_ = gpu::Buffer(device, occupancy_.size() * sizeof(uint32_t),
                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                    gpu::MemoryUsage::GpuOnly, "volume brick bits");
@@ -824,7 +825,6 @@ bool VolumeLayer::setParameter(std::string_view name, double value) {
 std::vector<uint16_t> VolumeLayer::transferTexels() {
     auto table = buildTransferTable(settings_.transfer, 256);
     if (table) transferTable_ = std::move(table).value();   // (the settings were checked: it builds)
-    updateOccupancy();
     // Colour, and log2(1 - alpha) for the ray caster's opacity correction (one exp2 a sample).
     std::vector<uint16_t> tf(transferTable_.size() * 4);
     for (size_t t = 0; t < transferTable_.size(); ++t) {
