@@ -4,6 +4,7 @@
 #include "engine/gpu/Barriers.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
+#include "layers/globe/SkyPipeline.h"
 #include "engine/gpu/Uploader.h"
 #include "engine/scene/JsonReader.h"
 #include "globe/Culling.h"
@@ -11,8 +12,6 @@
 
 #include "spv/globe/ellipsoid.frag.h"
 #include "spv/globe/ellipsoid.vert.h"
-#include "spv/globe/sky.frag.h"
-#include "spv/globe/sky.vert.h"
 
 #include <cmath>
 
@@ -78,22 +77,7 @@ void GlobeLayer::prepare(const scene::RenderServices& services) {
     surface.name = "globe surface";
     surface_ = gpu::createGraphicsPipeline(device, surface);
 
-    if (settings_.sky) {
-        gpu::GraphicsPipelineDesc sky;
-        sky.vertexSpirv = kSpv_globe_sky_vert;
-        sky.fragmentSpirv = kSpv_globe_sky_frag;
-        sky.layout = layout_.vk();
-        sky.cullMode = VK_CULL_MODE_NONE;
-        // Drawn last at the far plane (depth 0, reversed-Z): only pixels nothing else covered
-        // pass the depth test, so the sky costs nothing under the surface.
-        sky.depthTest = true;
-        sky.depthCompare = VK_COMPARE_OP_EQUAL;
-        sky.depthWrite = false;
-        sky.colorFormat = services.colorFormat;
-        sky.depthFormat = services.depthFormat;
-        sky.name = "globe sky";
-        sky_ = gpu::createGraphicsPipeline(device, sky);
-    }
+    if (settings_.sky) sky_ = createSkyPipeline(device, layout_.vk(), services, "globe sky");
 }
 
 void GlobeLayer::record(scene::Pass, const scene::RecordContext& rc) {

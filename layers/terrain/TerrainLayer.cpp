@@ -5,6 +5,7 @@
 #include "engine/gpu/Barriers.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
+#include "layers/globe/SkyPipeline.h"
 #include "engine/gpu/Uploader.h"
 #include "engine/gpu/VkCheck.h"
 #include "engine/jobs/ThreadPool.h"
@@ -13,8 +14,6 @@
 #include "globe/TileMesh.h"
 #include "shared/TerrainTypes.h"
 
-#include "spv/globe/sky.frag.h"
-#include "spv/globe/sky.vert.h"
 #include "spv/terrain/terrain.frag.h"
 #include "spv/terrain/terrain.vert.h"
 
@@ -298,22 +297,7 @@ void TerrainLayer::prepare(const scene::RenderServices& services) {
     surface.name = "terrain surface";
     surface_ = gpu::createGraphicsPipeline(device, surface);
 
-    if (settings_.sky) {
-        gpu::GraphicsPipelineDesc sky;
-        sky.vertexSpirv = kSpv_globe_sky_vert;
-        sky.fragmentSpirv = kSpv_globe_sky_frag;
-        sky.layout = layout_.vk();
-        sky.cullMode = VK_CULL_MODE_NONE;
-        // Drawn last at the far plane (depth 0, reversed-Z): only pixels nothing else covered
-        // pass the depth test, so the sky costs nothing under the surface.
-        sky.depthTest = true;
-        sky.depthCompare = VK_COMPARE_OP_EQUAL;
-        sky.depthWrite = false;
-        sky.colorFormat = services.colorFormat;
-        sky.depthFormat = services.depthFormat;
-        sky.name = "terrain sky";
-        sky_ = gpu::createGraphicsPipeline(device, sky);
-    }
+    if (settings_.sky) sky_ = createSkyPipeline(device, layout_.vk(), services, "terrain sky");
 }
 
 uint64_t TerrainLayer::allocatedBytes() const {
