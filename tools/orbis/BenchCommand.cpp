@@ -124,22 +124,28 @@ uint64_t itemsDrawn(const scene::Scene& scene) {
     return n;
 }
 
+/// The comma-separated numbers of `option`'s value ("1,2.5,4").
+std::vector<double> numberList(const std::string& option, const std::string& text) {
+    std::vector<double> values;
+    for (size_t start = 0; start <= text.size();) {
+        const size_t end = std::min(text.find(',', start), text.size());
+        const std::string item = text.substr(start, end - start);
+        char* stop = nullptr;
+        const double v = std::strtod(item.c_str(), &stop);
+        if (item.empty() || *stop != '\0' || !std::isfinite(v)) throw UsageError{option + ": '" + item + "' is not a number"};
+        values.push_back(v);
+        start = end + 1;
+    }
+    return values;
+}
+
 /// `orbis bench --sweep K=v1,v2,...`: one row per value.
 int sweep(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer, long frames, long warmup) {
     const std::string spec = *args.value("--sweep");
     const auto eq = spec.find('=');
     if (eq == std::string::npos || eq == 0) throw UsageError{"--sweep expects NAME=v1,v2,... got '" + spec + "'"};
     const std::string name = spec.substr(0, eq);
-    std::vector<double> values;
-    for (size_t start = eq + 1; start <= spec.size();) {
-        const size_t end = std::min(spec.find(',', start), spec.size());
-        const std::string item = spec.substr(start, end - start);
-        char* stop = nullptr;
-        const double v = std::strtod(item.c_str(), &stop);
-        if (item.empty() || *stop != '\0' || !std::isfinite(v)) throw UsageError{"--sweep: '" + item + "' is not a number"};
-        values.push_back(v);
-        start = end + 1;
-    }
+    const std::vector<double> values = numberList("--sweep", spec.substr(eq + 1));
     if (values.size() < 2) throw UsageError{"--sweep needs at least two values (the first is the reference)"};
 
     struct Row {
@@ -220,16 +226,13 @@ int sweep(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Render
 /// `orbis bench --iso-error N1,N2,...`: isosurface position error against the step count.
 int isoError(const Args& args, GpuSession& gpu, uint32_t width, uint32_t height, long frames, long warmup) {
     std::vector<int> counts;
-    const std::string spec = *args.value("--iso-error");
-    for (size_t start = 0; start <= spec.size();) {
-        const size_t end = std::min(spec.find(',', start), spec.size());
-        const std::string item = spec.substr(start, end - start);
-        char* stop = nullptr;
-        const long v = std::strtol(item.c_str(), &stop, 10);
-        if (item.empty() || *stop != '\0' || v < 1 || v > 4096)
-            throw UsageError{"--iso-error: '" + item + "' is not a step count (1 .. 4096)"};
+    for (double v : numberList("--iso-error", *args.value("--iso-error"))) {
+        if (v != std::floor(v) || v < 1 || v > 4096) {
+            char text[64];
+            std::snprintf(text, sizeof text, "--iso-error: %g is not a step count (1 .. 4096)", v);
+            throw UsageError{text};
+        }
         counts.push_back(int(v));
-        start = end + 1;
     }
     struct Hits {
         std::vector<float> t;
