@@ -95,7 +95,7 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
     while (((gx + brickSize - 1) / brickSize) * ((ny + brickSize - 1) / brickSize) * ((nz + brickSize - 1) / brickSize) >
            size_t(65536) * 8)
         brickSize *= 2;
-    for (size_t st = 0; st < steps; ++st) {
+    for (size_t st = 0; st < steps && settings_.emptySkipping; ++st) {
         BrickGrid g = buildBrickGrid(texels.data() + st * gx * ny * nz, gx, ny, nz, brickSize);
         if (st == 0) bricks_ = std::move(g);
         else mergeBrickGrid(bricks_, g);
@@ -454,6 +454,7 @@ void VolumeLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
         transferDirty_ = false;
         occupancyDirty_ = true;
     }
+    if (occupancyDirty_ && !skipEmpty_) occupancyDirty_ = false;   // the pipeline never reads the bits
     if (occupancyDirty_) {
         // After the earlier frames' reads; before this frame's.
         updateOccupancy();

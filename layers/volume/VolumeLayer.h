@@ -106,7 +106,7 @@ public:
     /// "isovalue0".."isovalue7" (also refreshes the brick bits, 1 bit per brick), "slice0"..
     /// "slice3" (the slice's lon, lat or height), "opacityUnit". The transfer function (a
     /// 256-entry table and the brick bits): "rangeMin", "rangeMax", "opacityScale".
-    /// "emptySkipping" 0 or 1.
+    /// "emptySkipping" 0 or 1 (where the scene built the ray caster with skipping).
     bool setParameter(std::string_view name, double value) override;
     /// "colorMap": one of colorMapNames() (rebuilds the 256-entry table).
     bool setOption(std::string_view name, std::string_view value) override;

@@ -260,7 +260,7 @@ void compositeSample(inout vec4 acc, float value, float ds) {
 // From a brick that shows nothing the ray jumps, in whole steps, to the first sample past the
 // brick (its exit extrapolated from the last two samples' voxel coordinates; the jump is kept
 // short enough that the curvature of (lon, lat, height) along the ray moves it < 1/4 voxel).
-float gJumpedFrom;   // > 0: the last advance jumped (the sample stands for one step, not the jump)
+bool gJumped;   // the last advance jumped: the sample stands for one step, not the jump
 vec3 gVoxPrev;
 bool gPrevIn;
 void advance(int i, float ds, float value, bool ok, vec3 n, float target, float dtMin, float dtMax) {
@@ -275,7 +275,7 @@ void advance(int i, float ds, float value, bool ok, vec3 n, float target, float 
         float tJump = min(min(tw.x, tw.y), min(tw.z, min(vol.sliceInfo.y, gRho * vol.sliceInfo.z)));
         stepT = (min(floor(max(tJump, 0.0) * 0.98 / gDt), 64.0) + 1.0) * gDt;
     }
-    gJumpedFrom = stepT > 1.5 * gDt ? 1.0 : 0.0;
+    gJumped = stepT > 1.5 * gDt;
     gPrevT = gT;
     gPrevV = value;
     gPrevOk = ok;
@@ -356,7 +356,7 @@ void main() {
         gPrevV = 0.0;
         gPrevOk = false;
         gPrevIn = false;
-        gJumpedFrom = 0.0;
+        gJumped = false;
         int i = 0;
         // The march stops at each isosurface crossing, which is refined and shaded outside the
         // marching loop, then goes on. On SIMD devices (CPU rasterisers) every lane pays for
@@ -374,7 +374,7 @@ void main() {
                 vec3 geo = geoAt(gT);
                 n = normalised(geo);
                 ds = i == 0 ? target : length(n - gNPrev);
-                float dsSample = gJumpedFrom > 0.0 ? target : ds;
+                float dsSample = gJumped ? target : ds;
                 ok = sampleGeo(geo, value);
                 if (kIsoCount > 0 && ok && gPrevOk) {
                     // The nearest crossing in this step over all isovalues (by linear
@@ -413,7 +413,7 @@ void main() {
             if (acc.a >= 0.99) break;
             gVox = saveVox, gInBox = saveIn, gEmpty = saveEmpty, gRho = saveRho;
             // This sample's own contribution, then on.
-            if (kDvr && ok) compositeSample(acc, value, gJumpedFrom > 0.0 ? target : ds);
+            if (kDvr && ok) compositeSample(acc, value, gJumped ? target : ds);
             if (acc.a >= 0.99) break;
             advance(i, ds, value, ok, n, target, dtMin, dtMax);
             ++i;
