@@ -8,7 +8,8 @@
 function(orbis_add_shaders)
   cmake_parse_arguments(ARG "" "TARGET" "SOURCES" ${ARGN})
   set(out_root ${CMAKE_BINARY_DIR}/shaders/include)
-  file(GLOB shared_headers CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/shaders/shared/*.h)
+  # Included files: the C++/GLSL headers in shared/ and GLSL-only pieces (*.glsl) of any layer.
+  file(GLOB shared_headers CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/shaders/shared/*.h ${PROJECT_SOURCE_DIR}/shaders/*/*.glsl)
   set(outputs)
   foreach(src ${ARG_SOURCES})
     get_filename_component(abs ${src} ABSOLUTE)

@@ -1,6 +1,7 @@
 #include "layers/BuiltinLayers.h"
 
 #include "layers/globe/GlobeLayer.h"
+#include "layers/points/PointsLayer.h"
 #include "layers/terrain/TerrainLayer.h"
 #include "layers/volume/VolumeLayer.h"
 
@@ -10,6 +11,7 @@ void registerBuiltinLayers(scene::LayerRegistry& registry) {
     registry.add("globe", "WGS84 ellipsoid with graticule, sun lighting and sky", &GlobeLayer::create);
     registry.add("terrain", "WGS84 quadtree terrain streaming DEMs and imagery through GDAL", &TerrainLayer::create);
     registry.add("volume", "netCDF scalar field in a curved geo-box, ray cast on the GPU", &VolumeLayer::create);
+    registry.add("points", "LAS point cloud, splatted by compute shaders with eye-dome lighting", &PointsLayer::create);
 }
 
 }  // namespace orbis::layers

@@ -208,7 +208,11 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw) {
     const globe::Geodetic eye = globe::Ellipsoid::wgs84().toGeodetic(scene.camera().position());
     const double height = eye.height;
     const double ground = scene.heightAt(eye.lonDeg, eye.latDeg).value_or(0.0);
-    scene.camera().setNear(scene::Camera::autoNear(height - std::min(ground, height)));
+    double clearance = height - std::min(ground, height);
+    for (auto& r : scene.resources())
+        if (r.visible && r.layer->prepared())
+            if (auto d = r.layer->nearestContent(scene.camera().position())) clearance = std::min(clearance, *d);
+    scene.camera().setNear(scene::Camera::autoNear(clearance));
 
     gpu::FrameRing::Frame& frame = ring_.begin();
     timer_.beginFrame(frame.cmd, frame.slot);

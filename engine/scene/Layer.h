@@ -101,6 +101,11 @@ public:
     /// Height of the ground (metres above the ellipsoid, as drawn) at a point, for layers that
     /// are ground (terrain); nothing where the layer knows no height. Main thread only.
     virtual std::optional<double> groundHeightAt(double /*lonDeg*/, double /*latDeg*/) const { return std::nullopt; }
+    /// Distance from `eye` (ECEF) to the nearest content the layer draws (its bounds, 0 when the
+    /// eye is inside them), so that the near plane never cuts content floating above the
+    /// ground (a point cloud seen from 2 m at 8 000 m). Nothing for layers that are ground
+    /// (groundHeightAt covers them) or that need no near plane (ray casting).
+    virtual std::optional<double> nearestContent(const glm::dvec3& /*eye*/) const { return std::nullopt; }
     /// True while the layer still has work in flight that would change the picture (tiles
     /// loading or waiting for upload). Batch renders wait for it to clear.
     virtual bool busy() const { return false; }

@@ -1,0 +1,155 @@
+#pragma once
+// LAS 1.0–1.4 point clouds (point data formats 0–10), CPU only (no Vulkan).
+//
+// The file is memory-mapped and decoded in ranges of points, so clouds larger than RAM stream
+// through a bounded buffer. The header is validated against the file's size before anything
+// is read: counts, offsets and record lengths that disagree give a clear error naming the file,
+// never a huge allocation. LAZ (LASzip) files are recognised and refused with a clear message.
+//
+// The coordinate reference system comes, in this order, from the scene (an override), the OGC
+// WKT VLR (LASF_Projection 2112), the GeoTIFF key VLRs (LASF_Projection 34735/34736/34737),
+// or a sidecar next to the file (`cloud.las.wkt`, `cloud.wkt`, `cloud.prj`). LasGeoreference
+// turns coordinates in that CRS into ECEF (WGS84, metres, double) through GDAL/OGR, with the
+// CRS's units (feet, US survey feet) and datum shifts honoured.
+
+#include "engine/core/Result.h"
+
+#include <glm/glm.hpp>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace orbis::points {
+
+/// One variable-length record (VLR) or extended VLR, as listed by `orbis info`.
+struct LasVlr {
+    std::string userId;
+    uint16_t recordId = 0;
+    uint64_t length = 0;   ///< payload bytes
+    std::string description;
+    bool extended = false;   ///< an EVLR (after the points, LAS 1.4)
+};
+
+struct LasHeader {
+    uint8_t versionMajor = 1, versionMinor = 2;
+    uint8_t pointFormat = 0;      ///< 0..10
+    uint16_t recordLength = 0;    ///< bytes per point record, extra bytes included
+    uint16_t extraBytes = 0;      ///< recordLength minus the format's standard size
+    uint64_t pointCount = 0;
+    uint64_t pointOffset = 0;     ///< offset to the first point record
+    uint16_t globalEncoding = 0;
+    glm::dvec3 scale{1.0}, offset{0.0};
+    glm::dvec3 min{0.0}, max{0.0};   ///< header bounds, CRS units
+    std::array<uint64_t, 15> pointsByReturn{};
+    std::string systemId, software;
+    uint16_t creationDay = 0, creationYear = 0;
+    std::vector<LasVlr> vlrs;
+
+    bool hasGpsTime() const;   ///< formats 1, 3..10
+    bool hasRgb() const;       ///< formats 2, 3, 5, 7, 8, 10
+    bool hasNir() const;       ///< formats 8, 10
+};
+
+/// One decoded point: coordinates scaled and offset (CRS units), attributes as stored.
+struct LasPoint {
+    glm::dvec3 position{0.0};
+    double gpsTime = 0.0;
+    uint16_t intensity = 0;
+    uint16_t red = 0, green = 0, blue = 0, nir = 0;   ///< 16-bit as LAS stores them
+    uint16_t pointSourceId = 0;
+    uint8_t returnNumber = 0, numberOfReturns = 0;   ///< 1..15 (formats 6..10), 1..7 before
+    uint8_t classification = 0;   ///< ASPRS class (0..255 in formats 6..10, 0..31 before)
+    uint8_t flags = 0;            ///< bit 0 synthetic, 1 key-point, 2 withheld, 3 overlap
+    uint8_t userData = 0;
+    float scanAngleDeg = 0.0f;
+};
+
+/// Where a cloud's CRS came from, and the CRS as WKT (empty when the file names none).
+struct LasCrs {
+    std::string wkt;
+    std::string source;   ///< "scene", "WKT VLR", "GeoTIFF keys (EPSG:2992)", "sidecar /path/x.wkt", "none"
+};
+
+class LasFile {
+public:
+    /// Opens, maps and validates `path`. Errors name the file and the problem (not a LAS file,
+    /// LAZ not supported yet, unknown point format, record length too short for the format,
+    /// point count or offsets past the end of the file, ...).
+    static Result<std::unique_ptr<LasFile>> open(const std::string& path);
+    ~LasFile();
+    LasFile(const LasFile&) = delete;
+    LasFile& operator=(const LasFile&) = delete;
+
+    const std::string& path() const { return path_; }
+    const LasHeader& header() const { return header_; }
+    uint64_t size() const { return points(); }
+    uint64_t points() const { return header_.pointCount; }
+    /// The CRS found in the file or next to it (see the top of this file).
+    const LasCrs& crs() const { return crs_; }
+
+    /// Decodes points [first, first + count), clamped to the file, into `out` (replaced).
+    void read(uint64_t first, uint64_t count, std::vector<LasPoint>& out) const;
+    /// Only the scaled positions of points [first, first + count) (the fast path for loading).
+    void readPositions(uint64_t first, uint64_t count, std::vector<glm::dvec3>& out) const;
+
+private:
+    LasFile() = default;
+    std::string path_;
+    LasHeader header_;
+    LasCrs crs_;
+    const uint8_t* data_ = nullptr;   // the mapping
+    uint64_t bytes_ = 0;
+    int fd_ = -1;
+};
+
+/// A CRS to ECEF (WGS84, metres) through GDAL/OGR.
+class LasGeoreference {
+public:
+    /// `crs`: WKT, "EPSG:n", or a PROJ string; `what` names where it came from, for messages.
+    static Result<LasGeoreference> create(const std::string& crs, const std::string& what);
+    LasGeoreference(LasGeoreference&&) noexcept;
+    LasGeoreference& operator=(LasGeoreference&&) noexcept;
+    ~LasGeoreference();
+
+    /// In place: CRS coordinates to ECEF. A horizontal-only CRS in feet gets its heights in the
+    /// same unit. Points the transformation cannot place become NaN; the count of those returns.
+    size_t toEcef(std::span<glm::dvec3> xyz) const;
+    std::string name() const;           ///< the CRS's name
+    double linearUnitMetres() const;    ///< horizontal unit (0.3048 for feet)
+    double verticalUnitMetres() const;  ///< unit of the heights as read
+
+private:
+    LasGeoreference() = default;
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+/// Writes LAS files (tests, the synthetic generator in tools/): any version 1.0–1.4 and point
+/// format 0–10, with an optional WKT VLR or GeoTIFF EPSG keys, and extra bytes per record.
+struct LasWriteOptions {
+    uint8_t versionMinor = 2;
+    uint8_t pointFormat = 3;
+    uint16_t extraBytes = 0;
+    glm::dvec3 scale{0.001}, offset{0.0};
+    std::string wkt;     ///< written as the WKT VLR (and the WKT bit of the global encoding)
+    int epsg = 0;        ///< written as GeoTIFF keys (ProjectedCSTypeGeoKey or GeographicTypeGeoKey)
+};
+/// Streams points to a file: the header's counts and bounds are written when closed.
+class LasWriter {
+public:
+    static Result<std::unique_ptr<LasWriter>> create(const std::string& path, const LasWriteOptions& options);
+    ~LasWriter();
+    void write(std::span<const LasPoint> points);
+    Result<void> close();
+
+private:
+    LasWriter() = default;
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace orbis::points

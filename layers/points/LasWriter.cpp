@@ -1,0 +1,186 @@
+// LAS writing for tests and the synthetic generator: any version 1.0-1.4, point formats 0-10,
+// an optional WKT VLR or GeoTIFF EPSG keys, extra bytes; counts and bounds written on close.
+#include "layers/points/LasReader.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+
+namespace orbis::points {
+namespace {
+
+constexpr uint16_t kRecordSize[11] = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
+
+template <typename T>
+void put(uint8_t* r, size_t at, T v) {
+    std::memcpy(r + at, &v, sizeof(T));
+}
+
+/// Into a buffer already large enough (headers are allocated at their full size).
+template <typename T>
+void put(std::vector<uint8_t>& b, size_t at, T v) {
+    put<T>(b.data(), at, v);
+}
+
+void putString(std::vector<uint8_t>& b, size_t at, const std::string& s, size_t n) {
+    std::memcpy(b.data() + at, s.data(), std::min(n, s.size()));
+}
+
+void vlr(std::vector<uint8_t>& out, const std::string& user, uint16_t id, const std::vector<uint8_t>& payload,
+         const std::string& description) {
+    std::vector<uint8_t> h(54, 0);
+    putString(h, 2, user, 16);
+    put<uint16_t>(h, 18, id);
+    put<uint16_t>(h, 20, uint16_t(payload.size()));
+    putString(h, 22, description, 32);
+    out.insert(out.end(), h.begin(), h.end());
+    out.insert(out.end(), payload.begin(), payload.end());
+}
+
+}  // namespace
+
+struct LasWriter::Impl {
+    std::FILE* file = nullptr;
+    std::string path;
+    LasWriteOptions o;
+    uint16_t headerSize = 227, recordLength = 0;
+    uint32_t pointOffset = 0;
+    uint64_t count = 0;
+    std::array<uint64_t, 15> byReturn{};
+    glm::dvec3 lo{std::numeric_limits<double>::max()}, hi{-std::numeric_limits<double>::max()};
+    std::vector<uint8_t> vlrs, buffer;
+    bool failed = false;
+    bool outOfRange = false;
+};
+
+LasWriter::~LasWriter() {
+    if (impl_ && impl_->file) std::fclose(impl_->file);
+}
+
+Result<std::unique_ptr<LasWriter>> LasWriter::create(const std::string& path, const LasWriteOptions& options) {
+    if (options.pointFormat > 10) return makeError(path + ": point format must be 0 to 10");
+    if (options.versionMinor > 4) return makeError(path + ": LAS version must be 1.0 to 1.4");
+    std::unique_ptr<LasWriter> w(new LasWriter());
+    w->impl_ = std::make_unique<Impl>();
+    Impl& m = *w->impl_;
+    m.path = path;
+    m.o = options;
+    m.headerSize = options.versionMinor >= 4 ? 375 : options.versionMinor == 3 ? 235 : 227;
+    m.recordLength = uint16_t(kRecordSize[options.pointFormat] + options.extraBytes);
+    if (!options.wkt.empty()) {
+        std::vector<uint8_t> text(options.wkt.begin(), options.wkt.end());
+        text.push_back(0);
+        vlr(m.vlrs, "LASF_Projection", 2112, text, "OGC WKT");
+    } else if (options.epsg > 0) {
+        // GeoKeyDirectory: version 1.1.0, then the model type and one EPSG code.
+        const bool geographic = options.epsg == 4326 || options.epsg == 4979 || options.epsg == 4269 || options.epsg == 4258;
+        const uint16_t keys[] = {1, 1, 0, 2, 1024, 0, 1, uint16_t(geographic ? 2 : 1),
+                                 uint16_t(geographic ? 2048 : 3072), 0, 1, uint16_t(options.epsg)};
+        std::vector<uint8_t> payload(sizeof keys);
+        std::memcpy(payload.data(), keys, sizeof keys);
+        vlr(m.vlrs, "LASF_Projection", 34735, payload, "GeoTIFF GeoKeyDirectoryTag");
+    }
+    m.pointOffset = uint32_t(m.headerSize + m.vlrs.size());
+    m.file = std::fopen(path.c_str(), "wb");
+    if (!m.file) return makeError(path + ": cannot create the file");
+    std::vector<uint8_t> placeholder(m.pointOffset, 0);
+    if (std::fwrite(placeholder.data(), 1, placeholder.size(), m.file) != placeholder.size())
+        return makeError(path + ": write failed");
+    return w;
+}
+
+void LasWriter::write(std::span<const LasPoint> points) {
+    Impl& m = *impl_;
+    const uint8_t f = m.o.pointFormat;
+    const bool modern = f >= 6;
+    m.buffer.assign(points.size() * m.recordLength, 0);
+    for (size_t i = 0; i < points.size(); ++i) {
+        const LasPoint& p = points[i];
+        uint8_t* r = m.buffer.data() + i * m.recordLength;
+        const glm::dvec3 q = glm::round((p.position - m.o.offset) / m.o.scale);
+        if (!(glm::all(glm::lessThanEqual(glm::abs(q), glm::dvec3(2147483647.0)))))
+            m.outOfRange = true;   // the scale and offset cannot hold the point: close() reports it
+        put<int32_t>(r, 0, int32_t(q.x));
+        put<int32_t>(r, 4, int32_t(q.y));
+        put<int32_t>(r, 8, int32_t(q.z));
+        put<uint16_t>(r, 12, p.intensity);
+        size_t rgbAt;
+        if (modern) {
+            r[14] = uint8_t((p.returnNumber & 15) | (p.numberOfReturns & 15) << 4);
+            r[15] = uint8_t(p.flags & 15);
+            r[16] = p.classification;
+            r[17] = p.userData;
+            put<int16_t>(r, 18, int16_t(std::lround(p.scanAngleDeg / 0.006f)));
+            put<uint16_t>(r, 20, p.pointSourceId);
+            put<double>(r, 22, p.gpsTime);
+            rgbAt = 30;
+        } else {
+            r[14] = uint8_t((p.returnNumber & 7) | (p.numberOfReturns & 7) << 3);
+            r[15] = uint8_t((p.classification & 31) | (p.flags & 7) << 5);
+            r[16] = uint8_t(int8_t(std::lround(p.scanAngleDeg)));
+            r[17] = p.userData;
+            put<uint16_t>(r, 18, p.pointSourceId);
+            if (f == 1 || f >= 3) put<double>(r, 20, p.gpsTime);
+            rgbAt = f == 2 ? 20 : 28;
+        }
+        if (f == 2 || f == 3 || f == 5 || f == 7 || f == 8 || f == 10) {
+            put<uint16_t>(r, rgbAt, p.red);
+            put<uint16_t>(r, rgbAt + 2, p.green);
+            put<uint16_t>(r, rgbAt + 4, p.blue);
+            if (f == 8 || f == 10) put<uint16_t>(r, rgbAt + 6, p.nir);
+        }
+        for (size_t k = kRecordSize[f]; k < m.recordLength; ++k) r[k] = uint8_t(0xA5 ^ k);   // extra bytes
+        const glm::dvec3 stored = q * m.o.scale + m.o.offset;
+        m.lo = glm::min(m.lo, stored);
+        m.hi = glm::max(m.hi, stored);
+        if (p.returnNumber >= 1 && p.returnNumber <= 15) ++m.byReturn[size_t(p.returnNumber - 1)];
+    }
+    m.count += points.size();
+    if (std::fwrite(m.buffer.data(), 1, m.buffer.size(), m.file) != m.buffer.size()) m.failed = true;
+}
+
+Result<void> LasWriter::close() {
+    Impl& m = *impl_;
+    if (!m.file) return makeError(m.path + ": already closed");
+    if (m.count == 0) m.lo = m.hi = glm::dvec3(0.0);
+    std::vector<uint8_t> h(m.headerSize, 0);
+    putString(h, 0, "LASF", 4);
+    const bool wkt = !m.o.wkt.empty();
+    put<uint16_t>(h, 6, uint16_t(wkt && m.o.versionMinor >= 4 ? 16 : 0));
+    h[24] = 1;
+    h[25] = m.o.versionMinor;
+    putString(h, 26, "Orbis", 32);
+    putString(h, 58, "Orbis LasWriter", 32);
+    put<uint16_t>(h, 90, 1);
+    put<uint16_t>(h, 92, 2026);
+    put<uint16_t>(h, 94, m.headerSize);
+    put<uint32_t>(h, 96, m.pointOffset);
+    put<uint32_t>(h, 100, m.vlrs.empty() ? 0u : 1u);
+    h[104] = m.o.pointFormat;
+    put<uint16_t>(h, 105, m.recordLength);
+    const bool legacy = m.o.pointFormat < 6 && m.count <= 0xFFFFFFFFull;
+    put<uint32_t>(h, 107, legacy ? uint32_t(m.count) : 0u);
+    for (int i = 0; i < 5; ++i) put<uint32_t>(h, 111 + 4 * i, legacy ? uint32_t(m.byReturn[size_t(i)]) : 0u);
+    for (int a = 0; a < 3; ++a) {
+        put<double>(h, 131 + 8 * a, m.o.scale[a]);
+        put<double>(h, 155 + 8 * a, m.o.offset[a]);
+        put<double>(h, 179 + 16 * a, m.hi[a]);
+        put<double>(h, 187 + 16 * a, m.lo[a]);
+    }
+    if (m.o.versionMinor >= 4) {
+        put<uint64_t>(h, 235, 0);
+        put<uint32_t>(h, 243, 0);
+        put<uint64_t>(h, 247, m.count);
+        for (int i = 0; i < 15; ++i) put<uint64_t>(h, 255 + 8 * i, m.byReturn[size_t(i)]);
+    }
+    h.insert(h.end(), m.vlrs.begin(), m.vlrs.end());
+    const bool ok = std::fseek(m.file, 0, SEEK_SET) == 0 && std::fwrite(h.data(), 1, h.size(), m.file) == h.size() && !m.failed;
+    const bool closed = std::fclose(m.file) == 0;
+    m.file = nullptr;
+    if (!ok || !closed) return makeError(m.path + ": write failed");
+    if (m.outOfRange) return makeError(m.path + ": a coordinate does not fit in 32 bits with this scale and offset");
+    return {};
+}
+
+}  // namespace orbis::points

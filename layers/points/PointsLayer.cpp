@@ -1,0 +1,476 @@
+#include "layers/points/PointsLayer.h"
+
+#include "engine/core/Log.h"
+#include "engine/gpu/Barriers.h"
+#include "engine/gpu/Device.h"
+#include "engine/gpu/Image.h"
+#include "engine/gpu/Pipeline.h"
+#include "engine/gpu/Uploader.h"
+#include "engine/gpu/VkCheck.h"
+#include "globe/Culling.h"
+#include "shared/PointTypes.h"
+#include "spv/points/pointlist.frag.h"
+#include "spv/points/pointlist.vert.h"
+#include "spv/points/resolve.frag.h"
+#include "spv/points/resolve.vert.h"
+#include "spv/points/splat.comp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <queue>
+
+namespace orbis::layers {
+namespace {
+
+constexpr uint32_t kBindings = 7;
+constexpr uint64_t kUploadBytesPerFrame = uint64_t(48) << 20;
+constexpr uint64_t kBytesPerPoint = 3 * sizeof(float) + sizeof(points::PackedAttributes);
+
+/// Splat radius for a point size (diameter in pixels): 1 -> 0 (one pixel), 2..3 -> 1, ...
+int splatRadius(int pointSize) { return std::clamp(pointSize, 1, 15) / 2; }
+
+}  // namespace
+
+PointsLayer::PointsLayer(std::unique_ptr<points::LasFile> file, points::PointGeoreference georef, PointsSettings settings)
+    : file_(std::move(file)), georef_(std::move(georef)), settings_(settings) {}
+
+PointsLayer::~PointsLayer() {
+    if (cancel_) cancel_->store(true);   // the job holds what it reads; it stops at its next batch
+}
+
+// ---------------------------------------------------------------------------------------------
+// Loading (a worker) and residency
+void PointsLayer::startLoading() {
+    loadProgress_ = std::make_shared<std::atomic<double>>(0.0);
+    cancel_ = std::make_shared<std::atomic<bool>>(false);
+    std::shared_ptr<points::LasFile> file = file_;
+    points::PointGeoreference georef = georef_;
+    auto progress = loadProgress_;
+    auto cancel = cancel_;
+    loadJob_ = services_.jobs().submit(0.0, jobs::CancelToken::create(),
+                                       [file, georef, progress, cancel](const jobs::CancelToken&) {
+                                           points::PointLoadOptions o;
+                                           o.cancel = cancel.get();
+                                           o.progress = [progress](double f) { progress->store(f); };
+                                           return points::loadPointCloud(*file, georef, o);
+                                       });
+}
+
+void PointsLayer::finishLoading() {
+    if (!loadJob_.valid() || !loadJob_.ready()) return;
+    auto job = std::move(loadJob_);
+    loadJob_ = {};
+    try {
+        auto loaded = job.get();
+        if (!loaded) {
+            loadError_ = loaded.message();
+            log::error(loadError_);
+            return;
+        }
+        cloud_ = std::make_shared<points::PointCloud>(std::move(loaded).value());
+    } catch (const std::exception& e) {
+        loadError_ = std::string(file_->path()).append(": loading failed: ").append(e.what());
+        log::error(loadError_);
+        return;
+    }
+    // GPU buffers for as many points as the memory budget holds; nodes upload coarse to fine
+    // (by level) into them, each as long as it fits.
+    const auto& nodes = cloud_->octree.nodes();
+    capacityPoints_ = std::min<uint64_t>(cloud_->octree.points(), settings_.gpuMemoryBytes / kBytesPerPoint);
+    gpuFirst_.assign(nodes.size(), -1);
+    uploadOrder_.resize(nodes.size());
+    for (size_t i = 0; i < nodes.size(); ++i) uploadOrder_[i] = int32_t(i);
+    std::stable_sort(uploadOrder_.begin(), uploadOrder_.end(),
+                     [&](int32_t a, int32_t b) { return nodes[size_t(a)].level < nodes[size_t(b)].level; });
+    if (capacityPoints_ == 0) return;
+    gpu::Device& device = *services_.device;
+    const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    positions_ = gpu::Buffer(device, capacityPoints_ * 3 * sizeof(float), usage, gpu::MemoryUsage::GpuOnly, "point positions");
+    attributes_ = gpu::Buffer(device, capacityPoints_ * sizeof(points::PackedAttributes), usage, gpu::MemoryUsage::GpuOnly,
+                              "point attributes");
+    ++buffersVersion_;
+}
+
+void PointsLayer::recordTransfers(const scene::RecordContext& rc) {
+    if (!gpuReady_) return;
+    // Uploads within the frame's budget (the first node always goes, however large).
+    const auto& nodes = cloud_ ? cloud_->octree.nodes() : std::vector<points::OctreeNode>{};
+    uint64_t bytes = 0;
+    bool uploaded = false;
+    while (cloud_ && uploadCursor_ < uploadOrder_.size()) {
+        const int32_t n = uploadOrder_[uploadCursor_];
+        const points::OctreeNode& node = nodes[size_t(n)];
+        const uint64_t nodeBytes = uint64_t(node.count) * kBytesPerPoint;
+        if (uploaded && bytes + nodeBytes > kUploadBytesPerFrame) break;
+        ++uploadCursor_;
+        if (residentPoints_ + node.count > capacityPoints_) continue;   // over the GPU budget: never drawn
+        const uint64_t first = residentPoints_;
+        const auto& pos = cloud_->octree.positions();
+        const auto& attr = cloud_->octree.attributes();
+        rc.uploader->toBuffer(rc.cmd, positions_, pos.data() + 3 * node.first, uint64_t(node.count) * 3 * sizeof(float),
+                              first * 3 * sizeof(float));
+        rc.uploader->toBuffer(rc.cmd, attributes_, attr.data() + node.first,
+                              uint64_t(node.count) * sizeof(points::PackedAttributes),
+                              first * sizeof(points::PackedAttributes));
+        gpuFirst_[size_t(n)] = int64_t(first);
+        residentPoints_ += node.count;
+        bytes += nodeBytes;
+        uploaded = true;
+    }
+    if (uploaded) {
+        const VkPipelineStageFlags2 readers = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
+                                              VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+        for (const gpu::Buffer* b : {&positions_, &attributes_})
+            gpu::bufferBarrier(rc.cmd, *b, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, readers,
+                               VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    }
+    writeUniforms(rc);
+}
+
+bool PointsLayer::busy() const {
+    if (loadJob_.valid()) return true;
+    return cloud_ && gpuReady_ && uploadCursor_ < uploadOrder_.size() && capacityPoints_ > 0;
+}
+
+std::optional<double> PointsLayer::nearestContent(const glm::dvec3& eye) const {
+    if (!cloud_ || cloud_->octree.nodes().empty()) return std::nullopt;
+    // The nodes drawn last frame (their spheres: at most nearer than the points), else the root.
+    const auto& nodes = cloud_->octree.nodes();
+    const auto gap = [&](const points::OctreeNode& n) { return std::max(0.0, glm::length(n.centre - eye) - n.radius()); };
+    double d = drawList_.empty() ? gap(nodes[0]) : std::numeric_limits<double>::max();
+    for (const Drawn& k : drawList_) d = std::min(d, gap(nodes[size_t(k.node)]));
+    return d;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Selection: the largest nodes on screen first, within the budget
+void PointsLayer::update(const scene::FrameContext& frame) {
+    finishLoading();
+    drawList_.clear();
+    drawnPoints_ = 0;
+    if (!cloud_ || !gpuReady_ || gpuFirst_.empty() || gpuFirst_[0] < 0) return;
+    const scene::Camera& camera = *frame.camera;
+    const glm::dvec3 eye = camera.position();
+    const glm::dmat4 view = camera.viewRotation();
+    viewProj_ = camera.projection(frame.aspect()) * view;
+    const globe::ViewFrustum frustum = globe::ViewFrustum::perspective(camera.verticalFovRad(), frame.aspect(), camera.nearPlane());
+    const double pixelsPerRadian = double(frame.height) / (2.0 * std::tan(0.5 * camera.verticalFovRad()));
+    const auto& nodes = cloud_->octree.nodes();
+    const auto visible = [&](const points::OctreeNode& n) {
+        const glm::dvec3 rel = n.centre - eye;
+        return frustum.intersectsSphere(glm::dvec3(view * glm::dvec4(rel, 0.0)), n.radius()) &&
+               !globe::sphereBelowHorizon(eye, n.centre, n.radius());
+    };
+    const auto screenSize = [&](const points::OctreeNode& n) {
+        const double d = glm::length(n.centre - eye) - n.radius();
+        return d <= 0.0 ? 1e30 : n.radius() / d * pixelsPerRadian;
+    };
+    using Entry = std::pair<double, int32_t>;
+    std::priority_queue<Entry> queue;
+    if (visible(nodes[0])) queue.push({screenSize(nodes[0]), 0});
+    const uint64_t budget = settings_.pointBudget ? settings_.pointBudget : ~uint64_t(0);
+    while (!queue.empty()) {
+        const int32_t i = queue.top().second;
+        queue.pop();
+        const points::OctreeNode& n = nodes[size_t(i)];
+        if (drawnPoints_ + n.count > budget) break;   // the largest left does not fit: stop
+        drawList_.push_back({i, glm::vec4(glm::vec3(n.centre - eye), 0.0f)});
+        drawnPoints_ += n.count;
+        for (int32_t c : n.children)
+            if (c >= 0 && gpuFirst_[size_t(c)] >= 0 && visible(nodes[size_t(c)]))
+                queue.push({screenSize(nodes[size_t(c)]), c});
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// GPU objects
+void PointsLayer::prepare(const scene::RenderServices& services) {
+    services_ = services;
+    gpu::Device& device = *services.device;
+    if (settings_.renderer == PointsSettings::Renderer::Compute && !device.features().bufferInt64Atomics) {
+        log::warn("points: the device has no 64-bit buffer atomics; drawing point lists instead of compute rasterisation");
+        settings_.renderer = PointsSettings::Renderer::PointList;
+    }
+    const VkShaderStageFlags all = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+    const VkDescriptorSetLayoutBinding bindings[kBindings] = {
+        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, all, nullptr},
+        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
+        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
+        {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
+        {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
+        {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
+        {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+    };
+    VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    li.bindingCount = kBindings;
+    li.pBindings = bindings;
+    VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateDescriptorSetLayout(device.vk(), &li, nullptr, &setLayout));
+    setLayout_ = gpu::DescriptorSetLayout(device, setLayout);
+    const uint32_t frames = services.framesInFlight;
+    const VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frames},
+                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 5 * frames},
+                                          {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, frames}};
+    VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pi.maxSets = frames;
+    pi.poolSizeCount = 3;
+    pi.pPoolSizes = sizes;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateDescriptorPool(device.vk(), &pi, nullptr, &pool));
+    descriptorPool_ = gpu::DescriptorPool(device, pool);
+    slots_.resize(frames);
+    for (Slot& slot : slots_) {
+        VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+        ai.descriptorPool = descriptorPool_.vk();
+        ai.descriptorSetCount = 1;
+        ai.pSetLayouts = &setLayout;
+        VK_CHECK(vkAllocateDescriptorSets(device.vk(), &ai, &slot.set));
+        slot.uniforms = gpu::Buffer(device, sizeof(shader::PointUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                    gpu::MemoryUsage::Upload, "point uniforms");
+    }
+    const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(uint32_t)};
+    const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, setLayout_.vk()};
+    layout_ = gpu::createPipelineLayout(device, setLayouts, {&push, 1});
+    VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    si.magFilter = si.minFilter = VK_FILTER_NEAREST;
+    si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    VkSampler sampler = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateSampler(device.vk(), &si, nullptr, &sampler));
+    depthSampler_ = gpu::Sampler(device, sampler);
+    gpuReady_ = true;
+    startLoading();
+}
+
+gpu::Pipeline& PointsLayer::splatPipeline(int radius) {
+    auto it = splatPipelines_.find(radius);
+    if (it != splatPipelines_.end()) return it->second;
+    gpu::Specialization spec;
+    spec.set<int32_t>(0, radius);
+    return splatPipelines_[radius] =
+               gpu::createComputePipeline(*services_.device, layout_.vk(), kSpv_points_splat_comp, &spec, "points splat");
+}
+
+gpu::Pipeline& PointsLayer::pointListPipeline() {
+    if (!pointListPipeline_) {
+        gpu::GraphicsPipelineDesc d;
+        d.vertexSpirv = kSpv_points_pointlist_vert;
+        d.fragmentSpirv = kSpv_points_pointlist_frag;
+        d.layout = layout_.vk();
+        d.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
+        d.cullMode = VK_CULL_MODE_NONE;
+        d.colorFormat = services_.colorFormat;
+        d.depthFormat = services_.depthFormat;
+        d.name = "points list";
+        pointListPipeline_ = gpu::createGraphicsPipeline(*services_.device, d);
+    }
+    return pointListPipeline_;
+}
+
+bool PointsLayer::computePath() const { return settings_.renderer == PointsSettings::Renderer::Compute; }
+
+bool PointsLayer::computesBefore(scene::Pass pass) const {
+    return pass == scene::Pass::Points && computePath() && !drawList_.empty();
+}
+
+void PointsLayer::ensureScreen(uint32_t width, uint32_t height) {
+    const uint64_t bytes = uint64_t(width) * height * sizeof(uint64_t);
+    if (screen_ && screen_.size() == bytes) return;
+    screen_ = gpu::Buffer(*services_.device, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                          gpu::MemoryUsage::GpuOnly, "points screen buffer");
+    ++buffersVersion_;
+}
+
+void PointsLayer::ensureFrameBuffers(uint32_t s, size_t nodes, size_t batches) {
+    Slot& slot = slots_[s];
+    const auto grow = [&](gpu::Buffer& b, size_t bytes, const char* name) {
+        if (b && b.size() >= bytes) return;
+        size_t size = 4096;
+        while (size < bytes) size *= 2;
+        b = gpu::Buffer(*services_.device, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Upload, name);
+        slot.version = 0;   // its set names the old buffer
+    };
+    grow(slot.nodes, std::max<size_t>(nodes, 1) * sizeof(glm::vec4), "point nodes");
+    grow(slot.batches, std::max<size_t>(batches, 1) * sizeof(glm::uvec4), "point batches");
+}
+
+void PointsLayer::writeDescriptors(uint32_t s) {
+    Slot& slot = slots_[s];
+    const VkDescriptorBufferInfo infos[6] = {
+        {slot.uniforms.vk(), 0, sizeof(shader::PointUniforms)}, {positions_.vk(), 0, VK_WHOLE_SIZE},
+        {attributes_.vk(), 0, VK_WHOLE_SIZE},                   {slot.batches.vk(), 0, VK_WHOLE_SIZE},
+        {slot.nodes.vk(), 0, VK_WHOLE_SIZE},                    {screen_.vk(), 0, VK_WHOLE_SIZE}};
+    VkWriteDescriptorSet w[kBindings] = {};
+    uint32_t count = 0;
+    for (uint32_t b = 0; b < 6; ++b) {
+        if (infos[b].buffer == VK_NULL_HANDLE) continue;   // not made yet: the pipelines in use do not read it
+        w[count].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+        w[count].dstSet = slot.set;
+        w[count].dstBinding = b;
+        w[count].descriptorCount = 1;
+        w[count].descriptorType = b == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        w[count].pBufferInfo = &infos[b];
+        ++count;
+    }
+    const VkDescriptorImageInfo depth{depthSampler_.vk(), boundDepth_ ? boundDepth_->view() : VK_NULL_HANDLE,
+                                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    if (boundDepth_) {
+        w[count].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+        w[count].dstSet = slot.set;
+        w[count].dstBinding = 6;
+        w[count].descriptorCount = 1;
+        w[count].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        w[count].pImageInfo = &depth;
+        ++count;
+    }
+    vkUpdateDescriptorSets(services_.device->vk(), count, w, 0, nullptr);
+    slot.version = buffersVersion_;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Frames
+void PointsLayer::writeUniforms(const scene::RecordContext& rc) {
+    const scene::FrameContext& frame = *rc.frame;
+    if (drawList_.empty()) return;
+    size_t batches = 0;
+    for (const Drawn& d : drawList_)
+        batches += (cloud_->octree.nodes()[size_t(d.node)].count + shader::kPointBatch - 1) / shader::kPointBatch;
+    ensureFrameBuffers(rc.slot, drawList_.size(), batches);
+    Slot& slot = slots_[rc.slot];
+    nodeData_.resize(drawList_.size());
+    batchData_.resize(batches);
+    size_t b = 0;
+    for (size_t k = 0; k < drawList_.size(); ++k) {
+        const points::OctreeNode& n = cloud_->octree.nodes()[size_t(drawList_[k].node)];
+        nodeData_[k] = drawList_[k].centreFromEye;
+        const uint64_t first = uint64_t(gpuFirst_[size_t(drawList_[k].node)]);
+        for (uint32_t off = 0; off < n.count; off += shader::kPointBatch)
+            batchData_[b++] = glm::uvec4(uint32_t(k), uint32_t(first + off), std::min(shader::kPointBatch, n.count - off), 0u);
+    }
+    slot.nodes.write(nodeData_.data(), nodeData_.size() * sizeof(glm::vec4));
+    slot.batches.write(batchData_.data(), b * sizeof(glm::uvec4));
+    batchCount_ = uint32_t(b);
+
+    shader::PointUniforms u{};
+    u.viewProj = glm::mat4(viewProj_);
+    u.colorInfo = glm::vec4(float(int(settings_.color)), cloud_->intensityGain, float(settings_.heightRange.x),
+                            float(1.0 / std::max(settings_.heightRange.y - settings_.heightRange.x, 1e-6)));
+    u.constantColor = glm::vec4(glm::vec3(glm::pow(settings_.constantColor, glm::dvec3(2.2))), 1.0f);
+    u.edl = glm::vec4(settings_.edl ? 1.0f : 0.0f, float(settings_.edlStrength), float(settings_.edlRadius),
+                      float(settings_.pointSize));
+    u.screen = glm::vec4(float(frame.width), float(frame.height), 0.0f, 0.0f);
+    slot.uniforms.write(&u, sizeof(u));
+    if (!computePath() && slot.version != buffersVersion_) writeDescriptors(rc.slot);
+}
+
+void PointsLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
+    if (drawList_.empty()) return;
+    VkCommandBuffer cmd = rc.cmd;
+    ensureScreen(rc.frame->width, rc.frame->height);
+    if (boundDepth_ != rc.sceneDepth) {
+        boundDepth_ = rc.sceneDepth;
+        ++buffersVersion_;
+    }
+    Slot& slot = slots_[rc.slot];
+    if (slot.version != buffersVersion_) writeDescriptors(rc.slot);
+    // The last frame's resolve read the screen buffer: clear it after that, before the splats.
+    gpu::bufferBarrier(cmd, screen_, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                       VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    vkCmdFillBuffer(cmd, screen_.vk(), 0, VK_WHOLE_SIZE, 0u);
+    gpu::bufferBarrier(cmd, screen_, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, splatPipeline(splatRadius(settings_.pointSize)).vk());
+    const VkDescriptorSet sets[] = {rc.frameSet, slot.set};
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), 0, 2, sets, 0, nullptr);
+    vkCmdDispatch(cmd, batchCount_, 1, 1);
+    gpu::bufferBarrier(cmd, screen_, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+}
+
+void PointsLayer::record(scene::Pass, const scene::RecordContext& rc) {
+    if (drawList_.empty()) return;
+    VkCommandBuffer cmd = rc.cmd;
+    const VkDescriptorSet sets[] = {rc.frameSet, slots_[rc.slot].set};
+    if (computePath()) {
+        if (!screen_) return;
+        if (!resolvePipeline_) {
+            gpu::GraphicsPipelineDesc d;
+            d.vertexSpirv = kSpv_points_resolve_vert;
+            d.fragmentSpirv = kSpv_points_resolve_frag;
+            d.layout = layout_.vk();
+            d.cullMode = VK_CULL_MODE_NONE;
+            d.colorFormat = services_.colorFormat;
+            d.depthFormat = services_.depthFormat;
+            d.name = "points resolve";
+            resolvePipeline_ = gpu::createGraphicsPipeline(*services_.device, d);
+        }
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolvePipeline_.vk());
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
+        vkCmdDraw(cmd, 3, 1, 0, 0);
+        return;
+    }
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pointListPipeline().vk());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
+    for (uint32_t k = 0; k < drawList_.size(); ++k) {
+        const points::OctreeNode& n = cloud_->octree.nodes()[size_t(drawList_[k].node)];
+        vkCmdPushConstants(cmd, layout_.vk(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(uint32_t), &k);
+        vkCmdDraw(cmd, n.count, 1, uint32_t(gpuFirst_[size_t(drawList_[k].node)]), 0);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Settings and stats
+bool PointsLayer::setParameter(std::string_view name, double value) {
+    if (name == "pointBudget" && value >= 0.0) settings_.pointBudget = uint64_t(value);
+    else if (name == "pointSize" && value >= 1.0 && value <= 15.0) settings_.pointSize = int(value);
+    else if (name == "edl") settings_.edl = value != 0.0;
+    else if (name == "edlStrength" && value >= 0.0) settings_.edlStrength = value;
+    else if (name == "edlRadius" && value >= 0.5 && value <= 8.0) settings_.edlRadius = value;
+    else if (name == "renderer" && (value == 0.0 || value == 1.0)) {
+        const bool compute = value == 0.0 && (!services_.device || services_.device->features().bufferInt64Atomics);
+        settings_.renderer = compute ? PointsSettings::Renderer::Compute : PointsSettings::Renderer::PointList;
+    } else return false;
+    return true;
+}
+
+bool PointsLayer::setOption(std::string_view name, std::string_view value) {
+    if (name != "color") return false;
+    using C = PointsSettings::Color;
+    if (value == "rgb") settings_.color = C::Rgb;
+    else if (value == "intensity") settings_.color = C::Intensity;
+    else if (value == "classification") settings_.color = C::Classification;
+    else if (value == "height") settings_.color = C::Height;
+    else if (value == "constant") settings_.color = C::Constant;
+    else return false;
+    return true;
+}
+
+uint64_t PointsLayer::gpuBytes() const {
+    uint64_t bytes = positions_ ? positions_.size() + attributes_.size() : 0;
+    if (screen_) bytes += screen_.size();
+    return bytes;
+}
+
+uint64_t PointsLayer::cacheBytes() const {
+    if (!cloud_) return 0;
+    const auto& o = cloud_->octree;
+    return o.positions().size() * sizeof(float) + o.attributes().size() * sizeof(points::PackedAttributes) +
+           o.nodes().size() * sizeof(points::OctreeNode);
+}
+
+std::string PointsLayer::status() const {
+    char text[256];
+    if (!loadError_.empty()) return loadError_;
+    if (loadJob_.valid()) {
+        std::snprintf(text, sizeof text, "points: loading %s, %.0f %%", file_->path().c_str(), 100.0 * loadProgress_->load());
+        return text;
+    }
+    if (!cloud_) return {};
+    std::snprintf(text, sizeof text, "points: %.3g M of %.3g M drawn in %zu nodes, %.3g M resident", drawnPoints_ * 1e-6,
+                  double(cloud_->octree.points()) * 1e-6, drawList_.size(), double(residentPoints_) * 1e-6);
+    return text;
+}
+
+}  // namespace orbis::layers

@@ -1,0 +1,145 @@
+#pragma once
+// "points": a LAS point cloud on the globe, drawn by compute rasterisation before the points
+// pass and resolved inside it (or, as a fallback, as a point list).
+//
+//   {"type": "points", "name": "Survey", "path": "cloud.las",
+//    "crs": "EPSG:2992",                                  -- overrides the file's CRS
+//    "origin": {"lon": 9, "lat": 46, "height": 500},      -- instead: local metres east/north/up
+//    "color": "rgb" | "intensity" | "classification" | "height" | "constant",
+//    "constantColor": [1, 0.8, 0.2], "heightRange": [0, 1] (of the cloud's heights),
+//    "pointSize": 1, "edl": true, "edlStrength": 1, "edlRadius": 1.4,
+//    "pointBudget": 3000000, "gpuMemoryMB": 1024, "renderer": "compute" | "pointList"}
+//
+// The file is opened (and its header and CRS checked) when the scene loads; its points are read
+// and the octree built on a worker thread when the layer is first drawn; the nodes are then
+// uploaded coarse to fine within a per-frame budget. Each frame draws the nodes with the largest
+// screen size first until "pointBudget" points (0: all), culled by the view and the horizon.
+//
+// Compute rasterisation: every point writes (depth << 32 | index) with a 64-bit atomic into a
+// screen buffer, then a full-screen pass writes colour and depth, depth-tested against the
+// opaque scene, with eye-dome lighting. The point-list pipeline is the fallback on devices
+// without 64-bit buffer atomics, and the baseline the compute path is benchmarked against.
+
+#include "engine/gpu/Buffer.h"
+#include "engine/gpu/Handle.h"
+#include "engine/jobs/ThreadPool.h"
+#include "engine/scene/Layer.h"
+#include "engine/scene/SceneDesc.h"
+#include "layers/points/PointCloud.h"
+
+#include <glm/glm.hpp>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace orbis::layers {
+
+struct PointsSettings {
+    enum class Color { Rgb, Intensity, Classification, Height, Constant } color = Color::Rgb;
+    glm::dvec3 constantColor{1.0, 1.0, 1.0};   ///< sRGB
+    glm::dvec2 heightRange{0.0, 1.0};          ///< the ramp over this part of the cloud's heights
+    int pointSize = 1;                         ///< pixels (a disc of this diameter), 1..15
+    bool edl = false;
+    double edlStrength = 1.0, edlRadius = 1.4;   ///< radius in pixels
+    uint64_t pointBudget = 3'000'000;            ///< points drawn per frame at most; 0: all
+    uint64_t gpuMemoryBytes = uint64_t(1024) << 20;
+    enum class Renderer { Compute, PointList } renderer = Renderer::Compute;
+};
+
+class PointsLayer final : public scene::Layer {
+public:
+    static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
+    PointsLayer(std::unique_ptr<points::LasFile> file, points::PointGeoreference georef, PointsSettings settings);
+    ~PointsLayer() override;
+
+    std::string_view type() const override { return "points"; }
+    void prepare(const scene::RenderServices& services) override;
+    void update(const scene::FrameContext& frame) override;
+    bool drawsIn(scene::Pass pass) const override { return pass == scene::Pass::Points; }
+    void recordTransfers(const scene::RecordContext& context) override;
+    bool computesBefore(scene::Pass pass) const override;
+    void recordCompute(scene::Pass pass, const scene::RecordContext& context) override;
+    void record(scene::Pass pass, const scene::RecordContext& context) override;
+    uint64_t gpuBytes() const override;
+    uint64_t cacheBytes() const override;
+    uint64_t itemsDrawn() const override { return drawnPoints_; }
+    bool busy() const override;
+    std::optional<double> nearestContent(const glm::dvec3& eye) const override;
+    std::string status() const override;
+    /// Live: "pointBudget", "pointSize", "edl" (0/1), "edlStrength", "edlRadius",
+    /// "renderer" (0 compute, 1 point list).
+    bool setParameter(std::string_view name, double value) override;
+    /// "color": rgb | intensity | classification | height | constant.
+    bool setOption(std::string_view name, std::string_view value) override;
+
+    /// After loading: the cloud (tests), or null while it loads or when loading failed.
+    const points::PointCloud* cloud() const { return cloud_.get(); }
+    /// Loading's error, if it failed.
+    const std::string& loadError() const { return loadError_; }
+    const PointsSettings& settings() const { return settings_; }
+    uint64_t pointsDrawn() const { return drawnPoints_; }
+    size_t nodesDrawn() const { return drawList_.size(); }
+
+private:
+    void startLoading();
+    void finishLoading();
+    void buildGpuObjects();
+    gpu::Pipeline& splatPipeline(int radius);
+    gpu::Pipeline& pointListPipeline();
+    void ensureScreen(uint32_t width, uint32_t height);
+    void ensureFrameBuffers(uint32_t slot, size_t nodes, size_t batches);
+    void writeDescriptors(uint32_t slot);
+    void writeUniforms(const scene::RecordContext& rc);
+    bool computePath() const;
+
+    std::shared_ptr<points::LasFile> file_;   // shared with the loading job
+    points::PointGeoreference georef_;
+    PointsSettings settings_;
+    scene::RenderServices services_;
+
+    // Loading on a worker; the cloud once done.
+    jobs::Job<Result<points::PointCloud>> loadJob_;
+    std::shared_ptr<std::atomic<double>> loadProgress_;
+    std::shared_ptr<std::atomic<bool>> cancel_;
+    std::shared_ptr<points::PointCloud> cloud_;
+    std::string loadError_;
+
+    // Residency: each node's first point in the GPU buffers (or -1), uploaded coarse to fine.
+    std::vector<int64_t> gpuFirst_;
+    std::vector<int32_t> uploadOrder_;   // nodes by level, then index
+    size_t uploadCursor_ = 0;            // next node of uploadOrder_ to upload
+    uint64_t residentPoints_ = 0, capacityPoints_ = 0;
+
+    // This frame's selection.
+    struct Drawn {
+        int32_t node;
+        glm::vec4 centreFromEye;
+    };
+    std::vector<Drawn> drawList_;
+    std::vector<glm::vec4> nodeData_;     // the frame's node centres and batches, as uploaded
+    std::vector<glm::uvec4> batchData_;
+    uint32_t batchCount_ = 0;
+    uint64_t drawnPoints_ = 0;
+    glm::dmat4 viewProj_{1.0};
+
+    gpu::Buffer positions_, attributes_, screen_;
+    struct Slot {
+        gpu::Buffer uniforms, batches, nodes;
+        VkDescriptorSet set = VK_NULL_HANDLE;
+        uint64_t version = 0;   // of the buffers its set names
+    };
+    std::vector<Slot> slots_;
+    uint64_t buffersVersion_ = 1;
+    gpu::Sampler depthSampler_;
+    gpu::DescriptorSetLayout setLayout_;
+    gpu::DescriptorPool descriptorPool_;
+    gpu::PipelineLayout layout_;
+    std::map<int, gpu::Pipeline> splatPipelines_;   // by splat radius (specialisation constant)
+    gpu::Pipeline resolvePipeline_, pointListPipeline_;
+    gpu::Image* boundDepth_ = nullptr;
+    bool gpuReady_ = false;
+};
+
+}  // namespace orbis::layers

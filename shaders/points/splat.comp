@@ -1,0 +1,57 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_shader_atomic_int64 : require
+#extension GL_ARB_gpu_shader_int64 : require
+#extension GL_EXT_control_flow_attributes : require
+#include "shared/PointTypes.h"
+
+// Compute rasterisation of points: each point is projected (positions relative to its node's
+// centre, the node's centre relative to the eye: float, small numbers near the eye), tested
+// against the scene's depth, and written as (depth bits << 32 | index) with a 64-bit atomicMax
+// into a screen buffer: with reversed Z the largest depth is the nearest, and among equal
+// depths the highest index wins, so the image never depends on the order of the writes.
+
+layout(local_size_x = 256) in;
+
+// Splat radius in pixels: 0 writes one pixel; r covers the disc of radius r + 0.5.
+layout(constant_id = 0) const int kRadius = 0;
+
+layout(set = 1, binding = 0) uniform PointBlock { PointUniforms pu; };
+layout(set = 1, binding = 1, std430) readonly buffer Positions { float positions[]; };
+layout(set = 1, binding = 3, std430) readonly buffer Batches { uvec4 batches[]; };
+layout(set = 1, binding = 4, std430) readonly buffer Nodes { vec4 nodeCentres[]; };
+layout(set = 1, binding = 5, std430) buffer Screen { uint64_t screen[]; };
+layout(set = 1, binding = 6) uniform sampler2D sceneDepth;
+
+void main() {
+    uvec4 batch = batches[gl_WorkGroupID.x];
+    vec3 centre = nodeCentres[batch.x].xyz;
+    ivec2 size = ivec2(pu.screen.xy);
+    for (uint k = 0u; k < kPointsPerInvocation; ++k) {
+        uint local = k * kPointGroupSize + gl_LocalInvocationID.x;
+        if (local >= batch.z) break;
+        uint index = batch.y + local;
+        vec3 p = centre + vec3(positions[3u * index], positions[3u * index + 1u], positions[3u * index + 2u]);
+        vec4 clip = pu.viewProj * vec4(p, 1.0);
+        if (clip.w <= 0.0) continue;   // behind the eye
+        float depth = clip.z / clip.w;
+        if (depth > 1.0) continue;     // nearer than the near plane
+        vec2 pixel = (clip.xy / clip.w * 0.5 + 0.5) * pu.screen.xy;
+        ivec2 px = ivec2(floor(pixel));
+        if (px.x < -kRadius || px.y < -kRadius || px.x >= size.x + kRadius || px.y >= size.y + kRadius) continue;
+        uint64_t packed = (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(index);
+        if (kRadius == 0) {
+            if (depth < texelFetch(sceneDepth, px, 0).r) continue;   // behind the opaque scene
+            atomicMax(screen[px.y * size.x + px.x], packed);
+            continue;
+        }
+        [[unroll]] for (int dy = -kRadius; dy <= kRadius; ++dy)
+            [[unroll]] for (int dx = -kRadius; dx <= kRadius; ++dx) {
+                if (dx * dx + dy * dy > kRadius * kRadius + kRadius) continue;   // a disc
+                ivec2 q = px + ivec2(dx, dy);
+                if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
+                if (depth < texelFetch(sceneDepth, q, 0).r) continue;
+                atomicMax(screen[q.y * size.x + q.x], packed);
+            }
+    }
+}

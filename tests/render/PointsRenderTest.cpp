@@ -1,0 +1,311 @@
+// The points layer on lavapipe with validation: a coloured cloud over the terrain with eye-dome
+// lighting off and on, the compute rasteriser against the point-list pipeline, depth against
+// the opaque scene, the point budget, and precision at lon 179.9999 from 2 m away.
+#include "engine/gpu/Device.h"
+#include "globe/Ellipsoid.h"
+#include "layers/points/LasReader.h"
+#include "layers/points/PointsLayer.h"
+#include "tests/render/RenderHelpers.h"
+#include "tests/render/TerrainFixtures.h"
+#include "tests/support/GoldenImage.h"
+#include "tests/support/GpuTest.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <random>
+
+namespace orbis::test {
+namespace {
+
+std::string jsonString(const std::string& s) { return nlohmann::json(s).dump(); }
+
+std::filesystem::path outDir() {
+    const auto dir = std::filesystem::path(testOutputDir()) / "points";
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+void writeLas(const std::string& path, const std::vector<points::LasPoint>& pts, points::LasWriteOptions o) {
+    auto w = points::LasWriter::create(path, o);
+    ASSERT_TRUE(w.ok()) << w.message();
+    (*w)->write(pts);
+    auto closed = (*w)->close();
+    ASSERT_TRUE(closed.ok()) << closed.message();
+}
+
+// A 240 m x 240 m survey on the fixture mountain's eastern slope, in lon/lat/ellipsoidal height
+// (EPSG:4979): ground points 0.1 m above the DEM, coloured by position, a building (class 6, a
+// 40 m x 30 m x 15 m box of points) and trees (class 5, cones). Written once per run.
+constexpr double kLon = 7.03, kLat = 46.0;
+const std::string& mountainCloud() {
+    static const std::string path = [] {
+        const std::string p = (outDir() / "mountain-survey.las").string();
+        std::vector<points::LasPoint> pts;
+        const double mPerLon = 111320.0 * std::cos(glm::radians(kLat)), mPerLat = 111132.0;
+        const auto at = [&](double e, double n, double up, uint8_t cls, glm::dvec3 rgb) {
+            points::LasPoint q;
+            const double lon = kLon + e / mPerLon, lat = kLat + n / mPerLat;
+            q.position = {lon, lat, TerrainFixtures::height(lon, lat) + up};
+            q.classification = cls;
+            q.red = uint16_t(rgb.r * 65535), q.green = uint16_t(rgb.g * 65535), q.blue = uint16_t(rgb.b * 65535);
+            q.intensity = uint16_t(1000 + 30 * up);
+            q.returnNumber = q.numberOfReturns = 1;
+            pts.push_back(q);
+        };
+        for (double n = -120; n <= 120; n += 1.0)
+            for (double e = -120; e <= 120; e += 1.0) {
+                const double stripe = 0.5 + 0.5 * std::sin(e * 0.08) * std::cos(n * 0.06);
+                at(e, n, 0.1, 2, {0.35 + 0.3 * stripe, 0.45 + 0.2 * (n + 120) / 240, 0.25});
+            }
+        for (double x = -20; x <= 20; x += 0.7)   // the building: walls and a roof
+            for (double y = -15; y <= 15; y += 0.7) {
+                const bool wall = std::abs(x) > 19.5 || std::abs(y) > 14.5;
+                if (wall)
+                    for (double z = 0; z <= 15; z += 0.7) at(30 + x, -40 + y, z, 6, {0.75, 0.72, 0.68});
+                at(30 + x, -40 + y, 15.0, 6, {0.8, 0.2, 0.15});
+            }
+        std::mt19937 rng(4);
+        std::uniform_real_distribution<double> u(0.0, 1.0);
+        for (int t = 0; t < 25; ++t) {   // trees: cones 12 m tall
+            const double te = -100 + 90 * u(rng), tn = -100 + 200 * u(rng);
+            for (int k = 0; k < 600; ++k) {
+                const double h = 3 + 9 * u(rng), r = (12 - h) * 0.35 * std::sqrt(u(rng)), a = 6.2832 * u(rng);
+                at(te + r * std::cos(a), tn + r * std::sin(a), h, 5, {0.1, 0.35 + 0.2 * u(rng), 0.12});
+            }
+        }
+        points::LasWriteOptions o;
+        o.pointFormat = 3;
+        o.scale = glm::dvec3(1e-7, 1e-7, 1e-3);
+        writeLas(p, pts, o);
+        return p;
+    }();
+    return path;
+}
+
+std::string mountainLayer() {
+    const auto& f = terrainFixtures();
+    return R"({"type": "terrain", "name": "Mountain", "sky": false, "elevation": [)" + jsonString(f.dem) +
+           R"(], "imagery": [{"path": )" + jsonString(f.image) + "}]}";
+}
+
+std::string pointsLayer(const std::string& path, const std::string& extra = "") {
+    return R"({"type": "points", "name": "Survey", "path": )" + jsonString(path) + extra + "}";
+}
+
+std::string scene(const std::string& viewpoint, const std::string& layers, const char* background = "[0, 0, 0]") {
+    return R"({"viewpoint": )" + viewpoint +
+           R"(, "time": {"start": "2026-06-21T09:00:00Z", "end": "2026-06-21T09:00:00Z"}, "background": )" + background +
+           R"(, "layers": [)" + layers + "]}";
+}
+
+std::string surveyView() {
+    char v[200];
+    std::snprintf(v, sizeof v, R"({"lon": %.6f, "lat": %.6f, "height": %.1f, "heading": 300, "pitch": -35, "range": 420})",
+                  kLon, kLat, TerrainFixtures::height(kLon, kLat));
+    return v;
+}
+
+class PointsRender : public GpuTest {
+protected:
+    void SetUp() override {
+        GpuTest::SetUp();
+        layers::registerBuiltinLayers(registry_);
+    }
+    std::unique_ptr<scene::Scene> load(const std::string& json) { return buildScene(json, registry_); }
+    ImageRgba8 render(scene::Scene& s, uint32_t w = 320, uint32_t h = 240) {
+        if (!renderer_ || renderer_->width() != w || renderer_->height() != h)
+            renderer_ = std::make_unique<render::Renderer>(device(), w, h);
+        s.time().advance(0.0);
+        renderer_->settle(s, 120.0);
+        EXPECT_FALSE(s.busy()) << "still loading after 120 s";
+        const auto frame = renderer_->render(s, true);
+        return ImageRgba8{w, h, renderer_->readPixels(frame)};
+    }
+    ImageRgba8 render(const std::string& json, uint32_t w = 320, uint32_t h = 240) {
+        auto s = load(json);
+        if (!s) return {};
+        return render(*s, w, h);
+    }
+    static layers::PointsLayer& points(scene::Scene& s) {
+        return dynamic_cast<layers::PointsLayer&>(*s.resources().back().layer);
+    }
+
+    scene::LayerRegistry registry_;
+    std::unique_ptr<render::Renderer> renderer_;
+};
+
+size_t differing(const ImageRgba8& a, const ImageRgba8& b, int tolerance) {
+    return a.pixels.size() == b.pixels.size() ? countDifferentPixels(a, b, tolerance) : size_t(-1);
+}
+
+TEST_F(PointsRender, SurveyOverTerrainMatchesGoldens) {
+    const std::string layers = mountainLayer() + ", " + pointsLayer(mountainCloud(), R"(, "crs": "EPSG:4979")");
+    auto s = load(scene(surveyView(), layers));
+    ASSERT_TRUE(s);
+    const auto plain = render(*s);
+    EXPECT_EQ(points(*s).pointsDrawn(), points(*s).cloud()->octree.points());
+    EXPECT_TRUE(matchesGolden(plain, "points_survey"));
+    // The cloud shows over the terrain.
+    const auto terrainOnly = render(scene(surveyView(), mountainLayer()));
+    EXPECT_GT(differing(plain, terrainOnly, 8), size_t(plain.width * plain.height / 6));
+
+    ASSERT_TRUE(points(*s).setParameter("edl", 1));
+    ASSERT_TRUE(points(*s).setParameter("pointSize", 2));
+    const auto edl = render(*s);
+    EXPECT_TRUE(matchesGolden(edl, "points_survey_edl"));
+    EXPECT_GT(differing(edl, plain, 8), size_t(plain.width * plain.height / 50));
+}
+
+TEST_F(PointsRender, ColourModesAndPointListAgreeWithCompute) {
+    const std::string layers = pointsLayer(mountainCloud(), R"(, "crs": "EPSG:4979")");
+    auto s = load(scene(surveyView(), layers));
+    ASSERT_TRUE(s);
+    const auto compute = render(*s);
+    ASSERT_TRUE(points(*s).setParameter("renderer", 1));
+    const auto list = render(*s);
+    // The same points land on the same pixels; only ties between points in one pixel (the
+    // list keeps the first drawn at equal depth, compute the highest index) may differ.
+    EXPECT_LT(differing(compute, list, 6), compute.pixels.size() / 4 / 100) << "more than 1 % of the pixels differ";
+    ASSERT_TRUE(points(*s).setParameter("renderer", 0));
+    std::map<std::string, ImageRgba8> byMode;
+    for (const char* mode : {"rgb", "intensity", "classification", "height", "constant"}) {
+        ASSERT_TRUE(points(*s).setOption("color", mode));
+        byMode[mode] = render(*s);
+    }
+    EXPECT_FALSE(points(*s).setOption("color", "rainbow"));
+    for (auto& [a, ia] : byMode)
+        for (auto& [b, ib] : byMode)
+            if (a < b) {
+                EXPECT_GT(differing(ia, ib, 8), 2000u) << a << " vs " << b;
+            }
+}
+
+TEST_F(PointsRender, TheOpaqueSceneHidesPointsBehindIt) {
+    // The same cloud 300 m under the ground: the terrain hides it entirely.
+    std::vector<points::LasPoint> pts;
+    auto file = points::LasFile::open(mountainCloud());
+    ASSERT_TRUE(file.ok());
+    (*file)->read(0, (*file)->points(), pts);
+    for (auto& p : pts) p.position.z -= 300.0;
+    const std::string buried = (outDir() / "buried.las").string();
+    points::LasWriteOptions o;
+    o.scale = glm::dvec3(1e-7, 1e-7, 1e-3);
+    writeLas(buried, pts, o);
+    const auto terrainOnly = render(scene(surveyView(), mountainLayer()));
+    const auto hidden = render(scene(surveyView(), mountainLayer() + ", " + pointsLayer(buried, R"(, "crs": "EPSG:4979")")));
+    EXPECT_EQ(differing(hidden, terrainOnly, 0), 0u);
+    // Without the terrain the same points show.
+    const auto bare = render(scene(surveyView(), pointsLayer(buried, R"(, "crs": "EPSG:4979")")));
+    size_t lit = 0;
+    for (size_t i = 0; i < bare.pixels.size(); i += 4) lit += bare.pixels[i] + bare.pixels[i + 1] > 30 ? 1 : 0;
+    EXPECT_GT(lit, size_t(bare.width * bare.height / 20));
+}
+
+TEST_F(PointsRender, BudgetDrawsTheNearestNodesFirst) {
+    const std::string layers = pointsLayer(mountainCloud(), R"(, "crs": "EPSG:4979", "pointBudget": 20000)");
+    auto s = load(scene(surveyView(), layers));
+    ASSERT_TRUE(s);
+    const auto limited = render(*s);
+    auto& layer = points(*s);
+    EXPECT_LE(layer.pointsDrawn(), 20000u);
+    EXPECT_GT(layer.pointsDrawn(), 16384u);   // at least the root
+    ASSERT_TRUE(layer.setParameter("pointBudget", 0));
+    const auto full = render(*s);
+    EXPECT_EQ(layer.pointsDrawn(), layer.cloud()->octree.points());
+    EXPECT_GT(layer.nodesDrawn(), 4u);
+    // A fifth of the points still cover the survey's silhouette: the images are alike in shape.
+    size_t litLimited = 0, litFull = 0;
+    for (size_t i = 0; i < full.pixels.size(); i += 4) {
+        litLimited += limited.pixels[i] + limited.pixels[i + 1] + limited.pixels[i + 2] > 0 ? 1 : 0;
+        litFull += full.pixels[i] + full.pixels[i + 1] + full.pixels[i + 2] > 0 ? 1 : 0;
+    }
+    EXPECT_GT(litLimited, litFull / 4);
+    EXPECT_GT(litFull, litLimited);
+}
+
+TEST_F(PointsRender, MetreCloudAtTheAntimeridianHasNoJitter) {
+    // 64 points on an 8 x 8 grid 1 m across at lon 179.9999, lat 0, 8000 m, seen from 2 m: each
+    // point's pixel must be where the double-precision projection puts it, and stay so when the
+    // camera moves by 1 mm (float ECEF would snap these points to a 0.5 m lattice).
+    std::vector<points::LasPoint> pts;
+    for (int i = 0; i < 64; ++i) {
+        points::LasPoint p;
+        p.position = {(i % 8) / 7.0 - 0.5, (i / 8) / 7.0 - 0.5, 0.0};
+        p.red = uint16_t((20 + 3 * i) << 8), p.green = 255 << 8, p.blue = 0;
+        pts.push_back(p);
+    }
+    const std::string path = (outDir() / "metre.las").string();
+    points::LasWriteOptions o;
+    o.scale = glm::dvec3(1e-4);
+    writeLas(path, pts, o);
+    const std::string layer = pointsLayer(path, R"(, "origin": {"lon": 179.9999, "lat": 0, "height": 8000})");
+    for (double shift : {0.0, 0.001}) {
+        char view[200];
+        std::snprintf(view, sizeof view, R"({"lon": 179.9999, "lat": %.12f, "height": 8000, "pitch": -89.9, "range": 2})",
+                      shift / 110574.0);
+        auto s = load(scene(view, layer));
+        ASSERT_TRUE(s);
+        const auto img = render(*s, 320, 240);
+        (void)writePng(outDir() / (shift > 0 ? "metre-moved.png" : "metre.png"), img);
+        const auto& cam = s->camera();
+        const glm::dmat4 viewProj = cam.projection(320.0 / 240.0) * cam.viewRotation();
+        const auto& ell = globe::Ellipsoid::wgs84();
+        const glm::dvec3 origin = ell.toEcef(179.9999, 0.0, 8000.0);
+        const glm::dmat3 enu = ell.enuFrame(179.9999, 0.0);
+        int found = 0;
+        for (int i = 0; i < 64; ++i) {
+            const glm::dvec4 c = viewProj * glm::dvec4(origin + enu * pts[size_t(i)].position - cam.position(), 1.0);
+            const double x = (c.x / c.w * 0.5 + 0.5) * 320.0, y = (c.y / c.w * 0.5 + 0.5) * 240.0;
+            if (x < 1 || y < 1 || x > 319 || y > 239) continue;
+            // Where the point's own colour is, in the 3 x 3 pixels around the expected one.
+            bool here = false;
+            for (int dy = -1; dy <= 1 && !here; ++dy)
+                for (int dx = -1; dx <= 1 && !here; ++dx) {
+                    const size_t k = (size_t(int(y) + dy) * 320 + size_t(int(x) + dx)) * 4;
+                    here = std::abs(int(img.pixels[k]) - (20 + 3 * i)) <= 1 && img.pixels[k + 1] > 250;
+                }
+            EXPECT_TRUE(here) << "point " << i << " not at (" << x << ", " << y << ") with shift " << shift;
+            ++found;
+        }
+        EXPECT_GT(found, 30) << "too few points in view";
+    }
+}
+
+TEST_F(PointsRender, BadLayersGiveClearErrors) {
+    const auto error = [&](const std::string& layer) {
+        auto desc = scene::parseSceneText(scene(surveyView(), layer), "test.json", ".");
+        if (!desc) return desc.message();
+        auto s = scene::Scene::build(std::move(desc).value(), registry_);
+        return s ? std::string() : s.message();
+    };
+    EXPECT_NE(error(R"({"type": "points", "name": "P"})").find("path"), std::string::npos);
+    const std::string notLas = (outDir() / "not-a-cloud.las").string();
+    std::FILE* f = std::fopen(notLas.c_str(), "wb");
+    ASSERT_TRUE(f);
+    std::fputs("this is not a LAS file at all, just some text that is long enough to hold a header? no.", f);
+    std::fclose(f);
+    EXPECT_NE(error(pointsLayer(notLas)).find("not-a-cloud.las"), std::string::npos);
+    // No CRS anywhere: the message says how to give one.
+    std::vector<points::LasPoint> pts(3);
+    const std::string bare = (outDir() / "no-crs.las").string();
+    writeLas(bare, pts, {});
+    const std::string noCrs = error(pointsLayer(bare));
+    EXPECT_NE(noCrs.find("no-crs.las"), std::string::npos) << noCrs;
+    EXPECT_NE(noCrs.find("\"crs\""), std::string::npos) << noCrs;
+    EXPECT_NE(error(pointsLayer(bare, R"(, "crs": "EPSG:999999")")).find("999999"), std::string::npos);
+    EXPECT_NE(error(pointsLayer(bare, R"(, "crs": "EPSG:4979", "color": "rainbow")")).find("color"), std::string::npos);
+    EXPECT_NE(error(pointsLayer(bare, R"(, "crs": "EPSG:4979", "pointSize": 40)")).find("pointSize"), std::string::npos);
+    EXPECT_NE(error(pointsLayer(bare, R"(, "crs": "EPSG:4979", "renderer": "magic")")).find("renderer"), std::string::npos);
+    // An empty cloud is valid: it draws nothing.
+    const std::string empty = (outDir() / "empty.las").string();
+    writeLas(empty, {}, {});
+    const auto img = render(scene(surveyView(), pointsLayer(empty, R"(, "crs": "EPSG:4979")")));
+    ASSERT_FALSE(img.pixels.empty());
+    for (size_t i = 0; i < img.pixels.size(); i += 4) ASSERT_EQ(img.pixels[i] + img.pixels[i + 1] + img.pixels[i + 2], 0);
+}
+
+}  // namespace
+}  // namespace orbis::test
