@@ -254,7 +254,7 @@ Result<std::unique_ptr<LasFile>> LasFile::open(const std::string& path) {
             std::string text = readText(c);
             while (!text.empty() && (text.back() == '\n' || text.back() == '\r' || text.back() == ' ')) text.pop_back();
             if (text.empty()) continue;
-            f->crs_ = {text, "sidecar " + std::filesystem::absolute(c).string()};
+            f->crs_ = {text, "sidecar " + std::filesystem::weakly_canonical(c, ec).string()};
             break;
         }
     }

@@ -58,6 +58,11 @@ struct PointLoadOptions {
     std::function<void(double)> progress;          ///< 0..1, from the loading thread
 };
 
+/// True for files named .las/.laz or starting with "LASF".
+bool looksLikeLas(const std::string& path);
+/// `orbis info`: header, VLRs, CRS (and the bounds on the globe), the first points, as JSON.
+Result<std::string> describeLasJson(const std::string& path);
+
 /// Reads every point of `file` and builds the octree. Any thread.
 Result<PointCloud> loadPointCloud(const LasFile& file, const PointGeoreference& georef, const PointLoadOptions& options);
 

@@ -6,6 +6,7 @@
 #include "tools/orbis/Session.h"
 
 #include "globe/RasterSource.h"
+#include "layers/points/PointCloud.h"
 #include "layers/volume/VolumeReader.h"
 
 #include <nlohmann/json.hpp>
@@ -19,8 +20,9 @@ namespace {
 const char* kHelp =
     "usage: orbis info [FILE] [options]\n"
     "Without FILE: the Vulkan devices, the one Orbis would pick, its driver and the features used.\n"
-    "With FILE: what the file holds, as JSON. Readers so far: scene files (.json), volumes (netCDF and\n"
-    "other multidimensional files: variables, dimensions, ranges) and rasters (GDAL).\n";
+    "With FILE: what the file holds, as JSON. Readers so far: scene files (.json), point clouds (LAS\n"
+    "1.0-1.4: header, VLRs, CRS, bounds on the globe, first points), volumes (netCDF and other\n"
+    "multidimensional files: variables, dimensions, ranges) and rasters (GDAL).\n";
 
 std::string version(uint32_t v) {
     return std::to_string(VK_API_VERSION_MAJOR(v)) + "." + std::to_string(VK_API_VERSION_MINOR(v)) + "." +
@@ -113,6 +115,16 @@ int infoCommand(const std::vector<std::string>& argv) {
     }
     const std::string ext = std::filesystem::path(file).extension().string();
     if (ext == ".json") return sceneInfo(file);
+    // LAS point clouds (by extension or the "LASF" signature).
+    if (points::looksLikeLas(file)) {
+        auto cloud = points::describeLasJson(file);
+        if (cloud) {
+            std::printf("%s\n", cloud->c_str());
+            return kOk;
+        }
+        std::fprintf(stderr, "orbis: %s\n", cloud.message().c_str());
+        return kBadInput;
+    }
     // Files with variables of three or more dimensions (netCDF, HDF5, Zarr): the volume reader.
     if (layers::looksLikeVolumeFile(file)) {
         auto volume = layers::describeVolumeJson(file);
@@ -130,7 +142,7 @@ int infoCommand(const std::vector<std::string>& argv) {
         return kOk;
     }
     std::fprintf(stderr, "orbis: %s\n", raster.message().c_str());
-    std::fprintf(stderr, "orbis: %s: no reader for this file (readers: scene .json, netCDF volumes, rasters GDAL opens)\n",
+    std::fprintf(stderr, "orbis: %s: no reader for this file (readers: scene .json, LAS point clouds, netCDF volumes, rasters GDAL opens)\n",
                  file.c_str());
     return kBadInput;
 }

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Point-cloud benchmarks (issue 5): synthetic surveys of 1 M, 5 M and 20 M points (orbis-make-las,
+# written once into build/bench-data, ignored by git) filling the view at 1920x1080, every point
+# drawn ("pointBudget": 0), the compute rasteriser against the point-list pipeline side by side
+# in one run (--sweep renderer=0,1), then the point budget's error against run time on 5 M.
+#   usage: tools/bench-points.sh [BUILD_DIR]   env: SIZES="1 5 20" FRAMES=10 SIZE=1920x1080
+set -euo pipefail
+here="$(cd "$(dirname "$0")/.." && pwd)"
+build="${1:-$here/build}"
+data="$build/bench-data"
+sizes="${SIZES:-1 5 20}" frames="${FRAMES:-10}" size="${SIZE:-1920x1080}"
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp/orbis-xdg}"
+export VK_ICD_FILENAMES="${VK_ICD_FILENAMES:-/usr/share/vulkan/icd.d/lvp_icd.x86_64.json}"
+mkdir -p "$data" "$XDG_RUNTIME_DIR"
+scene() {   # scene FILE.las BUDGET -> a scene file next to it
+    local las="$1" budget="$2" out="${1%.las}-$2.json"
+    cat > "$out" <<JSON
+{"name": "Synthetic survey ($(basename "$las"))",
+ "viewpoint": {"lon": 9.0, "lat": 46.0087, "height": 820, "heading": 20, "pitch": -55, "range": 1900},
+ "fovDeg": 45, "time": {"start": "2026-06-21T09:00:00Z", "end": "2026-06-21T09:00:00Z"}, "background": [0, 0, 0],
+ "layers": [{"type": "points", "name": "Survey", "path": "$las", "pointBudget": $budget, "gpuMemoryMB": 1536}]}
+JSON
+    echo "$out"
+}
+for m in $sizes; do
+    las="$data/survey-${m}m.las"
+    [ -f "$las" ] || "$build/bin/orbis-make-las" --points "${m}000000" --out "$las"
+    echo "== $m M points, compute (0) vs point list (1), $size"
+    "$build/bin/orbis" bench "$(scene "$las" 0)" --size "$size" --frames "$frames" --warmup 2 --sweep renderer=0,1
+done
+las="$data/survey-5m.las"
+[ -f "$las" ] || "$build/bin/orbis-make-las" --points 5000000 --out "$las"
+echo "== point budget on 5 M points (reference: all), $size"
+"$build/bin/orbis" bench "$(scene "$las" 0)" --size "$size" --frames "$frames" --warmup 2 \
+    --sweep pointBudget=0,3000000,1000000,300000,100000 --plot "$build/points-budget.png"
