@@ -222,3 +222,34 @@ TEST_F(CliGpu, BenchFollowsACameraPath) {
 
 }  // namespace
 }  // namespace orbis::test
+
+namespace orbis::test {
+namespace {
+
+TEST(Cli, InfoDescribesLasFiles) {
+    const fs::path las = fs::temp_directory_path() / "orbis-cli-test" / "survey.las";
+    fs::create_directories(las.parent_path());
+    const std::string make = std::string(ORBIS_MAKE_LAS) + " --points 20000 --size 500 --out " + las.string() + " 2>&1";
+    ASSERT_EQ(std::system(make.c_str()), 0);
+    const CliRun r = run("info " + las.string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const auto j = nlohmann::json::parse(r.output);
+    EXPECT_EQ(j["kind"], "point cloud");
+    EXPECT_EQ(j["points"], 20000);
+    EXPECT_EQ(j["pointFormat"], 3);
+    EXPECT_EQ(j["crs"]["source"], "GeoTIFF keys (EPSG:32632)");
+    const double lon = j["geographicBounds"]["lon"][0].get<double>(), lat = j["geographicBounds"]["lat"][0].get<double>();
+    EXPECT_NEAR(lon, 9.0, 0.01);   // the generator's area: UTM 32N around lon 9, lat 46
+    EXPECT_NEAR(lat, 46.0, 0.02);
+    EXPECT_EQ(j["firstPoints"].size(), 3u);
+
+    // Not a LAS file behind a .las name; a generator usage error.
+    const fs::path bad = tempFile("bad.las", "LASF but then nothing");
+    const CliRun b = run("info " + bad.string());
+    EXPECT_EQ(b.exitCode, 1);
+    EXPECT_NE(b.output.find("bad.las"), std::string::npos) << b.output;
+    EXPECT_EQ(std::system((std::string(ORBIS_MAKE_LAS) + " --points ten --out x.las > /dev/null 2>&1").c_str()) >> 8, 2);
+}
+
+}  // namespace
+}  // namespace orbis::test
