@@ -8,6 +8,8 @@
 
 #include <cmath>
 #include <limits>
+#include <mutex>
+#include <vector>
 
 namespace orbis::points {
 
@@ -16,6 +18,9 @@ struct LasGeoreference::Impl {
     OGRCoordinateTransformation* transform = nullptr;
     double linearUnit = 1.0, verticalUnit = 1.0;
     bool scaleHeights = false;
+    // OGRCoordinateTransformation must not be used by two threads at once (GDAL's rule), and
+    // loading jobs may share one georeference.
+    std::mutex transforming;
     ~Impl() {
         if (transform) OGRCoordinateTransformation::DestroyCT(transform);
     }
@@ -81,9 +86,13 @@ size_t LasGeoreference::toEcef(std::span<glm::dvec3> xyz) const {
             y[i] = xyz[first + i].y;
             z[i] = xyz[first + i].z * (impl_->scaleHeights ? impl_->linearUnit : 1.0);
         }
-        CPLPushErrorHandler(CPLQuietErrorHandler);
-        const bool all = impl_->transform->Transform(int(n), x.data(), y.data(), z.data(), ok.data());
-        CPLPopErrorHandler();
+        bool all = false;
+        {
+            std::lock_guard lock(impl_->transforming);
+            CPLPushErrorHandler(CPLQuietErrorHandler);
+            all = impl_->transform->Transform(int(n), x.data(), y.data(), z.data(), ok.data());
+            CPLPopErrorHandler();
+        }
         for (size_t i = 0; i < n; ++i) {
             const bool good = (all || ok[i]) && std::isfinite(x[i]) && std::isfinite(y[i]) && std::isfinite(z[i]);
             xyz[first + i] = good ? glm::dvec3(x[i], y[i], z[i]) : glm::dvec3(nan);

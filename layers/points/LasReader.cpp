@@ -1,5 +1,7 @@
 #include "layers/points/LasReader.h"
 
+#include <cpl_conv.h>
+#include <cpl_error.h>
 #include <ogr_spatialref.h>
 
 #include <fcntl.h>
@@ -11,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace orbis::points {
@@ -43,54 +46,252 @@ std::string readText(const std::filesystem::path& p) {
     return s.str();
 }
 
-/// GeoTIFF keys (34735: u16 directory; 34736 doubles; 34737 ASCII) to a CRS, for the keys that
-/// name EPSG codes; user-defined projections are reported, not guessed.
-LasCrs crsFromGeoKeys(const uint8_t* keys, uint64_t length) {
-    LasCrs crs;
-    if (length < 8) {
-        crs.source = "GeoTIFF keys (empty directory)";
-        return crs;
+struct Unit {
+    double metres = 0.0;   ///< 0: a code we do not know
+    const char* name = "";
+};
+
+/// The EPSG unit codes GeoTIFF keys use (GeoTIFF 1.1 §7.1.6 and the EPSG units table).
+Unit unitFromCode(uint16_t code) {
+    switch (code) {
+    case 9001: return {1.0, "metre"};
+    case 9002: return {0.3048, "foot"};
+    case 9003: return {1200.0 / 3937.0, "US survey foot"};
+    case 9005: return {0.3047972654, "Clarke's foot"};
+    case 9036: return {1000.0, "kilometre"};
+    default: return {};
     }
-    const uint16_t count = get<uint16_t>(keys + 6);
-    int projected = 0, geographic = 0, vertical = 0;
-    for (uint16_t k = 0; k < count && 8u + 8u * (k + 1u) <= length; ++k) {
-        const uint8_t* e = keys + 8 + 8 * k;
-        const uint16_t id = get<uint16_t>(e), location = get<uint16_t>(e + 2), value = get<uint16_t>(e + 6);
-        if (location != 0) continue;   // values stored elsewhere: not a code
-        if (id == 3072) projected = value;
-        else if (id == 2048) geographic = value;
-        else if (id == 4096) vertical = value;
-    }
-    const int code = projected ? projected : geographic;
-    if (code == 0 || code == 32767) {
-        crs.source = "GeoTIFF keys (user-defined projection: give a sidecar .wkt or the scene's \"crs\")";
-        return crs;
-    }
-    OGRSpatialReference horizontal;
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-    const bool ok = horizontal.importFromEPSG(code) == OGRERR_NONE;
-    std::string source = "GeoTIFF keys (EPSG:" + std::to_string(code);
-    if (ok && vertical > 0 && vertical != 32767) {
-        OGRSpatialReference v;
-        if (v.importFromEPSG(vertical) == OGRERR_NONE) {
-            OGRSpatialReference compound;
-            if (compound.SetCompoundCS("", &horizontal, &v) == OGRERR_NONE) {
-                horizontal = compound;
-                source += " + EPSG:" + std::to_string(vertical);
+}
+
+/// The GeoKeyDirectoryTag (34735): GeoTIFF 1.1 §2.4, a header of 4 uint16 (version 1, revision
+/// 1, minor, key count), then 4 uint16 per key (id, tag location, count, value or index). The
+/// keys read here are inline codes (location 0) and citations in the ASCII VLR (34737); none of
+/// them needs the doubles (34736).
+struct GeoKeys {
+    std::map<uint16_t, uint16_t> shorts;          // keys whose value is stored inline (location 0)
+    std::map<uint16_t, std::string> ascii;        // keys stored in 34737
+
+    GeoKeys(const uint8_t* dir, uint64_t length, const uint8_t* text, uint64_t textLength) {
+        if (!dir || length < 8) return;
+        const uint16_t count = get<uint16_t>(dir + 6);
+        for (uint64_t k = 0; k < count && 8 + 8 * (k + 1) <= length; ++k) {
+            const uint8_t* e = dir + 8 + 8 * k;
+            const uint16_t id = get<uint16_t>(e), location = get<uint16_t>(e + 2);
+            const uint16_t n = get<uint16_t>(e + 4), value = get<uint16_t>(e + 6);
+            if (location == 0) shorts[id] = value;
+            else if (location == 34737 && text && uint64_t(value) + n <= textLength) {
+                std::string s(reinterpret_cast<const char*>(text) + value, n);
+                while (!s.empty() && (s.back() == '|' || s.back() == 0 || s.back() == ' ')) s.pop_back();
+                ascii[id] = s;
             }
         }
     }
-    CPLPopErrorHandler();
-    crs.source = source + ")";
-    if (!ok) {
-        crs.source = "GeoTIFF keys (EPSG:" + std::to_string(code) + " is unknown to PROJ)";
-        return crs;
+    uint16_t code(uint16_t id) const {
+        const auto it = shorts.find(id);
+        return it == shorts.end() ? 0 : it->second;
     }
+};
+
+std::string exportWkt(const OGRSpatialReference& srs) {
     char* wkt = nullptr;
     const char* options[] = {"FORMAT=WKT2_2019", nullptr};
-    if (horizontal.exportToWkt(&wkt, options) == OGRERR_NONE && wkt) crs.wkt = wkt;
+    std::string out;
+    if (srs.exportToWkt(&wkt, options) == OGRERR_NONE && wkt) out = wkt;
     CPLFree(wkt);
+    return out;
+}
+
+/// GeoTIFF keys to a CRS, for the keys that name EPSG codes: ProjectedCSTypeGeoKey (3072) or
+/// GeographicTypeGeoKey (2048), VerticalCSTypeGeoKey (4096) as a compound CRS, and the unit keys
+/// ProjLinearUnitsGeoKey (3076) and VerticalUnitsGeoKey (4099) where they differ from the
+/// codes' own units. User-defined projections (32767) are reported, not guessed.
+LasCrs crsFromGeoKeys(const GeoKeys& keys) {
+    constexpr uint16_t kUserDefined = 32767;   // GeoTIFF 1.1 §7.1.4
+    LasCrs crs;
+    const uint16_t projected = keys.code(3072), geographic = keys.code(2048), vertical = keys.code(4096);
+    const bool isProjected = projected != 0 || keys.code(1024) == 1;   // GTModelTypeGeoKey 1 = projected
+    const uint16_t code = isProjected ? projected : geographic;
+    if (code == 0 || code == kUserDefined) {
+        std::string citation;
+        for (uint16_t id : {3073, 2049, 1026})   // PCSCitationGeoKey, GeogCitationGeoKey, GTCitationGeoKey
+            if (keys.ascii.count(id) && !keys.ascii.at(id).empty()) {
+                citation = std::string(" \"").append(keys.ascii.at(id)).append("\"");
+                break;
+            }
+        crs.source = std::string("GeoTIFF keys (")
+                         .append(code == 0 ? "no EPSG code" : "user-defined projection")
+                         .append(citation)
+                         .append(": give a sidecar .wkt or the scene's \"crs\")");
+        return crs;
+    }
+    std::ostringstream source;
+    source << "GeoTIFF keys (EPSG:" << code;
+    OGRSpatialReference srs;
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    const bool ok = srs.importFromEPSG(code) == OGRERR_NONE;
+    // A projected CRS whose coordinates the file states in another unit (common in US surveys:
+    // a metre-based code with coordinates in feet).
+    const Unit linear = unitFromCode(keys.code(3076));
+    if (ok && isProjected && linear.metres > 0.0 && std::abs(srs.GetLinearUnits() - linear.metres) > 1e-12 &&
+        srs.SetLinearUnitsAndUpdateParameters(linear.name, linear.metres) == OGRERR_NONE)
+        source << " in " << linear.name;
+    const Unit up = unitFromCode(keys.code(4099));
+    OGRSpatialReference heights;
+    bool haveHeights = false;
+    if (ok && vertical != 0 && vertical != kUserDefined && heights.importFromEPSG(vertical) == OGRERR_NONE) {
+        haveHeights = true;
+        source << " + EPSG:" << vertical;
+        if (up.metres > 0.0 && std::abs(heights.GetTargetLinearUnits("VERT_CS") - up.metres) > 1e-12 &&
+            heights.SetTargetLinearUnits("VERT_CS", up.name, up.metres) == OGRERR_NONE)
+            source << " in " << up.name;
+    } else if (ok && vertical != 0 && vertical != kUserDefined) {
+        source << ", vertical EPSG:" << vertical << " unknown to PROJ, heights taken as ellipsoidal";
+    } else if (ok && up.metres > 0.0) {
+        // Heights in a stated unit but no vertical CRS: LasGeoreference would take them in the
+        // horizontal unit (metres for degrees), so only a different unit needs a vertical part.
+        const double assumed = isProjected ? srs.GetLinearUnits() : 1.0;
+        if (std::abs(assumed - up.metres) > 1e-12) {
+            std::ostringstream wkt;
+            wkt.precision(17);
+            wkt << "VERT_CS[\"heights in " << up.name << "\",VERT_DATUM[\"unknown\",2005],UNIT[\"" << up.name << "\","
+                << up.metres << "],AXIS[\"Up\",UP]]";
+            haveHeights = heights.SetFromUserInput(wkt.str().c_str()) == OGRERR_NONE;
+            if (haveHeights) source << ", heights in " << up.name;
+        }
+    }
+    if (haveHeights) {
+        OGRSpatialReference compound;
+        const std::string name = std::string(srs.GetName() ? srs.GetName() : "").append(" + ").append(heights.GetName() ? heights.GetName() : "");
+        if (compound.SetCompoundCS(name.c_str(), &srs, &heights) == OGRERR_NONE) srs = compound;
+    }
+    CPLPopErrorHandler();
+    if (!ok) {
+        crs.source = std::string("GeoTIFF keys (EPSG:").append(std::to_string(code)).append(" is unknown to PROJ)");
+        return crs;
+    }
+    source << ")";
+    crs.source = source.str();
+    crs.wkt = exportWkt(srs);
     return crs;
+}
+
+const char* const kLazError = "LAZ (LASzip-compressed) files are not supported yet";
+
+std::string num(uint64_t v) { return std::to_string(v); }
+
+/// The public header block (LAS 1.4 R15 Table 3; 1.0-1.3 are its prefix up to byte 227/235).
+/// `evlrStart`/`evlrCount` come from the 1.4 part.
+Result<uint16_t> parseHeader(const std::string& path, const uint8_t* d, uint64_t bytes, LasHeader& h,
+                             uint64_t& evlrStart, uint32_t& evlrCount) {
+    h.globalEncoding = get<uint16_t>(d + 6);
+    h.versionMajor = d[24];
+    h.versionMinor = d[25];
+    if (h.versionMajor != 1 || h.versionMinor > 4)
+        return fail(path, std::string("LAS version ").append(num(h.versionMajor)).append(".").append(num(h.versionMinor)).append(" is not supported (1.0 to 1.4)"));
+    h.systemId = fixedString(d + 26, 32);
+    h.software = fixedString(d + 58, 32);
+    h.creationDay = get<uint16_t>(d + 90);
+    h.creationYear = get<uint16_t>(d + 92);
+    const uint16_t headerSize = get<uint16_t>(d + 94);
+    const uint16_t minHeader = h.versionMinor >= 4 ? 375 : h.versionMinor == 3 ? 235 : 227;
+    if (headerSize < minHeader || headerSize > bytes)
+        return fail(path, std::string("header size ").append(num(headerSize)).append(" is wrong for LAS 1.")
+                              .append(num(h.versionMinor)).append(" (at least ").append(num(minHeader))
+                              .append(" bytes, within the file's ").append(num(bytes)).append(")"));
+    h.pointOffset = get<uint32_t>(d + 96);
+    const uint8_t format = d[104];
+    // LASzip sets bit 7 (and bit 6) of the format byte in compressed files.
+    if (format & 0xC0) return fail(path, kLazError);
+    if (format > 10) return fail(path, std::string("unknown point data format ").append(num(format)).append(" (0 to 10)"));
+    h.pointFormat = format;
+    h.recordLength = get<uint16_t>(d + 105);
+    if (h.recordLength < kRecordSize[format])
+        return fail(path, std::string("point record length ").append(num(h.recordLength)).append(" is shorter than format ")
+                              .append(num(format)).append("'s ").append(num(kRecordSize[format])).append(" bytes"));
+    h.extraBytes = uint16_t(h.recordLength - kRecordSize[format]);
+    h.pointCount = get<uint32_t>(d + 107);
+    for (int i = 0; i < 5; ++i) h.pointsByReturn[size_t(i)] = get<uint32_t>(d + 111 + 4 * i);
+    h.scale = {get<double>(d + 131), get<double>(d + 139), get<double>(d + 147)};
+    h.offset = {get<double>(d + 155), get<double>(d + 163), get<double>(d + 171)};
+    h.max = {get<double>(d + 179), get<double>(d + 195), get<double>(d + 211)};
+    h.min = {get<double>(d + 187), get<double>(d + 203), get<double>(d + 219)};
+    for (int a = 0; a < 3; ++a)
+        if (!(std::abs(h.scale[a]) > 0.0) || !std::isfinite(h.scale[a]) || !std::isfinite(h.offset[a]))
+            return fail(path, std::string("the scale factor or offset of axis ").append(1, "xyz"[a]).append(" is zero or not finite"));
+    if (h.versionMinor >= 4) {
+        // 1.4: 64-bit counts; the legacy 32-bit ones are 0 for formats 6..10 or above 2^32 points.
+        evlrStart = get<uint64_t>(d + 235);
+        evlrCount = get<uint32_t>(d + 243);
+        const uint64_t count64 = get<uint64_t>(d + 247);
+        if (h.pointCount == 0 || format >= 6) h.pointCount = count64;
+        for (int i = 0; i < 15; ++i) {
+            const uint64_t v = get<uint64_t>(d + 255 + 8 * i);
+            if (format >= 6 || i >= 5 || h.pointsByReturn[size_t(i)] == 0) h.pointsByReturn[size_t(i)] = v;
+        }
+    }
+    return headerSize;
+}
+
+/// The VLRs between the header and the points (54-byte headers, 16-bit lengths) and the 1.4
+/// EVLRs after them (60-byte headers, 64-bit lengths); `payloads` gets each one's data offset.
+Result<void> readVlrs(const std::string& path, const uint8_t* d, uint64_t bytes, uint16_t headerSize, uint32_t vlrCount,
+                      uint64_t evlrStart, uint32_t evlrCount, LasHeader& h, std::vector<uint64_t>& payloads) {
+    uint64_t at = headerSize;
+    for (uint32_t i = 0; i < vlrCount; ++i) {
+        if (at + 54 > h.pointOffset)
+            return fail(path, std::string("variable-length record ").append(num(i)).append(" of ").append(num(vlrCount))
+                                  .append(" runs past the start of the point data (byte ").append(num(h.pointOffset)).append(")"));
+        LasVlr v;
+        v.userId = fixedString(d + at + 2, 16);
+        v.recordId = get<uint16_t>(d + at + 18);
+        v.length = get<uint16_t>(d + at + 20);
+        v.description = fixedString(d + at + 22, 32);
+        if (at + 54 + v.length > h.pointOffset)
+            return fail(path, std::string("variable-length record ").append(num(i)).append(" (").append(v.userId).append(" ")
+                                  .append(num(v.recordId)).append(", ").append(num(v.length))
+                                  .append(" bytes) runs past the start of the point data"));
+        if (v.userId == "laszip encoded" || v.recordId == 22204) return fail(path, kLazError);
+        payloads.push_back(at + 54);
+        h.vlrs.push_back(std::move(v));
+        at += 54 + h.vlrs.back().length;
+    }
+    const uint64_t pointsEnd = h.pointOffset + h.pointCount * h.recordLength;   // validated by the caller
+    at = evlrStart;
+    for (uint32_t i = 0; i < evlrCount; ++i) {
+        if (at < pointsEnd || at > bytes || bytes - at < 60)
+            return fail(path, std::string("extended variable-length record ").append(num(i)).append(" at byte ").append(num(at))
+                                  .append(" lies outside the file or inside the point data"));
+        LasVlr v;
+        v.userId = fixedString(d + at + 2, 16);
+        v.recordId = get<uint16_t>(d + at + 18);
+        v.length = get<uint64_t>(d + at + 20);
+        v.description = fixedString(d + at + 28, 32);
+        v.extended = true;
+        if (v.length > bytes - (at + 60))
+            return fail(path, std::string("extended variable-length record ").append(num(i)).append(" (").append(v.userId)
+                                  .append(" ").append(num(v.recordId)).append(") runs past the end of the file"));
+        payloads.push_back(at + 60);
+        h.vlrs.push_back(std::move(v));
+        at += 60 + h.vlrs.back().length;
+    }
+    return {};
+}
+
+/// The first sidecar that exists and holds text: `cloud.las.wkt`, `cloud.wkt`, `cloud.prj`.
+LasCrs sidecarCrs(const std::string& path) {
+    const std::filesystem::path p(path);
+    const std::filesystem::path candidates[] = {std::filesystem::path(std::string(path).append(".wkt")),
+                                                std::filesystem::path(p).replace_extension(".wkt"),
+                                                std::filesystem::path(p).replace_extension(".prj")};
+    for (const auto& c : candidates) {
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(c, ec) || std::filesystem::file_size(c, ec) > (1u << 20)) continue;
+        std::string text = readText(c);
+        while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
+        if (text.empty()) continue;
+        return {text, std::string("sidecar ").append(std::filesystem::weakly_canonical(c, ec).string())};
+    }
+    return {};
 }
 
 }  // namespace
@@ -107,14 +308,14 @@ LasFile::~LasFile() {
 Result<std::unique_ptr<LasFile>> LasFile::open(const std::string& path) {
     std::unique_ptr<LasFile> f(new LasFile());
     f->path_ = path;
-    const std::string ext = std::filesystem::path(path).extension().string();
-    if (ext == ".laz" || ext == ".LAZ") return fail(path, "LAZ (LASzip-compressed) files are not supported yet");
     f->fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (f->fd_ < 0) return fail(path, std::string("cannot open: ").append(std::strerror(errno)));
+    const std::string ext = std::filesystem::path(path).extension().string();
+    if (ext == ".laz" || ext == ".LAZ") return fail(path, kLazError);
     struct stat st {};
     if (fstat(f->fd_, &st) != 0 || !S_ISREG(st.st_mode)) return fail(path, "not a regular file");
     f->bytes_ = uint64_t(st.st_size);
-    if (f->bytes_ < 227) return fail(path, "not a LAS file (shorter than a LAS header, " + std::to_string(f->bytes_) + " bytes)");
+    if (f->bytes_ < 227) return fail(path, std::string("not a LAS file (").append(num(f->bytes_)).append(" bytes, shorter than a LAS header)"));
     void* map = mmap(nullptr, f->bytes_, PROT_READ, MAP_PRIVATE, f->fd_, 0);
     if (map == MAP_FAILED) return fail(path, std::string("cannot map: ").append(std::strerror(errno)));
     f->data_ = static_cast<const uint8_t*>(map);
@@ -122,145 +323,46 @@ Result<std::unique_ptr<LasFile>> LasFile::open(const std::string& path) {
     if (std::memcmp(d, "LASF", 4) != 0) return fail(path, "not a LAS file (no \"LASF\" signature)");
 
     LasHeader& h = f->header_;
-    h.globalEncoding = get<uint16_t>(d + 6);
-    h.versionMajor = d[24];
-    h.versionMinor = d[25];
-    if (h.versionMajor != 1 || h.versionMinor > 4)
-        return fail(path, "LAS version " + std::to_string(h.versionMajor) + "." + std::to_string(h.versionMinor) +
-                              " is not supported (1.0 to 1.4)");
-    h.systemId = fixedString(d + 26, 32);
-    h.software = fixedString(d + 58, 32);
-    h.creationDay = get<uint16_t>(d + 90);
-    h.creationYear = get<uint16_t>(d + 92);
-    const uint16_t headerSize = get<uint16_t>(d + 94);
-    const uint16_t minHeader = h.versionMinor >= 4 ? 375 : h.versionMinor == 3 ? 235 : 227;
-    if (headerSize < minHeader || headerSize > f->bytes_)
-        return fail(path, "header size " + std::to_string(headerSize) + " is wrong for LAS 1." +
-                              std::to_string(h.versionMinor) + " (at least " + std::to_string(minHeader) + ")");
-    h.pointOffset = get<uint32_t>(d + 96);
-    const uint32_t vlrCount = get<uint32_t>(d + 100);
-    const uint8_t format = d[104];
-    if (format & 0xC0) return fail(path, "LAZ (LASzip-compressed) files are not supported yet");
-    if (format > 10) return fail(path, "unknown point data format " + std::to_string(format) + " (0 to 10)");
-    h.pointFormat = format;
-    h.recordLength = get<uint16_t>(d + 105);
-    if (h.recordLength < kRecordSize[format])
-        return fail(path, "point record length " + std::to_string(h.recordLength) + " is shorter than format " +
-                              std::to_string(format) + "'s " + std::to_string(kRecordSize[format]) + " bytes");
-    h.extraBytes = uint16_t(h.recordLength - kRecordSize[format]);
-    h.pointCount = get<uint32_t>(d + 107);
-    for (int i = 0; i < 5; ++i) h.pointsByReturn[size_t(i)] = get<uint32_t>(d + 111 + 4 * i);
-    h.scale = {get<double>(d + 131), get<double>(d + 139), get<double>(d + 147)};
-    h.offset = {get<double>(d + 155), get<double>(d + 163), get<double>(d + 171)};
-    h.max = {get<double>(d + 179), get<double>(d + 195), get<double>(d + 211)};
-    h.min = {get<double>(d + 187), get<double>(d + 203), get<double>(d + 219)};
-    for (int a = 0; a < 3; ++a)
-        if (!(std::abs(h.scale[a]) > 0.0) || !std::isfinite(h.scale[a]) || !std::isfinite(h.offset[a]))
-            return fail(path, "scale factor or offset of axis " + std::string(1, "xyz"[a]) + " is zero or not finite");
     uint64_t evlrStart = 0;
     uint32_t evlrCount = 0;
-    if (h.versionMinor >= 4) {
-        evlrStart = get<uint64_t>(d + 235);
-        evlrCount = get<uint32_t>(d + 243);
-        const uint64_t count64 = get<uint64_t>(d + 247);
-        if (h.pointCount == 0 || format >= 6) h.pointCount = count64;
-        for (int i = 0; i < 15; ++i) {
-            const uint64_t v = get<uint64_t>(d + 255 + 8 * i);
-            if (format >= 6 || i >= 5 || h.pointsByReturn[size_t(i)] == 0) h.pointsByReturn[size_t(i)] = v;
-        }
-    }
-
-    // VLRs between the header and the points.
-    uint64_t at = headerSize;
-    for (uint32_t i = 0; i < vlrCount; ++i) {
-        if (at + 54 > h.pointOffset || at + 54 > f->bytes_)
-            return fail(path, "variable-length record " + std::to_string(i) + " runs past the start of the point data");
-        LasVlr v;
-        v.userId = fixedString(d + at + 2, 16);
-        v.recordId = get<uint16_t>(d + at + 18);
-        v.length = get<uint16_t>(d + at + 20);
-        v.description = fixedString(d + at + 22, 32);
-        if (at + 54 + v.length > h.pointOffset)
-            return fail(path, "variable-length record " + std::to_string(i) + " (" + v.userId + " " +
-                                  std::to_string(v.recordId) + ") runs past the start of the point data");
-        if (v.userId == "laszip encoded") return fail(path, "LAZ (LASzip-compressed) files are not supported yet");
-        h.vlrs.push_back(v);
-        at += 54 + v.length;
-    }
-    if (h.pointOffset < headerSize) return fail(path, "the point data starts inside the header");
-    // Points: offset + count * record length within the file (no overflow: checked by division).
-    if (h.pointOffset > f->bytes_) return fail(path, "the point data offset is past the end of the file");
+    auto headerSize = parseHeader(path, d, f->bytes_, h, evlrStart, evlrCount);
+    if (!headerSize) return headerSize.error();
+    if (h.pointOffset < *headerSize)
+        return fail(path, std::string("the point data offset ").append(num(h.pointOffset)).append(" lies inside the ")
+                              .append(num(*headerSize)).append("-byte header"));
+    if (h.pointOffset > f->bytes_)
+        return fail(path, std::string("the point data offset ").append(num(h.pointOffset)).append(" is past the end of the file (")
+                              .append(num(f->bytes_)).append(" bytes)"));
+    // offset + count * record length within the file, compared by division: no overflow.
     const uint64_t room = f->bytes_ - h.pointOffset;
     if (h.pointCount > room / h.recordLength)
-        return fail(path, "the header declares " + std::to_string(h.pointCount) + " points of " +
-                              std::to_string(h.recordLength) + " bytes but the file holds " +
-                              std::to_string(room / h.recordLength) + " (truncated or a corrupt header)");
-    // EVLRs after the points (LAS 1.4).
-    if (evlrCount > 0) {
-        at = evlrStart;
-        for (uint32_t i = 0; i < evlrCount; ++i) {
-            if (at < h.pointOffset + h.pointCount * h.recordLength || at + 60 > f->bytes_)
-                return fail(path, "extended variable-length record " + std::to_string(i) + " lies outside the file");
-            LasVlr v;
-            v.userId = fixedString(d + at + 2, 16);
-            v.recordId = get<uint16_t>(d + at + 18);
-            v.length = get<uint64_t>(d + at + 20);
-            v.description = fixedString(d + at + 28, 32);
-            v.extended = true;
-            if (v.length > f->bytes_ - (at + 60))
-                return fail(path, "extended variable-length record " + std::to_string(i) + " runs past the end of the file");
-            h.vlrs.push_back(v);
-            at += 60 + v.length;
-        }
-    }
+        return fail(path, std::string("the header declares ").append(num(h.pointCount)).append(" points of ")
+                              .append(num(h.recordLength)).append(" bytes but the file holds ")
+                              .append(num(room / h.recordLength)).append(" (truncated or a corrupt header)"));
+    std::vector<uint64_t> payloads;
+    if (auto vlrs = readVlrs(path, d, f->bytes_, *headerSize, get<uint32_t>(d + 100), evlrStart, evlrCount, h, payloads); !vlrs)
+        return vlrs.error();
 
-    // The CRS: WKT VLR, then GeoTIFF keys, then a sidecar.
-    const auto payload = [&](const LasVlr& want) -> const uint8_t* {
-        uint64_t pos = headerSize;
-        for (const LasVlr& v : h.vlrs) {
-            if (v.extended) break;
-            if (&v == &want) return d + pos + 54;
-            pos += 54 + v.length;
-        }
-        if (!want.extended) return nullptr;
-        pos = evlrStart;
-        for (const LasVlr& v : h.vlrs) {
-            if (!v.extended) continue;
-            if (&v == &want) return d + pos + 60;
-            pos += 60 + v.length;
-        }
-        return nullptr;
+    // The CRS: WKT VLR, then GeoTIFF keys, then a sidecar (a sidecar also stands in for GeoTIFF
+    // keys that name no EPSG code).
+    const auto find = [&](uint16_t id) -> size_t {
+        for (size_t i = 0; i < h.vlrs.size(); ++i)
+            if (h.vlrs[i].userId == "LASF_Projection" && h.vlrs[i].recordId == id && h.vlrs[i].length > 0) return i;
+        return h.vlrs.size();
     };
-    for (const LasVlr& v : h.vlrs)
-        if (v.userId == "LASF_Projection" && v.recordId == 2112 && v.length > 0) {
-            const uint8_t* p = payload(v);
-            if (p) f->crs_ = {fixedString(p, v.length), "WKT VLR"};
-            break;
-        }
-    if (f->crs_.wkt.empty())
-        for (const LasVlr& v : h.vlrs)
-            if (v.userId == "LASF_Projection" && v.recordId == 34735) {
-                if (const uint8_t* p = payload(v)) f->crs_ = crsFromGeoKeys(p, v.length);
-                break;
-            }
-    if (f->crs_.wkt.empty()) {
-        const std::filesystem::path p(path);
-        const std::filesystem::path candidates[] = {std::filesystem::path(path + ".wkt"),
-                                                     std::filesystem::path(p).replace_extension(".wkt"),
-                                                     std::filesystem::path(p).replace_extension(".prj")};
-        for (const auto& c : candidates) {
-            std::error_code ec;
-            if (!std::filesystem::is_regular_file(c, ec) || std::filesystem::file_size(c, ec) > (1u << 20)) continue;
-            std::string text = readText(c);
-            while (!text.empty() && (text.back() == '\n' || text.back() == '\r' || text.back() == ' ')) text.pop_back();
-            if (text.empty()) continue;
-            f->crs_ = {text, "sidecar " + std::filesystem::weakly_canonical(c, ec).string()};
-            break;
-        }
+    if (const size_t w = find(2112); w < h.vlrs.size()) f->crs_ = {fixedString(d + payloads[w], h.vlrs[w].length), "WKT VLR"};
+    if (const size_t k = find(34735); f->crs_.wkt.empty() && k < h.vlrs.size()) {
+        const size_t t = find(34737);
+        const bool text = t < h.vlrs.size();
+        f->crs_ = crsFromGeoKeys(GeoKeys(d + payloads[k], h.vlrs[k].length, text ? d + payloads[t] : nullptr,
+                                         text ? h.vlrs[t].length : 0));
     }
+    if (f->crs_.wkt.empty())
+        if (LasCrs side = sidecarCrs(path); !side.wkt.empty()) f->crs_ = std::move(side);
     if (f->crs_.wkt.empty() && f->crs_.source.empty()) f->crs_.source = "none";
     return f;
 }
+
 
 void LasFile::read(uint64_t first, uint64_t count, std::vector<LasPoint>& out) const {
     const LasHeader& h = header_;

@@ -117,6 +117,8 @@ public:
 
     /// In place: CRS coordinates to ECEF. A horizontal-only CRS in feet gets its heights in the
     /// same unit. Points the transformation cannot place become NaN; the count of those returns.
+    /// Any thread: calls on one georeference are serialised (GDAL's transformations are not
+    /// thread-safe).
     size_t toEcef(std::span<glm::dvec3> xyz) const;
     std::string name() const;           ///< the CRS's name
     double linearUnitMetres() const;    ///< horizontal unit (0.3048 for feet)
@@ -137,6 +139,9 @@ struct LasWriteOptions {
     glm::dvec3 scale{0.001}, offset{0.0};
     std::string wkt;     ///< written as the WKT VLR (and the WKT bit of the global encoding)
     int epsg = 0;        ///< written as GeoTIFF keys (ProjectedCSTypeGeoKey or GeographicTypeGeoKey)
+    int verticalEpsg = 0;          ///< with `epsg`: VerticalCSTypeGeoKey (4096)
+    uint16_t linearUnits = 0;      ///< with `epsg`: ProjLinearUnitsGeoKey (3076), an EPSG unit code (9002 ft, 9003 US ft)
+    uint16_t verticalUnits = 0;    ///< with `epsg`: VerticalUnitsGeoKey (4099), an EPSG unit code
 };
 /// Streams points to a file: the header's counts and bounds are written when closed.
 class LasWriter {

@@ -2,6 +2,10 @@
 // an optional WKT VLR or GeoTIFF EPSG keys, extra bytes; counts and bounds written on close.
 #include "layers/points/LasReader.h"
 
+#include <cpl_error.h>
+#include <ogr_spatialref.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -27,15 +31,43 @@ void putString(std::vector<uint8_t>& b, size_t at, const std::string& s, size_t 
     std::memcpy(b.data() + at, s.data(), std::min(n, s.size()));
 }
 
-void vlr(std::vector<uint8_t>& out, const std::string& user, uint16_t id, const std::vector<uint8_t>& payload,
-         const std::string& description) {
+/// A VLR (LAS 1.4 R15 Table 13): 54-byte header then the payload. LAS 1.0 calls the first two
+/// bytes the record signature, 0xAABB; later versions reserve them (0).
+void vlr(std::vector<uint8_t>& out, uint8_t versionMinor, const std::string& user, uint16_t id,
+         const std::vector<uint8_t>& payload, const std::string& description) {
     std::vector<uint8_t> h(54, 0);
+    put<uint16_t>(h, 0, versionMinor == 0 ? 0xAABB : 0);
     putString(h, 2, user, 16);
     put<uint16_t>(h, 18, id);
     put<uint16_t>(h, 20, uint16_t(payload.size()));
     putString(h, 22, description, 32);
     out.insert(out.end(), h.begin(), h.end());
     out.insert(out.end(), payload.begin(), payload.end());
+}
+
+bool isGeographic(int epsg) {
+    OGRSpatialReference srs;
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    const bool known = srs.importFromEPSG(epsg) == OGRERR_NONE;
+    CPLPopErrorHandler();
+    return known && srs.IsGeographic();
+}
+
+/// The GeoKeyDirectoryTag (GeoTIFF 1.1 §2.4): version 1.1.0 and the keys, sorted by id, all
+/// inline shorts: GTModelTypeGeoKey (1024: 1 projected, 2 geographic), the CRS code
+/// (3072 projected or 2048 geographic), then the optional unit and vertical keys.
+std::vector<uint8_t> geoKeys(const LasWriteOptions& o) {
+    const bool geographic = isGeographic(o.epsg);
+    std::vector<std::array<uint16_t, 2>> keys{{1024, uint16_t(geographic ? 2 : 1)},
+                                              {uint16_t(geographic ? 2048 : 3072), uint16_t(o.epsg)}};
+    if (o.linearUnits && !geographic) keys.push_back({3076, o.linearUnits});
+    if (o.verticalEpsg) keys.push_back({4096, uint16_t(o.verticalEpsg)});
+    if (o.verticalUnits) keys.push_back({4099, o.verticalUnits});
+    std::vector<uint16_t> words{1, 1, 0, uint16_t(keys.size())};
+    for (const auto& k : keys) words.insert(words.end(), {k[0], 0, 1, k[1]});
+    std::vector<uint8_t> payload(words.size() * 2);
+    std::memcpy(payload.data(), words.data(), payload.size());
+    return payload;
 }
 
 }  // namespace
@@ -69,17 +101,14 @@ Result<std::unique_ptr<LasWriter>> LasWriter::create(const std::string& path, co
     m.headerSize = options.versionMinor >= 4 ? 375 : options.versionMinor == 3 ? 235 : 227;
     m.recordLength = uint16_t(kRecordSize[options.pointFormat] + options.extraBytes);
     if (!options.wkt.empty()) {
+        if (options.wkt.size() >= 65535) return makeError(path + ": the WKT is too long for a VLR (65 535 bytes at most)");
         std::vector<uint8_t> text(options.wkt.begin(), options.wkt.end());
         text.push_back(0);
-        vlr(m.vlrs, "LASF_Projection", 2112, text, "OGC WKT");
+        vlr(m.vlrs, options.versionMinor, "LASF_Projection", 2112, text, "OGC WKT");
     } else if (options.epsg > 0) {
-        // GeoKeyDirectory: version 1.1.0, then the model type and one EPSG code.
-        const bool geographic = options.epsg == 4326 || options.epsg == 4979 || options.epsg == 4269 || options.epsg == 4258;
-        const uint16_t keys[] = {1, 1, 0, 2, 1024, 0, 1, uint16_t(geographic ? 2 : 1),
-                                 uint16_t(geographic ? 2048 : 3072), 0, 1, uint16_t(options.epsg)};
-        std::vector<uint8_t> payload(sizeof keys);
-        std::memcpy(payload.data(), keys, sizeof keys);
-        vlr(m.vlrs, "LASF_Projection", 34735, payload, "GeoTIFF GeoKeyDirectoryTag");
+        if (options.epsg > 65535 || options.verticalEpsg < 0 || options.verticalEpsg > 65535)
+            return makeError(path + ": GeoTIFF keys hold EPSG codes up to 65535");
+        vlr(m.vlrs, options.versionMinor, "LASF_Projection", 34735, geoKeys(options), "GeoTIFF GeoKeyDirectoryTag");
     }
     m.pointOffset = uint32_t(m.headerSize + m.vlrs.size());
     m.file = std::fopen(path.c_str(), "wb");
@@ -92,6 +121,10 @@ Result<std::unique_ptr<LasWriter>> LasWriter::create(const std::string& path, co
 
 void LasWriter::write(std::span<const LasPoint> points) {
     Impl& m = *impl_;
+    if (!m.file) {
+        m.failed = true;   // written after close(): nothing to write to
+        return;
+    }
     const uint8_t f = m.o.pointFormat;
     const bool modern = f >= 6;
     m.buffer.assign(points.size() * m.recordLength, 0);
@@ -111,14 +144,14 @@ void LasWriter::write(std::span<const LasPoint> points) {
             r[15] = uint8_t(p.flags & 15);
             r[16] = p.classification;
             r[17] = p.userData;
-            put<int16_t>(r, 18, int16_t(std::lround(p.scanAngleDeg / 0.006f)));
+            put<int16_t>(r, 18, int16_t(std::clamp(std::lround(p.scanAngleDeg / 0.006f), -32768l, 32767l)));   // 0.006 deg steps
             put<uint16_t>(r, 20, p.pointSourceId);
             put<double>(r, 22, p.gpsTime);
             rgbAt = 30;
         } else {
             r[14] = uint8_t((p.returnNumber & 7) | (p.numberOfReturns & 7) << 3);
             r[15] = uint8_t((p.classification & 31) | (p.flags & 7) << 5);
-            r[16] = uint8_t(int8_t(std::lround(p.scanAngleDeg)));
+            r[16] = uint8_t(int8_t(std::clamp(std::lround(p.scanAngleDeg), -128l, 127l)));   // whole degrees
             r[17] = p.userData;
             put<uint16_t>(r, 18, p.pointSourceId);
             if (f == 1 || f >= 3) put<double>(r, 20, p.gpsTime);
@@ -179,6 +212,8 @@ Result<void> LasWriter::close() {
     const bool closed = std::fclose(m.file) == 0;
     m.file = nullptr;
     if (!ok || !closed) return makeError(m.path + ": write failed");
+    if (m.count > 0xFFFFFFFFull && m.o.versionMinor < 4)
+        return makeError(m.path + ": " + std::to_string(m.count) + " points need LAS 1.4 (64-bit counts)");
     if (m.outOfRange) return makeError(m.path + ": a coordinate does not fit in 32 bits with this scale and offset");
     return {};
 }

@@ -253,3 +253,41 @@ TEST(Cli, InfoDescribesLasFiles) {
 
 }  // namespace
 }  // namespace orbis::test
+
+namespace orbis::test {
+namespace {
+
+// The real survey in ../shared/data/lidar: its CRS only in the sidecar (Oregon Lambert, feet),
+// so `orbis info` places it near Eugene, Oregon; the LAZ file next to it is refused by name.
+TEST(Cli, InfoPlacesTheOregonSurveyAndRefusesLaz) {
+    const fs::path dir = fs::path(ORBIS_SOURCE_DIR) / ".." / "shared" / "data" / "lidar";
+    if (!fs::exists(dir / "1.2-with-color.las")) GTEST_SKIP() << "../shared/data is absent";
+    const CliRun r = run("info " + (dir / "1.2-with-color.las").string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const auto j = nlohmann::json::parse(r.output);
+    EXPECT_EQ(j["version"], "1.2");
+    EXPECT_EQ(j["points"], 1065);
+    EXPECT_EQ(j["recordLength"], 34);
+    EXPECT_EQ(j["crs"]["source"].get<std::string>().rfind("sidecar ", 0), 0u) << j["crs"];
+    EXPECT_NE(j["crs"]["name"].get<std::string>().find("Oregon"), std::string::npos) << j["crs"];
+    EXPECT_DOUBLE_EQ(j["crs"]["linearUnitMetres"].get<double>(), 0.3048);
+    EXPECT_NEAR(j["geographicBounds"]["lon"][0].get<double>(), -123.07, 0.03);
+    EXPECT_NEAR(j["geographicBounds"]["lat"][1].get<double>(), 44.06, 0.03);
+    EXPECT_EQ(j["firstPoints"][0]["intensity"], 143);
+
+    const CliRun laz = run("info " + (dir / "simple.laz").string());
+    EXPECT_EQ(laz.exitCode, 1) << laz.output;
+    EXPECT_NE(laz.output.find("orbis: "), std::string::npos) << laz.output;
+    EXPECT_NE(laz.output.find("simple.laz: LAZ (LASzip-compressed) files are not supported yet"), std::string::npos) << laz.output;
+}
+
+// A LAS signature with a header from no known version: exit 1, the file and the problem named.
+TEST(Cli, InfoNamesABadLasHeader) {
+    const fs::path bad = tempFile("version-zero.las", std::string("LASF").append(400, '\0'));
+    const CliRun r = run("info " + bad.string());
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("version-zero.las: LAS version 0.0 is not supported"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace orbis::test
