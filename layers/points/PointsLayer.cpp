@@ -2,6 +2,7 @@
 
 #include "engine/core/Log.h"
 #include "engine/gpu/Barriers.h"
+#include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Image.h"
 #include "engine/gpu/Pipeline.h"
@@ -203,35 +204,17 @@ void PointsLayer::prepare(const scene::RenderServices& services) {
         {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
         {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
     };
-    VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    li.bindingCount = kBindings;
-    li.pBindings = bindings;
-    VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateDescriptorSetLayout(device.vk(), &li, nullptr, &setLayout));
-    setLayout_ = gpu::DescriptorSetLayout(device, setLayout);
     const uint32_t frames = services.framesInFlight;
-    const VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frames},
-                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 5 * frames},
-                                          {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, frames}};
-    VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pi.maxSets = frames;
-    pi.poolSizeCount = 3;
-    pi.pPoolSizes = sizes;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateDescriptorPool(device.vk(), &pi, nullptr, &pool));
-    descriptorPool_ = gpu::DescriptorPool(device, pool);
+    descriptors_ = gpu::createDescriptorSets(device, bindings, frames);
     slots_.resize(frames);
-    for (Slot& slot : slots_) {
-        VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-        ai.descriptorPool = descriptorPool_.vk();
-        ai.descriptorSetCount = 1;
-        ai.pSetLayouts = &setLayout;
-        VK_CHECK(vkAllocateDescriptorSets(device.vk(), &ai, &slot.set));
+    for (uint32_t f = 0; f < frames; ++f) {
+        Slot& slot = slots_[f];
+        slot.set = descriptors_.sets[f];
         slot.uniforms = gpu::Buffer(device, sizeof(shader::PointUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                     gpu::MemoryUsage::Upload, "point uniforms");
     }
     const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(uint32_t)};
-    const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, setLayout_.vk()};
+    const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, descriptors_.layout.vk()};
     layout_ = gpu::createPipelineLayout(device, setLayouts, {&push, 1});
     VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     si.magFilter = si.minFilter = VK_FILTER_NEAREST;

@@ -21,6 +21,7 @@
 // without 64-bit buffer atomics, and the baseline the compute path is benchmarked against.
 
 #include "engine/gpu/Buffer.h"
+#include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Handle.h"
 #include "engine/jobs/ThreadPool.h"
 #include "engine/scene/Layer.h"
@@ -133,8 +134,7 @@ private:
     std::vector<Slot> slots_;
     uint64_t buffersVersion_ = 1;
     gpu::Sampler depthSampler_;
-    gpu::DescriptorSetLayout setLayout_;
-    gpu::DescriptorPool descriptorPool_;
+    gpu::DescriptorSets descriptors_;   // one set per frame in flight
     gpu::PipelineLayout layout_;
     std::map<int, gpu::Pipeline> splatPipelines_;   // by splat radius (specialisation constant)
     gpu::Pipeline resolvePipeline_, pointListPipeline_;

@@ -3,6 +3,7 @@
 #include "engine/core/Color.h"
 #include "engine/core/Log.h"
 #include "engine/gpu/Barriers.h"
+#include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
 #include "layers/globe/SkyPipeline.h"
@@ -243,40 +244,17 @@ void TerrainLayer::prepare(const scene::RenderServices& services) {
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shader::kElevationPages, VK_SHADER_STAGE_VERTEX_BIT, nullptr},
         {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shader::kImageryPages, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
     };
-    VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    li.bindingCount = 3;
-    li.pBindings = bindings;
-    VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateDescriptorSetLayout(device.vk(), &li, nullptr, &setLayout));
-    setLayout_ = gpu::DescriptorSetLayout(device, setLayout);
-
     const uint32_t frames = services.framesInFlight;
-    const VkDescriptorPoolSize sizes[] = {
-        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frames},
-        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, frames * (shader::kElevationPages + shader::kImageryPages)},
-    };
-    VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pi.maxSets = frames;
-    pi.poolSizeCount = 2;
-    pi.pPoolSizes = sizes;
-    VkDescriptorPool pool2 = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateDescriptorPool(device.vk(), &pi, nullptr, &pool2));
-    descriptorPool_ = gpu::DescriptorPool(device, pool2);
-    sets_.resize(frames);
+    descriptors_ = gpu::createDescriptorSets(device, bindings, frames);
     setVersion_.assign(frames, 0);
     for (uint32_t f = 0; f < frames; ++f) {
-        VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-        ai.descriptorPool = descriptorPool_.vk();
-        ai.descriptorSetCount = 1;
-        ai.pSetLayouts = &setLayout;
-        VK_CHECK(vkAllocateDescriptorSets(device.vk(), &ai, &sets_[f]));
         drawBuffers_.emplace_back(device, uint64_t(maxDraws_) * sizeof(shader::TileDraw),
                                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Upload, "terrain draws");
     }
 
     const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                                    sizeof(shader::TerrainPush)};
-    const VkDescriptorSetLayout sets[] = {services.frameSetLayout, setLayout_.vk()};
+    const VkDescriptorSetLayout sets[] = {services.frameSetLayout, descriptors_.layout.vk()};
     layout_ = gpu::createPipelineLayout(device, sets, {&push, 1});
 
     gpu::GraphicsPipelineDesc surface;
@@ -516,7 +494,7 @@ void TerrainLayer::writeDescriptors(uint32_t f) {
     VkWriteDescriptorSet w[3]{};
     for (auto& x : w) {
         x.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        x.dstSet = sets_[f];
+        x.dstSet = descriptors_.sets[f];
     }
     w[0].dstBinding = 0;
     w[0].descriptorCount = 1;
@@ -603,7 +581,7 @@ void TerrainLayer::recordTransfers(const scene::RecordContext& rc) {
 
 void TerrainLayer::record(scene::Pass, const scene::RecordContext& rc) {
     VkCommandBuffer cmd = rc.cmd;
-    const VkDescriptorSet sets[] = {rc.frameSet, sets_[rc.slot]};
+    const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
     shader::TerrainPush push{};
     push.baseColor = glm::vec4(srgbToLinear(settings_.color.r), srgbToLinear(settings_.color.g),

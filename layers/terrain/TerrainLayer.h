@@ -15,6 +15,7 @@
 // ellipsoid in the base colour stands in for it).
 
 #include "engine/gpu/Buffer.h"
+#include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Handle.h"
 #include "engine/gpu/Image.h"
 #include "engine/scene/Layer.h"
@@ -148,7 +149,6 @@ private:
 
     // Per frame in flight: draw list and its descriptor set.
     std::vector<gpu::Buffer> drawBuffers_;
-    std::vector<VkDescriptorSet> sets_;
     std::vector<uint64_t> setVersion_;
     uint64_t descriptorVersion_ = 1;
     uint32_t maxDraws_ = 8192;
@@ -160,8 +160,7 @@ private:
     std::vector<DrawItem> drawItems_;
     std::vector<uint8_t> drawData_;   // TileDraw records for this frame
 
-    gpu::DescriptorSetLayout setLayout_;
-    gpu::DescriptorPool descriptorPool_;
+    gpu::DescriptorSets descriptors_;   // one set per frame in flight
     gpu::Sampler heightSampler_, imagerySampler_;
     gpu::PipelineLayout layout_;
     gpu::Pipeline surface_, sky_;

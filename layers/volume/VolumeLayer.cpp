@@ -2,6 +2,7 @@
 
 #include "engine/core/Log.h"
 #include "engine/gpu/Barriers.h"
+#include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
 #include "engine/gpu/Uploader.h"
@@ -217,38 +218,14 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
         {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, nullptr},
         {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, nullptr},
     };
-    VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    li.bindingCount = 9;
-    li.pBindings = bindings;
-    VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateDescriptorSetLayout(device.vk(), &li, nullptr, &setLayout));
-    setLayout_ = gpu::DescriptorSetLayout(device, setLayout);
     const uint32_t frames = services.framesInFlight;
-    const VkDescriptorPoolSize sizes[] = {
-        {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frames},
-        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * frames},
-        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4 * frames},
-        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * frames},
-    };
-    VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pi.maxSets = frames;
-    pi.poolSizeCount = 4;
-    pi.pPoolSizes = sizes;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateDescriptorPool(device.vk(), &pi, nullptr, &pool));
-    descriptorPool_ = gpu::DescriptorPool(device, pool);
-    sets_.resize(frames);
+    descriptors_ = gpu::createDescriptorSets(device, bindings, frames);
     for (uint32_t f = 0; f < frames; ++f) {
-        VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-        ai.descriptorPool = descriptorPool_.vk();
-        ai.descriptorSetCount = 1;
-        ai.pSetLayouts = &setLayout;
-        VK_CHECK(vkAllocateDescriptorSets(device.vk(), &ai, &sets_[f]));
         setVersion_.push_back(0);
         uniformBuffers_.emplace_back(device, sizeof(shader::VolumeUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                      gpu::MemoryUsage::Upload, "volume uniforms");
     }
-    const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, setLayout_.vk()};
+    const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, descriptors_.layout.vk()};
     layout_ = gpu::createPipelineLayout(device, setLayouts, {});
     gpu::Specialization modes;
     modes.set<VkBool32>(0, settings_.dvr ? VK_TRUE : VK_FALSE);
@@ -319,7 +296,7 @@ void VolumeLayer::writeDescriptors(uint32_t f) {
         VkWriteDescriptorSet w[9] = {};
         for (uint32_t b = 0; b < 9; ++b) {
             w[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-            w[b].dstSet = sets_[f];
+            w[b].dstSet = descriptors_.sets[f];
             w[b].dstBinding = b;
             w[b].descriptorCount = 1;
         }
@@ -468,7 +445,7 @@ void VolumeLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
                                            {&hitImage_, gpu::ImageUse::StorageCompute}};
     gpu::transition(cmd, writes);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, castPipeline_.vk());
-    const VkDescriptorSet sets[] = {rc.frameSet, sets_[rc.slot]};
+    const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), 0, 2, sets, 0, nullptr);
     const uint32_t g = shader::kVolumeGroupSize;
     vkCmdDispatch(cmd, (frame.width + g - 1) / g, (frame.height + g - 1) / g, 1);
@@ -506,7 +483,7 @@ void VolumeLayer::record(scene::Pass, const scene::RecordContext& rc) {
     if (!castImage_ || !boundDepth_) return;
     VkCommandBuffer cmd = rc.cmd;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, compositePipeline_.vk());
-    const VkDescriptorSet sets[] = {rc.frameSet, sets_[rc.slot]};
+    const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
     vkCmdDraw(cmd, 3, 1, 0, 0);
 }

@@ -25,6 +25,7 @@
 // (specialisation constants).
 
 #include "engine/gpu/Buffer.h"
+#include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Handle.h"
 #include "engine/gpu/Image.h"
 #include "engine/scene/Layer.h"
@@ -168,9 +169,7 @@ private:
     void updateOccupancy();
     std::vector<gpu::Buffer> uniformBuffers_;
     gpu::Sampler linearSampler_, nearestSampler_;
-    gpu::DescriptorSetLayout setLayout_;
-    gpu::DescriptorPool descriptorPool_;
-    std::vector<VkDescriptorSet> sets_;
+    gpu::DescriptorSets descriptors_;   // one set per frame in flight
     gpu::PipelineLayout layout_;
     gpu::Pipeline castPipeline_, compositePipeline_;
     gpu::Image* boundDepth_ = nullptr;
