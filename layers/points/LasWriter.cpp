@@ -113,8 +113,9 @@ Result<std::unique_ptr<LasWriter>> LasWriter::create(const std::string& path, co
     m.pointOffset = uint32_t(m.headerSize + m.vlrs.size());
     m.file = std::fopen(path.c_str(), "wb");
     if (!m.file) return makeError(path + ": cannot create the file");
-    std::vector<uint8_t> placeholder(m.pointOffset, 0);
-    if (std::fwrite(placeholder.data(), 1, placeholder.size(), m.file) != placeholder.size())
+    // Room for the header and VLRs, written by close() once the counts and bounds are known.
+    std::vector<uint8_t> headerSpace(m.pointOffset, 0);
+    if (std::fwrite(headerSpace.data(), 1, headerSpace.size(), m.file) != headerSpace.size())
         return makeError(path + ": write failed");
     return w;
 }
