@@ -236,7 +236,11 @@ gpu::Pipeline& PointsLayer::splatPipeline(int radius) {
 }
 
 gpu::Pipeline& PointsLayer::pointListPipeline() {
-    if (!pointListPipeline_) {
+    const int key = int(settings_.color);
+    gpu::Pipeline& p = pointListPipelines_[key];
+    if (!p) {
+        gpu::Specialization spec;
+        spec.set<uint32_t>(1, uint32_t(settings_.color));
         gpu::GraphicsPipelineDesc d;
         d.vertexSpirv = kSpv_points_pointlist_vert;
         d.fragmentSpirv = kSpv_points_pointlist_frag;
@@ -245,10 +249,32 @@ gpu::Pipeline& PointsLayer::pointListPipeline() {
         d.cullMode = VK_CULL_MODE_NONE;
         d.colorFormat = services_.colorFormat;
         d.depthFormat = services_.depthFormat;
+        d.specialization = &spec;
         d.name = "points list";
-        pointListPipeline_ = gpu::createGraphicsPipeline(*services_.device, d);
+        p = gpu::createGraphicsPipeline(*services_.device, d);
     }
-    return pointListPipeline_;
+    return p;
+}
+
+gpu::Pipeline& PointsLayer::resolvePipeline() {
+    const int key = int(settings_.color) * 2 + (settings_.edl ? 1 : 0);
+    gpu::Pipeline& p = resolvePipelines_[key];
+    if (!p) {
+        gpu::Specialization spec;
+        spec.set<uint32_t>(1, uint32_t(settings_.color));
+        spec.set<VkBool32>(2, settings_.edl ? VK_TRUE : VK_FALSE);
+        gpu::GraphicsPipelineDesc d;
+        d.vertexSpirv = kSpv_points_resolve_vert;
+        d.fragmentSpirv = kSpv_points_resolve_frag;
+        d.layout = layout_.vk();
+        d.cullMode = VK_CULL_MODE_NONE;
+        d.colorFormat = services_.colorFormat;
+        d.depthFormat = services_.depthFormat;
+        d.specialization = &spec;
+        d.name = "points resolve";
+        p = gpu::createGraphicsPipeline(*services_.device, d);
+    }
+    return p;
 }
 
 bool PointsLayer::computePath() const { return settings_.renderer == PointsSettings::Renderer::Compute; }
@@ -337,10 +363,10 @@ void PointsLayer::writeUniforms(const scene::RecordContext& rc) {
 
     shader::PointUniforms u{};
     u.viewProj = glm::mat4(viewProj_);
-    u.colorInfo = glm::vec4(float(int(settings_.color)), cloud_->intensityGain, float(settings_.heightRange.x),
+    u.colorInfo = glm::vec4(0.0f, cloud_->intensityGain, float(settings_.heightRange.x),
                             float(1.0 / std::max(settings_.heightRange.y - settings_.heightRange.x, 1e-6)));
     u.constantColor = glm::vec4(glm::vec3(glm::pow(settings_.constantColor, glm::dvec3(2.2))), 1.0f);
-    u.edl = glm::vec4(settings_.edl ? 1.0f : 0.0f, float(settings_.edlStrength), float(settings_.edlRadius),
+    u.edl = glm::vec4(0.0f, float(settings_.edlStrength), float(settings_.edlRadius),
                       float(settings_.pointSize));
     u.screen = glm::vec4(float(frame.width), float(frame.height), 0.0f, 0.0f);
     slot.uniforms.write(&u, sizeof(u));
@@ -378,18 +404,7 @@ void PointsLayer::record(scene::Pass, const scene::RecordContext& rc) {
     const VkDescriptorSet sets[] = {rc.frameSet, slots_[rc.slot].set};
     if (computePath()) {
         if (!screen_) return;
-        if (!resolvePipeline_) {
-            gpu::GraphicsPipelineDesc d;
-            d.vertexSpirv = kSpv_points_resolve_vert;
-            d.fragmentSpirv = kSpv_points_resolve_frag;
-            d.layout = layout_.vk();
-            d.cullMode = VK_CULL_MODE_NONE;
-            d.colorFormat = services_.colorFormat;
-            d.depthFormat = services_.depthFormat;
-            d.name = "points resolve";
-            resolvePipeline_ = gpu::createGraphicsPipeline(*services_.device, d);
-        }
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolvePipeline_.vk());
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolvePipeline().vk());
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
         vkCmdDraw(cmd, 3, 1, 0, 0);
         return;

@@ -89,6 +89,7 @@ private:
     void buildGpuObjects();
     gpu::Pipeline& splatPipeline(int radius);
     gpu::Pipeline& pointListPipeline();
+    gpu::Pipeline& resolvePipeline();
     void ensureScreen(uint32_t width, uint32_t height);
     void ensureFrameBuffers(uint32_t slot, size_t nodes, size_t batches);
     void writeDescriptors(uint32_t slot);
@@ -137,7 +138,8 @@ private:
     gpu::DescriptorSets descriptors_;   // one set per frame in flight
     gpu::PipelineLayout layout_;
     std::map<int, gpu::Pipeline> splatPipelines_;   // by splat radius (specialisation constant)
-    gpu::Pipeline resolvePipeline_, pointListPipeline_;
+    // By colour mode and EDL (specialisation constants: a CPU device pays for every branch).
+    std::map<int, gpu::Pipeline> resolvePipelines_, pointListPipelines_;
     gpu::Image* boundDepth_ = nullptr;
     bool gpuReady_ = false;
 };

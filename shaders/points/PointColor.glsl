@@ -1,6 +1,10 @@
 // A point's colour from its packed attributes (uvec2): x = sRGB r | g << 8 | b << 16 |
 // classification << 24; y = intensity (16 bits) | height << 16 (0..65535 over the cloud's
-// height range). Needs `pu` (PointUniforms) in scope. Returns linear RGB.
+// height range). Needs `pu` (PointUniforms) in scope. Returns linear RGB. The mode is a
+// specialisation constant: a CPU device runs every side of a branch, so the modes not drawn
+// must not be in the shader at all.
+
+layout(constant_id = 1) const uint kColorMode = 0u;   // kPointColor*
 
 vec3 srgbToLinear(vec3 c) {
     return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), greaterThan(c, vec3(0.04045)));
@@ -36,12 +40,11 @@ vec3 heightRamp(float f) {
 }
 
 vec3 pointColor(uvec2 a) {
-    uint mode = uint(pu.colorInfo.x + 0.5);
     vec3 c;
-    if (mode == kPointColorRgb) c = vec3(a.x & 255u, (a.x >> 8) & 255u, (a.x >> 16) & 255u) / 255.0;
-    else if (mode == kPointColorIntensity) c = vec3(clamp(float(a.y & 65535u) * pu.colorInfo.y, 0.0, 1.0));
-    else if (mode == kPointColorClassification) c = classColor(a.x >> 24);
-    else if (mode == kPointColorHeight) c = heightRamp((float(a.y >> 16) / 65535.0 - pu.colorInfo.z) * pu.colorInfo.w);
+    if (kColorMode == kPointColorRgb) c = vec3(a.x & 255u, (a.x >> 8) & 255u, (a.x >> 16) & 255u) / 255.0;
+    else if (kColorMode == kPointColorIntensity) c = vec3(clamp(float(a.y & 65535u) * pu.colorInfo.y, 0.0, 1.0));
+    else if (kColorMode == kPointColorClassification) c = classColor(a.x >> 24);
+    else if (kColorMode == kPointColorHeight) c = heightRamp((float(a.y >> 16) / 65535.0 - pu.colorInfo.z) * pu.colorInfo.w);
     else return pu.constantColor.rgb;
     return srgbToLinear(c);
 }

@@ -8,6 +8,10 @@
 // its neighbours are, in log depth (log z - log z_n = log d_n - log d with reversed-Z depth
 // d = near / z), so edges and steps in the cloud read as shapes.
 
+// Eye-dome lighting on or off (a specialisation constant, like the colour mode: a CPU device
+// would otherwise pay for the neighbours' reads on every pixel even with EDL off).
+layout(constant_id = 2) const bool kEdl = false;
+
 layout(set = 1, binding = 0) uniform PointBlock { PointUniforms pu; };
 layout(set = 1, binding = 2, std430) readonly buffer Attributes { uvec2 attributes[]; };
 layout(set = 1, binding = 5, std430) readonly buffer Screen { uint64_t screen[]; };
@@ -28,7 +32,7 @@ void main() {
     if (v == 0ul) discard;
     float depth = uintBitsToFloat(uint(v >> 32));
     vec3 c = pointColor(attributes[uint(v & 0xffffffffUL)]);
-    if (pu.edl.x > 0.5) {
+    if (kEdl) {
         const vec2 dirs[8] = vec2[8](vec2(1, 0), vec2(0.7071, 0.7071), vec2(0, 1), vec2(-0.7071, 0.7071),
                                      vec2(-1, 0), vec2(-0.7071, -0.7071), vec2(0, -1), vec2(0.7071, -0.7071));
         float logD = log2(depth), response = 0.0;

@@ -15,7 +15,7 @@ ORBIS_CONST(uint, kPointGroupSize, 256)      // compute workgroup: 256 invocatio
 ORBIS_CONST(uint, kPointsPerInvocation, 8)   // each invocation splats up to 8 points of a batch
 ORBIS_CONST(uint, kPointBatch, 2048)         // points per batch = kPointGroupSize * kPointsPerInvocation
 
-// Colour modes (colorInfo.x).
+// Colour modes (specialisation constant 1 of the resolve and point-list shaders).
 ORBIS_CONST(uint, kPointColorRgb, 0)
 ORBIS_CONST(uint, kPointColorIntensity, 1)
 ORBIS_CONST(uint, kPointColorClassification, 2)
@@ -25,10 +25,10 @@ ORBIS_CONST(uint, kPointColorConstant, 4)
 // std140: vec4 and mat4 members only.
 struct PointUniforms {
     mat4 viewProj;        // projection * view rotation: positions relative to the eye -> clip
-    vec4 colorInfo;       // x: colour mode, y: intensity gain (1 / the cloud's 99th percentile),
+    vec4 colorInfo;       // x: unused, y: intensity gain (1 / the cloud's 99th percentile),
                           // z, w: height ramp over the stored 0..1 heights: (h - z) * w
     vec4 constantColor;   // rgb: linear colour for kPointColorConstant
-    vec4 edl;             // x: eye-dome lighting on (1) or off (0), y: strength, z: radius (px), w: point size (px)
+    vec4 edl;             // x: unused (EDL on/off is specialisation constant 2), y: strength, z: radius (px), w: point size (px)
     vec4 screen;          // x, y: width, height (pixels)
 };
 
