@@ -1,16 +1,13 @@
 #pragma once
-// A LAS file placed on the globe and organised for drawing (CPU only, no Vulkan): points read
-// in bounded ranges from the mapped file, turned into ECEF (through the file's CRS, or as
-// metres east/north/up of a given origin), their attributes packed for the shaders, then the
-// octree (PointOctree) built over them.
+// A LAS file placed on the globe (CPU only, no Vulkan): where its coordinates are (the file's
+// CRS, a scene override, or metres east/north/up of a given origin) and their way to ECEF. The
+// octree built from it is a PointStore.
 
 #include "engine/core/Result.h"
 #include "globe/Ellipsoid.h"
 #include "layers/points/LasReader.h"
-#include "layers/points/PointOctree.h"
+#include "layers/points/PointStore.h"
 
-#include <atomic>
-#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -33,6 +30,9 @@ public:
     size_t toEcef(std::span<glm::dvec3> xyz) const;
     /// "EPSG:2992 NAD83 / Oregon GIC Lambert (ft) (from the sidecar ...)" or "local ENU at ...".
     const std::string& description() const { return description_; }
+    /// The size in metres of the file's coordinate grid (its scale) where the cloud is: the
+    /// smallest ECEF step one unit of an axis makes at the header's minimum corner.
+    double resolutionMetres(const LasFile& file) const;
 
 private:
     std::shared_ptr<LasGeoreference> crs_;
@@ -41,29 +41,9 @@ private:
     std::string description_;
 };
 
-struct PointCloud {
-    PointOctree octree;
-    double heightMin = 0.0, heightMax = 0.0;   ///< metres above the ellipsoid
-    float intensityGain = 1.0f;                ///< 1 / the 99th percentile of the intensities
-    uint64_t read = 0;                         ///< points in the file
-    uint64_t dropped = 0;                      ///< points that could not be placed
-    bool rgb = false;                          ///< the format carries colour
-    bool rgb16 = false;                        ///< colours use 16 bits (else 8 bits in 16-bit fields)
-};
-
-struct PointLoadOptions {
-    PointOctree::Options octree;
-    uint64_t pointsPerRead = 1u << 20;             ///< points decoded at a time
-    const std::atomic<bool>* cancel = nullptr;     ///< stop early (an error "cancelled")
-    std::function<void(double)> progress;          ///< 0..1, from the loading thread
-};
-
 /// True for files named .las/.laz or starting with "LASF".
 bool looksLikeLas(const std::string& path);
 /// `orbis info`: header, VLRs, CRS (and the bounds on the globe), the first points, as JSON.
 Result<std::string> describeLasJson(const std::string& path);
-
-/// Reads every point of `file` and builds the octree. Any thread.
-Result<PointCloud> loadPointCloud(const LasFile& file, const PointGeoreference& georef, const PointLoadOptions& options);
 
 }  // namespace orbis::points

@@ -22,12 +22,14 @@
 #include <limits>
 #include <queue>
 
+static_assert(sizeof(orbis::shader::PointNode) == 32);
+
 namespace orbis::layers {
 namespace {
 
 constexpr uint32_t kBindings = 7;
+constexpr VkShaderStageFlags kPushStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_COMPUTE_BIT;
 constexpr uint64_t kUploadBytesPerFrame = uint64_t(48) << 20;
-constexpr uint64_t kBytesPerPoint = 3 * sizeof(float) + sizeof(points::PackedAttributes);
 
 /// Splat radius for a point size (diameter in pixels): 1 -> 0 (one pixel), 2..3 -> 1, ...
 int splatRadius(int pointSize) { return std::clamp(pointSize, 1, 15) / 2; }
@@ -50,12 +52,15 @@ void PointsLayer::startLoading() {
     points::PointGeoreference georef = georef_;
     auto progress = loadProgress_;
     auto cancel = cancel_;
+    points::PointLoadOptions o;
+    // About 90 bytes a point while a chunk (or a whole small cloud) is built.
+    o.inMemoryPoints = o.chunkPoints = std::max<uint64_t>(settings_.cpuMemoryBytes / 96, 1);
+    o.cacheFolder = settings_.cacheFolder;
     loadJob_ = services_.jobs().submit(0.0, jobs::CancelToken::create(),
-                                       [file, georef, progress, cancel](const jobs::CancelToken&) {
-                                           points::PointLoadOptions o;
+                                       [file, georef, progress, cancel, o](const jobs::CancelToken&) mutable {
                                            o.cancel = cancel.get();
                                            o.progress = [progress](double f) { progress->store(f); };
-                                           return points::loadPointCloud(*file, georef, o);
+                                           return points::loadPointStore(*file, georef, o);
                                        });
 }
 
@@ -70,78 +75,52 @@ void PointsLayer::finishLoading() {
             log::error(loadError_);
             return;
         }
-        cloud_ = std::make_shared<points::PointCloud>(std::move(loaded).value());
+        store_ = std::move(loaded).value();
     } catch (const std::exception& e) {
         loadError_ = std::string(file_->path()).append(": loading failed: ").append(e.what());
         log::error(loadError_);
         return;
     }
-    // GPU buffers for as many points as the memory budget holds; nodes upload coarse to fine
-    // (by level) into them, each as long as it fits.
-    const auto& nodes = cloud_->octree.nodes();
-    capacityPoints_ = std::min<uint64_t>(cloud_->octree.points(), settings_.gpuMemoryBytes / kBytesPerPoint);
-    gpuFirst_.assign(nodes.size(), -1);
-    uploadOrder_.resize(nodes.size());
-    for (size_t i = 0; i < nodes.size(); ++i) uploadOrder_[i] = int32_t(i);
-    std::stable_sort(uploadOrder_.begin(), uploadOrder_.end(),
-                     [&](int32_t a, int32_t b) { return nodes[size_t(a)].level < nodes[size_t(b)].level; });
-    if (capacityPoints_ == 0) return;
-    gpu::Device& device = *services_.device;
-    const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    positions_ = gpu::Buffer(device, capacityPoints_ * 3 * sizeof(float), usage, gpu::MemoryUsage::GpuOnly, "point positions");
-    attributes_ = gpu::Buffer(device, capacityPoints_ * sizeof(points::PackedAttributes), usage, gpu::MemoryUsage::GpuOnly,
-                              "point attributes");
+    // One GPU buffer for the resident nodes: the budget, or the whole cloud when smaller.
+    const uint64_t limit = std::min<uint64_t>(settings_.gpuMemoryBytes, services_.device->properties().limits.maxStorageBufferRange);
+    residency_ = std::make_unique<points::NodeResidency>(store_, limit, services_.framesInFlight);
+    drawnFrame_.assign(store_->nodes().size(), 0);
+    loadedFrame_ = frame_ + 1;   // this frame's (update counts it next): its near plane did not know the cloud yet
+    if (residency_->capacity() == 0) return;
+    data_ = gpu::Buffer(*services_.device, residency_->capacity(),
+                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::GpuOnly,
+                        "point data");
     ++buffersVersion_;
 }
 
 void PointsLayer::recordTransfers(const scene::RecordContext& rc) {
-    if (!gpuReady_) return;
-    // Uploads within the frame's budget (the first node always goes, however large).
-    const auto& nodes = cloud_ ? cloud_->octree.nodes() : std::vector<points::OctreeNode>{};
-    uint64_t bytes = 0;
-    bool uploaded = false;
-    while (cloud_ && uploadCursor_ < uploadOrder_.size()) {
-        const int32_t n = uploadOrder_[uploadCursor_];
-        const points::OctreeNode& node = nodes[size_t(n)];
-        const uint64_t nodeBytes = uint64_t(node.count) * kBytesPerPoint;
-        if (uploaded && bytes + nodeBytes > kUploadBytesPerFrame) break;
-        ++uploadCursor_;
-        if (residentPoints_ + node.count > capacityPoints_) continue;   // over the GPU budget: never drawn
-        const uint64_t first = residentPoints_;
-        const auto& pos = cloud_->octree.positions();
-        const auto& attr = cloud_->octree.attributes();
-        rc.uploader->toBuffer(rc.cmd, positions_, pos.data() + 3 * node.first, uint64_t(node.count) * 3 * sizeof(float),
-                              first * 3 * sizeof(float));
-        rc.uploader->toBuffer(rc.cmd, attributes_, attr.data() + node.first,
-                              uint64_t(node.count) * sizeof(points::PackedAttributes),
-                              first * sizeof(points::PackedAttributes));
-        gpuFirst_[size_t(n)] = int64_t(first);
-        residentPoints_ += node.count;
-        bytes += nodeBytes;
-        uploaded = true;
-    }
-    if (uploaded) {
+    if (!gpuReady_ || !residency_ || !data_) return;
+    const uint64_t bytes = residency_->upload(kUploadBytesPerFrame, [&](int32_t, std::span<const uint8_t> d, uint64_t offset) {
+        rc.uploader->toBuffer(rc.cmd, data_, d.data(), d.size(), offset);
+    });
+    if (bytes > 0) {
         const VkPipelineStageFlags2 readers = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
                                               VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
-        for (const gpu::Buffer* b : {&positions_, &attributes_})
-            gpu::bufferBarrier(rc.cmd, *b, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, readers,
-                               VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+        gpu::bufferBarrier(rc.cmd, data_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, readers,
+                           VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     }
     writeUniforms(rc);
 }
 
 bool PointsLayer::busy() const {
     if (loadJob_.valid()) return true;
-    return cloud_ && gpuReady_ && uploadCursor_ < uploadOrder_.size() && capacityPoints_ > 0;
+    // Until a frame after the one that finished loading has selected nodes, and then while
+    // nodes are being read or uploaded.
+    return residency_ && gpuReady_ && (frame_ <= loadedFrame_ || residency_->busy());
 }
 
 std::optional<double> PointsLayer::nearestContent(const glm::dvec3& eye) const {
-    if (!cloud_ || cloud_->octree.nodes().empty()) return std::nullopt;
+    if (!store_ || store_->nodes().empty()) return std::nullopt;
     // The nodes drawn last frame (their spheres: at most nearer than the points), else the root.
-    const auto& nodes = cloud_->octree.nodes();
-    const auto gap = [&](const points::OctreeNode& n) { return std::max(0.0, glm::length(n.centre - eye) - n.radius()); };
+    const auto& nodes = store_->nodes();
+    const auto gap = [&](const points::StoredNode& n) { return std::max(0.0, glm::length(n.centre - eye) - n.radius()); };
     double d = drawList_.empty() ? gap(nodes[0]) : std::numeric_limits<double>::max();
-    for (const Drawn& k : drawList_) d = std::min(d, gap(nodes[size_t(k.node)]));
+    for (int32_t k : drawList_) d = std::min(d, gap(nodes[size_t(k)]));
     return d;
 }
 
@@ -149,40 +128,55 @@ std::optional<double> PointsLayer::nearestContent(const glm::dvec3& eye) const {
 // Selection: the largest nodes on screen first, within the budget
 void PointsLayer::update(const scene::FrameContext& frame) {
     finishLoading();
+    ++frame_;
+    wanted_.clear();
     drawList_.clear();
     drawnPoints_ = 0;
-    if (!cloud_ || !gpuReady_ || gpuFirst_.empty() || gpuFirst_[0] < 0) return;
+    if (!store_ || !residency_ || !gpuReady_ || store_->nodes().empty()) return;
+    residency_->beginFrame(frame_);
+    if (!residency_->error().empty() && loadError_.empty()) {
+        loadError_ = residency_->error();
+        log::error(loadError_);
+    }
     const scene::Camera& camera = *frame.camera;
-    const glm::dvec3 eye = camera.position();
+    eye_ = camera.position();
     const glm::dmat4 view = camera.viewRotation();
     viewProj_ = camera.projection(frame.aspect()) * view;
     const globe::ViewFrustum frustum = globe::ViewFrustum::perspective(camera.verticalFovRad(), frame.aspect(), camera.nearPlane());
     const double pixelsPerRadian = double(frame.height) / (2.0 * std::tan(0.5 * camera.verticalFovRad()));
-    const auto& nodes = cloud_->octree.nodes();
-    const auto visible = [&](const points::OctreeNode& n) {
-        const glm::dvec3 rel = n.centre - eye;
+    const auto& nodes = store_->nodes();
+    const auto visible = [&](const points::StoredNode& n) {
+        const glm::dvec3 rel = n.centre - eye_;
         return frustum.intersectsSphere(glm::dvec3(view * glm::dvec4(rel, 0.0)), n.radius()) &&
-               !globe::sphereBelowHorizon(eye, n.centre, n.radius());
+               !globe::sphereBelowHorizon(eye_, n.centre, n.radius());
     };
-    const auto screenSize = [&](const points::OctreeNode& n) {
-        const double d = glm::length(n.centre - eye) - n.radius();
+    const auto screenSize = [&](const points::StoredNode& n) {
+        const double d = glm::length(n.centre - eye_) - n.radius();
         return d <= 0.0 ? 1e30 : n.radius() / d * pixelsPerRadian;
     };
+    // Wanted: by screen size within the budget. Drawn: the wanted nodes on the GPU whose parent
+    // is drawn (a child pops after its parent, so the parent's flag is set by then).
     using Entry = std::pair<double, int32_t>;
     std::priority_queue<Entry> queue;
     if (visible(nodes[0])) queue.push({screenSize(nodes[0]), 0});
     const uint64_t budget = settings_.pointBudget ? settings_.pointBudget : ~uint64_t(0);
+    uint64_t wantedPoints = 0;
     while (!queue.empty()) {
         const int32_t i = queue.top().second;
         queue.pop();
-        const points::OctreeNode& n = nodes[size_t(i)];
-        if (drawnPoints_ + n.count > budget) break;   // the largest left does not fit: stop
-        drawList_.push_back({i, glm::vec4(glm::vec3(n.centre - eye), 0.0f)});
-        drawnPoints_ += n.count;
+        const points::StoredNode& n = nodes[size_t(i)];
+        if (wantedPoints + n.count > budget) break;   // the largest left does not fit: stop
+        wanted_.push_back(i);
+        wantedPoints += n.count;
+        if (residency_->resident(i) && (n.parent < 0 || drawnFrame_[size_t(n.parent)] == frame_)) {
+            drawList_.push_back(i);
+            drawnFrame_[size_t(i)] = frame_;
+            drawnPoints_ += n.count;
+        }
         for (int32_t c : n.children)
-            if (c >= 0 && gpuFirst_[size_t(c)] >= 0 && visible(nodes[size_t(c)]))
-                queue.push({screenSize(nodes[size_t(c)]), c});
+            if (c >= 0 && visible(nodes[size_t(c)])) queue.push({screenSize(nodes[size_t(c)]), c});
     }
+    residency_->want(wanted_, store_->onDisk() ? &services_.jobs() : nullptr);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -213,7 +207,7 @@ void PointsLayer::prepare(const scene::RenderServices& services) {
         slot.uniforms = gpu::Buffer(device, sizeof(shader::PointUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                     gpu::MemoryUsage::Upload, "point uniforms");
     }
-    const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(uint32_t)};
+    const VkPushConstantRange push{kPushStages, 0, 2 * sizeof(uint32_t)};
     const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, descriptors_.layout.vk()};
     layout_ = gpu::createPipelineLayout(device, setLayouts, {&push, 1});
     VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
@@ -226,21 +220,24 @@ void PointsLayer::prepare(const scene::RenderServices& services) {
     startLoading();
 }
 
-gpu::Pipeline& PointsLayer::splatPipeline(int radius) {
-    auto it = splatPipelines_.find(radius);
-    if (it != splatPipelines_.end()) return it->second;
-    gpu::Specialization spec;
-    spec.set<int32_t>(0, radius);
-    return splatPipelines_[radius] =
-               gpu::createComputePipeline(*services_.device, layout_.vk(), kSpv_points_splat_comp, &spec, "points splat");
+gpu::Pipeline& PointsLayer::splatPipeline(int radius, bool quantised) {
+    gpu::Pipeline& p = splatPipelines_[radius * 2 + (quantised ? 1 : 0)];
+    if (!p) {
+        gpu::Specialization spec;
+        spec.set<int32_t>(0, radius);
+        spec.set<VkBool32>(3, quantised ? VK_TRUE : VK_FALSE);
+        p = gpu::createComputePipeline(*services_.device, layout_.vk(), kSpv_points_splat_comp, &spec, "points splat");
+    }
+    return p;
 }
 
-gpu::Pipeline& PointsLayer::pointListPipeline() {
-    const int key = int(settings_.color);
+gpu::Pipeline& PointsLayer::pointListPipeline(bool quantised) {
+    const int key = int(settings_.color) * 2 + (quantised ? 1 : 0);
     gpu::Pipeline& p = pointListPipelines_[key];
     if (!p) {
         gpu::Specialization spec;
         spec.set<uint32_t>(1, uint32_t(settings_.color));
+        spec.set<VkBool32>(3, quantised ? VK_TRUE : VK_FALSE);
         gpu::GraphicsPipelineDesc d;
         d.vertexSpirv = kSpv_points_pointlist_vert;
         d.fragmentSpirv = kSpv_points_pointlist_frag;
@@ -300,15 +297,15 @@ void PointsLayer::ensureFrameBuffers(uint32_t s, size_t nodes, size_t batches) {
         b = gpu::Buffer(*services_.device, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Upload, name);
         slot.version = 0;   // its set names the old buffer
     };
-    grow(slot.nodes, std::max<size_t>(nodes, 1) * sizeof(glm::vec4), "point nodes");
+    grow(slot.nodes, std::max<size_t>(nodes, 1) * sizeof(NodeGpu), "point nodes");
     grow(slot.batches, std::max<size_t>(batches, 1) * sizeof(glm::uvec4), "point batches");
 }
 
 void PointsLayer::writeDescriptors(uint32_t s) {
     Slot& slot = slots_[s];
     const VkDescriptorBufferInfo infos[6] = {
-        {slot.uniforms.vk(), 0, sizeof(shader::PointUniforms)}, {positions_.vk(), 0, VK_WHOLE_SIZE},
-        {attributes_.vk(), 0, VK_WHOLE_SIZE},                   {slot.batches.vk(), 0, VK_WHOLE_SIZE},
+        {slot.uniforms.vk(), 0, sizeof(shader::PointUniforms)}, {data_.vk(), 0, VK_WHOLE_SIZE},
+        {data_.vk(), 0, VK_WHOLE_SIZE},                         {slot.batches.vk(), 0, VK_WHOLE_SIZE},
         {slot.nodes.vk(), 0, VK_WHOLE_SIZE},                    {screen_.vk(), 0, VK_WHOLE_SIZE}};
     VkWriteDescriptorSet w[kBindings] = {};
     uint32_t count = 0;
@@ -342,28 +339,37 @@ void PointsLayer::writeDescriptors(uint32_t s) {
 void PointsLayer::writeUniforms(const scene::RecordContext& rc) {
     const scene::FrameContext& frame = *rc.frame;
     if (drawList_.empty()) return;
+    const auto& nodes = store_->nodes();
     size_t batches = 0;
-    for (const Drawn& d : drawList_)
-        batches += (cloud_->octree.nodes()[size_t(d.node)].count + shader::kPointBatch - 1) / shader::kPointBatch;
+    for (int32_t k : drawList_) batches += (nodes[size_t(k)].count + shader::kPointBatch - 1) / shader::kPointBatch;
     ensureFrameBuffers(rc.slot, drawList_.size(), batches);
     Slot& slot = slots_[rc.slot];
     nodeData_.resize(drawList_.size());
     batchData_.resize(batches);
-    size_t b = 0;
     for (size_t k = 0; k < drawList_.size(); ++k) {
-        const points::OctreeNode& n = cloud_->octree.nodes()[size_t(drawList_[k].node)];
-        nodeData_[k] = drawList_[k].centreFromEye;
-        const uint64_t first = uint64_t(gpuFirst_[size_t(drawList_[k].node)]);
-        for (uint32_t off = 0; off < n.count; off += shader::kPointBatch)
-            batchData_[b++] = glm::uvec4(uint32_t(k), uint32_t(first + off), std::min(shader::kPointBatch, n.count - off), 0u);
+        const points::StoredNode& n = nodes[size_t(drawList_[k])];
+        const uint64_t offset = residency_->offset(drawList_[k]);
+        nodeData_[k].centreStep = glm::vec4(glm::vec3(n.centre - eye_), float(n.step));
+        nodeData_[k].data = glm::uvec4(uint32_t(offset / 8), uint32_t((offset + n.positionOffset()) / 4), n.count, 0u);
     }
-    slot.nodes.write(nodeData_.data(), nodeData_.size() * sizeof(glm::vec4));
+    // The quantised nodes' batches first, then the float ones': one dispatch each.
+    size_t b = 0;
+    for (bool quantised : {true, false}) {
+        if (!quantised) quantisedBatches_ = uint32_t(b);
+        for (size_t k = 0; k < drawList_.size(); ++k) {
+            const points::StoredNode& n = nodes[size_t(drawList_[k])];
+            if ((n.step > 0.0) != quantised) continue;
+            for (uint32_t off = 0; off < n.count; off += shader::kPointBatch)
+                batchData_[b++] = glm::uvec4(uint32_t(k), off, std::min(shader::kPointBatch, n.count - off), 0u);
+        }
+    }
+    slot.nodes.write(nodeData_.data(), nodeData_.size() * sizeof(NodeGpu));
     slot.batches.write(batchData_.data(), b * sizeof(glm::uvec4));
     batchCount_ = uint32_t(b);
 
     shader::PointUniforms u{};
     u.viewProj = glm::mat4(viewProj_);
-    u.colorInfo = glm::vec4(0.0f, cloud_->intensityGain, float(settings_.heightRange.x),
+    u.colorInfo = glm::vec4(0.0f, store_->info().intensityGain, float(settings_.heightRange.x),
                             float(1.0 / std::max(settings_.heightRange.y - settings_.heightRange.x, 1e-6)));
     u.constantColor = glm::vec4(glm::vec3(glm::pow(settings_.constantColor, glm::dvec3(2.2))), 1.0f);
     u.edl = glm::vec4(0.0f, float(settings_.edlStrength), float(settings_.edlRadius),
@@ -390,10 +396,16 @@ void PointsLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
     gpu::bufferBarrier(cmd, screen_, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, splatPipeline(splatRadius(settings_.pointSize)).vk());
     const VkDescriptorSet sets[] = {rc.frameSet, slot.set};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), 0, 2, sets, 0, nullptr);
-    vkCmdDispatch(cmd, batchCount_, 1, 1);
+    for (bool quantised : {true, false}) {
+        const uint32_t first = quantised ? 0 : quantisedBatches_, count = quantised ? quantisedBatches_ : batchCount_ - quantisedBatches_;
+        if (count == 0) continue;
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, splatPipeline(splatRadius(settings_.pointSize), quantised).vk());
+        const uint32_t push[2] = {0, first};
+        vkCmdPushConstants(cmd, layout_.vk(), kPushStages, 0, sizeof push, push);
+        vkCmdDispatch(cmd, count, 1, 1);
+    }
     gpu::bufferBarrier(cmd, screen_, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
 }
@@ -409,12 +421,17 @@ void PointsLayer::record(scene::Pass, const scene::RecordContext& rc) {
         vkCmdDraw(cmd, 3, 1, 0, 0);
         return;
     }
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pointListPipeline().vk());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
+    int bound = -1;   // the position format of the bound pipeline
     for (uint32_t k = 0; k < drawList_.size(); ++k) {
-        const points::OctreeNode& n = cloud_->octree.nodes()[size_t(drawList_[k].node)];
-        vkCmdPushConstants(cmd, layout_.vk(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(uint32_t), &k);
-        vkCmdDraw(cmd, n.count, 1, uint32_t(gpuFirst_[size_t(drawList_[k].node)]), 0);
+        const points::StoredNode& n = store_->nodes()[size_t(drawList_[k])];
+        if (int(n.step > 0.0) != bound) {
+            bound = int(n.step > 0.0);
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pointListPipeline(bound != 0).vk());
+        }
+        const uint32_t push[2] = {k, 0};
+        vkCmdPushConstants(cmd, layout_.vk(), kPushStages, 0, sizeof push, push);
+        vkCmdDraw(cmd, n.count, 1, 0, 0);
     }
 }
 
@@ -446,28 +463,30 @@ bool PointsLayer::setOption(std::string_view name, std::string_view value) {
 }
 
 uint64_t PointsLayer::gpuBytes() const {
-    uint64_t bytes = positions_ ? positions_.size() + attributes_.size() : 0;
+    uint64_t bytes = data_ ? data_.size() : 0;
     if (screen_) bytes += screen_.size();
     return bytes;
 }
 
 uint64_t PointsLayer::cacheBytes() const {
-    if (!cloud_) return 0;
-    const auto& o = cloud_->octree;
-    return o.positions().size() * sizeof(float) + o.attributes().size() * sizeof(points::PackedAttributes) +
-           o.nodes().size() * sizeof(points::OctreeNode);
+    if (!store_) return 0;
+    return store_->memoryBytes() + (residency_ ? residency_->readyBytes() : 0);
 }
 
 std::string PointsLayer::status() const {
-    char text[256];
+    char text[320];
     if (!loadError_.empty()) return loadError_;
     if (loadJob_.valid()) {
         std::snprintf(text, sizeof text, "points: loading %s, %.0f %%", file_->path().c_str(), 100.0 * loadProgress_->load());
         return text;
     }
-    if (!cloud_) return {};
-    std::snprintf(text, sizeof text, "points: %.3g M of %.3g M drawn in %zu nodes, %.3g M resident", drawnPoints_ * 1e-6,
-                  double(cloud_->octree.points()) * 1e-6, drawList_.size(), double(residentPoints_) * 1e-6);
+    if (!store_ || !residency_) return {};
+    std::snprintf(text, sizeof text,
+                  "points: %.3g M of %.3g M drawn in %zu nodes; %.3g M resident (%.0f of %.0f MB), %llu reads, %llu evicted",
+                  drawnPoints_ * 1e-6, double(store_->info().points) * 1e-6, drawList_.size(),
+                  double(residency_->residentPoints()) * 1e-6, double(residency_->residentBytes()) / 1048576.0,
+                  double(residency_->capacity()) / 1048576.0, static_cast<unsigned long long>(residency_->readsInFlight()),
+                  static_cast<unsigned long long>(residency_->evictions()));
     return text;
 }
 

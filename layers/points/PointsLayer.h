@@ -8,12 +8,17 @@
 //    "color": "rgb" | "intensity" | "classification" | "height" | "constant",
 //    "constantColor": [1, 0.8, 0.2], "heightRange": [0, 1] (of the cloud's heights),
 //    "pointSize": 1, "edl": true, "edlStrength": 1, "edlRadius": 1.4,
-//    "pointBudget": 3000000, "gpuMemoryMB": 1024, "renderer": "compute" | "pointList"}
+//    "pointBudget": 3000000, "gpuMemoryMB": 1024, "cpuMemoryMB": 512,
+//    "cacheFolder": "cache/", "renderer": "compute" | "pointList"}
 //
-// The file is opened (and its header and CRS checked) when the scene loads; its points are read
-// and the octree built on a worker thread when the layer is first drawn; the nodes are then
-// uploaded coarse to fine within a per-frame budget. Each frame draws the nodes with the largest
-// screen size first until "pointBudget" points (0: all), culled by the view and the horizon.
+// The file is opened (and its header and CRS checked) when the scene loads; the octree is built
+// on a worker thread when the layer is first drawn (PointStore: in memory for clouds that fit
+// "cpuMemoryMB", else into a cache file next to the LAS file or in "cacheFolder", reused by
+// later runs). Each frame wants the nodes with the largest screen size first until
+// "pointBudget" points (0: all), culled by the view and the horizon; those not on the GPU are
+// read (from the cache file, on workers) and uploaded within a per-frame budget into a buffer of
+// "gpuMemoryMB", evicting the nodes wanted least recently (NodeResidency). A node is drawn once
+// it and its ancestors are resident.
 //
 // Compute rasterisation: every point writes (depth << 32 | index) with a 64-bit atomic into a
 // screen buffer, then a full-screen pass writes colour and depth, depth-tested against the
@@ -26,6 +31,7 @@
 #include "engine/jobs/ThreadPool.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/SceneDesc.h"
+#include "layers/points/NodeResidency.h"
 #include "layers/points/PointCloud.h"
 
 #include <glm/glm.hpp>
@@ -46,6 +52,8 @@ struct PointsSettings {
     double edlStrength = 1.0, edlRadius = 1.4;   ///< radius in pixels
     uint64_t pointBudget = 3'000'000;            ///< points drawn per frame at most; 0: all
     uint64_t gpuMemoryBytes = uint64_t(1024) << 20;
+    uint64_t cpuMemoryBytes = uint64_t(512) << 20;   ///< the octree build's working memory
+    std::string cacheFolder;                         ///< empty: next to the file, else the user's cache
     enum class Renderer { Compute, PointList } renderer = Renderer::Compute;
 };
 
@@ -75,8 +83,9 @@ public:
     /// "color": rgb | intensity | classification | height | constant.
     bool setOption(std::string_view name, std::string_view value) override;
 
-    /// After loading: the cloud (tests), or null while it loads or when loading failed.
-    const points::PointCloud* cloud() const { return cloud_.get(); }
+    /// After loading: the octree (tests), or null while it loads or when loading failed.
+    const points::PointStore* store() const { return store_.get(); }
+    const points::NodeResidency* residency() const { return residency_.get(); }
     /// Loading's error, if it failed.
     const std::string& loadError() const { return loadError_; }
     const PointsSettings& settings() const { return settings_; }
@@ -86,9 +95,8 @@ public:
 private:
     void startLoading();
     void finishLoading();
-    void buildGpuObjects();
-    gpu::Pipeline& splatPipeline(int radius);
-    gpu::Pipeline& pointListPipeline();
+    gpu::Pipeline& splatPipeline(int radius, bool quantised);
+    gpu::Pipeline& pointListPipeline(bool quantised);
     gpu::Pipeline& resolvePipeline();
     void ensureScreen(uint32_t width, uint32_t height);
     void ensureFrameBuffers(uint32_t slot, size_t nodes, size_t batches);
@@ -102,31 +110,29 @@ private:
     scene::RenderServices services_;
 
     // Loading on a worker; the cloud once done.
-    jobs::Job<Result<points::PointCloud>> loadJob_;
+    jobs::Job<Result<std::shared_ptr<points::PointStore>>> loadJob_;
     std::shared_ptr<std::atomic<double>> loadProgress_;
     std::shared_ptr<std::atomic<bool>> cancel_;
-    std::shared_ptr<points::PointCloud> cloud_;
+    std::shared_ptr<const points::PointStore> store_;
+    std::unique_ptr<points::NodeResidency> residency_;
     std::string loadError_;
+    uint64_t frame_ = 0, loadedFrame_ = 0;
 
-    // Residency: each node's first point in the GPU buffers (or -1), uploaded coarse to fine.
-    std::vector<int64_t> gpuFirst_;
-    std::vector<int32_t> uploadOrder_;   // nodes by level, then index
-    size_t uploadCursor_ = 0;            // next node of uploadOrder_ to upload
-    uint64_t residentPoints_ = 0, capacityPoints_ = 0;
-
-    // This frame's selection.
-    struct Drawn {
-        int32_t node;
-        glm::vec4 centreFromEye;
+    // This frame's selection: the nodes wanted (most important first) and those drawn.
+    std::vector<int32_t> wanted_, drawList_;
+    std::vector<uint64_t> drawnFrame_;   // per node: the last frame that drew it
+    struct NodeGpu {   // shader::PointNode
+        glm::vec4 centreStep;
+        glm::uvec4 data;
     };
-    std::vector<Drawn> drawList_;
-    std::vector<glm::vec4> nodeData_;     // the frame's node centres and batches, as uploaded
+    std::vector<NodeGpu> nodeData_;   // the frame's drawn nodes and batches, as uploaded
     std::vector<glm::uvec4> batchData_;
-    uint32_t batchCount_ = 0;
+    uint32_t batchCount_ = 0, quantisedBatches_ = 0;   // the quantised nodes' batches come first
     uint64_t drawnPoints_ = 0;
     glm::dmat4 viewProj_{1.0};
+    glm::dvec3 eye_{0.0};
 
-    gpu::Buffer positions_, attributes_, screen_;
+    gpu::Buffer data_, screen_;   // the resident nodes' data; the compute rasteriser's screen
     struct Slot {
         gpu::Buffer uniforms, batches, nodes;
         VkDescriptorSet set = VK_NULL_HANDLE;
@@ -137,8 +143,9 @@ private:
     gpu::Sampler depthSampler_;
     gpu::DescriptorSets descriptors_;   // one set per frame in flight
     gpu::PipelineLayout layout_;
-    std::map<int, gpu::Pipeline> splatPipelines_;   // by splat radius (specialisation constant)
-    // By colour mode and EDL (specialisation constants: a CPU device pays for every branch).
+    std::map<int, gpu::Pipeline> splatPipelines_;   // by splat radius and position format
+    // By colour mode and EDL, or position format (specialisation constants: a CPU device pays
+    // for every branch).
     std::map<int, gpu::Pipeline> resolvePipelines_, pointListPipelines_;
     gpu::Image* boundDepth_ = nullptr;
     bool gpuReady_ = false;

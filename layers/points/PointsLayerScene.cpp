@@ -38,6 +38,9 @@ Result<std::unique_ptr<scene::Layer>> PointsLayer::create(const scene::LayerDesc
     s.edlRadius = r.number("edlRadius", 1.4, 0.5, 8.0).value_or(1.4);
     s.pointBudget = uint64_t(r.number("pointBudget", 3e6, 0.0, 4e9).value_or(3e6));
     s.gpuMemoryBytes = uint64_t(r.number("gpuMemoryMB", 1024.0, 1.0, 65536.0).value_or(1024.0) * 1048576.0);
+    s.cpuMemoryBytes = uint64_t(r.number("cpuMemoryMB", 512.0, 1.0, 1048576.0).value_or(512.0) * 1048576.0);
+    if (auto folder = r.string("cacheFolder", std::string()); folder && !folder->empty())
+        s.cacheFolder = scene.resolve(*folder).string();
     if (auto renderer = r.string("renderer", std::string("compute"))) {
         if (*renderer == "compute") s.renderer = PointsSettings::Renderer::Compute;
         else if (*renderer == "pointList") s.renderer = PointsSettings::Renderer::PointList;

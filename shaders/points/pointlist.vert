@@ -6,19 +6,20 @@
 // against): one vertex a point, drawn as a point list, one draw a node.
 
 layout(set = 1, binding = 0) uniform PointBlock { PointUniforms pu; };
-layout(set = 1, binding = 1, std430) readonly buffer Positions { float positions[]; };
+layout(set = 1, binding = 1, std430) readonly buffer Words { uint words[]; };
 layout(set = 1, binding = 2, std430) readonly buffer Attributes { uvec2 attributes[]; };
-layout(set = 1, binding = 4, std430) readonly buffer Nodes { vec4 nodeCentres[]; };
-layout(push_constant) uniform Push { uint node; } push;
+layout(set = 1, binding = 4, std430) readonly buffer Nodes { PointNode nodes[]; };
+layout(push_constant) uniform Push { uint node; uint firstBatch; } push;
 
 layout(location = 0) out vec3 color;
 
 #include "points/PointColor.glsl"
+#include "points/PointData.glsl"
 
 void main() {
-    uint i = uint(gl_VertexIndex);
-    vec3 p = nodeCentres[push.node].xyz + vec3(positions[3u * i], positions[3u * i + 1u], positions[3u * i + 2u]);
-    gl_Position = pu.viewProj * vec4(p, 1.0);
+    PointNode node = nodes[push.node];
+    uint local = uint(gl_VertexIndex);   // drawn from 0: the point within its node
+    gl_Position = pu.viewProj * vec4(pointPosition(node, local), 1.0);
     gl_PointSize = pu.edl.w;
-    color = pointColor(attributes[i]);
+    color = pointColor(attributes[node.data.x + local]);
 }

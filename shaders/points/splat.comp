@@ -6,7 +6,8 @@
 #include "shared/PointTypes.h"
 
 // Compute rasterisation of points: each point is projected (positions relative to its node's
-// centre, the node's centre relative to the eye: float, small numbers near the eye), tested
+// centre, quantised or float, the node's centre relative to the eye: small numbers near the
+// eye), tested
 // against the scene's depth, and written as (depth bits << 32 | index) with a 64-bit atomicMax
 // into a screen buffer: with reversed Z the largest depth is the nearest, and among equal
 // depths the highest index wins, so the image never depends on the order of the writes.
@@ -16,22 +17,28 @@ layout(local_size_x = 256) in;
 // Splat radius in pixels: 0 writes one pixel; r covers the disc of radius r + 0.5.
 layout(constant_id = 0) const int kRadius = 0;
 
+// The batches of one position format: [first, first + dispatched groups).
+layout(push_constant) uniform Push { uint node; uint firstBatch; } push;
+
 layout(set = 1, binding = 0) uniform PointBlock { PointUniforms pu; };
-layout(set = 1, binding = 1, std430) readonly buffer Positions { float positions[]; };
+layout(set = 1, binding = 1, std430) readonly buffer Words { uint words[]; };
 layout(set = 1, binding = 3, std430) readonly buffer Batches { uvec4 batches[]; };
-layout(set = 1, binding = 4, std430) readonly buffer Nodes { vec4 nodeCentres[]; };
+layout(set = 1, binding = 4, std430) readonly buffer Nodes { PointNode nodes[]; };
 layout(set = 1, binding = 5, std430) buffer Screen { uint64_t screen[]; };
 layout(set = 1, binding = 6) uniform sampler2D sceneDepth;
 
+#include "points/PointData.glsl"
+
 void main() {
-    uvec4 batch = batches[gl_WorkGroupID.x];
-    vec3 centre = nodeCentres[batch.x].xyz;
+    uvec4 batch = batches[push.firstBatch + gl_WorkGroupID.x];
+    PointNode node = nodes[batch.x];
     ivec2 size = ivec2(pu.screen.xy);
     for (uint k = 0u; k < kPointsPerInvocation; ++k) {
         uint local = k * kPointGroupSize + gl_LocalInvocationID.x;
         if (local >= batch.z) break;
-        uint index = batch.y + local;
-        vec3 p = centre + vec3(positions[3u * index], positions[3u * index + 1u], positions[3u * index + 2u]);
+        local += batch.y;   // within the node
+        uint index = node.data.x + local;
+        vec3 p = pointPosition(node, local);
         vec4 clip = pu.viewProj * vec4(p, 1.0);
         if (clip.w <= 0.0) continue;   // behind the eye
         float depth = clip.z / clip.w;

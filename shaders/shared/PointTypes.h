@@ -1,9 +1,9 @@
 // Point clouds: compute rasterisation (before the points pass) and its resolve (fragment, in the
-// pass), or the point-list fallback. Set 1 bindings: 0 PointUniforms (per frame), 1 positions
-// (3 floats a point, relative to its node's centre), 2 attributes (2 uints a point), 3 the
-// frame's batches (uvec4: drawn node, first point, count), 4 the drawn nodes' centres relative to
-// the eye (vec4, from doubles on the CPU), 5 the screen buffer (one uint64 a pixel: depth bits
-// << 32 | point index; 0 = empty), 6 the scene depth (sampler2D).
+// pass), or the point-list fallback. Set 1 bindings: 0 PointUniforms (per frame), 1 and 2 the
+// resident nodes' data (one buffer, bound as uint words for the positions and as uvec2 for the
+// attributes; layout in layers/points/PointStore.h), 3 the frame's batches (uvec4: drawn node,
+// first point of the node, count, 0), 4 the drawn nodes (PointNode), 5 the screen buffer (one
+// uint64 a pixel: depth bits << 32 | attribute index; 0 = empty), 6 the scene depth (sampler2D).
 #ifndef ORBIS_SHADERS_SHARED_POINT_TYPES_H
 #define ORBIS_SHADERS_SHARED_POINT_TYPES_H
 
@@ -22,6 +22,14 @@ ORBIS_CONST(uint, kPointColorClassification, 2)
 ORBIS_CONST(uint, kPointColorHeight, 3)
 ORBIS_CONST(uint, kPointColorConstant, 4)
 
+// A drawn node (std430).
+struct PointNode {
+    vec4 centreStep;   // xyz: the node's centre relative to the eye (from doubles on the CPU);
+                       // w: the quantisation step (m), 0 for float positions
+    uvec4 data;        // x: its first point's attribute index (uvec2 units), y: its positions'
+                       // first word, z: its point count, w: 0
+};
+
 // std140: vec4 and mat4 members only.
 struct PointUniforms {
     mat4 viewProj;        // projection * view rotation: positions relative to the eye -> clip
@@ -36,6 +44,7 @@ ORBIS_NAMESPACE_END
 
 #ifdef __cplusplus
 static_assert(sizeof(orbis::shader::PointUniforms) == 64 + 4 * 16, "PointUniforms layout changed");
+static_assert(sizeof(orbis::shader::PointNode) == 32, "PointNode layout changed");
 static_assert(orbis::shader::kPointBatch == orbis::shader::kPointGroupSize * orbis::shader::kPointsPerInvocation);
 #endif
 

@@ -146,7 +146,7 @@ TEST_F(PointsRender, SurveyOverTerrainMatchesGoldens) {
     auto s = load(scene(surveyView(), layers));
     ASSERT_TRUE(s);
     const auto plain = render(*s);
-    EXPECT_EQ(points(*s).pointsDrawn(), points(*s).cloud()->octree.points());
+    EXPECT_EQ(points(*s).pointsDrawn(), points(*s).store()->info().points);
     EXPECT_TRUE(matchesGolden(plain, "points_survey"));
     // The cloud shows over the terrain.
     const auto terrainOnly = render(scene(surveyView(), mountainLayer()));
@@ -157,6 +157,28 @@ TEST_F(PointsRender, SurveyOverTerrainMatchesGoldens) {
     const auto edl = render(*s);
     EXPECT_TRUE(matchesGolden(edl, "points_survey_edl"));
     EXPECT_GT(differing(edl, plain, 8), size_t(plain.width * plain.height / 50));
+}
+
+TEST_F(PointsRender, CloudFromTheCacheFileDrawsTheSame) {
+    // 1 MB of working memory: the octree goes through a cache file and its nodes are read back
+    // on workers; the image is the in-memory one. A second load reuses the cache.
+    const std::string layers = pointsLayer(mountainCloud(), R"(, "crs": "EPSG:4979")");
+    const auto inMemory = render(scene(surveyView(), layers));
+    const auto cacheDir = outDir() / "cache";
+    std::filesystem::remove_all(cacheDir);
+    const std::string cached = pointsLayer(mountainCloud(), R"(, "crs": "EPSG:4979", "cpuMemoryMB": 1, "cacheFolder": )" +
+                                                                jsonString(cacheDir.string()));
+    for (int run = 0; run < 2; ++run) {
+        auto s = load(scene(surveyView(), cached));
+        ASSERT_TRUE(s);
+        const auto img = render(*s);
+        ASSERT_TRUE(points(*s).store()->onDisk());
+        EXPECT_EQ(points(*s).pointsDrawn(), points(*s).store()->info().points);
+        EXPECT_EQ(differing(img, inMemory, 0), 0u) << "run " << run;
+    }
+    size_t files = 0;
+    for (const auto& e : std::filesystem::directory_iterator(cacheDir)) files += e.path().extension() == ".orbis-points";
+    EXPECT_EQ(files, 1u);
 }
 
 TEST_F(PointsRender, ColourModesAndPointListAgreeWithCompute) {
@@ -214,7 +236,7 @@ TEST_F(PointsRender, BudgetDrawsTheNearestNodesFirst) {
     EXPECT_GT(layer.pointsDrawn(), 16384u);   // at least the root
     ASSERT_TRUE(layer.setParameter("pointBudget", 0));
     const auto full = render(*s);
-    EXPECT_EQ(layer.pointsDrawn(), layer.cloud()->octree.points());
+    EXPECT_EQ(layer.pointsDrawn(), layer.store()->info().points);
     EXPECT_GT(layer.nodesDrawn(), 4u);
     // A fifth of the points still cover the survey's silhouette: the images are alike in shape.
     size_t litLimited = 0, litFull = 0;

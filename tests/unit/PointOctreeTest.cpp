@@ -1,6 +1,6 @@
-// The point octree: every point lands in exactly one node, inside its node's cube, at its
-// position (float offsets from the node's centre); nodes hold at most their capacity (but the
-// deepest); the result depends only on the seed; NaN positions are left out.
+// The point octree: every point lands in exactly one node, inside its node's cube; nodes hold
+// at most their capacity (but the deepest); the result depends only on the seed; NaN positions
+// are left out.
 #include "globe/Ellipsoid.h"
 #include "layers/points/PointOctree.h"
 
@@ -13,29 +13,25 @@
 namespace orbis::points {
 namespace {
 
-std::vector<glm::dvec3> cloudAt(double lon, double lat, double h, double size, size_t n, uint32_t seed) {
+std::vector<PointRecord> cloudAt(double lon, double lat, double h, double size, size_t n, uint32_t seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(-0.5 * size, 0.5 * size);
     const auto& ell = globe::Ellipsoid::wgs84();
     const glm::dvec3 o = ell.toEcef(lon, lat, h);
     const glm::dmat3 enu = ell.enuFrame(lon, lat);
-    std::vector<glm::dvec3> pts(n);
-    for (auto& p : pts) p = o + enu * glm::dvec3(u(rng), u(rng), 0.1 * u(rng));
+    std::vector<PointRecord> pts(n);
+    for (size_t i = 0; i < n; ++i) {
+        pts[i].ecef = o + enu * glm::dvec3(u(rng), u(rng), 0.1 * u(rng));
+        pts[i].id = i;
+    }
     return pts;
-}
-
-std::vector<PackedAttributes> attributesFor(size_t n) {
-    std::vector<PackedAttributes> a(n);
-    for (size_t i = 0; i < n; ++i) a[i].rgbClass = uint32_t(i);   // the point's input index
-    return a;
 }
 
 TEST(PointOctree, EveryPointOnceInsideItsNode) {
     const auto pts = cloudAt(179.9999, 45.0, 8000.0, 2000.0, 100000, 7);
-    const auto attrs = attributesFor(pts.size());
     PointOctree::Options o;
     o.capacity = 1000;
-    const PointOctree tree = PointOctree::build(pts, attrs, o);
+    const PointOctree tree = PointOctree::build(pts, o);
     ASSERT_EQ(tree.points(), pts.size());
     EXPECT_GT(tree.nodes().size(), 50u);
     std::set<uint32_t> seen;
@@ -46,13 +42,14 @@ TEST(PointOctree, EveryPointOnceInsideItsNode) {
             EXPECT_LE(n.count, o.capacity);
         }
         total += n.count;
+        uint64_t lastKey = 0;
         for (uint64_t i = n.first; i < n.first + n.count; ++i) {
-            const uint32_t input = tree.attributes()[i].rgbClass;
+            const uint32_t input = tree.order()[i];
             EXPECT_TRUE(seen.insert(input).second);
-            const glm::dvec3 p = tree.position(i);
-            // Float offsets from the node's centre: well under a millimetre at 2 km.
-            EXPECT_LT(glm::length(p - pts[input]), 2e-4);
-            const glm::dvec3 d = glm::abs(p - n.centre);
+            const uint64_t key = pointKey(pts[input].id, o.seed);
+            EXPECT_GE(key, lastKey);   // in key order
+            lastKey = key;
+            const glm::dvec3 d = glm::abs(pts[input].ecef - n.centre);
             EXPECT_LE(std::max({d.x, d.y, d.z}), n.halfSize * (1 + 1e-9) + 1e-6);
         }
         for (int32_t c : n.children)
@@ -71,39 +68,43 @@ TEST(PointOctree, NodesAreUniformSubsamples) {
     // The root keeps `capacity` points spread over the whole cloud, not the first ones read:
     // each quadrant of the cloud gets about a quarter of them.
     auto pts = cloudAt(10.0, 46.0, 500.0, 1000.0, 40000, 3);
-    std::sort(pts.begin(), pts.end(), [](const glm::dvec3& a, const glm::dvec3& b) { return a.x < b.x; });
-    const PointOctree tree = PointOctree::build(pts, attributesFor(pts.size()), {4000, 20, 1});
+    std::sort(pts.begin(), pts.end(), [](const PointRecord& a, const PointRecord& b) { return a.ecef.x < b.ecef.x; });
+    for (size_t i = 0; i < pts.size(); ++i) pts[i].id = i;   // file order: west to east
+    const PointOctree tree = PointOctree::build(pts, {4000, 20, 1});
     const OctreeNode& root = tree.nodes()[0];
     ASSERT_EQ(root.count, 4000u);
     size_t low = 0;
-    for (uint64_t i = root.first; i < root.first + root.count; ++i) low += tree.attributes()[i].rgbClass < 20000 ? 1 : 0;
+    for (uint64_t i = root.first; i < root.first + root.count; ++i) low += tree.order()[i] < 20000 ? 1 : 0;
     EXPECT_NEAR(double(low) / root.count, 0.5, 0.05);
 }
 
 TEST(PointOctree, DeterministicAndNanFree) {
     auto pts = cloudAt(-70.0, -89.9, 0.0, 100.0, 5000, 11);
-    pts[10] = glm::dvec3(std::nan(""), 0.0, 0.0);
-    pts[20].z = std::numeric_limits<double>::infinity();
-    const auto attrs = attributesFor(pts.size());
-    const PointOctree a = PointOctree::build(pts, attrs, {256, 20, 5});
-    const PointOctree b = PointOctree::build(pts, attrs, {256, 20, 5});
+    pts[10].ecef = glm::dvec3(std::nan(""), 0.0, 0.0);
+    pts[20].ecef.z = std::numeric_limits<double>::infinity();
+    const PointOctree a = PointOctree::build(pts, {256, 20, 5});
+    const PointOctree b = PointOctree::build(pts, {256, 20, 5});
+    const PointOctree c = PointOctree::build(pts, {256, 20, 6});
     EXPECT_EQ(a.points(), pts.size() - 2);
     ASSERT_EQ(a.nodes().size(), b.nodes().size());
-    EXPECT_EQ(a.positions(), b.positions());
-    for (float f : a.positions()) EXPECT_TRUE(std::isfinite(f));
+    EXPECT_EQ(a.order(), b.order());
+    EXPECT_NE(a.order(), c.order());   // another seed, another sample
+    for (uint32_t i : a.order()) EXPECT_TRUE(i != 10 && i != 20);
 }
 
 TEST(PointOctree, DuplicatePointsStopAtTheDeepestLevel) {
     // 50 000 copies of one point: the tree stops at maxLevel instead of splitting forever.
-    std::vector<glm::dvec3> pts(50000, globe::Ellipsoid::wgs84().toEcef(0.0, 0.0, 0.0));
-    pts.push_back(pts[0] + glm::dvec3(1.0, 0.0, 0.0));
-    const PointOctree tree = PointOctree::build(pts, attributesFor(pts.size()), {1000, 12, 1});
+    std::vector<PointRecord> pts(50000);
+    for (size_t i = 0; i < pts.size(); ++i) pts[i] = {globe::Ellipsoid::wgs84().toEcef(0.0, 0.0, 0.0), 0, 0, i};
+    pts.push_back({pts[0].ecef + glm::dvec3(1.0, 0.0, 0.0), 0, 0, 50000});
+    const PointOctree tree = PointOctree::build(pts, {1000, 12, 1});
     EXPECT_EQ(tree.points(), pts.size());
     EXPECT_LE(tree.depth(), 12u);
 }
 
 TEST(PointOctree, EmptyInput) {
     const PointOctree tree = PointOctree::build({}, {});
+    EXPECT_TRUE(tree.order().empty());
     EXPECT_EQ(tree.points(), 0u);
     EXPECT_TRUE(tree.nodes().empty());
 }

@@ -1,0 +1,655 @@
+// Building a PointStore from a LAS file: in memory for small clouds; for large ones, out of
+// core in bounded memory, into a cache file reused by later loads:
+//   1. read the file, place the points, gather the statistics, spill the records to disk;
+//   2. count the points per cell of a 128^3 grid over the root cube;
+//   3. split the cube into chunks (the largest cells of at most chunkPoints points) and copy
+//      each record into its chunk's range of a second temporary file;
+//   4. the nodes above the chunks: only a chunk's first capacity x depth points in key order
+//      can reach them (each ancestor takes at most `capacity`), so those candidates, inserted
+//      in key order, fill them exactly as the in-memory build would;
+//   5. each chunk's subtree, built in memory from its records less those taken above.
+// The result is the tree PointOctree::build makes of the whole cloud, node for node.
+#include "engine/core/Log.h"
+#include "globe/Ellipsoid.h"
+#include "layers/points/PointCloud.h"
+#include "layers/points/PointStoreFormat.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace orbis::points {
+namespace fs = std::filesystem;
+
+namespace store {
+
+double encodeNode(std::span<const PointRecord> points, std::span<const uint32_t> indices, const Cube& cube,
+                  const Packing& packing, std::vector<uint8_t>& out) {
+    const size_t n = indices.size();
+    const double step = quantisationStep(cube.halfSize);
+    const bool quantised = step <= packing.tolerance;
+    const size_t at = out.size();
+    out.resize(at + n * (quantised ? 16 : 20));
+    uint8_t* attrs = out.data() + at;
+    uint8_t* pos = attrs + 8 * n;
+    const auto& ell = globe::Ellipsoid::wgs84();
+    for (size_t k = 0; k < n; ++k) {
+        const PointRecord& p = points[indices[k]];
+        const double h = ell.toGeodetic(p.ecef).height;
+        const double f = std::clamp((h - packing.heightMin) / packing.heightSpan, 0.0, 1.0);
+        const uint32_t a[2] = {p.rgbClass, (p.intensity & 0xFFFFu) | uint32_t(std::lround(f * 65535.0)) << 16};
+        std::memcpy(attrs + 8 * k, a, sizeof a);
+        const glm::dvec3 rel = p.ecef - cube.centre;
+        if (quantised) {
+            const glm::dvec3 q = glm::clamp(glm::round(rel / step) + double(kQuantisedCentre), 0.0,
+                                            double((1u << kQuantisedBits) - 1));
+            uint32_t w[2];
+            packPosition(glm::uvec3(q), w[0], w[1]);
+            std::memcpy(pos + 8 * k, w, sizeof w);
+        } else {
+            const float v[3] = {float(rel.x), float(rel.y), float(rel.z)};
+            std::memcpy(pos + 12 * k, v, sizeof v);
+        }
+    }
+    return quantised ? step : 0.0;
+}
+
+}  // namespace store
+
+namespace {
+
+using store::Packing;
+
+Error cancelled(const LasFile& file) { return Error{std::string(file.path()).append(": loading cancelled")}; }
+
+// -----------------------------------------------------------------------------------------------
+// Pass 1: every point read, placed, and handed on as records; the statistics on the way.
+struct Statistics {
+    CloudInfo info;
+    glm::dvec3 lo{std::numeric_limits<double>::max()}, hi{-std::numeric_limits<double>::max()};
+    uint64_t kept = 0;
+};
+
+template <typename Sink>
+Result<Statistics> readRecords(const LasFile& file, const PointGeoreference& georef, const PointLoadOptions& options,
+                               double progressTo, Sink&& sink) {
+    const LasHeader& h = file.header();
+    Statistics s;
+    s.info.read = file.points();
+    s.info.rgb = h.hasRgb() ? 1 : 0;
+    const uint64_t n = file.points(), per = std::max<uint64_t>(1, options.pointsPerRead);
+    const auto& ell = globe::Ellipsoid::wgs84();
+    std::vector<uint32_t> intensityHistogram(65536, 0);
+    std::vector<LasPoint> batch;
+    std::vector<glm::dvec3> xyz;
+    std::vector<PointRecord> records;
+    double hMin = std::numeric_limits<double>::max(), hMax = -hMin;
+    for (uint64_t first = 0; first < n; first += per) {
+        if (options.cancel && options.cancel->load()) return cancelled(file);
+        file.read(first, per, batch);
+        // Colours stored in 8 bits inside the 16-bit fields are common: decided on the first batch.
+        if (first == 0 && s.info.rgb)
+            for (const LasPoint& p : batch) s.info.rgb16 |= std::max({p.red, p.green, p.blue}) > 255 ? 1 : 0;
+        xyz.resize(batch.size());
+        for (size_t i = 0; i < batch.size(); ++i) xyz[i] = batch[i].position;
+        georef.toEcef(xyz);
+        records.clear();
+        for (size_t i = 0; i < batch.size(); ++i) {
+            const LasPoint& p = batch[i];
+            ++intensityHistogram[p.intensity];
+            if (!std::isfinite(xyz[i].x) || !std::isfinite(xyz[i].y) || !std::isfinite(xyz[i].z)) {
+                ++s.info.dropped;
+                continue;
+            }
+            const double height = ell.toGeodetic(xyz[i]).height;
+            hMin = std::min(hMin, height), hMax = std::max(hMax, height);
+            s.lo = glm::min(s.lo, xyz[i]), s.hi = glm::max(s.hi, xyz[i]);
+            const auto channel = [&](uint16_t v) { return uint32_t(s.info.rgb16 ? v >> 8 : std::min<uint16_t>(v, 255)); };
+            const uint32_t rgb = s.info.rgb ? channel(p.red) | channel(p.green) << 8 | channel(p.blue) << 16 : 0xFFFFFFu;
+            records.push_back({xyz[i], rgb | uint32_t(p.classification) << 24, p.intensity, first + i});
+        }
+        s.kept += records.size();
+        if (auto r = sink(std::span<const PointRecord>(records)); !r) return r.error();
+        if (options.progress) options.progress(progressTo * double(std::min(n, first + per)) / double(n));
+    }
+    if (hMin > hMax) hMin = hMax = 0.0;
+    s.info.heightMin = hMin, s.info.heightMax = hMax;
+    // Intensity gain: the 99th percentile maps to white (a few bright returns do not grey out the rest).
+    uint64_t seen = 0, p99 = 0;
+    for (uint32_t v = 0; v < 65536; ++v) {
+        seen += intensityHistogram[v];
+        if (seen * 100 >= n * 99) {
+            p99 = v;
+            break;
+        }
+    }
+    s.info.intensityGain = 1.0f / float(std::max<uint64_t>(p99, 1));
+    s.info.points = s.kept;
+    return s;
+}
+
+Packing packingFor(const Statistics& s, double tolerance) {
+    Packing p;
+    p.heightMin = s.info.heightMin;
+    p.heightSpan = s.info.heightMax > s.info.heightMin ? s.info.heightMax - s.info.heightMin : 1.0;
+    p.tolerance = tolerance;
+    return p;
+}
+
+/// Appends the nodes of `tree` (built over `points`) to `nodes`, their data to `data` (its
+/// size so far is where they start); the subtree's root gets `parent`. Returns the root's index.
+int32_t appendTree(const PointOctree& tree, std::span<const PointRecord> points, const Packing& packing, int32_t parent,
+                   uint64_t dataBase, std::vector<StoredNode>& nodes, std::vector<uint8_t>& data) {
+    const int32_t base = int32_t(nodes.size());
+    for (const OctreeNode& o : tree.nodes()) {
+        StoredNode s;
+        s.centre = o.centre;
+        s.halfSize = o.halfSize;
+        s.level = o.level;
+        s.count = o.count;
+        s.offset = dataBase + data.size();
+        s.parent = o.parent >= 0 ? base + o.parent : parent;
+        for (int c = 0; c < 8; ++c) s.children[c] = o.children[c] >= 0 ? base + o.children[c] : -1;
+        s.step = store::encodeNode(points, std::span(tree.order()).subspan(o.first, o.count), o.cube(), packing, data);
+        nodes.push_back(s);
+    }
+    return base;
+}
+
+// -----------------------------------------------------------------------------------------------
+// Files
+class File {
+public:
+    File() = default;
+    File(const File&) = delete;
+    File& operator=(const File&) = delete;
+    ~File() { close(true); }
+    Result<void> create(const std::string& path) {
+        path_ = path;
+        fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+        if (fd_ < 0) return fail("cannot create");
+        return {};
+    }
+    Result<void> write(const void* data, uint64_t bytes, uint64_t offset) {
+        auto* p = static_cast<const uint8_t*>(data);
+        while (bytes > 0) {
+            const ssize_t w = ::pwrite(fd_, p, bytes, off_t(offset));
+            if (w < 0 && errno == EINTR) continue;
+            if (w <= 0) return fail("cannot write (disk full?)");
+            p += w, bytes -= uint64_t(w), offset += uint64_t(w);
+        }
+        return {};
+    }
+    Result<void> read(void* out, uint64_t bytes, uint64_t offset) const {
+        auto* p = static_cast<uint8_t*>(out);
+        while (bytes > 0) {
+            const ssize_t r = ::pread(fd_, p, bytes, off_t(offset));
+            if (r < 0 && errno == EINTR) continue;
+            if (r <= 0) return fail("cannot read");
+            p += r, bytes -= uint64_t(r), offset += uint64_t(r);
+        }
+        return {};
+    }
+    /// Closes; `remove`: deletes the file too (temporary files, failed builds).
+    void close(bool remove) {
+        if (fd_ >= 0) ::close(fd_);
+        fd_ = -1;
+        if (remove && !path_.empty()) ::unlink(path_.c_str());
+        path_.clear();
+    }
+    const std::string& path() const { return path_; }
+
+private:
+    Error fail(const char* what) const { return Error{std::string(path_).append(": ").append(what).append(": ").append(std::strerror(errno))}; }
+    int fd_ = -1;
+    std::string path_;
+};
+
+/// Records appended to a file through a buffer.
+class RecordWriter {
+public:
+    explicit RecordWriter(File& f) : file_(f) { buffer_.reserve(kBuffer); }
+    Result<void> add(std::span<const PointRecord> r) {
+        for (const PointRecord& p : r) {
+            buffer_.push_back(p);
+            if (buffer_.size() == kBuffer)
+                if (auto w = flush(); !w) return w;
+        }
+        return {};
+    }
+    Result<void> flush() {
+        auto w = file_.write(buffer_.data(), buffer_.size() * sizeof(PointRecord), written_ * sizeof(PointRecord));
+        written_ += buffer_.size();
+        buffer_.clear();
+        return w;
+    }
+
+private:
+    static constexpr size_t kBuffer = 1u << 16;
+    File& file_;
+    std::vector<PointRecord> buffer_;
+    uint64_t written_ = 0;
+};
+
+/// Calls fn(records) over [0, count) records of `file`, a block at a time.
+template <typename Fn>
+Result<void> forEachBlock(const File& file, uint64_t count, const std::atomic<bool>* cancel, Fn&& fn) {
+    std::vector<PointRecord> block;
+    constexpr uint64_t kBlock = 1u << 18;
+    for (uint64_t first = 0; first < count; first += kBlock) {
+        if (cancel && cancel->load()) return makeError("cancelled");
+        block.resize(std::min(kBlock, count - first));
+        if (auto r = file.read(block.data(), block.size() * sizeof(PointRecord), first * sizeof(PointRecord)); !r) return r;
+        fn(std::span<const PointRecord>(block));
+    }
+    return {};
+}
+
+// -----------------------------------------------------------------------------------------------
+// The grid and the chunks
+constexpr uint32_t kGridLevels = 7;   // 128^3 counting cells
+
+struct Cell {
+    uint32_t level = 0, x = 0, y = 0, z = 0;
+    uint64_t packed() const { return uint64_t(level) << 60 | uint64_t(x) << 40 | uint64_t(y) << 20 | z; }
+};
+
+/// The cell of `levels` levels below the root a point descends to (the octree's own octant
+/// tests, so the chunks agree with the tree to the last bit).
+Cell cellOf(const glm::dvec3& p, Cube cube, uint32_t levels) {
+    Cell c;
+    for (uint32_t l = 0; l < levels; ++l) {
+        const int o = cube.octant(p);
+        c.x = c.x << 1 | uint32_t(o & 1), c.y = c.y << 1 | uint32_t((o >> 1) & 1), c.z = c.z << 1 | uint32_t((o >> 2) & 1);
+        cube = cube.child(o);
+    }
+    c.level = levels;
+    return c;
+}
+
+Cube cubeOf(const Cell& c, Cube cube) {
+    for (uint32_t l = 0; l < c.level; ++l) {
+        const uint32_t s = c.level - 1 - l;
+        cube = cube.child(int(((c.x >> s) & 1) | ((c.y >> s) & 1) << 1 | ((c.z >> s) & 1) << 2));
+    }
+    return cube;
+}
+
+struct Chunk {
+    Cell cell;
+    uint64_t count = 0, first = 0;   // its records in the chunk file
+};
+
+/// The largest cells holding at most `maxPoints` (or of the grid's finest level).
+std::vector<Chunk> makeChunks(const std::vector<uint32_t>& counts, uint32_t levels, uint64_t maxPoints) {
+    // Counts per level, finest first (level l: (2^l)^3 cells, x | y << l | z << 2l).
+    std::vector<std::vector<uint64_t>> pyramid(levels + 1);
+    pyramid[levels].assign(counts.begin(), counts.end());
+    for (uint32_t l = levels; l-- > 0;) {
+        const uint32_t side = 1u << l;
+        pyramid[l].assign(size_t(side) * side * side, 0);
+        for (uint32_t z = 0; z < 2 * side; ++z)
+            for (uint32_t y = 0; y < 2 * side; ++y)
+                for (uint32_t x = 0; x < 2 * side; ++x)
+                    pyramid[l][(x >> 1) | size_t(y >> 1) << l | size_t(z >> 1) << (2 * l)] +=
+                        pyramid[l + 1][x | size_t(y) << (l + 1) | size_t(z) << (2 * (l + 1))];
+    }
+    std::vector<Chunk> chunks;
+    std::vector<Cell> stack{Cell{}};
+    while (!stack.empty()) {
+        const Cell c = stack.back();
+        stack.pop_back();
+        const uint64_t n = pyramid[c.level][c.x | size_t(c.y) << c.level | size_t(c.z) << (2 * c.level)];
+        if (n == 0) continue;
+        if (n <= maxPoints || c.level == levels) {
+            chunks.push_back({c, n, 0});
+            continue;
+        }
+        for (int o = 0; o < 8; ++o)
+            stack.push_back({c.level + 1, c.x << 1 | uint32_t(o & 1), c.y << 1 | uint32_t((o >> 1) & 1), c.z << 1 | uint32_t((o >> 2) & 1)});
+    }
+    uint64_t first = 0;
+    for (Chunk& c : chunks) c.first = first, first += c.count;
+    return chunks;
+}
+
+/// The nodes above the chunks, filled with the candidates in key order as PointOctree would.
+struct UpperTree {
+    struct Node {
+        Cube cube;
+        Cell cell;
+        int32_t parent = -1, chunk = -1;   // chunk: this node is that chunk's root (not filled here)
+        int32_t children[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
+        std::vector<uint32_t> taken;   // indices into the candidates
+    };
+    std::vector<Node> nodes;
+    std::unordered_map<uint64_t, int32_t> chunkOfCell;
+
+    int32_t child(int32_t i, int octant) {
+        if (nodes[size_t(i)].children[octant] >= 0) return nodes[size_t(i)].children[octant];
+        Node c;
+        c.cube = nodes[size_t(i)].cube.child(octant);
+        const Cell& pc = nodes[size_t(i)].cell;
+        c.cell = {pc.level + 1, pc.x << 1 | uint32_t(octant & 1), pc.y << 1 | uint32_t((octant >> 1) & 1),
+                  pc.z << 1 | uint32_t((octant >> 2) & 1)};
+        c.parent = i;
+        auto it = chunkOfCell.find(c.cell.packed());
+        c.chunk = it == chunkOfCell.end() ? -1 : it->second;
+        nodes[size_t(i)].children[octant] = int32_t(nodes.size());
+        nodes.push_back(std::move(c));
+        return int32_t(nodes.size()) - 1;
+    }
+    /// The node of a chunk's root, made (with its path) if no candidate reached it.
+    int32_t chunkRoot(const Chunk& chunk) {
+        int32_t i = 0;
+        for (uint32_t l = 0; l < chunk.cell.level; ++l) {
+            const uint32_t s = chunk.cell.level - 1 - l;
+            i = child(i, int(((chunk.cell.x >> s) & 1) | ((chunk.cell.y >> s) & 1) << 1 | ((chunk.cell.z >> s) & 1) << 2));
+        }
+        return i;
+    }
+};
+
+struct BuildContext {
+    const LasFile& file;
+    const PointGeoreference& georef;
+    const PointLoadOptions& options;
+    std::string folder, stem;   // temporary files: folder/stem.*.tmp
+    void progress(double f) const {
+        if (options.progress) options.progress(f);
+    }
+    bool cancelled() const { return options.cancel && options.cancel->load(); }
+};
+
+Result<void> buildCacheFile(const BuildContext& ctx, const std::string& out, const std::string& key, double tolerance) {
+    const PointOctree::Options& tree = ctx.options.octree;
+    const uint32_t capacity = std::max(1u, tree.capacity);
+    const std::string tmp = (fs::path(ctx.folder) / ctx.stem).string();
+
+    // 1. Records to the spill file, statistics.
+    File spill;
+    if (auto r = spill.create(tmp + ".spill.tmp"); !r) return r;
+    RecordWriter spillWriter(spill);
+    auto stats = readRecords(ctx.file, ctx.georef, ctx.options, 0.3,
+                             [&](std::span<const PointRecord> r) { return spillWriter.add(r); });
+    if (!stats) return stats.error();
+    if (auto r = spillWriter.flush(); !r) return r;
+    const Packing packing = packingFor(*stats, tolerance);
+    const uint64_t n = stats->kept;
+    const Cube root = n ? Cube::around(stats->lo, stats->hi) : Cube{};
+    const uint32_t levels = std::min(kGridLevels, tree.maxLevel);
+
+    // 2. Counts per grid cell.
+    const uint32_t side = 1u << levels;
+    std::vector<uint32_t> counts(size_t(side) * side * side, 0);
+    const auto cellIndex = [&](const Cell& c) { return c.x | size_t(c.y) << levels | size_t(c.z) << (2 * levels); };
+    if (auto r = forEachBlock(spill, n, ctx.options.cancel, [&](std::span<const PointRecord> block) {
+            for (const PointRecord& p : block) ++counts[cellIndex(cellOf(p.ecef, root, levels))];
+        });
+        !r)
+        return r;
+    ctx.progress(0.35);
+
+    // 3. Chunks, and each record copied into its chunk's range.
+    const uint64_t chunkPoints = std::max<uint64_t>(ctx.options.chunkPoints, uint64_t(8) * capacity);
+    std::vector<Chunk> chunks = makeChunks(counts, levels, chunkPoints);
+    std::vector<uint32_t> chunkOf(counts.size(), 0);
+    for (uint32_t c = 0; c < chunks.size(); ++c) {
+        const Cell& cell = chunks[c].cell;
+        const uint32_t shift = levels - cell.level, span = 1u << shift;
+        for (uint32_t z = 0; z < span; ++z)
+            for (uint32_t y = 0; y < span; ++y)
+                for (uint32_t x = 0; x < span; ++x)
+                    chunkOf[cellIndex({levels, cell.x << shift | x, cell.y << shift | y, cell.z << shift | z})] = c;
+    }
+    std::vector<uint32_t>().swap(counts);
+    File chunkFile;
+    if (auto r = chunkFile.create(tmp + ".chunks.tmp"); !r) return r;
+    {
+        const size_t perChunk = std::clamp<size_t>((size_t(64) << 20) / sizeof(PointRecord) / std::max<size_t>(chunks.size(), 1), 256, 1u << 16);
+        std::vector<std::vector<PointRecord>> buffers(chunks.size());
+        std::vector<uint64_t> cursor(chunks.size());
+        for (size_t c = 0; c < chunks.size(); ++c) cursor[c] = chunks[c].first;
+        Result<void> failed;
+        const auto flush = [&](size_t c) {
+            if (failed) failed = chunkFile.write(buffers[c].data(), buffers[c].size() * sizeof(PointRecord), cursor[c] * sizeof(PointRecord));
+            cursor[c] += buffers[c].size();
+            buffers[c].clear();
+        };
+        auto r = forEachBlock(spill, n, ctx.options.cancel, [&](std::span<const PointRecord> block) {
+            for (const PointRecord& p : block) {
+                const uint32_t c = chunkOf[cellIndex(cellOf(p.ecef, root, levels))];
+                buffers[c].push_back(p);
+                if (buffers[c].size() >= perChunk) flush(c);
+            }
+        });
+        if (!r) return r;
+        for (size_t c = 0; c < chunks.size(); ++c) flush(c);
+        if (!failed) return failed;
+    }
+    spill.close(true);
+    ctx.progress(0.45);
+
+    // 4. The candidates for the nodes above the chunks, then those nodes.
+    UpperTree upper;
+    for (uint32_t c = 0; c < chunks.size(); ++c) upper.chunkOfCell[chunks[c].cell.packed()] = int32_t(c);
+    upper.nodes.push_back({});
+    upper.nodes[0].cube = root;
+    upper.nodes[0].chunk = chunks.size() == 1 && chunks[0].cell.level == 0 ? 0 : -1;
+    std::vector<PointRecord> candidates, records;
+    for (const Chunk& c : chunks) {
+        if (ctx.cancelled()) return cancelled(ctx.file);
+        const uint64_t m = std::min<uint64_t>(c.count, uint64_t(capacity) * c.cell.level);
+        if (m == 0) continue;
+        records.resize(c.count);
+        if (auto r = chunkFile.read(records.data(), c.count * sizeof(PointRecord), c.first * sizeof(PointRecord)); !r) return r;
+        const auto byKey = [&](const PointRecord& a, const PointRecord& b) {
+            const uint64_t ka = pointKey(a.id, tree.seed), kb = pointKey(b.id, tree.seed);
+            return ka != kb ? ka < kb : a.id < b.id;
+        };
+        std::nth_element(records.begin(), records.begin() + int64_t(m - 1), records.end(), byKey);
+        candidates.insert(candidates.end(), records.begin(), records.begin() + int64_t(m));
+    }
+    std::sort(candidates.begin(), candidates.end(), [&](const PointRecord& a, const PointRecord& b) {
+        const uint64_t ka = pointKey(a.id, tree.seed), kb = pointKey(b.id, tree.seed);
+        return ka != kb ? ka < kb : a.id < b.id;
+    });
+    std::unordered_set<uint64_t> taken;
+    for (uint32_t k = 0; k < candidates.size(); ++k) {
+        int32_t i = 0;
+        while (upper.nodes[size_t(i)].chunk < 0) {
+            UpperTree::Node& nd = upper.nodes[size_t(i)];
+            if (nd.taken.size() < capacity || nd.cube.level >= tree.maxLevel) {
+                nd.taken.push_back(k);
+                taken.insert(candidates[k].id);
+                break;
+            }
+            i = upper.child(i, nd.cube.octant(candidates[k].ecef));
+        }
+    }
+    ctx.progress(0.5);
+
+    // 5. The cache file: the nodes above the chunks, then each chunk's subtree.
+    File cache;
+    if (auto r = cache.create(out + ".tmp"); !r) return r;
+    store::FileHeader header{};
+    std::memcpy(header.magic, store::kMagic, sizeof header.magic);
+    header.version = store::kVersion;
+    header.headerBytes = sizeof header;
+    header.keyBytes = key.size();
+    header.dataOffset = sizeof header + key.size();
+    if (auto r = cache.write(key.data(), key.size(), sizeof header); !r) return r;
+    std::vector<StoredNode> nodes;
+    std::vector<uint8_t> data;
+    uint64_t dataBytes = 0;
+    const auto writeData = [&]() -> Result<void> {
+        auto r = cache.write(data.data(), data.size(), header.dataOffset + dataBytes);
+        dataBytes += data.size();
+        data.clear();
+        return r;
+    };
+    // Upper nodes first (their indices in creation order), the chunks' roots patched in later.
+    std::vector<int32_t> storedIndex(upper.nodes.size(), -1);
+    for (size_t i = 0; i < upper.nodes.size(); ++i)
+        if (upper.nodes[i].chunk < 0) storedIndex[i] = int32_t(nodes.size()), nodes.emplace_back();
+    for (size_t i = 0; i < upper.nodes.size(); ++i) {
+        const UpperTree::Node& u = upper.nodes[i];
+        if (u.chunk >= 0) continue;
+        StoredNode& s = nodes[size_t(storedIndex[i])];
+        s.centre = u.cube.centre, s.halfSize = u.cube.halfSize, s.level = u.cube.level;
+        s.count = uint32_t(u.taken.size());
+        s.parent = u.parent >= 0 ? storedIndex[size_t(u.parent)] : -1;
+        s.offset = dataBytes + data.size();
+        s.step = store::encodeNode(candidates, u.taken, u.cube, packing, data);
+    }
+    if (auto r = writeData(); !r) return r;
+    std::vector<PointRecord>().swap(candidates);
+    const auto linkChild = [&](int32_t upperIndex, int32_t stored) {
+        const UpperTree::Node& u = upper.nodes[size_t(upperIndex)];
+        if (u.parent < 0) return;
+        const UpperTree::Node& p = upper.nodes[size_t(u.parent)];
+        for (int o = 0; o < 8; ++o)
+            if (p.children[o] == upperIndex) nodes[size_t(storedIndex[size_t(u.parent)])].children[o] = stored;
+    };
+    for (size_t i = 0; i < upper.nodes.size(); ++i)
+        if (upper.nodes[i].chunk < 0) linkChild(int32_t(i), storedIndex[i]);
+    for (size_t c = 0; c < chunks.size(); ++c) {
+        if (ctx.cancelled()) return cancelled(ctx.file);
+        records.resize(chunks[c].count);
+        if (auto r = chunkFile.read(records.data(), records.size() * sizeof(PointRecord), chunks[c].first * sizeof(PointRecord)); !r)
+            return r;
+        if (!taken.empty())
+            std::erase_if(records, [&](const PointRecord& p) { return taken.count(p.id) != 0; });
+        if (records.empty()) continue;
+        const int32_t at = upper.chunkRoot(chunks[c]);
+        storedIndex.resize(upper.nodes.size(), -1);
+        const int32_t parent = upper.nodes[size_t(at)].parent >= 0 ? storedIndex[size_t(upper.nodes[size_t(at)].parent)] : -1;
+        const PointOctree sub = PointOctree::build(records, tree, cubeOf(chunks[c].cell, root));
+        storedIndex[size_t(at)] = appendTree(sub, records, packing, parent, dataBytes, nodes, data);
+        linkChild(at, storedIndex[size_t(at)]);
+        if (auto r = writeData(); !r) return r;
+        ctx.progress(0.5 + 0.5 * double(c + 1) / double(chunks.size()));
+    }
+    chunkFile.close(true);
+    stats->info.depth = 0;
+    for (const StoredNode& s : nodes) stats->info.depth = std::max(stats->info.depth, s.level);
+    stats->info.tolerance = float(tolerance);
+    header.info = stats->info;
+    header.dataBytes = dataBytes;
+    header.nodeTableOffset = header.dataOffset + dataBytes;
+    header.nodeCount = nodes.size();
+    if (auto r = cache.write(nodes.data(), nodes.size() * sizeof(StoredNode), header.nodeTableOffset); !r) return r;
+    if (auto r = cache.write(&header, sizeof header, 0); !r) return r;
+    const std::string written = cache.path();
+    cache.close(false);
+    std::error_code ec;
+    fs::rename(written, out, ec);
+    if (ec) {
+        ::unlink(written.c_str());
+        return makeError(std::string(out).append(": cannot write the point cache: ").append(ec.message()));
+    }
+    return {};
+}
+
+/// Everything in memory (small clouds).
+Result<std::shared_ptr<PointStore>> buildInMemory(const LasFile& file, const PointGeoreference& georef,
+                                                  const PointLoadOptions& options, double tolerance) {
+    std::vector<PointRecord> records;
+    records.reserve(file.points());
+    auto stats = readRecords(file, georef, options, 0.8, [&](std::span<const PointRecord> r) -> Result<void> {
+        records.insert(records.end(), r.begin(), r.end());
+        return {};
+    });
+    if (!stats) return stats.error();
+    const PointOctree tree = PointOctree::build(records, options.octree);
+    std::vector<StoredNode> nodes;
+    std::vector<uint8_t> data;
+    appendTree(tree, records, packingFor(*stats, tolerance), -1, 0, nodes, data);
+    stats->info.depth = tree.depth();
+    stats->info.tolerance = float(tolerance);
+    if (options.progress) options.progress(1.0);
+    return PointStore::inMemory(std::move(nodes), std::move(data), stats->info);
+}
+
+std::string hex(uint64_t v) {
+    char t[17];
+    std::snprintf(t, sizeof t, "%016llx", static_cast<unsigned long long>(v));
+    return t;
+}
+
+bool folderWritable(const std::string& folder) { return ::access(folder.c_str(), W_OK) == 0; }
+
+}  // namespace
+
+std::string defaultPointCacheDir() {
+    if (const char* d = std::getenv("ORBIS_CACHE_DIR"); d && *d) return (fs::path(d) / "points").string();
+    if (const char* d = std::getenv("XDG_CACHE_HOME"); d && *d) return (fs::path(d) / "orbis" / "points").string();
+    if (const char* d = std::getenv("HOME"); d && *d) return (fs::path(d) / ".cache" / "orbis" / "points").string();
+    std::error_code ec;
+    return (fs::temp_directory_path(ec) / "orbis-points-cache").string();
+}
+
+Result<std::shared_ptr<PointStore>> loadPointStore(const LasFile& file, const PointGeoreference& georef,
+                                                   const PointLoadOptions& options) {
+    // Quantised where that keeps within half the file's own coordinate grid (at most 1 cm).
+    double tolerance = 0.5 * georef.resolutionMetres(file);
+    if (!std::isfinite(tolerance)) tolerance = 0.0005;
+    tolerance = std::clamp(tolerance, 1e-6, 0.01);
+    if (file.points() <= options.inMemoryPoints) return buildInMemory(file, georef, options, tolerance);
+
+    // The cache: where, and what it must have been built from.
+    std::error_code ec;
+    const fs::path las = fs::absolute(file.path(), ec);
+    const auto size = fs::file_size(las, ec);
+    const auto modified = fs::last_write_time(las, ec).time_since_epoch().count();
+    char opts[160];
+    std::snprintf(opts, sizeof opts, "capacity %u, maxLevel %u, seed %llu, tolerance %.9g m", options.octree.capacity,
+                  options.octree.maxLevel, static_cast<unsigned long long>(options.octree.seed), tolerance);
+    const std::string key = std::string("Orbis point cache\nfile: ")
+                                .append(las.string())
+                                .append("\nsize: ")
+                                .append(std::to_string(size))
+                                .append("\nmodified: ")
+                                .append(std::to_string(modified))
+                                .append("\nplacement: ")
+                                .append(georef.description())
+                                .append("\noctree: ")
+                                .append(opts)
+                                .append("\n");
+    std::string folder = options.cacheFolder, name;
+    if (folder.empty() && folderWritable(las.parent_path().string())) {
+        folder = las.parent_path().string();
+        name = las.filename().string().append(".orbis-points");
+    } else {
+        if (folder.empty()) folder = defaultPointCacheDir();
+        name = las.stem().string().append("-").append(hex(std::hash<std::string>{}(las.string()))).append(".orbis-points");
+    }
+    fs::create_directories(folder, ec);
+    const std::string path = (fs::path(folder) / name).string();
+    if (fs::exists(path, ec)) {
+        auto opened = PointStore::open(path, key);
+        if (opened) {
+            if (options.progress) options.progress(1.0);
+            return opened;
+        }
+        log::info(opened.message(), "; building it again");
+    }
+    log::info(file.path(), ": ", file.points(), " points: building the octree cache ", path);
+    BuildContext ctx{file, georef, options, folder, name};
+    if (auto built = buildCacheFile(ctx, path, key, tolerance); !built) {
+        ::unlink((path + ".tmp").c_str());
+        return makeError(std::string(file.path()).append(": building the point cache failed: ").append(built.message()));
+    }
+    return PointStore::open(path, key);
+}
+
+}  // namespace orbis::points

@@ -1,0 +1,346 @@
+// The point store: positions decode within the quantisation step (or float precision); the
+// out-of-core build, chunk by chunk through the cache file, makes the same tree as the
+// in-memory build, node for node and byte for byte; the cache is reused while it matches its
+// file and options and rebuilt when not; damaged caches give clear errors; residency evicts
+// the least recently wanted nodes and reuses their room only after the frames in flight.
+#include "globe/Ellipsoid.h"
+#include "layers/points/NodeResidency.h"
+#include "layers/points/PointCloud.h"
+#include "layers/points/PointStoreFormat.h"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <thread>
+
+namespace orbis::points {
+namespace {
+namespace fs = std::filesystem;
+
+fs::path tempDir() {
+    const auto dir = fs::temp_directory_path() / ("orbis-pointstore-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    return dir;
+}
+
+// A survey in local metres (east, north, up of an origin): a wavy ground 300 m x 200 m, a
+// tower of points, and a dense patch; scale 1 mm.
+std::string writeSurvey(const std::string& name, size_t n, uint32_t seed) {
+    const std::string path = (tempDir() / name).string();
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<LasPoint> pts(n);
+    for (size_t i = 0; i < n; ++i) {
+        LasPoint& p = pts[i];
+        const double kind = u(rng);
+        if (kind < 0.8) {
+            const double e = 300 * u(rng), nn = 200 * u(rng);
+            p.position = {e, nn, 5 * std::sin(e * 0.05) * std::cos(nn * 0.03)};
+        } else if (kind < 0.9) {
+            p.position = {150 + 2 * u(rng), 100 + 2 * u(rng), 80 * u(rng)};
+        } else {
+            p.position = {20 + u(rng), 20 + u(rng), 0.1 * u(rng)};
+        }
+        p.intensity = uint16_t(i % 4000);
+        p.classification = uint8_t(2 + i % 4);
+        p.red = uint16_t(i * 7), p.green = uint16_t(i * 13), p.blue = uint16_t(i * 17);
+    }
+    LasWriteOptions o;
+    o.pointFormat = 2;
+    o.scale = glm::dvec3(0.001);
+    auto w = LasWriter::create(path, o);
+    EXPECT_TRUE(w.ok()) << w.message();
+    if (!w) return path;
+    (*w)->write(pts);
+    auto closed = (*w)->close();
+    EXPECT_TRUE(closed.ok()) << closed.message();
+    return path;
+}
+
+struct Loaded {
+    std::unique_ptr<LasFile> file;
+    std::shared_ptr<PointStore> store;
+};
+
+Loaded load(const std::string& path, PointLoadOptions o) {
+    Loaded l;
+    auto file = LasFile::open(path);
+    EXPECT_TRUE(file.ok()) << file.message();
+    if (!file) return l;
+    l.file = std::move(*file);
+    PointPlacement placement;
+    placement.origin = globe::Geodetic{179.99, -45.0, 300.0};
+    auto georef = PointGeoreference::create(*l.file, placement);
+    EXPECT_TRUE(georef.ok());
+    auto store = loadPointStore(*l.file, *georef, o);
+    EXPECT_TRUE(store.ok()) << store.message();
+    if (store) l.store = *store;
+    return l;
+}
+
+PointLoadOptions smallChunks(const fs::path& cache) {
+    PointLoadOptions o;
+    o.octree.capacity = 500;
+    o.inMemoryPoints = 0;          // out of core
+    o.chunkPoints = 1;             // chunks of at least 8 x 500 points
+    o.pointsPerRead = 7000;        // several reads
+    o.cacheFolder = cache.string();
+    return o;
+}
+
+std::vector<uint8_t> nodeData(const PointStore& s, size_t i) {
+    std::vector<uint8_t> d;
+    EXPECT_TRUE(s.read(i, d));
+    return d;
+}
+
+TEST(PointStore, OutOfCoreBuildIsTheInMemoryTree) {
+    const std::string las = writeSurvey("equal.las", 60000, 3);
+    PointLoadOptions memory;
+    memory.octree.capacity = 500;
+    const Loaded a = load(las, memory);
+    const fs::path cache = tempDir() / "cache-equal";
+    const Loaded b = load(las, smallChunks(cache));
+    ASSERT_TRUE(a.store && b.store);
+    EXPECT_FALSE(a.store->onDisk());
+    EXPECT_TRUE(b.store->onDisk());
+    EXPECT_EQ(fs::path(b.store->path()).parent_path(), cache);
+    EXPECT_EQ(a.store->info().points, 60000u);
+    EXPECT_EQ(b.store->info().points, 60000u);
+    EXPECT_EQ(a.store->info().heightMin, b.store->info().heightMin);
+    EXPECT_EQ(a.store->info().intensityGain, b.store->info().intensityGain);
+    EXPECT_EQ(a.store->info().depth, b.store->info().depth);
+    ASSERT_EQ(a.store->nodes().size(), b.store->nodes().size());
+    EXPECT_GT(a.store->nodes().size(), 100u);
+    // The same nodes (by level and centre), holding the same points in the same order.
+    std::map<std::tuple<uint32_t, double, double, double>, size_t> byCube;
+    for (size_t i = 0; i < b.store->nodes().size(); ++i) {
+        const StoredNode& n = b.store->nodes()[i];
+        byCube[{n.level, n.centre.x, n.centre.y, n.centre.z}] = i;
+    }
+    for (size_t i = 0; i < a.store->nodes().size(); ++i) {
+        const StoredNode& n = a.store->nodes()[i];
+        auto it = byCube.find({n.level, n.centre.x, n.centre.y, n.centre.z});
+        ASSERT_NE(it, byCube.end()) << "node " << i << " (level " << n.level << ") missing from the out-of-core tree";
+        const StoredNode& m = b.store->nodes()[it->second];
+        EXPECT_EQ(n.count, m.count);
+        EXPECT_EQ(n.step, m.step);
+        EXPECT_EQ(nodeData(*a.store, i), nodeData(*b.store, it->second)) << "node " << i;
+        int children = 0;
+        for (int c = 0; c < 8; ++c) children += (n.children[c] >= 0) == (m.children[c] >= 0) ? 1 : 0;
+        EXPECT_EQ(children, 8);
+    }
+}
+
+TEST(PointStore, PositionsDecodeWithinTheirStep) {
+    const std::string las = writeSurvey("decode.las", 20000, 5);
+    PointLoadOptions o;
+    o.octree.capacity = 2000;
+    const Loaded l = load(las, o);
+    ASSERT_TRUE(l.store);
+    // Tolerance: half the file's 1 mm grid.
+    EXPECT_NEAR(l.store->info().tolerance, 0.0005, 1e-5);
+    // Every point of the file is in one node, where the file puts it.
+    const auto& ell = globe::Ellipsoid::wgs84();
+    const glm::dvec3 origin = ell.toEcef(179.99, -45.0, 300.0);
+    const glm::dmat3 enu = ell.enuFrame(179.99, -45.0);
+    std::vector<glm::dvec3> expected;
+    l.file->readPositions(0, l.file->points(), expected);
+    std::multimap<double, glm::dvec3> byX;
+    for (const glm::dvec3& p : expected) {
+        const glm::dvec3 e = origin + enu * p;
+        byX.insert({e.x, e});
+    }
+    size_t quantised = 0, total = 0;
+    for (const StoredNode& n : l.store->nodes()) {
+        std::vector<uint8_t> d;
+        ASSERT_TRUE(l.store->read(size_t(&n - l.store->nodes().data()), d));
+        const double tolerance = n.step > 0.0 ? 0.87 * n.step + 1e-9 : 1e-4;
+        quantised += n.step > 0.0 ? 1 : 0;
+        for (uint32_t k = 0; k < n.count; ++k, ++total) {
+            const glm::dvec3 p = PointStore::position(n, d, k);
+            double best = 1e9;
+            for (auto it = byX.lower_bound(p.x - 0.01); it != byX.end() && it->first <= p.x + 0.01; ++it)
+                best = std::min(best, glm::length(it->second - p));
+            ASSERT_LT(best, tolerance) << "point " << k << " of a node at level " << n.level << ", step " << n.step;
+        }
+    }
+    EXPECT_EQ(total, 20000u);
+    EXPECT_GT(quantised, 0u);
+}
+
+TEST(PointStore, LargeNodesKeepFloatPositions) {
+    // A node 100 km across quantised to 21 bits would step 5 cm: above a 1 mm file's
+    // tolerance, so it stays float; a 10 m node is quantised.
+    std::vector<PointRecord> pts(3);
+    pts[0].ecef = {6378137.0, 0.0, 0.0};
+    pts[1].ecef = {6378137.0 + 1234.5678, 10.0, -20.0};
+    pts[2].ecef = {6378137.0 - 3.25, 1.0, 2.0};
+    const uint32_t idx[3] = {0, 1, 2};
+    store::Packing packing;
+    packing.tolerance = 0.0005;
+    for (double half : {50000.0, 5.0}) {
+        Cube cube{pts[0].ecef, half, 0};
+        std::vector<uint8_t> data;
+        StoredNode n;
+        n.centre = cube.centre, n.halfSize = half, n.count = half > 10 ? 3 : 1;
+        n.step = store::encodeNode(pts, std::span(idx, n.count), cube, packing, data);
+        EXPECT_EQ(data.size(), n.bytes());
+        EXPECT_EQ(n.step > 0.0, half < 10.0);
+        for (uint32_t k = 0; k < n.count; ++k)
+            EXPECT_LT(glm::length(PointStore::position(n, data, k) - pts[k].ecef), half < 10.0 ? 1e-5 : 1e-3);
+    }
+}
+
+TEST(PointStore, CacheIsReusedAndRebuiltWhenStale) {
+    const std::string las = writeSurvey("reuse.las", 30000, 9);
+    const fs::path cache = tempDir() / "cache-reuse";
+    PointLoadOptions o = smallChunks(cache);
+    std::string path;
+    {
+        const Loaded first = load(las, o);
+        ASSERT_TRUE(first.store);
+        path = first.store->path();
+    }
+    const auto built = fs::last_write_time(path);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    {
+        const Loaded second = load(las, o);   // reused: not written again
+        ASSERT_TRUE(second.store);
+        EXPECT_EQ(fs::last_write_time(path), built);
+    }
+    {
+        PointLoadOptions other = o;   // other options: another tree, built again
+        other.octree.seed = 2;
+        const Loaded third = load(las, other);
+        ASSERT_TRUE(third.store);
+        EXPECT_NE(fs::last_write_time(path), built);
+    }
+    // A damaged cache (cut short) is rebuilt, not trusted.
+    fs::resize_file(path, fs::file_size(path) - 100);
+    const Loaded fourth = load(las, o);
+    ASSERT_TRUE(fourth.store);
+    EXPECT_EQ(fourth.store->info().points, 30000u);
+    // No temporary files are left behind.
+    for (const auto& e : fs::directory_iterator(cache)) EXPECT_EQ(e.path().extension(), ".orbis-points") << e.path();
+}
+
+TEST(PointStore, DamagedCachesGiveClearErrors) {
+    const std::string las = writeSurvey("damaged.las", 20000, 11);
+    const fs::path cache = tempDir() / "cache-damaged";
+    const Loaded l = load(las, smallChunks(cache));
+    ASSERT_TRUE(l.store);
+    const std::string good = l.store->path();
+    std::ifstream in(good, std::ios::binary);
+    const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    store::FileHeader header;
+    std::memcpy(&header, bytes.data(), sizeof header);
+    std::string key(bytes.data() + sizeof header, header.keyBytes);
+    const auto damaged = [&](const std::function<void(std::vector<char>&)>& change) {
+        std::vector<char> b = bytes;
+        change(b);
+        const std::string path = (cache / "damaged.bin").string();
+        std::ofstream(path, std::ios::binary).write(b.data(), std::streamsize(b.size()));
+        auto r = PointStore::open(path, key);
+        EXPECT_FALSE(r.ok());
+        return r.ok() ? std::string() : r.message();
+    };
+    EXPECT_NE(damaged([](auto& b) { b[0] = 'X'; }).find("not an Orbis point cache"), std::string::npos);
+    EXPECT_NE(damaged([](auto& b) { b.resize(100); }).find("shorter than its header"), std::string::npos);
+    EXPECT_NE(damaged([](auto& b) { b.resize(b.size() - 96); }).find("truncated"), std::string::npos);
+    EXPECT_NE(damaged([&](auto& b) { b[sizeof header + 3] ^= 1; }).find("built from another"), std::string::npos);
+    EXPECT_NE(damaged([&](auto& b) {   // the last node's first child points at the root
+                  StoredNode n;
+                  char* at = b.data() + b.size() - sizeof n;
+                  std::memcpy(&n, at, sizeof n);
+                  n.children[0] = 0;
+                  std::memcpy(at, &n, sizeof n);
+              }).find("bad child"),
+              std::string::npos);
+    EXPECT_NE(damaged([&](auto& b) {   // a node's data beyond the data
+                  StoredNode n;
+                  char* at = b.data() + header.nodeTableOffset;
+                  std::memcpy(&n, at, sizeof n);
+                  n.offset = header.dataBytes;
+                  std::memcpy(at, &n, sizeof n);
+              }).find("data outside the file"),
+              std::string::npos);
+    EXPECT_NE(PointStore::open((cache / "none").string(), key).message().find("none"), std::string::npos);
+}
+
+// Residency over a store of 10 nodes of 100 points (1600 bytes each, quantised).
+std::shared_ptr<PointStore> tenNodes() {
+    std::vector<StoredNode> nodes(10);
+    for (size_t i = 0; i < nodes.size(); ++i) {
+        nodes[i].count = 100;
+        nodes[i].step = 0.001;
+        nodes[i].halfSize = 1.0;
+        nodes[i].level = i == 0 ? 0 : 1;
+        nodes[i].parent = i == 0 ? -1 : 0;
+        nodes[i].offset = i * 1600;
+    }
+    CloudInfo info;
+    info.points = 1000;
+    return PointStore::inMemory(std::move(nodes), std::vector<uint8_t>(16000, 7), info);
+}
+
+TEST(NodeResidency, EvictsTheLeastRecentlyWantedAfterTheFramesInFlight) {
+    NodeResidency r(tenNodes(), 4 * 1600, 2);   // room for 4 nodes
+    EXPECT_EQ(r.capacity(), 4u * 1600);
+    std::map<int32_t, uint64_t> copied;
+    const auto copy = [&](int32_t n, std::span<const uint8_t> d, uint64_t offset) {
+        EXPECT_EQ(d.size(), 1600u);
+        copied[n] = offset;
+    };
+    uint64_t frame = 0;
+    const auto step = [&](std::vector<int32_t> want) {
+        r.beginFrame(++frame);
+        r.want(want, nullptr);
+        return r.upload(~uint64_t(0), copy);
+    };
+    EXPECT_EQ(step({0, 1, 2, 3}), 4u * 1600);
+    EXPECT_EQ(r.residentNodes(), 4u);
+    EXPECT_TRUE(r.busy());   // uploaded this frame
+    EXPECT_EQ(step({0, 1, 2, 3}), 0u);
+    EXPECT_FALSE(r.busy());
+    step({0, 1, 2});   // node 3 is now the least recently wanted
+    // Node 4 needs room: node 3 goes, but its range comes back only two frames later.
+    EXPECT_EQ(step({0, 1, 4}), 0u);
+    EXPECT_FALSE(r.resident(3));
+    EXPECT_FALSE(r.resident(4));
+    EXPECT_TRUE(r.busy());
+    EXPECT_EQ(r.evictions(), 1u);
+    EXPECT_EQ(step({0, 1, 4}), 0u);
+    EXPECT_EQ(step({0, 1, 4}), 1600u);
+    EXPECT_TRUE(r.resident(4));
+    EXPECT_EQ(copied[4], copied[3]);   // node 3's range
+    EXPECT_TRUE(r.resident(0) && r.resident(1) && r.resident(2));
+    // Wanted nodes are never evicted: with all four wanted, a fifth waits for nothing.
+    EXPECT_EQ(step({0, 1, 2, 4, 5}), 0u);
+    EXPECT_FALSE(r.resident(5));
+    EXPECT_FALSE(r.busy());   // no room can come: not busy for ever
+    EXPECT_EQ(r.evictions(), 1u);
+}
+
+TEST(NodeResidency, UploadsWithinTheFrameBudget) {
+    NodeResidency r(tenNodes(), 1 << 20, 2);
+    EXPECT_EQ(r.capacity(), 16000u);   // the whole cloud, not the budget
+    std::vector<int32_t> all{0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
+    int frames = 0;
+    do {
+        r.beginFrame(uint64_t(++frames));
+        r.want(all, nullptr);
+        EXPECT_LE(r.upload(3 * 1600, [](int32_t, std::span<const uint8_t>, uint64_t) {}), 3u * 1600);
+    } while (r.busy() && frames < 10);
+    EXPECT_EQ(frames, 5);   // 3 + 3 + 3 + 1 nodes, then a frame that finds nothing to do
+    EXPECT_EQ(r.residentNodes(), 10u);
+}
+
+}  // namespace
+}  // namespace orbis::points
