@@ -2,13 +2,15 @@
 # Point-cloud benchmarks (issue 5): synthetic surveys of 1 M, 5 M and 20 M points (orbis-make-las,
 # written once into build/bench-data, ignored by git) filling the view at 1920x1080, every point
 # drawn ("pointBudget": 0), the compute rasteriser against the point-list pipeline side by side
-# in one run (--sweep renderer=0,1), then the point budget's error against run time on 5 M.
-#   usage: tools/bench-points.sh [BUILD_DIR]   env: SIZES="1 5 20" FRAMES=10 SIZE=1920x1080
+# in one run (--sweep renderer=0,1), then the point budget's error against run time on 5 M, then
+# a cloud larger than the CPU budget (BIG million points, 0 to skip; 3.4 GB of LAS for 100):
+# octree cache built on first load (its time and peak RSS), then loaded from the cache.
+#   usage: tools/bench-points.sh [BUILD_DIR]   env: SIZES="1 5 20" FRAMES=10 SIZE=1920x1080 BIG=100
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
 data="$build/bench-data"
-sizes="${SIZES:-1 5 20}" frames="${FRAMES:-10}" size="${SIZE:-1920x1080}"
+sizes="${SIZES:-1 5 20}" frames="${FRAMES:-10}" size="${SIZE:-1920x1080}" big="${BIG:-100}"
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp/orbis-xdg}"
 export VK_ICD_FILENAMES="${VK_ICD_FILENAMES:-/usr/share/vulkan/icd.d/lvp_icd.x86_64.json}"
 mkdir -p "$data" "$XDG_RUNTIME_DIR"
@@ -33,3 +35,12 @@ las="$data/survey-5m.las"
 echo "== point budget on 5 M points (reference: all), $size"
 "$build/bin/orbis" bench "$(scene "$las" 0)" --size "$size" --frames "$frames" --warmup 2 \
     --sweep pointBudget=0,3000000,1000000,300000,100000 --plot "$build/points-budget.png"
+[ "$big" = 0 ] && exit 0
+las="$data/survey-${big}m.las"
+[ -f "$las" ] || "$build/bin/orbis-make-las" --points "${big}000000" --out "$las"
+rm -f "$las.orbis-points"
+for run in "building the octree cache" "from the cache"; do
+    echo "== $big M points, budget 3 M, $run, $size"
+    "$build/bin/orbis" -v bench "$(scene "$las" 3000000)" --size "$size" \
+        --frames "$frames" --warmup 2 2>&1 | grep -v "^\[orbis\] \(debug\|trace\)"
+done

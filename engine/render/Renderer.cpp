@@ -180,13 +180,14 @@ void Renderer::recordPass(scene::Pass pass, const char* name, scene::Scene& scen
     timer_.end(cmd, scope);
 }
 
-int Renderer::settle(scene::Scene& scene, double maxSeconds) {
+int Renderer::settle(scene::Scene& scene, double maxSeconds, const std::function<void()>& afterFrame) {
     const auto start = std::chrono::steady_clock::now();
     int frames = 0;
     do {
         const FrameResult f = render(scene, /*readback=*/false, /*draw=*/false);
         device_.wait(f.timelineValue);
         ++frames;
+        if (afterFrame) afterFrame();
         if (!scene.busy()) break;
         // Let the workers load rather than spin: a frame that draws nothing is cheap, but
         // selection and uploads still take the main thread.

@@ -14,6 +14,7 @@
 
 #include <glm/glm.hpp>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -42,8 +43,9 @@ public:
     FrameResult render(scene::Scene& scene, bool readback);
     /// Runs frames that update, load and upload but draw nothing, until no visible layer is
     /// busy or `maxSeconds` have passed; returns the frames run. Batch renders call it before
-    /// the frame they keep, so the picture has every tile the view needs.
-    int settle(scene::Scene& scene, double maxSeconds);
+    /// the frame they keep, so the picture has every tile the view needs. `afterFrame`, if
+    /// given, runs after each of those frames (benchmarks time the loading with it).
+    int settle(scene::Scene& scene, double maxSeconds, const std::function<void()>& afterFrame = {});
     /// Blocks until the frame is done, then returns its pixels (RGBA8 sRGB, top row first).
     std::vector<uint8_t> readPixels(const FrameResult& frame);
     /// Blocks until the frame is done, then returns its per-pass GPU times.

@@ -319,6 +319,7 @@ Result<std::unique_ptr<LasFile>> LasFile::open(const std::string& path) {
     void* map = mmap(nullptr, f->bytes_, PROT_READ, MAP_PRIVATE, f->fd_, 0);
     if (map == MAP_FAILED) return fail(path, std::string("cannot map: ").append(std::strerror(errno)));
     f->data_ = static_cast<const uint8_t*>(map);
+    madvise(map, f->bytes_, MADV_SEQUENTIAL);   // loading reads it front to back
     const uint8_t* d = f->data_;
     if (std::memcmp(d, "LASF", 4) != 0) return fail(path, "not a LAS file (no \"LASF\" signature)");
 
@@ -363,6 +364,16 @@ Result<std::unique_ptr<LasFile>> LasFile::open(const std::string& path) {
     return f;
 }
 
+
+void LasFile::release(uint64_t first, uint64_t count) const {
+    const LasHeader& h = header_;
+    first = std::min(first, h.pointCount);
+    count = std::min(count, h.pointCount - first);
+    const uint64_t page = uint64_t(sysconf(_SC_PAGESIZE));
+    const uint64_t from = (h.pointOffset + first * h.recordLength + page - 1) / page * page;   // whole pages only
+    const uint64_t to = (h.pointOffset + (first + count) * h.recordLength) / page * page;
+    if (to > from) madvise(const_cast<uint8_t*>(data_) + from, to - from, MADV_DONTNEED);
+}
 
 void LasFile::read(uint64_t first, uint64_t count, std::vector<LasPoint>& out) const {
     const LasHeader& h = header_;

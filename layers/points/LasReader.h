@@ -95,6 +95,9 @@ public:
     void read(uint64_t first, uint64_t count, std::vector<LasPoint>& out) const;
     /// Only the scaled positions of points [first, first + count) (the fast path for loading).
     void readPositions(uint64_t first, uint64_t count, std::vector<glm::dvec3>& out) const;
+    /// Lets the pages of points [first, first + count) leave this process's memory (they are
+    /// read again from the file if needed): a pass over a file larger than memory stays bounded.
+    void release(uint64_t first, uint64_t count) const;
 
 private:
     LasFile() = default;

@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -102,6 +103,7 @@ Result<Statistics> readRecords(const LasFile& file, const PointGeoreference& geo
         xyz.resize(batch.size());
         for (size_t i = 0; i < batch.size(); ++i) xyz[i] = batch[i].position;
         georef.toEcef(xyz);
+        file.release(first, batch.size());
         records.clear();
         for (size_t i = 0; i < batch.size(); ++i) {
             const LasPoint& p = batch[i];
@@ -373,7 +375,9 @@ struct BuildContext {
 Result<void> buildCacheFile(const BuildContext& ctx, const std::string& out, const std::string& key, double tolerance) {
     const PointOctree::Options& tree = ctx.options.octree;
     const uint32_t capacity = std::max(1u, tree.capacity);
-    const std::string tmp = (fs::path(ctx.folder) / ctx.stem).string();
+    // Temporary files carry the process id: two processes building one cache do not collide
+    // (the last rename wins, and both results are the same).
+    const std::string tmp = (fs::path(ctx.folder) / ctx.stem).string().append(".").append(std::to_string(::getpid()));
 
     // 1. Records to the spill file, statistics.
     File spill;
@@ -480,7 +484,7 @@ Result<void> buildCacheFile(const BuildContext& ctx, const std::string& out, con
 
     // 5. The cache file: the nodes above the chunks, then each chunk's subtree.
     File cache;
-    if (auto r = cache.create(out + ".tmp"); !r) return r;
+    if (auto r = cache.create(tmp + ".tmp"); !r) return r;
     store::FileHeader header{};
     std::memcpy(header.magic, store::kMagic, sizeof header.magic);
     header.version = store::kVersion;
@@ -645,11 +649,19 @@ Result<std::shared_ptr<PointStore>> loadPointStore(const LasFile& file, const Po
     }
     log::info(file.path(), ": ", file.points(), " points: building the octree cache ", path);
     BuildContext ctx{file, georef, options, folder, name};
+    const auto start = std::chrono::steady_clock::now();
     if (auto built = buildCacheFile(ctx, path, key, tolerance); !built) {
-        ::unlink((path + ".tmp").c_str());
         return makeError(std::string(file.path()).append(": building the point cache failed: ").append(built.message()));
     }
-    return PointStore::open(path, key);
+    auto opened = PointStore::open(path, key);
+    if (opened) {
+        char text[160];
+        std::snprintf(text, sizeof text, ": octree built in %.1f s: %zu nodes, depth %u, %.0f MB", 
+                      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                      (*opened)->nodes().size(), (*opened)->info().depth, double(fs::file_size(path, ec)) / 1048576.0);
+        log::info(file.path(), text);
+    }
+    return opened;
 }
 
 }  // namespace orbis::points

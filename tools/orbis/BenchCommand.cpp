@@ -395,7 +395,16 @@ int benchCommand(const std::vector<std::string>& argv) {
     constexpr double kFrameSeconds = 1.0 / 60.0;
     // A fixed view is measured once everything it shows has loaded (point clouds load on a
     // worker); a camera path measures the streaming as it flies.
-    if (!path) renderer.settle(*scene, 600.0);
+    // The loading's times: to the first frame that draws anything, and until nothing loads.
+    double firstContentS = -1.0, settledS = -1.0;
+    if (!path) {
+        const auto start = std::chrono::steady_clock::now();
+        const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+        renderer.settle(*scene, 600.0, [&] {
+            if (firstContentS < 0.0 && itemsDrawn(*scene) > 0) firstContentS = seconds();
+        });
+        settledS = seconds();
+    }
     for (long i = 0; i < warmup + frames; ++i) {
         const auto t0 = std::chrono::steady_clock::now();
         scene->time().advance(i == 0 ? 0.0 : kFrameSeconds);
@@ -449,6 +458,7 @@ int benchCommand(const std::vector<std::string>& argv) {
                                                     {"layers_cache", double(m.layersCache) / 1048576.0},
                                                     {"device_reserved", double(m.deviceReserved) / 1048576.0}});
         if (path) out["camera_path"] = *args.value("--camera-path");
+        if (settledS >= 0.0) out["load_s"] = {{"first_content", firstContentS}, {"settled", settledS}};
         for (const auto& name : passOrder) out["gpu_ms"]["passes"][name] = toJson(summarize(passes[name]));
         std::printf("%s\n", out.dump(2).c_str());
     } else {
@@ -462,6 +472,9 @@ int benchCommand(const std::vector<std::string>& argv) {
         row("cpu", summarize(cpu));
         row("gpu total", summarize(gpuTotal));
         row("items drawn", summarize(items));
+        if (settledS >= 0.0)
+            std::printf("loading: first frame with content after %.2f s, everything in view after %.2f s\n", firstContentS,
+                        settledS);
         std::printf("memory: layers' GPU %.1f MB max, layers' caches %.1f MB max, process RSS peak %.1f MB\n",
                     double(maxGpuBytes) / 1048576.0, double(maxCacheBytes) / 1048576.0, double(peakRssBytes()) / 1048576.0);
         const struct mallinfo2 heap = mallinfo2();   // where RSS beyond the budgets goes
