@@ -18,6 +18,7 @@ NodeResidency::NodeResidency(std::shared_ptr<const PointStore> store, uint64_t g
     if (capacity_ > 0) free_[0] = capacity_;
     offset_.assign(nodes.size(), -1);
     lastWanted_.assign(nodes.size(), 0);
+    reading_.assign(nodes.size(), 0);
 }
 
 NodeResidency::~NodeResidency() {
@@ -63,6 +64,7 @@ void NodeResidency::beginFrame(uint64_t frame) {
     std::erase_if(reads_, [&](Read& r) {
         if (!r.job.ready()) return false;
         readBytes_ -= r.bytes;
+        reading_[size_t(r.node)] = 0;
         try {
             auto data = r.job.get();
             if (data) {
@@ -88,9 +90,7 @@ void NodeResidency::want(std::span<const int32_t> nodes, jobs::ThreadPool* pool)
     });
     if (!store_->onDisk() || !pool || !error_.empty()) return;
     for (int32_t n : wanted_) {
-        if (resident(n) || ready_.count(n) ||
-            std::any_of(reads_.begin(), reads_.end(), [&](const Read& r) { return r.node == n; }))
-            continue;
+        if (resident(n) || reading_[size_t(n)] || ready_.count(n)) continue;
         const uint64_t bytes = store_->nodes()[size_t(n)].bytes();
         if (!reads_.empty() && readBytes_ + bytes > kReadBytesInFlight) break;
         std::shared_ptr<const PointStore> store = store_;
@@ -101,6 +101,7 @@ void NodeResidency::want(std::span<const int32_t> nodes, jobs::ThreadPool* pool)
                                     return data;
                                 });
         reads_.push_back({n, bytes, std::move(job)});
+        reading_[size_t(n)] = 1;
         readBytes_ += bytes;
     }
 }

@@ -79,6 +79,7 @@ private:
         jobs::Job<std::optional<std::vector<uint8_t>>> job;
     };
     std::vector<Read> reads_;
+    std::vector<uint8_t> reading_;   // per node: a read is in flight
     uint64_t readBytes_ = 0;
     std::unordered_map<int32_t, std::vector<uint8_t>> ready_;
     uint64_t readyBytes_ = 0;

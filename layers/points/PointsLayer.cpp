@@ -82,7 +82,11 @@ void PointsLayer::finishLoading() {
         return;
     }
     // One GPU buffer for the resident nodes: the budget, or the whole cloud when smaller.
-    const uint64_t limit = std::min<uint64_t>(settings_.gpuMemoryBytes, services_.device->properties().limits.maxStorageBufferRange);
+    const uint64_t range = services_.device->properties().limits.maxStorageBufferRange;
+    const uint64_t limit = std::min<uint64_t>(settings_.gpuMemoryBytes, range);
+    if (range < settings_.gpuMemoryBytes)
+        log::info("points: the resident nodes' buffer is limited to ", range >> 20,
+                  " MB by the device's maxStorageBufferRange (gpuMemoryMB asks for ", settings_.gpuMemoryBytes >> 20, ")");
     residency_ = std::make_unique<points::NodeResidency>(store_, limit, services_.framesInFlight);
     drawnFrame_.assign(store_->nodes().size(), 0);
     loadedFrame_ = frame_ + 1;   // this frame's (update counts it next): its near plane did not know the cloud yet
