@@ -324,6 +324,34 @@ std::vector<Chunk> makeChunks(const std::vector<uint32_t>& counts, uint32_t leve
     return chunks;
 }
 
+/// Copies the `count` records of `spill` into their chunks' ranges of `out`, through a buffer
+/// per chunk (64 MB in all).
+template <typename ChunkOf>
+Result<void> distribute(const File& spill, uint64_t count, const std::atomic<bool>* cancel, ChunkOf&& chunkOf,
+                        const std::vector<Chunk>& chunks, File& out) {
+    const size_t perChunk =
+        std::clamp<size_t>((size_t(64) << 20) / sizeof(PointRecord) / std::max<size_t>(chunks.size(), 1), 256, 1u << 16);
+    std::vector<std::vector<PointRecord>> buffers(chunks.size());
+    std::vector<uint64_t> cursor(chunks.size());
+    for (size_t c = 0; c < chunks.size(); ++c) cursor[c] = chunks[c].first;
+    Result<void> written;   // the first write error, if any
+    const auto flush = [&](size_t c) {
+        if (written) written = out.write(buffers[c].data(), buffers[c].size() * sizeof(PointRecord), cursor[c] * sizeof(PointRecord));
+        cursor[c] += buffers[c].size();
+        buffers[c].clear();
+    };
+    auto r = forEachBlock(spill, count, cancel, [&](std::span<const PointRecord> block) {
+        for (const PointRecord& p : block) {
+            const uint32_t c = chunkOf(p.ecef);
+            buffers[c].push_back(p);
+            if (buffers[c].size() >= perChunk) flush(c);
+        }
+    });
+    if (!r) return r;
+    for (size_t c = 0; c < chunks.size(); ++c) flush(c);
+    return written;
+}
+
 /// The nodes above the chunks, filled with the candidates in key order as PointOctree would.
 struct UpperTree {
     struct Node {
@@ -418,28 +446,10 @@ Result<void> buildCacheFile(const BuildContext& ctx, const std::string& out, con
     std::vector<uint32_t>().swap(counts);
     File chunkFile;
     if (auto r = chunkFile.create(tmp + ".chunks.tmp"); !r) return r;
-    {
-        const size_t perChunk = std::clamp<size_t>((size_t(64) << 20) / sizeof(PointRecord) / std::max<size_t>(chunks.size(), 1), 256, 1u << 16);
-        std::vector<std::vector<PointRecord>> buffers(chunks.size());
-        std::vector<uint64_t> cursor(chunks.size());
-        for (size_t c = 0; c < chunks.size(); ++c) cursor[c] = chunks[c].first;
-        Result<void> failed;
-        const auto flush = [&](size_t c) {
-            if (failed) failed = chunkFile.write(buffers[c].data(), buffers[c].size() * sizeof(PointRecord), cursor[c] * sizeof(PointRecord));
-            cursor[c] += buffers[c].size();
-            buffers[c].clear();
-        };
-        auto r = forEachBlock(spill, n, ctx.options.cancel, [&](std::span<const PointRecord> block) {
-            for (const PointRecord& p : block) {
-                const uint32_t c = chunkOf[cellIndex(cellOf(p.ecef, root, levels))];
-                buffers[c].push_back(p);
-                if (buffers[c].size() >= perChunk) flush(c);
-            }
-        });
-        if (!r) return r;
-        for (size_t c = 0; c < chunks.size(); ++c) flush(c);
-        if (!failed) return failed;
-    }
+    if (auto r = distribute(spill, n, ctx.options.cancel, [&](const glm::dvec3& p) { return chunkOf[cellIndex(cellOf(p, root, levels))]; },
+                            chunks, chunkFile);
+        !r)
+        return r;
     spill.close(true);
     ctx.progress(0.45);
 
@@ -450,23 +460,20 @@ Result<void> buildCacheFile(const BuildContext& ctx, const std::string& out, con
     upper.nodes[0].cube = root;
     upper.nodes[0].chunk = chunks.size() == 1 && chunks[0].cell.level == 0 ? 0 : -1;
     std::vector<PointRecord> candidates, records;
+    const auto byKey = [&](const PointRecord& a, const PointRecord& b) {
+        const uint64_t ka = pointKey(a.id, tree.seed), kb = pointKey(b.id, tree.seed);
+        return ka != kb ? ka < kb : a.id < b.id;
+    };
     for (const Chunk& c : chunks) {
         if (ctx.cancelled()) return cancelled(ctx.file);
         const uint64_t m = std::min<uint64_t>(c.count, uint64_t(capacity) * c.cell.level);
         if (m == 0) continue;
         records.resize(c.count);
         if (auto r = chunkFile.read(records.data(), c.count * sizeof(PointRecord), c.first * sizeof(PointRecord)); !r) return r;
-        const auto byKey = [&](const PointRecord& a, const PointRecord& b) {
-            const uint64_t ka = pointKey(a.id, tree.seed), kb = pointKey(b.id, tree.seed);
-            return ka != kb ? ka < kb : a.id < b.id;
-        };
         std::nth_element(records.begin(), records.begin() + int64_t(m - 1), records.end(), byKey);
         candidates.insert(candidates.end(), records.begin(), records.begin() + int64_t(m));
     }
-    std::sort(candidates.begin(), candidates.end(), [&](const PointRecord& a, const PointRecord& b) {
-        const uint64_t ka = pointKey(a.id, tree.seed), kb = pointKey(b.id, tree.seed);
-        return ka != kb ? ka < kb : a.id < b.id;
-    });
+    std::sort(candidates.begin(), candidates.end(), byKey);
     std::unordered_set<uint64_t> taken;
     for (uint32_t k = 0; k < candidates.size(); ++k) {
         int32_t i = 0;
