@@ -12,6 +12,17 @@
 
 namespace orbis::points {
 
+bool store::preadAll(int fd, void* out, uint64_t bytes, uint64_t offset) {
+    auto* p = static_cast<uint8_t*>(out);
+    while (bytes > 0) {
+        const ssize_t r = ::pread(fd, p, bytes, off_t(offset));
+        if (r < 0 && errno == EINTR) continue;
+        if (r <= 0) return false;
+        p += r, bytes -= uint64_t(r), offset += uint64_t(r);
+    }
+    return true;
+}
+
 std::shared_ptr<PointStore> PointStore::inMemory(std::vector<StoredNode> nodes, std::vector<uint8_t> data,
                                                  const CloudInfo& info) {
     std::shared_ptr<PointStore> s(new PointStore);
@@ -26,17 +37,6 @@ PointStore::~PointStore() {
 }
 
 namespace {
-
-bool preadAll(int fd, void* out, uint64_t bytes, uint64_t offset) {
-    auto* p = static_cast<uint8_t*>(out);
-    while (bytes > 0) {
-        const ssize_t r = ::pread(fd, p, bytes, off_t(offset));
-        if (r < 0 && errno == EINTR) continue;
-        if (r <= 0) return false;
-        p += r, bytes -= uint64_t(r), offset += uint64_t(r);
-    }
-    return true;
-}
 
 bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
@@ -53,19 +53,19 @@ Result<std::shared_ptr<PointStore>> PointStore::open(const std::string& path, co
     if (::fstat(fd, &st) != 0) return fail(std::strerror(errno));
     const uint64_t size = uint64_t(st.st_size);
     store::FileHeader h{};
-    if (size < sizeof h || !preadAll(fd, &h, sizeof h, 0)) return fail("shorter than its header");
+    if (size < sizeof h || !store::preadAll(fd, &h, sizeof h, 0)) return fail("shorter than its header");
     if (std::memcmp(h.magic, store::kMagic, sizeof h.magic) != 0) return fail("not an Orbis point cache");
     if (h.version != store::kVersion) return fail("written by another version of Orbis");
     if (h.keyBytes > store::kMaxKeyBytes || h.dataOffset != sizeof h + h.keyBytes || h.dataOffset > size)
         return fail("bad header (key)");
     std::string stored(h.keyBytes, '\0');
-    if (!preadAll(fd, stored.data(), h.keyBytes, sizeof h)) return fail("truncated key");
+    if (!store::preadAll(fd, stored.data(), h.keyBytes, sizeof h)) return fail("truncated key");
     if (stored != key) return fail("built from another file, CRS or options");
     if (h.dataBytes > size - h.dataOffset || h.nodeTableOffset != h.dataOffset + h.dataBytes ||
         (size - h.nodeTableOffset) != h.nodeCount * sizeof(StoredNode))
         return fail("sizes disagree with the file's size (truncated?)");
     s->nodes_.resize(h.nodeCount);
-    if (!s->nodes_.empty() && !preadAll(fd, s->nodes_.data(), h.nodeCount * sizeof(StoredNode), h.nodeTableOffset))
+    if (!s->nodes_.empty() && !store::preadAll(fd, s->nodes_.data(), h.nodeCount * sizeof(StoredNode), h.nodeTableOffset))
         return fail("cannot read the node table");
     uint64_t points = 0;
     const int64_t n = int64_t(s->nodes_.size());
@@ -94,7 +94,7 @@ bool PointStore::read(size_t node, std::vector<uint8_t>& out, std::string* error
         std::memcpy(out.data(), data_.data() + n.offset, out.size());
         return true;
     }
-    if (preadAll(fd_, out.data(), out.size(), dataOffset_ + n.offset)) return true;
+    if (store::preadAll(fd_, out.data(), out.size(), dataOffset_ + n.offset)) return true;
     if (error) *error = std::string("point cache ").append(path_).append(": cannot read node ").append(std::to_string(node));
     return false;
 }

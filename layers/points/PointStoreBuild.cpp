@@ -192,13 +192,7 @@ public:
         return {};
     }
     Result<void> read(void* out, uint64_t bytes, uint64_t offset) const {
-        auto* p = static_cast<uint8_t*>(out);
-        while (bytes > 0) {
-            const ssize_t r = ::pread(fd_, p, bytes, off_t(offset));
-            if (r < 0 && errno == EINTR) continue;
-            if (r <= 0) return fail("cannot read");
-            p += r, bytes -= uint64_t(r), offset += uint64_t(r);
-        }
+        if (!store::preadAll(fd_, out, bytes, offset)) return fail("cannot read");
         return {};
     }
     /// Closes; `remove`: deletes the file too (temporary files, failed builds).

@@ -42,6 +42,9 @@ inline glm::uvec3 unpackPosition(uint32_t w0, uint32_t w1) {
     return {w0 & 0x1FFFFFu, (w0 >> 21) | ((w1 & 0x3FFu) << 11), w1 >> 10};
 }
 
+/// pread until `bytes` are read; false on an error or the end of the file.
+bool preadAll(int fd, void* out, uint64_t bytes, uint64_t offset);
+
 /// How a cloud's attributes are packed: heights over [heightMin, heightMax] to 16 bits.
 struct Packing {
     double heightMin = 0.0, heightSpan = 1.0;
