@@ -257,6 +257,16 @@ constexpr uint32_t kGridLevels = 7;   // 128^3 counting cells
 struct Cell {
     uint32_t level = 0, x = 0, y = 0, z = 0;
     uint64_t packed() const { return uint64_t(level) << 60 | uint64_t(x) << 40 | uint64_t(y) << 20 | z; }
+    /// Its index among the (2^level)^3 cells of its level.
+    size_t index() const { return x | size_t(y) << level | size_t(z) << (2 * level); }
+    Cell child(int octant) const {
+        return {level + 1, x << 1 | uint32_t(octant & 1), y << 1 | uint32_t((octant >> 1) & 1), z << 1 | uint32_t((octant >> 2) & 1)};
+    }
+    /// The octant its path from the root takes at level l (< level).
+    int octantAt(uint32_t l) const {
+        const uint32_t s = level - 1 - l;
+        return int(((x >> s) & 1) | ((y >> s) & 1) << 1 | ((z >> s) & 1) << 2);
+    }
 };
 
 /// The cell of `levels` levels below the root a point descends to (the octree's own octant
@@ -265,18 +275,14 @@ Cell cellOf(const glm::dvec3& p, Cube cube, uint32_t levels) {
     Cell c;
     for (uint32_t l = 0; l < levels; ++l) {
         const int o = cube.octant(p);
-        c.x = c.x << 1 | uint32_t(o & 1), c.y = c.y << 1 | uint32_t((o >> 1) & 1), c.z = c.z << 1 | uint32_t((o >> 2) & 1);
+        c = c.child(o);
         cube = cube.child(o);
     }
-    c.level = levels;
     return c;
 }
 
 Cube cubeOf(const Cell& c, Cube cube) {
-    for (uint32_t l = 0; l < c.level; ++l) {
-        const uint32_t s = c.level - 1 - l;
-        cube = cube.child(int(((c.x >> s) & 1) | ((c.y >> s) & 1) << 1 | ((c.z >> s) & 1) << 2));
-    }
+    for (uint32_t l = 0; l < c.level; ++l) cube = cube.child(c.octantAt(l));
     return cube;
 }
 
@@ -296,22 +302,20 @@ std::vector<Chunk> makeChunks(const std::vector<uint32_t>& counts, uint32_t leve
         for (uint32_t z = 0; z < 2 * side; ++z)
             for (uint32_t y = 0; y < 2 * side; ++y)
                 for (uint32_t x = 0; x < 2 * side; ++x)
-                    pyramid[l][(x >> 1) | size_t(y >> 1) << l | size_t(z >> 1) << (2 * l)] +=
-                        pyramid[l + 1][x | size_t(y) << (l + 1) | size_t(z) << (2 * (l + 1))];
+                    pyramid[l][Cell{l, x >> 1, y >> 1, z >> 1}.index()] += pyramid[l + 1][Cell{l + 1, x, y, z}.index()];
     }
     std::vector<Chunk> chunks;
     std::vector<Cell> stack{Cell{}};
     while (!stack.empty()) {
         const Cell c = stack.back();
         stack.pop_back();
-        const uint64_t n = pyramid[c.level][c.x | size_t(c.y) << c.level | size_t(c.z) << (2 * c.level)];
+        const uint64_t n = pyramid[c.level][c.index()];
         if (n == 0) continue;
         if (n <= maxPoints || c.level == levels) {
             chunks.push_back({c, n, 0});
             continue;
         }
-        for (int o = 0; o < 8; ++o)
-            stack.push_back({c.level + 1, c.x << 1 | uint32_t(o & 1), c.y << 1 | uint32_t((o >> 1) & 1), c.z << 1 | uint32_t((o >> 2) & 1)});
+        for (int o = 0; o < 8; ++o) stack.push_back(c.child(o));
     }
     uint64_t first = 0;
     for (Chunk& c : chunks) c.first = first, first += c.count;
@@ -362,9 +366,7 @@ struct UpperTree {
         if (nodes[size_t(i)].children[octant] >= 0) return nodes[size_t(i)].children[octant];
         Node c;
         c.cube = nodes[size_t(i)].cube.child(octant);
-        const Cell& pc = nodes[size_t(i)].cell;
-        c.cell = {pc.level + 1, pc.x << 1 | uint32_t(octant & 1), pc.y << 1 | uint32_t((octant >> 1) & 1),
-                  pc.z << 1 | uint32_t((octant >> 2) & 1)};
+        c.cell = nodes[size_t(i)].cell.child(octant);
         c.parent = i;
         auto it = chunkOfCell.find(c.cell.packed());
         c.chunk = it == chunkOfCell.end() ? -1 : it->second;
@@ -375,10 +377,7 @@ struct UpperTree {
     /// The node of a chunk's root, made (with its path) if no candidate reached it.
     int32_t chunkRoot(const Chunk& chunk) {
         int32_t i = 0;
-        for (uint32_t l = 0; l < chunk.cell.level; ++l) {
-            const uint32_t s = chunk.cell.level - 1 - l;
-            i = child(i, int(((chunk.cell.x >> s) & 1) | ((chunk.cell.y >> s) & 1) << 1 | ((chunk.cell.z >> s) & 1) << 2));
-        }
+        for (uint32_t l = 0; l < chunk.cell.level; ++l) i = child(i, chunk.cell.octantAt(l));
         return i;
     }
 };
@@ -417,9 +416,8 @@ Result<void> buildCacheFile(const BuildContext& ctx, const std::string& out, con
     // 2. Counts per grid cell.
     const uint32_t side = 1u << levels;
     std::vector<uint32_t> counts(size_t(side) * side * side, 0);
-    const auto cellIndex = [&](const Cell& c) { return c.x | size_t(c.y) << levels | size_t(c.z) << (2 * levels); };
     if (auto r = forEachBlock(spill, n, ctx.options.cancel, [&](std::span<const PointRecord> block) {
-            for (const PointRecord& p : block) ++counts[cellIndex(cellOf(p.ecef, root, levels))];
+            for (const PointRecord& p : block) ++counts[cellOf(p.ecef, root, levels).index()];
         });
         !r)
         return r;
@@ -435,12 +433,12 @@ Result<void> buildCacheFile(const BuildContext& ctx, const std::string& out, con
         for (uint32_t z = 0; z < span; ++z)
             for (uint32_t y = 0; y < span; ++y)
                 for (uint32_t x = 0; x < span; ++x)
-                    chunkOf[cellIndex({levels, cell.x << shift | x, cell.y << shift | y, cell.z << shift | z})] = c;
+                    chunkOf[Cell{levels, cell.x << shift | x, cell.y << shift | y, cell.z << shift | z}.index()] = c;
     }
     std::vector<uint32_t>().swap(counts);
     File chunkFile;
     if (auto r = chunkFile.create(tmp + ".chunks.tmp"); !r) return r;
-    if (auto r = distribute(spill, n, ctx.options.cancel, [&](const glm::dvec3& p) { return chunkOf[cellIndex(cellOf(p, root, levels))]; },
+    if (auto r = distribute(spill, n, ctx.options.cancel, [&](const glm::dvec3& p) { return chunkOf[cellOf(p, root, levels).index()]; },
                             chunks, chunkFile);
         !r)
         return r;
