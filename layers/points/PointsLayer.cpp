@@ -235,47 +235,37 @@ gpu::Pipeline& PointsLayer::splatPipeline(int radius, bool quantised) {
     return p;
 }
 
-gpu::Pipeline& PointsLayer::pointListPipeline(bool quantised) {
-    const int key = int(settings_.color) * 2 + (quantised ? 1 : 0);
-    gpu::Pipeline& p = pointListPipelines_[key];
+gpu::Pipeline& PointsLayer::graphicsPipeline(std::map<int, gpu::Pipeline>& cache, int key, bool pointList,
+                                             const gpu::Specialization& spec) {
+    gpu::Pipeline& p = cache[key];
     if (!p) {
-        gpu::Specialization spec;
-        spec.set<uint32_t>(1, uint32_t(settings_.color));
-        spec.set<VkBool32>(3, quantised ? VK_TRUE : VK_FALSE);
         gpu::GraphicsPipelineDesc d;
-        d.vertexSpirv = kSpv_points_pointlist_vert;
-        d.fragmentSpirv = kSpv_points_pointlist_frag;
+        d.vertexSpirv = pointList ? std::span<const uint32_t>(kSpv_points_pointlist_vert) : kSpv_points_resolve_vert;
+        d.fragmentSpirv = pointList ? std::span<const uint32_t>(kSpv_points_pointlist_frag) : kSpv_points_resolve_frag;
         d.layout = layout_.vk();
-        d.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
+        if (pointList) d.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
         d.cullMode = VK_CULL_MODE_NONE;
         d.colorFormat = services_.colorFormat;
         d.depthFormat = services_.depthFormat;
         d.specialization = &spec;
-        d.name = "points list";
+        d.name = pointList ? "points list" : "points resolve";
         p = gpu::createGraphicsPipeline(*services_.device, d);
     }
     return p;
 }
 
+gpu::Pipeline& PointsLayer::pointListPipeline(bool quantised) {
+    gpu::Specialization spec;
+    spec.set<uint32_t>(1, uint32_t(settings_.color));
+    spec.set<VkBool32>(3, quantised ? VK_TRUE : VK_FALSE);
+    return graphicsPipeline(pointListPipelines_, int(settings_.color) * 2 + (quantised ? 1 : 0), true, spec);
+}
+
 gpu::Pipeline& PointsLayer::resolvePipeline() {
-    const int key = int(settings_.color) * 2 + (settings_.edl ? 1 : 0);
-    gpu::Pipeline& p = resolvePipelines_[key];
-    if (!p) {
-        gpu::Specialization spec;
-        spec.set<uint32_t>(1, uint32_t(settings_.color));
-        spec.set<VkBool32>(2, settings_.edl ? VK_TRUE : VK_FALSE);
-        gpu::GraphicsPipelineDesc d;
-        d.vertexSpirv = kSpv_points_resolve_vert;
-        d.fragmentSpirv = kSpv_points_resolve_frag;
-        d.layout = layout_.vk();
-        d.cullMode = VK_CULL_MODE_NONE;
-        d.colorFormat = services_.colorFormat;
-        d.depthFormat = services_.depthFormat;
-        d.specialization = &spec;
-        d.name = "points resolve";
-        p = gpu::createGraphicsPipeline(*services_.device, d);
-    }
-    return p;
+    gpu::Specialization spec;
+    spec.set<uint32_t>(1, uint32_t(settings_.color));
+    spec.set<VkBool32>(2, settings_.edl ? VK_TRUE : VK_FALSE);
+    return graphicsPipeline(resolvePipelines_, int(settings_.color) * 2 + (settings_.edl ? 1 : 0), false, spec);
 }
 
 bool PointsLayer::computePath() const { return settings_.renderer == PointsSettings::Renderer::Compute; }

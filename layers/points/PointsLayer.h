@@ -28,6 +28,7 @@
 #include "engine/gpu/Buffer.h"
 #include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Handle.h"
+#include "engine/gpu/Pipeline.h"
 #include "engine/jobs/ThreadPool.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/SceneDesc.h"
@@ -98,6 +99,9 @@ private:
     gpu::Pipeline& splatPipeline(int radius, bool quantised);
     gpu::Pipeline& pointListPipeline(bool quantised);
     gpu::Pipeline& resolvePipeline();
+    /// The point-list or resolve pipeline for `spec`, made once per key.
+    gpu::Pipeline& graphicsPipeline(std::map<int, gpu::Pipeline>& cache, int key, bool pointList,
+                                    const gpu::Specialization& spec);
     void ensureScreen(uint32_t width, uint32_t height);
     void ensureFrameBuffers(uint32_t slot, size_t nodes, size_t batches);
     void writeDescriptors(uint32_t slot);
