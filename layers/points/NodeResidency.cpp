@@ -9,13 +9,48 @@ uint64_t aligned(uint64_t bytes) { return (bytes + NodeResidency::kAlignment - 1
 
 }  // namespace
 
-NodeResidency::NodeResidency(std::shared_ptr<const PointStore> store, uint64_t gpuBytes, uint32_t framesInFlight)
+NodeResidency::NodeResidency(std::shared_ptr<const PointStore> store, uint64_t gpuBytes, uint64_t pageBytes,
+                             uint32_t framesInFlight)
     : store_(std::move(store)), framesInFlight_(std::max(1u, framesInFlight)) {
     const auto& nodes = store_->nodes();
     uint64_t total = 0;
     for (const StoredNode& n : nodes) total += aligned(n.bytes());
-    capacity_ = std::min(total, gpuBytes / kAlignment * kAlignment);
-    if (capacity_ > 0) free_[0] = capacity_;
+    const uint64_t budget = gpuBytes / kAlignment * kAlignment;
+    capacity_ = std::min(total, budget);
+    pageBytes_ = pageBytes == 0 ? capacity_ : std::max(pageBytes / kAlignment * kAlignment, kAlignment);
+    if (capacity_ <= pageBytes_) {
+        pageBytes_ = std::max<uint64_t>(capacity_, kAlignment);   // one page: the whole buffer
+    } else {
+        // Whole pages (every page is bound with the same range). When the whole cloud fits the
+        // budget, every node gets its place now (largest first, each in the first page with
+        // room): pages leave gaps that nodes arriving in any order might not fill.
+        if (total <= budget) {
+            std::vector<int32_t> bySize(nodes.size());
+            for (size_t i = 0; i < nodes.size(); ++i) bySize[i] = int32_t(i);
+            std::stable_sort(bySize.begin(), bySize.end(),
+                             [&](int32_t a, int32_t b) { return nodes[size_t(a)].bytes() > nodes[size_t(b)].bytes(); });
+            std::vector<uint64_t> used;   // per page
+            reserved_.assign(nodes.size(), -1);
+            for (int32_t n : bySize) {
+                const uint64_t size = aligned(nodes[size_t(n)].bytes());
+                if (size > pageBytes_) continue;
+                size_t p = 0;
+                while (p < used.size() && used[p] + size > pageBytes_) ++p;
+                if (p == used.size()) used.push_back(0);
+                reserved_[size_t(n)] = int64_t(p * pageBytes_ + used[p]);
+                used[p] += size;
+            }
+            if (used.size() * pageBytes_ <= budget) {
+                capacity_ = used.size() * pageBytes_;
+            } else {
+                reserved_.clear();   // packing needs more pages than the budget: as below
+            }
+        }
+        if (reserved_.empty()) capacity_ = capacity_ / pageBytes_ * pageBytes_;
+    }
+    for (uint64_t at = 0; reserved_.empty() && at < capacity_; at += pageBytes_) free_[at] = pageBytes_;
+    for (const StoredNode& n : nodes)
+        if (aligned(n.bytes()) > pageBytes_) ++oversized_;
     offset_.assign(nodes.size(), -1);
     lastWanted_.assign(nodes.size(), 0);
     reading_.assign(nodes.size(), 0);
@@ -38,12 +73,13 @@ bool NodeResidency::allocate(uint64_t bytes, uint64_t& offset) {
 }
 
 void NodeResidency::release(uint64_t offset, uint64_t bytes) {
+    // Coalesced with its neighbours within its page, never across a page's start.
     auto next = free_.lower_bound(offset);
-    if (next != free_.end() && offset + bytes == next->first) {
+    if (next != free_.end() && offset + bytes == next->first && next->first % pageBytes_ != 0) {
         bytes += next->second;
         next = free_.erase(next);
     }
-    if (next != free_.begin()) {
+    if (next != free_.begin() && offset % pageBytes_ != 0) {
         auto prev = std::prev(next);
         if (prev->first + prev->second == offset) {
             prev->second += bytes;
@@ -146,12 +182,13 @@ uint64_t NodeResidency::upload(uint64_t budget, const Copy& copy) {
         if (data.empty() && ready != ready_.end()) data = ready->second;
         if (data.empty() && nodes[size_t(n)].count > 0) continue;   // still being read
         const uint64_t size = aligned(data.size());
+        if (size > pageBytes_) continue;   // never fits (its subtree is not drawn either)
         if (bytes > 0 && bytes + size > budget) {
             waiting_ = true;   // the next frame's budget
             break;
         }
-        uint64_t offset = 0;
-        if (!evictFor(size, offset)) {
+        uint64_t offset = reserved_.empty() ? 0 : uint64_t(reserved_[size_t(n)]);
+        if (reserved_.empty() && !evictFor(size, offset)) {
             // Room comes back once the frames in flight are done, if anything could be evicted.
             waiting_ = !freed_.empty();
             break;

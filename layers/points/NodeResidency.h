@@ -5,6 +5,10 @@
 // one GPU buffer of fixed size. When the buffer is full, the nodes wanted least recently (the
 // deepest first among equals) are evicted; a node wanted this frame never is. A freed range is
 // reused only once the frames that may still read it are done.
+//
+// The buffer is split into pages that no node straddles: a shader sees one page at a time
+// (a device's maxStorageBufferRange can be smaller than the buffer: 128 MB on lavapipe). When
+// the whole cloud fits, every node's place is fixed from the start (packed largest first).
 
 #include "engine/jobs/ThreadPool.h"
 #include "layers/points/PointStore.h"
@@ -24,15 +28,21 @@ public:
     static constexpr uint64_t kReadBytesInFlight = uint64_t(64) << 20;
     static constexpr uint64_t kAlignment = 16;
 
-    /// `gpuBytes`: the buffer's size; `framesInFlight`: frames that may read it at once.
-    NodeResidency(std::shared_ptr<const PointStore> store, uint64_t gpuBytes, uint32_t framesInFlight);
+    /// `gpuBytes`: the buffer's size at most (it is the cloud's size when that is smaller);
+    /// `pageBytes`: the pages' size (a multiple of kAlignment; 0: one page); `framesInFlight`:
+    /// frames that may read it at once.
+    NodeResidency(std::shared_ptr<const PointStore> store, uint64_t gpuBytes, uint64_t pageBytes, uint32_t framesInFlight);
     ~NodeResidency();
     NodeResidency(const NodeResidency&) = delete;
     NodeResidency& operator=(const NodeResidency&) = delete;
 
     uint64_t capacity() const { return capacity_; }
+    uint64_t pageBytes() const { return pageBytes_; }
+    uint32_t pages() const { return uint32_t((capacity_ + pageBytes_ - 1) / pageBytes_); }
+    /// Nodes larger than a page: never resident (nor their subtrees drawn).
+    uint64_t oversizedNodes() const { return oversized_; }
     bool resident(int32_t node) const { return offset_[size_t(node)] >= 0; }
-    /// Where a resident node's data start in the buffer (bytes).
+    /// Where a resident node's data start in the buffer (bytes); all in page offset / pageBytes.
     uint64_t offset(int32_t node) const { return uint64_t(offset_[size_t(node)]); }
 
     /// Starts frame `frame` (increasing): collects finished reads, takes back ranges no frame in
@@ -65,10 +75,12 @@ private:
     bool evictFor(uint64_t bytes, uint64_t& offset);
 
     std::shared_ptr<const PointStore> store_;
-    uint64_t capacity_ = 0;
+    uint64_t capacity_ = 0, pageBytes_ = 1;
+    uint64_t oversized_ = 0;
     uint32_t framesInFlight_ = 2;
     uint64_t frame_ = 0;
     std::vector<int64_t> offset_;       // per node: bytes into the buffer, or -1
+    std::vector<int64_t> reserved_;     // per node, when the whole cloud fits in pages: its place
     std::vector<uint64_t> lastWanted_;  // per node: the last frame that wanted it (0: never)
     std::vector<int32_t> wanted_;       // this frame's
     std::map<uint64_t, uint64_t> free_;                         // offset -> bytes, coalesced

@@ -81,13 +81,22 @@ void PointsLayer::finishLoading() {
         log::error(loadError_);
         return;
     }
-    // One GPU buffer for the resident nodes: the budget, or the whole cloud when smaller.
-    const uint64_t range = services_.device->properties().limits.maxStorageBufferRange;
-    const uint64_t limit = std::min<uint64_t>(settings_.gpuMemoryBytes, range);
-    if (range < settings_.gpuMemoryBytes)
-        log::info("points: the resident nodes' buffer is limited to ", range >> 20,
-                  " MB by the device's maxStorageBufferRange (gpuMemoryMB asks for ", settings_.gpuMemoryBytes >> 20, ")");
-    residency_ = std::make_unique<points::NodeResidency>(store_, limit, services_.framesInFlight);
+    // One GPU buffer for the resident nodes (the budget, or the whole cloud when smaller), in
+    // pages that a shader sees one at a time: maxStorageBufferRange can be smaller than the
+    // budget (128 MB on lavapipe). A page is bound by a dynamic offset, a uint32.
+    const VkPhysicalDeviceLimits& limits = services_.device->properties().limits;
+    const uint64_t align = std::max<uint64_t>(limits.minStorageBufferOffsetAlignment, points::NodeResidency::kAlignment);
+    uint64_t page = std::min<uint64_t>(limits.maxStorageBufferRange, settings_.gpuMemoryBytes);
+    if (settings_.gpuPageBytes > 0) page = std::min(page, settings_.gpuPageBytes);
+    page = std::max(page / align * align, align);
+    const uint64_t budget = std::min<uint64_t>(settings_.gpuMemoryBytes, (uint64_t(UINT32_MAX) / page + 1) * page);
+    residency_ = std::make_unique<points::NodeResidency>(store_, budget, page, services_.framesInFlight);
+    if (residency_->pages() > 1)
+        log::info("points: the resident nodes' buffer is ", residency_->pages(), " pages of ", double(residency_->pageBytes()) / 1048576.0,
+                  " MB (the device's maxStorageBufferRange is ", limits.maxStorageBufferRange >> 20, " MB)");
+    if (residency_->oversizedNodes() > 0)
+        log::warn("points: ", file_->path(), ": ", residency_->oversizedNodes(), " octree nodes are larger than a ",
+                  double(residency_->pageBytes()) / 1048576.0, " MB page of gpuMemoryMB and are never drawn (nor the nodes below them)");
     drawnFrame_.assign(store_->nodes().size(), 0);
     loadedFrame_ = frame_ + 1;   // this frame's (update counts it next): its near plane did not know the cloud yet
     if (residency_->capacity() == 0) return;
@@ -195,8 +204,8 @@ void PointsLayer::prepare(const scene::RenderServices& services) {
     const VkShaderStageFlags all = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     const VkDescriptorSetLayoutBinding bindings[kBindings] = {
         {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, all, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
-        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
+        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC, 1, all, nullptr},   // a page of the nodes' data
+        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC, 1, all, nullptr},
         {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
         {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
         {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
@@ -225,10 +234,11 @@ void PointsLayer::prepare(const scene::RenderServices& services) {
 }
 
 gpu::Pipeline& PointsLayer::splatPipeline(int radius, bool quantised) {
-    gpu::Pipeline& p = splatPipelines_[radius * 2 + (quantised ? 1 : 0)];
+    gpu::Pipeline& p = splatPipelines_[(int(settings_.color) * 16 + radius) * 2 + (quantised ? 1 : 0)];
     if (!p) {
         gpu::Specialization spec;
         spec.set<int32_t>(0, radius);
+        spec.set<uint32_t>(1, uint32_t(settings_.color));
         spec.set<VkBool32>(3, quantised ? VK_TRUE : VK_FALSE);
         p = gpu::createComputePipeline(*services_.device, layout_.vk(), kSpv_points_splat_comp, &spec, "points splat");
     }
@@ -263,9 +273,8 @@ gpu::Pipeline& PointsLayer::pointListPipeline(bool quantised) {
 
 gpu::Pipeline& PointsLayer::resolvePipeline() {
     gpu::Specialization spec;
-    spec.set<uint32_t>(1, uint32_t(settings_.color));
     spec.set<VkBool32>(2, settings_.edl ? VK_TRUE : VK_FALSE);
-    return graphicsPipeline(resolvePipelines_, int(settings_.color) * 2 + (settings_.edl ? 1 : 0), false, spec);
+    return graphicsPipeline(resolvePipelines_, settings_.edl ? 1 : 0, false, spec);
 }
 
 bool PointsLayer::computePath() const { return settings_.renderer == PointsSettings::Renderer::Compute; }
@@ -297,9 +306,10 @@ void PointsLayer::ensureFrameBuffers(uint32_t s, size_t nodes, size_t batches) {
 
 void PointsLayer::writeDescriptors(uint32_t s) {
     Slot& slot = slots_[s];
+    const VkDeviceSize page = residency_ ? residency_->pageBytes() : VK_WHOLE_SIZE;   // at dynamic offsets
     const VkDescriptorBufferInfo infos[6] = {
-        {slot.uniforms.vk(), 0, sizeof(shader::PointUniforms)}, {data_.vk(), 0, VK_WHOLE_SIZE},
-        {data_.vk(), 0, VK_WHOLE_SIZE},                         {slot.batches.vk(), 0, VK_WHOLE_SIZE},
+        {slot.uniforms.vk(), 0, sizeof(shader::PointUniforms)}, {data_.vk(), 0, page},
+        {data_.vk(), 0, page},                                  {slot.batches.vk(), 0, VK_WHOLE_SIZE},
         {slot.nodes.vk(), 0, VK_WHOLE_SIZE},                    {screen_.vk(), 0, VK_WHOLE_SIZE}};
     VkWriteDescriptorSet w[kBindings] = {};
     uint32_t count = 0;
@@ -309,7 +319,9 @@ void PointsLayer::writeDescriptors(uint32_t s) {
         w[count].dstSet = slot.set;
         w[count].dstBinding = b;
         w[count].descriptorCount = 1;
-        w[count].descriptorType = b == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        w[count].descriptorType = b == 0                ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+                                  : b == 1 || b == 2 ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC
+                                                     : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         w[count].pBufferInfo = &infos[b];
         ++count;
     }
@@ -340,32 +352,42 @@ void PointsLayer::writeUniforms(const scene::RecordContext& rc) {
     Slot& slot = slots_[rc.slot];
     nodeData_.resize(drawList_.size());
     batchData_.resize(batches);
+    const uint64_t pageBytes = residency_->pageBytes();
+    nodePage_.resize(drawList_.size());
     for (size_t k = 0; k < drawList_.size(); ++k) {
         const points::StoredNode& n = nodes[size_t(drawList_[k])];
-        const uint64_t offset = residency_->offset(drawList_[k]);
+        const uint64_t offset = residency_->offset(drawList_[k]) % pageBytes;   // within its page
+        nodePage_[k] = uint32_t(residency_->offset(drawList_[k]) / pageBytes);
         nodeData_[k].centreStep = glm::vec4(glm::vec3(n.centre - eye_), float(n.step));
         nodeData_[k].data = glm::uvec4(uint32_t(offset / 8), uint32_t((offset + n.positionOffset()) / 4), n.count, 0u);
     }
-    // The quantised nodes' batches first, then the float ones': one dispatch each.
+    // The batches by position format (quantised first) and page: one dispatch each.
+    std::vector<uint32_t> order(drawList_.size());
+    for (uint32_t k = 0; k < order.size(); ++k) order[k] = k;
+    const auto group = [&](uint32_t k) {
+        return std::pair<int, uint32_t>(nodes[size_t(drawList_[k])].step > 0.0 ? 0 : 1, nodePage_[k]);
+    };
+    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return group(a) < group(b); });
+    dispatches_.clear();
     size_t b = 0;
-    for (bool quantised : {true, false}) {
-        if (!quantised) quantisedBatches_ = uint32_t(b);
-        for (size_t k = 0; k < drawList_.size(); ++k) {
-            const points::StoredNode& n = nodes[size_t(drawList_[k])];
-            if ((n.step > 0.0) != quantised) continue;
-            for (uint32_t off = 0; off < n.count; off += shader::kPointBatch)
-                batchData_[b++] = glm::uvec4(uint32_t(k), off, std::min(shader::kPointBatch, n.count - off), 0u);
+    for (uint32_t k : order) {
+        const points::StoredNode& n = nodes[size_t(drawList_[k])];
+        const bool quantised = n.step > 0.0;
+        if (dispatches_.empty() || dispatches_.back().quantised != quantised || dispatches_.back().page != nodePage_[k])
+            dispatches_.push_back({quantised, nodePage_[k], uint32_t(b), 0});
+        for (uint32_t off = 0; off < n.count; off += shader::kPointBatch) {
+            batchData_[b++] = glm::uvec4(k, off, std::min(shader::kPointBatch, n.count - off), 0u);
+            ++dispatches_.back().batches;
         }
     }
     slot.nodes.write(nodeData_.data(), nodeData_.size() * sizeof(NodeGpu));
     slot.batches.write(batchData_.data(), b * sizeof(glm::uvec4));
-    batchCount_ = uint32_t(b);
 
     shader::PointUniforms u{};
     u.viewProj = glm::mat4(viewProj_);
     u.colorInfo = glm::vec4(0.0f, store_->info().intensityGain, float(settings_.heightRange.x),
                             float(1.0 / std::max(settings_.heightRange.y - settings_.heightRange.x, 1e-6)));
-    u.constantColor = glm::vec4(glm::vec3(glm::pow(settings_.constantColor, glm::dvec3(2.2))), 1.0f);
+    u.constantColor = glm::vec4(glm::vec3(settings_.constantColor), 1.0f);
     u.edl = glm::vec4(0.0f, float(settings_.edlStrength), float(settings_.edlRadius),
                       float(settings_.pointSize));
     u.screen = glm::vec4(float(frame.width), float(frame.height), 0.0f, 0.0f);
@@ -391,14 +413,16 @@ void PointsLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     const VkDescriptorSet sets[] = {rc.frameSet, slot.set};
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), 0, 2, sets, 0, nullptr);
-    for (bool quantised : {true, false}) {
-        const uint32_t first = quantised ? 0 : quantisedBatches_, count = quantised ? quantisedBatches_ : batchCount_ - quantisedBatches_;
-        if (count == 0) continue;
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, splatPipeline(splatRadius(settings_.pointSize), quantised).vk());
-        const uint32_t push[2] = {0, first};
+    const gpu::Pipeline* bound = nullptr;
+    for (const Dispatch& d : dispatches_) {
+        const uint32_t offsets[2] = {pageOffset(d.page), pageOffset(d.page)};
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), 0, 2, sets, 2, offsets);
+        gpu::Pipeline& p = splatPipeline(splatRadius(settings_.pointSize), d.quantised);
+        if (&p != bound) vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.vk());
+        bound = &p;
+        const uint32_t push[2] = {0, d.firstBatch};
         vkCmdPushConstants(cmd, layout_.vk(), kPushStages, 0, sizeof push, push);
-        vkCmdDispatch(cmd, count, 1, 1);
+        vkCmdDispatch(cmd, d.batches, 1, 1);
     }
     gpu::bufferBarrier(cmd, screen_, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
@@ -410,15 +434,21 @@ void PointsLayer::record(scene::Pass, const scene::RecordContext& rc) {
     const VkDescriptorSet sets[] = {rc.frameSet, slots_[rc.slot].set};
     if (computePath()) {
         if (!screen_) return;
+        const uint32_t offsets[2] = {0, 0};   // the resolve reads only the screen buffer
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolvePipeline().vk());
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 2, offsets);
         vkCmdDraw(cmd, 3, 1, 0, 0);
         return;
     }
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
-    int bound = -1;   // the position format of the bound pipeline
+    int bound = -1;                 // the position format of the bound pipeline
+    uint32_t boundPage = UINT32_MAX;
     for (uint32_t k = 0; k < drawList_.size(); ++k) {
         const points::StoredNode& n = store_->nodes()[size_t(drawList_[k])];
+        if (nodePage_[k] != boundPage) {
+            boundPage = nodePage_[k];
+            const uint32_t offsets[2] = {pageOffset(boundPage), pageOffset(boundPage)};
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 2, offsets);
+        }
         if (int(n.step > 0.0) != bound) {
             bound = int(n.step > 0.0);
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pointListPipeline(bound != 0).vk());
@@ -428,6 +458,8 @@ void PointsLayer::record(scene::Pass, const scene::RecordContext& rc) {
         vkCmdDraw(cmd, n.count, 1, 0, 0);
     }
 }
+
+uint32_t PointsLayer::pageOffset(uint32_t page) const { return uint32_t(uint64_t(page) * residency_->pageBytes()); }
 
 // ---------------------------------------------------------------------------------------------
 // Settings and stats

@@ -9,6 +9,7 @@
 //    "constantColor": [1, 0.8, 0.2], "heightRange": [0, 1] (of the cloud's heights),
 //    "pointSize": 1, "edl": true, "edlStrength": 1, "edlRadius": 1.4,
 //    "pointBudget": 3000000, "gpuMemoryMB": 1024, "cpuMemoryMB": 512,
+//    "gpuPageMB": 0 (the device's maxStorageBufferRange; smaller only to test the paging),
 //    "cacheFolder": "cache/", "renderer": "compute" | "pointList"}
 //
 // The file is opened (and its header and CRS checked) when the scene loads; the octree is built
@@ -18,7 +19,8 @@
 // "pointBudget" points (0: all), culled by the view and the horizon; those not on the GPU are
 // read (from the cache file, on workers) and uploaded within a per-frame budget into a buffer of
 // "gpuMemoryMB", evicting the nodes wanted least recently (NodeResidency). A node is drawn once
-// it and its ancestors are resident.
+// it and its ancestors are resident. That buffer is bound a page at a time (one splat dispatch
+// per page): a device's maxStorageBufferRange (128 MB on lavapipe) can be less than the budget.
 //
 // Compute rasterisation: every point writes (depth << 32 | index) with a 64-bit atomic into a
 // screen buffer, then a full-screen pass writes colour and depth, depth-tested against the
@@ -53,6 +55,7 @@ struct PointsSettings {
     double edlStrength = 1.0, edlRadius = 1.4;   ///< radius in pixels
     uint64_t pointBudget = 3'000'000;            ///< points drawn per frame at most; 0: all
     uint64_t gpuMemoryBytes = uint64_t(1024) << 20;
+    uint64_t gpuPageBytes = 0;   ///< what a shader sees at once; 0: the device's maxStorageBufferRange
     uint64_t cpuMemoryBytes = uint64_t(512) << 20;   ///< the octree build's working memory
     std::string cacheFolder;                         ///< empty: next to the file, else the user's cache
     enum class Renderer { Compute, PointList } renderer = Renderer::Compute;
@@ -107,6 +110,7 @@ private:
     void writeDescriptors(uint32_t slot);
     void writeUniforms(const scene::RecordContext& rc);
     bool computePath() const;
+    uint32_t pageOffset(uint32_t page) const;   ///< dynamic offset of a page of data_
 
     std::shared_ptr<points::LasFile> file_;   // shared with the loading job
     points::PointGeoreference georef_;
@@ -131,7 +135,12 @@ private:
     };
     std::vector<NodeGpu> nodeData_;   // the frame's drawn nodes and batches, as uploaded
     std::vector<glm::uvec4> batchData_;
-    uint32_t batchCount_ = 0, quantisedBatches_ = 0;   // the quantised nodes' batches come first
+    std::vector<uint32_t> nodePage_;   // per drawn node: its page of data_
+    struct Dispatch {                  // the batches of one position format and page
+        bool quantised;
+        uint32_t page, firstBatch, batches;
+    };
+    std::vector<Dispatch> dispatches_;
     uint64_t drawnPoints_ = 0;
     glm::dmat4 viewProj_{1.0};
     glm::dvec3 eye_{0.0};
@@ -147,8 +156,8 @@ private:
     gpu::Sampler depthSampler_;
     gpu::DescriptorSets descriptors_;   // one set per frame in flight
     gpu::PipelineLayout layout_;
-    std::map<int, gpu::Pipeline> splatPipelines_;   // by splat radius and position format
-    // By colour mode and EDL, or position format (specialisation constants: a CPU device pays
+    std::map<int, gpu::Pipeline> splatPipelines_;   // by colour mode, splat radius and position format
+    // By EDL, or colour mode and position format (specialisation constants: a CPU device pays
     // for every branch).
     std::map<int, gpu::Pipeline> resolvePipelines_, pointListPipelines_;
     gpu::Image* boundDepth_ = nullptr;

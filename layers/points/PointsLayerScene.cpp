@@ -37,7 +37,9 @@ Result<std::unique_ptr<scene::Layer>> PointsLayer::create(const scene::LayerDesc
     s.edlStrength = r.number("edlStrength", 1.0, 0.0, 100.0).value_or(1.0);
     s.edlRadius = r.number("edlRadius", 1.4, 0.5, 8.0).value_or(1.4);
     s.pointBudget = uint64_t(r.number("pointBudget", 3e6, 0.0, 4e9).value_or(3e6));
-    s.gpuMemoryBytes = uint64_t(r.number("gpuMemoryMB", 1024.0, 1.0, 65536.0).value_or(1024.0) * 1048576.0);
+    s.gpuMemoryBytes = uint64_t(r.number("gpuMemoryMB", 1024.0, 0.0625, 65536.0).value_or(1024.0) * 1048576.0);
+    s.gpuPageBytes = uint64_t(r.number("gpuPageMB", 0.0, 0.0, 65536.0).value_or(0.0) * 1048576.0);
+    if (s.gpuPageBytes > 0 && s.gpuPageBytes < 65536) r.fail("gpuPageMB", "must be 0 (the device's limit) or at least 0.0625 (64 KB)");
     s.cpuMemoryBytes = uint64_t(r.number("cpuMemoryMB", 512.0, 1.0, 1048576.0).value_or(512.0) * 1048576.0);
     if (auto folder = r.string("cacheFolder", std::string()); folder && !folder->empty())
         s.cacheFolder = scene.resolve(*folder).string();

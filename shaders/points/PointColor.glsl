@@ -1,8 +1,10 @@
 // A point's colour from its packed attributes (uvec2): x = sRGB r | g << 8 | b << 16 |
 // classification << 24; y = intensity (16 bits) | height << 16 (0..65535 over the cloud's
-// height range). Needs `pu` (PointUniforms) in scope. Returns linear RGB. The mode is a
-// specialisation constant: a CPU device runs every side of a branch, so the modes not drawn
-// must not be in the shader at all.
+// height range). Needs `pu` (PointUniforms) in scope. Every mode yields sRGB: the compute
+// rasteriser stores it in 24 bits of the screen buffer (pointColorPacked) and the resolve
+// linearises it (unpackColor); the point list calls pointColor. The mode is a specialisation
+// constant: a CPU device runs every side of a branch, so the modes not drawn must not be in the
+// shader at all.
 
 layout(constant_id = 1) const uint kColorMode = 0u;   // kPointColor*
 
@@ -39,12 +41,23 @@ vec3 heightRamp(float f) {
     return mix(stops[i], stops[i + 1], s - float(i));
 }
 
-vec3 pointColor(uvec2 a) {
-    vec3 c;
-    if (kColorMode == kPointColorRgb) c = vec3(a.x & 255u, (a.x >> 8) & 255u, (a.x >> 16) & 255u) / 255.0;
-    else if (kColorMode == kPointColorIntensity) c = vec3(clamp(float(a.y & 65535u) * pu.colorInfo.y, 0.0, 1.0));
-    else if (kColorMode == kPointColorClassification) c = classColor(a.x >> 24);
-    else if (kColorMode == kPointColorHeight) c = heightRamp((float(a.y >> 16) / 65535.0 - pu.colorInfo.z) * pu.colorInfo.w);
-    else return pu.constantColor.rgb;
-    return srgbToLinear(c);
+vec3 pointColorSrgb(uvec2 a) {
+    if (kColorMode == kPointColorRgb) return vec3(a.x & 255u, (a.x >> 8) & 255u, (a.x >> 16) & 255u) / 255.0;
+    if (kColorMode == kPointColorIntensity) return vec3(clamp(float(a.y & 65535u) * pu.colorInfo.y, 0.0, 1.0));
+    if (kColorMode == kPointColorClassification) return classColor(a.x >> 24);
+    if (kColorMode == kPointColorHeight) return heightRamp((float(a.y >> 16) / 65535.0 - pu.colorInfo.z) * pu.colorInfo.w);
+    return pu.constantColor.rgb;
 }
+
+// Linear RGB.
+vec3 pointColor(uvec2 a) { return srgbToLinear(pointColorSrgb(a)); }
+
+// sRGB, 8 bits a channel: r | g << 8 | b << 16.
+uint pointColorPacked(uvec2 a) {
+    if (kColorMode == kPointColorRgb) return a.x & 0xFFFFFFu;
+    uvec3 c = uvec3(round(clamp(pointColorSrgb(a), 0.0, 1.0) * 255.0));
+    return c.r | (c.g << 8) | (c.b << 16);
+}
+
+// Linear RGB from pointColorPacked's value.
+vec3 unpackColor(uint c) { return srgbToLinear(vec3(c & 255u, (c >> 8) & 255u, (c >> 16) & 255u) / 255.0); }

@@ -3,7 +3,7 @@
 #extension GL_ARB_gpu_shader_int64 : require
 #include "shared/PointTypes.h"
 
-// The screen buffer of the compute rasterisation into colour and depth (depth-tested against
+// The screen buffer of the compute rasterisation (depth and sRGB colour) into colour and depth (depth-tested against
 // the opaque scene by the pipeline), with eye-dome lighting: a pixel darkens by how much nearer
 // its neighbours are, in log depth (log z - log z_n = log d_n - log d with reversed-Z depth
 // d = near / z), so edges and steps in the cloud read as shapes.
@@ -13,7 +13,6 @@
 layout(constant_id = 2) const bool kEdl = false;
 
 layout(set = 1, binding = 0) uniform PointBlock { PointUniforms pu; };
-layout(set = 1, binding = 2, std430) readonly buffer Attributes { uvec2 attributes[]; };
 layout(set = 1, binding = 5, std430) readonly buffer Screen { uint64_t screen[]; };
 
 layout(location = 0) out vec4 outColor;
@@ -31,7 +30,7 @@ void main() {
     uint64_t v = texel(px);
     if (v == 0ul) discard;
     float depth = uintBitsToFloat(uint(v >> 32));
-    vec3 c = pointColor(attributes[uint(v & 0xffffffffUL)]);
+    vec3 c = unpackColor(uint(v & 0xffffffffUL));
     if (kEdl) {
         const vec2 dirs[8] = vec2[8](vec2(1, 0), vec2(0.7071, 0.7071), vec2(0, 1), vec2(-0.7071, 0.7071),
                                      vec2(-1, 0), vec2(-0.7071, -0.7071), vec2(0, -1), vec2(0.7071, -0.7071));

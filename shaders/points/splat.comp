@@ -7,10 +7,12 @@
 
 // Compute rasterisation of points: each point is projected (positions relative to its node's
 // centre, quantised or float, the node's centre relative to the eye: small numbers near the
-// eye), tested
-// against the scene's depth, and written as (depth bits << 32 | index) with a 64-bit atomicMax
-// into a screen buffer: with reversed Z the largest depth is the nearest, and among equal
-// depths the highest index wins, so the image never depends on the order of the writes.
+// eye), tested against the scene's depth, and written as (depth bits << 32 | sRGB colour) with
+// a 64-bit atomicMax into a screen buffer: with reversed Z the largest depth is the nearest, and
+// among equal depths the largest colour value wins, so the image never depends on the order of
+// the writes. The colour, not the point's index, goes in the low bits: the resolve then reads
+// nothing but the screen, and the nodes' data can be in pages (one dispatch per page), as
+// maxStorageBufferRange may be smaller than the resident data.
 
 layout(local_size_x = 256) in;
 
@@ -22,11 +24,13 @@ layout(push_constant) uniform Push { uint node; uint firstBatch; } push;
 
 layout(set = 1, binding = 0) uniform PointBlock { PointUniforms pu; };
 layout(set = 1, binding = 1, std430) readonly buffer Words { uint words[]; };
+layout(set = 1, binding = 2, std430) readonly buffer Attributes { uvec2 attributes[]; };
 layout(set = 1, binding = 3, std430) readonly buffer Batches { uvec4 batches[]; };
 layout(set = 1, binding = 4, std430) readonly buffer Nodes { PointNode nodes[]; };
 layout(set = 1, binding = 5, std430) buffer Screen { uint64_t screen[]; };
 layout(set = 1, binding = 6) uniform sampler2D sceneDepth;
 
+#include "points/PointColor.glsl"
 #include "points/PointData.glsl"
 
 void main() {
@@ -37,7 +41,6 @@ void main() {
         uint local = k * kPointGroupSize + gl_LocalInvocationID.x;
         if (local >= batch.z) break;
         local += batch.y;   // within the node
-        uint index = node.data.x + local;
         vec3 p = pointPosition(node, local);
         vec4 clip = pu.viewProj * vec4(p, 1.0);
         if (clip.w <= 0.0) continue;   // behind the eye
@@ -46,12 +49,13 @@ void main() {
         vec2 pixel = (clip.xy / clip.w * 0.5 + 0.5) * pu.screen.xy;
         ivec2 px = ivec2(floor(pixel));
         if (px.x < -kRadius || px.y < -kRadius || px.x >= size.x + kRadius || px.y >= size.y + kRadius) continue;
-        uint64_t packed = (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(index);
         if (kRadius == 0) {
             if (depth < texelFetch(sceneDepth, px, 0).r) continue;   // behind the opaque scene
-            atomicMax(screen[px.y * size.x + px.x], packed);
+            uint color = pointColorPacked(attributes[node.data.x + local]);
+            atomicMax(screen[px.y * size.x + px.x], (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(color));
             continue;
         }
+        uint64_t packed = (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(pointColorPacked(attributes[node.data.x + local]));
         [[unroll]] for (int dy = -kRadius; dy <= kRadius; ++dy)
             [[unroll]] for (int dx = -kRadius; dx <= kRadius; ++dx) {
                 if (dx * dx + dy * dy > kRadius * kRadius + kRadius) continue;   // a disc

@@ -1,9 +1,10 @@
 // Point clouds: compute rasterisation (before the points pass) and its resolve (fragment, in the
-// pass), or the point-list fallback. Set 1 bindings: 0 PointUniforms (per frame), 1 and 2 the
-// resident nodes' data (one buffer, bound as uint words for the positions and as uvec2 for the
-// attributes; layout in layers/points/PointStore.h), 3 the frame's batches (uvec4: drawn node,
-// first point of the node, count, 0), 4 the drawn nodes (PointNode), 5 the screen buffer (one
-// uint64 a pixel: depth bits << 32 | attribute index; 0 = empty), 6 the scene depth (sampler2D).
+// pass), or the point-list fallback. Set 1 bindings: 0 PointUniforms (per frame), 1 and 2 a page
+// of the resident nodes' data (dynamic storage buffers at the page's offset, bound as uint words
+// for the positions and as uvec2 for the attributes; layout in layers/points/PointStore.h), 3 the
+// frame's batches (uvec4: drawn node, first point of the node, count, 0), 4 the drawn nodes
+// (PointNode), 5 the screen buffer (one uint64 a pixel: depth bits << 32 | sRGB r | g << 8 |
+// b << 16; 0 = empty), 6 the scene depth (sampler2D).
 #ifndef ORBIS_SHADERS_SHARED_POINT_TYPES_H
 #define ORBIS_SHADERS_SHARED_POINT_TYPES_H
 
@@ -27,7 +28,7 @@ struct PointNode {
     vec4 centreStep;   // xyz: the node's centre relative to the eye (from doubles on the CPU);
                        // w: the quantisation step (m), 0 for float positions
     uvec4 data;        // x: its first point's attribute index (uvec2 units), y: its positions'
-                       // first word, z: its point count, w: 0
+                       // first word, both within its page; z: its point count, w: 0
 };
 
 // std140: vec4 and mat4 members only.
@@ -35,7 +36,7 @@ struct PointUniforms {
     mat4 viewProj;        // projection * view rotation: positions relative to the eye -> clip
     vec4 colorInfo;       // x: unused, y: intensity gain (1 / the cloud's 99th percentile),
                           // z, w: height ramp over the stored 0..1 heights: (h - z) * w
-    vec4 constantColor;   // rgb: linear colour for kPointColorConstant
+    vec4 constantColor;   // rgb: sRGB colour for kPointColorConstant
     vec4 edl;             // x: unused (EDL on/off is specialisation constant 2), y: strength, z: radius (px), w: point size (px)
     vec4 screen;          // x, y: width, height (pixels)
 };

@@ -181,6 +181,54 @@ TEST_F(PointsRender, CloudFromTheCacheFileDrawsTheSame) {
     EXPECT_EQ(files, 1u);
 }
 
+TEST_F(PointsRender, PagedNodeDataDrawsTheSame) {
+    // The resident data (1.2 MB) in 320 KB pages (as lavapipe's 128 MB maxStorageBufferRange
+    // splits a big budget): one splat dispatch per page, and the point list rebinds per page.
+    // Same image.
+    const std::string whole = pointsLayer(mountainCloud(), R"(, "crs": "EPSG:4979")");
+    const auto inOne = render(scene(surveyView(), whole));
+    for (const char* renderer : {"compute", "pointList"}) {
+        SCOPED_TRACE(renderer);
+        auto s = load(scene(surveyView(), pointsLayer(mountainCloud(), std::string(R"(, "crs": "EPSG:4979", "gpuPageMB": 0.3125, "renderer": ")")
+                                                                           .append(renderer)
+                                                                           .append("\""))));
+        ASSERT_TRUE(s);
+        const auto paged = render(*s);
+        const auto& residency = *points(*s).residency();
+        EXPECT_GE(residency.pages(), 4u);
+        EXPECT_EQ(residency.pageBytes(), 320u << 10);
+        EXPECT_EQ(points(*s).pointsDrawn(), points(*s).store()->info().points);
+        if (std::string(renderer) == "compute") {
+            EXPECT_EQ(differing(paged, inOne, 0), 0u);
+        }
+    }
+    // A buffer of two pages: what is in view is drawn as far as it fits, and moving the view
+    // from the survey's south-west corner to its north-east one evicts nodes for others.
+    char corner[200];
+    const double dLon = 100.0 / (111320.0 * std::cos(glm::radians(kLat))), dLat = 100.0 / 111132.0;
+    std::snprintf(corner, sizeof corner, R"({"lon": %.6f, "lat": %.6f, "height": %.1f, "heading": 45, "pitch": -30, "range": 40})",
+                  kLon - dLon, kLat - dLat, TerrainFixtures::height(kLon - dLon, kLat - dLat));
+    auto s = load(scene(corner, pointsLayer(mountainCloud(), R"(, "crs": "EPSG:4979", "gpuMemoryMB": 0.625, "gpuPageMB": 0.3125, "pointBudget": 0)")));
+    ASSERT_TRUE(s);
+    const auto small = render(*s);
+    auto& layer = points(*s);
+    EXPECT_LE(layer.residency()->residentBytes(), uint64_t(640) << 10);
+    EXPECT_GT(layer.pointsDrawn(), 0u);
+    EXPECT_LT(layer.pointsDrawn(), layer.store()->info().points);
+    EXPECT_GT(differing(small, ImageRgba8{small.width, small.height, std::vector<uint8_t>(small.pixels.size(), 0)}, 8), 1000u);
+    const uint64_t evicted = layer.residency()->evictions();
+    scene::Camera& camera = s->camera();
+    const auto& wgs84 = globe::Ellipsoid::wgs84();
+    camera.setPosition(camera.position() + wgs84.toEcef(kLon + dLon, kLat + dLat) - wgs84.toEcef(kLon - dLon, kLat - dLat));
+    const auto other = render(*s);
+    EXPECT_GT(layer.residency()->evictions(), evicted);
+    EXPECT_LE(layer.residency()->residentBytes(), uint64_t(640) << 10);
+    EXPECT_GT(layer.pointsDrawn(), 0u);
+    EXPECT_GT(differing(small, other, 8), 1000u);
+    EXPECT_TRUE(writePng(outDir() / "paged-sw.png", small).ok());
+    EXPECT_TRUE(writePng(outDir() / "paged-ne.png", other).ok());
+}
+
 TEST_F(PointsRender, ColourModesAndPointListAgreeWithCompute) {
     const std::string layers = pointsLayer(mountainCloud(), R"(, "crs": "EPSG:4979")");
     auto s = load(scene(surveyView(), layers));

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <map>
 #include <random>
+#include <set>
 #include <thread>
 
 namespace orbis::points {
@@ -291,7 +292,7 @@ std::shared_ptr<PointStore> tenNodes() {
 }
 
 TEST(NodeResidency, EvictsTheLeastRecentlyWantedAfterTheFramesInFlight) {
-    NodeResidency r(tenNodes(), 4 * 1600, 2);   // room for 4 nodes
+    NodeResidency r(tenNodes(), 4 * 1600, 0, 2);   // room for 4 nodes
     EXPECT_EQ(r.capacity(), 4u * 1600);
     std::map<int32_t, uint64_t> copied;
     const auto copy = [&](int32_t n, std::span<const uint8_t> d, uint64_t offset) {
@@ -329,7 +330,7 @@ TEST(NodeResidency, EvictsTheLeastRecentlyWantedAfterTheFramesInFlight) {
 }
 
 TEST(NodeResidency, UploadsWithinTheFrameBudget) {
-    NodeResidency r(tenNodes(), 1 << 20, 2);
+    NodeResidency r(tenNodes(), 1 << 20, 0, 2);
     EXPECT_EQ(r.capacity(), 16000u);   // the whole cloud, not the budget
     std::vector<int32_t> all{0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
     int frames = 0;
@@ -340,6 +341,62 @@ TEST(NodeResidency, UploadsWithinTheFrameBudget) {
     } while (r.busy() && frames < 10);
     EXPECT_EQ(frames, 5);   // 3 + 3 + 3 + 1 nodes, then a frame that finds nothing to do
     EXPECT_EQ(r.residentNodes(), 10u);
+}
+
+TEST(NodeResidency, NoNodeStraddlesAPage) {
+    // Pages of 4000 bytes hold two 1600-byte nodes each (800 bytes left over); three pages.
+    NodeResidency r(tenNodes(), 12000, 4000, 2);
+    EXPECT_EQ(r.capacity(), 12000u);
+    EXPECT_EQ(r.pages(), 3u);
+    std::map<int32_t, uint64_t> copied;
+    std::vector<int32_t> all{0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
+    for (uint64_t frame = 1; frame <= 4; ++frame) {
+        r.beginFrame(frame);
+        r.want(all, nullptr);
+        r.upload(~uint64_t(0), [&](int32_t n, std::span<const uint8_t>, uint64_t offset) { copied[n] = offset; });
+    }
+    EXPECT_EQ(r.residentNodes(), 6u);   // not 7: no node uses two pages' leftovers
+    for (const auto& [node, offset] : copied) {
+        EXPECT_EQ(offset / 4000, (offset + 1600 - 1) / 4000) << "node " << node << " at " << offset;
+        EXPECT_EQ(r.offset(node), offset);
+    }
+    // Evicted ranges coalesce within their page only: the nodes that take them stay in a page.
+    for (uint64_t frame = 5; frame <= 20; ++frame) {
+        r.beginFrame(frame);
+        r.want(std::vector<int32_t>{7, 8, 9}, nullptr);
+        r.upload(~uint64_t(0), [&](int32_t n, std::span<const uint8_t>, uint64_t offset) { copied[n] = offset; });
+    }
+    for (int32_t n : {7, 8, 9}) {
+        ASSERT_TRUE(r.resident(n));
+        EXPECT_EQ(r.offset(n) / 4000, (r.offset(n) + 1600 - 1) / 4000);
+    }
+}
+
+TEST(NodeResidency, AWholeCloudThatFitsHasItsPagesPackedUpFront) {
+    // 16000 bytes in pages of 4000 would be four pages, but two nodes fill a page: five pages,
+    // each node in its place, so all ten are resident whatever order they arrive in.
+    NodeResidency r(tenNodes(), 1 << 20, 4000, 2);
+    EXPECT_EQ(r.pages(), 5u);
+    EXPECT_EQ(r.capacity(), 20000u);
+    r.beginFrame(1);
+    r.want(std::vector<int32_t>{9, 3, 7, 0, 1, 2, 4, 5, 6, 8}, nullptr);
+    std::set<uint64_t> offsets;
+    r.upload(~uint64_t(0), [&](int32_t, std::span<const uint8_t>, uint64_t offset) {
+        EXPECT_EQ(offset / 4000, (offset + 1600 - 1) / 4000);
+        offsets.insert(offset);
+    });
+    EXPECT_EQ(r.residentNodes(), 10u);
+    EXPECT_EQ(offsets.size(), 10u);
+}
+
+TEST(NodeResidency, ANodeLargerThanAPageIsNeverUploaded) {
+    NodeResidency r(tenNodes(), 12000, 1000, 2);
+    EXPECT_EQ(r.oversizedNodes(), 10u);
+    r.beginFrame(1);
+    r.want(std::vector<int32_t>{0, 1}, nullptr);
+    EXPECT_EQ(r.upload(~uint64_t(0), [](int32_t, std::span<const uint8_t>, uint64_t) { FAIL(); }), 0u);
+    EXPECT_FALSE(r.resident(0));
+    EXPECT_FALSE(r.busy());   // and it does not wait for room for ever
 }
 
 }  // namespace
