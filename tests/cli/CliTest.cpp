@@ -291,3 +291,75 @@ TEST(Cli, InfoNamesABadLasHeader) {
 
 }  // namespace
 }  // namespace orbis::test
+
+namespace orbis::test {
+namespace {
+
+/// The JSON objects of `output`, one a line (lines that are not JSON, such as the stderr
+/// summary, are left out).
+std::vector<nlohmann::json> jsonLines(const std::string& output) {
+    std::vector<nlohmann::json> lines;
+    std::size_t pos = 0;
+    while (pos < output.size()) {
+        const std::size_t end = std::min(output.find('\n', pos), output.size());
+        const std::string line = output.substr(pos, end - pos);
+        if (!line.empty() && line[0] == '{') lines.push_back(nlohmann::json::parse(line));
+        pos = end + 1;
+    }
+    return lines;
+}
+
+// The two real ST 0601 packets: one JSON line each, with the checksum verdict; the wrong one is
+// also summed up on stderr.
+TEST(Cli, InfoPrintsKlvPacketsAsJsonLines) {
+    const fs::path dir = fs::path(ORBIS_SOURCE_DIR) / ".." / "shared" / "data" / "klv";
+    if (!fs::exists(dir / "DynamicOnlyMISMMSPacketData.bin")) GTEST_SKIP() << "../shared/data is absent";
+    const CliRun good = run("info " + (dir / "DynamicOnlyMISMMSPacketData.bin").string());
+    ASSERT_EQ(good.exitCode, 0) << good.output;
+    const auto lines = jsonLines(good.output);
+    ASSERT_EQ(lines.size(), 1u) << good.output;
+    EXPECT_EQ(lines[0]["offset"], 0);
+    EXPECT_EQ(lines[0]["checksum"]["verdict"], "valid");
+    EXPECT_NEAR(lines[0]["sensorLatitudeDeg"].get<double>(), 60.1768, 1e-4);
+    EXPECT_NEAR(lines[0]["sensorLongitudeDeg"].get<double>(), 128.4268, 1e-4);
+    EXPECT_NEAR(lines[0]["platformHeadingDeg"].get<double>(), 159.97, 1e-2);
+
+    const CliRun bad = run("info " + (dir / "DynamicConstantMISMMSPacketData.bin").string());
+    ASSERT_EQ(bad.exitCode, 0) << bad.output;
+    const auto badLines = jsonLines(bad.output);
+    ASSERT_EQ(badLines.size(), 1u) << bad.output;
+    EXPECT_EQ(badLines[0]["checksum"]["verdict"], "mismatch");
+    EXPECT_EQ(badLines[0]["checksum"]["stored"], "aa43");
+    EXPECT_EQ(badLines[0]["otherTags"][0]["tag"], 48);   // the nested ST 0102 security set, raw
+    EXPECT_NE(bad.output.find("1 with a wrong checksum"), std::string::npos) << bad.output;
+}
+
+TEST(Cli, InfoOnBrokenKlvExitsOneAndReadsPoseCsv) {
+    const auto garbage = tempFile("garbage.klv", "no key in here at all");
+    const CliRun g = run("info " + garbage.string());
+    EXPECT_EQ(g.exitCode, 1) << g.output;
+    EXPECT_NE(g.output.find(garbage.string() + ": no MISB ST 0601 packet"), std::string::npos) << g.output;
+    // The key, then a 9-byte BER length: the packet is found and cannot be decoded.
+    const std::string key("\x06\x0E\x2B\x34\x02\x0B\x01\x01\x0E\x01\x03\x01\x01\x00\x00\x00", 16);
+    const auto broken = tempFile("broken.bin", key + "\x89" + std::string(12, '\x01'));
+    const CliRun b = run("info " + broken.string());
+    EXPECT_EQ(b.exitCode, 1) << b.output;
+    EXPECT_NE(b.output.find("long form of 9 bytes"), std::string::npos) << b.output;
+    EXPECT_NE(b.output.find(broken.string() + ": none of its 1 ST 0601 packets decodes"), std::string::npos) << b.output;
+
+    const auto pose = tempFile("pose.csv", "time,lat,lon,alt,heading\n0,48.5,11.25,1000,90\n0.5,48.6,11.3,1001,91\n");
+    const CliRun p = run("info " + pose.string());
+    ASSERT_EQ(p.exitCode, 0) << p.output;
+    const auto rows = jsonLines(p.output);
+    ASSERT_EQ(rows.size(), 2u) << p.output;
+    EXPECT_EQ(rows[1]["line"], 3);
+    EXPECT_EQ(rows[1]["precisionTimeUs"], 500000);
+    EXPECT_EQ(rows[1]["platformHeadingDeg"], 91.0);
+    const auto badPose = tempFile("badpose.csv", "time,lat,lon,alt\n0,north,11,1\n");
+    const CliRun bp = run("info " + badPose.string());
+    EXPECT_EQ(bp.exitCode, 1) << bp.output;
+    EXPECT_NE(bp.output.find("badpose.csv: line 2, column 2 (lat): 'north' is not a number"), std::string::npos) << bp.output;
+}
+
+}  // namespace
+}  // namespace orbis::test

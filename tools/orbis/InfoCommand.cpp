@@ -6,11 +6,15 @@
 #include "tools/orbis/Session.h"
 
 #include "globe/RasterSource.h"
+#include "layers/fmv/KlvFile.h"
+#include "layers/fmv/PoseCsv.h"
 #include "layers/points/PointCloud.h"
 #include "layers/volume/VolumeReader.h"
 
 #include <nlohmann/json.hpp>
 
+#include <cctype>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 
@@ -22,7 +26,9 @@ const char* kHelp =
     "Without FILE: the Vulkan devices, the one Orbis would pick, its driver and the features used.\n"
     "With FILE: what the file holds, as JSON. Readers so far: scene files (.json), point clouds (LAS\n"
     "1.0-1.4: header, VLRs, CRS, bounds on the globe, first points), volumes (netCDF and other\n"
-    "multidimensional files: variables, dimensions, ranges) and rasters (GDAL).\n";
+    "multidimensional files: variables, dimensions, ranges), rasters (GDAL), and FMV metadata:\n"
+    "raw MISB ST 0601 KLV streams (.bin, .klv, or a file that starts with the ST 0601 key) and pose\n"
+    "CSV sidecars (.csv), printed as JSON lines, one per packet or row.\n";
 
 std::string version(uint32_t v) {
     return std::to_string(VK_API_VERSION_MAJOR(v)) + "." + std::to_string(VK_API_VERSION_MINOR(v)) + "." +
@@ -68,6 +74,45 @@ int deviceInfo(const Args& args) {
           {"timestampPeriodNs", limits.timestampPeriod}}},
         {"memoryHeaps", heaps}};
     std::printf("%s\n", out.dump(2).c_str());
+    return kOk;
+}
+
+/// One JSON line per packet (or undecodable packet, or run of skipped bytes), in stream order;
+/// problems summed up on stderr. Exit 1 when nothing in the file decodes.
+int klvInfo(const std::string& file, const fmv::KlvStream& stream) {
+    std::size_t gap = 0;
+    auto flushGapsBefore = [&](uint64_t offset) {
+        for (; gap < stream.gaps.size() && stream.gaps[gap].offset < offset; ++gap)
+            std::printf("%s\n", nlohmann::json{{"offset", stream.gaps[gap].offset}, {"skipped", stream.gaps[gap].bytes}}.dump().c_str());
+    };
+    for (const fmv::KlvRecord& r : stream.records) {
+        flushGapsBefore(r.offset);
+        if (r.packet) std::printf("%s\n", fmv::st0601JsonLine(*r.packet, r.offset).c_str());
+        else std::printf("%s\n", nlohmann::json{{"offset", r.offset}, {"error", r.error}}.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
+    }
+    flushGapsBefore(UINT64_MAX);
+    const std::size_t decoded = stream.decodedCount(), broken = stream.records.size() - decoded, sums = stream.checksumErrors();
+    uint64_t skipped = 0;
+    for (const auto& g : stream.gaps) skipped += g.bytes;
+    if (decoded == 0) {
+        std::fprintf(stderr, "orbis: %s: none of its %zu ST 0601 packets decodes\n", file.c_str(), broken);
+        return kBadInput;
+    }
+    if (broken || sums || skipped)
+        std::fprintf(stderr, "orbis: %s: %zu packets decoded, %zu with a wrong checksum, %zu undecodable, %llu bytes skipped\n",
+                     file.c_str(), decoded, sums, broken, static_cast<unsigned long long>(skipped));
+    return kOk;
+}
+
+/// A pose CSV: one JSON line per row, its line number and the fields its columns gave.
+int poseCsvInfo(const fmv::PoseCsv& csv) {
+    for (const fmv::PoseSample& s : csv.samples) {
+        auto j = nlohmann::ordered_json::parse(fmv::st0601JsonLine(s.pose, 0));
+        for (const char* k : {"offset", "size", "checksum", "warnings"}) j.erase(k);
+        nlohmann::ordered_json row{{"line", s.line}};
+        row.update(j);
+        std::printf("%s\n", row.dump().c_str());
+    }
     return kOk;
 }
 
@@ -125,6 +170,27 @@ int infoCommand(const std::vector<std::string>& argv) {
         std::fprintf(stderr, "orbis: %s\n", cloud.message().c_str());
         return kBadInput;
     }
+    // MISB ST 0601 KLV streams (.bin/.klv or the key at the start). A .bin without the key
+    // anywhere may be something else (an ENVI raster): the other readers get their turn.
+    std::string klvProblem;
+    if (fmv::looksLikeKlv(file)) {
+        auto stream = fmv::readKlvFile(file);
+        if (stream) return klvInfo(file, *stream);
+        std::string lowerExt = ext;
+        for (char& c : lowerExt) c = char(std::tolower(static_cast<unsigned char>(c)));
+        if (lowerExt != ".bin") {
+            std::fprintf(stderr, "orbis: %s\n", stream.message().c_str());
+            return kBadInput;
+        }
+        klvProblem = stream.message();
+    }
+    // Pose CSV sidecars of FMV (a header that names time, latitude, longitude and altitude).
+    if ((ext == ".csv" || ext == ".CSV") && fmv::looksLikePoseCsv(file)) {
+        auto csv = fmv::readPoseCsv(file);
+        if (csv) return poseCsvInfo(*csv);
+        std::fprintf(stderr, "orbis: %s\n", csv.message().c_str());
+        return kBadInput;
+    }
     // Files with variables of three or more dimensions (netCDF, HDF5, Zarr): the volume reader.
     if (layers::looksLikeVolumeFile(file)) {
         auto volume = layers::describeVolumeJson(file);
@@ -141,8 +207,11 @@ int infoCommand(const std::vector<std::string>& argv) {
         std::printf("%s\n", raster->c_str());
         return kOk;
     }
+    if (!klvProblem.empty()) std::fprintf(stderr, "orbis: %s\n", klvProblem.c_str());
     std::fprintf(stderr, "orbis: %s\n", raster.message().c_str());
-    std::fprintf(stderr, "orbis: %s: no reader for this file (readers: scene .json, LAS point clouds, netCDF volumes, rasters GDAL opens)\n",
+    std::fprintf(stderr,
+                 "orbis: %s: no reader for this file (readers: scene .json, LAS point clouds, netCDF volumes, rasters GDAL opens, "
+                 "ST 0601 KLV .bin/.klv, pose .csv)\n",
                  file.c_str());
     return kBadInput;
 }
