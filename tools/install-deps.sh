@@ -13,6 +13,8 @@ packages=(
   libglfw3-dev xvfb xauth libstb-dev
   # maths, geodesy, data, scene files
   libglm-dev libgeographiclib-dev libgdal-dev gdal-bin nlohmann-json3-dev
+  # full-motion video: MPEG-TS demuxing (KLV), H.264 decoding and encoding (fixtures), RGBA
+  libavformat-dev libavcodec-dev libavutil-dev libswscale-dev
   # tests
   libgtest-dev
 )

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <sys/wait.h>
 
@@ -359,6 +360,51 @@ TEST(Cli, InfoOnBrokenKlvExitsOneAndReadsPoseCsv) {
     const CliRun bp = run("info " + badPose.string());
     EXPECT_EQ(bp.exitCode, 1) << bp.output;
     EXPECT_NE(bp.output.find("badpose.csv: line 2, column 2 (lat): 'north' is not a number"), std::string::npos) << bp.output;
+}
+
+}  // namespace
+}  // namespace orbis::test
+
+namespace orbis::test {
+namespace {
+
+// The FMV fixture: orbis-make-fmv writes the synthetic flight's DEM, MPEG-TS and pose CSV;
+// `orbis info` describes the video stream and prints each KLV packet with its time.
+TEST(Cli, InfoDescribesAVideoAndItsKlvPackets) {
+    const fs::path dir = fs::temp_directory_path() / "orbis-cli-test" / "fmv";
+    fs::remove_all(dir);
+    const std::string make = std::string(ORBIS_MAKE_FMV) + " " + dir.string() + " --frames 15 --size 320x240 --csv > /dev/null 2>&1";
+    ASSERT_EQ(std::system(make.c_str()), 0);
+    for (const char* f : {"flight.ts", "flight-dem.tif", "flight.csv"}) EXPECT_TRUE(fs::exists(dir / f)) << f;
+    const CliRun r = run("info " + (dir / "flight.ts").string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    std::istringstream lines(r.output);
+    std::string line;
+    ASSERT_TRUE(std::getline(lines, line));
+    const auto video = nlohmann::json::parse(line)["video"];
+    EXPECT_EQ(video["codec"], "h264");
+    EXPECT_EQ(video["width"], 320);
+    EXPECT_EQ(video["frames"], 15);
+    EXPECT_EQ(video["klvPackets"], 15);
+    int packets = 0;
+    while (std::getline(lines, line)) {
+        const auto p = nlohmann::json::parse(line);
+        EXPECT_NEAR(p["time"].get<double>(), 0.1 * packets, 1e-6);
+        EXPECT_EQ(p["checksum"]["verdict"], "valid");
+        EXPECT_EQ(p["missionId"], "ORBIS SYNTHETIC");
+        EXPECT_NEAR(p["horizontalFovDeg"].get<double>(), 24.0, 0.01);
+        ++packets;
+    }
+    EXPECT_EQ(packets, 15);
+    // The CSV sidecar of the same poses reads as a pose CSV.
+    const CliRun csv = run("info " + (dir / "flight.csv").string());
+    EXPECT_EQ(csv.exitCode, 0) << csv.output;
+    // Not a video behind a .ts name; a generator usage error.
+    const fs::path bad = tempFile("bad.ts", "not a transport stream at all");
+    const CliRun b = run("info " + bad.string());
+    EXPECT_EQ(b.exitCode, 1);
+    EXPECT_NE(b.output.find("bad.ts"), std::string::npos) << b.output;
+    EXPECT_EQ(std::system((std::string(ORBIS_MAKE_FMV) + " " + dir.string() + " --frames none > /dev/null 2>&1").c_str()) >> 8, 2);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include "globe/RasterSource.h"
 #include "layers/fmv/KlvFile.h"
 #include "layers/fmv/PoseCsv.h"
+#include "layers/fmv/VideoFile.h"
 #include "layers/points/PointCloud.h"
 #include "layers/volume/VolumeReader.h"
 
@@ -28,7 +29,8 @@ const char* kHelp =
     "1.0-1.4: header, VLRs, CRS, bounds on the globe, first points), volumes (netCDF and other\n"
     "multidimensional files: variables, dimensions, ranges), rasters (GDAL), and FMV metadata:\n"
     "raw MISB ST 0601 KLV streams (.bin, .klv, or a file that starts with the ST 0601 key) and pose\n"
-    "CSV sidecars (.csv), printed as JSON lines, one per packet or row.\n";
+    "CSV sidecars (.csv), printed as JSON lines, one per packet or row; videos (.ts, .mpg, .mp4, ...):\n"
+    "a line on the video stream, then one per ST 0601 packet of its KLV stream with its time.\n";
 
 std::string version(uint32_t v) {
     return std::to_string(VK_API_VERSION_MAJOR(v)) + "." + std::to_string(VK_API_VERSION_MINOR(v)) + "." +
@@ -101,6 +103,57 @@ int klvInfo(const std::string& file, const fmv::KlvStream& stream) {
     if (broken || sums || skipped)
         std::fprintf(stderr, "orbis: %s: %zu packets decoded, %zu with a wrong checksum, %zu undecodable, %llu bytes skipped\n",
                      file.c_str(), decoded, sums, broken, static_cast<unsigned long long>(skipped));
+    return kOk;
+}
+
+bool looksLikeVideo(const std::string& ext) {
+    for (const char* e : {".ts", ".m2ts", ".mts", ".mpg", ".mpeg", ".mp4", ".mov", ".mkv", ".avi"})
+        if (ext == e) return true;
+    return false;
+}
+
+/// A video: one JSON line on its video stream, then one per ST 0601 packet of its KLV stream
+/// (the packet's time on the video's clock first).
+int videoInfo(const std::string& file) {
+    auto opened = fmv::VideoFile::open(file);
+    if (!opened) {
+        std::fprintf(stderr, "orbis: %s\n", opened.message().c_str());
+        return kBadInput;
+    }
+    const fmv::VideoFile& video = **opened;
+    const fmv::VideoInfo& info = video.info();
+    std::printf("%s\n", nlohmann::ordered_json{{"video",
+                                               {{"codec", info.codec},
+                                                {"width", info.width},
+                                                {"height", info.height},
+                                                {"frames", video.frameCount()},
+                                                {"frameRate", info.frameRate},
+                                                {"duration", info.duration},
+                                                {"klvPackets", video.klv().size()}}}}
+                             .dump()
+                             .c_str());
+    size_t decoded = 0, broken = 0, sums = 0;
+    for (size_t k = 0; k < video.klv().size(); ++k) {
+        const fmv::TimedKlv& packet = video.klv()[k];
+        const fmv::KlvStream stream = fmv::decodeKlvStream(packet.bytes);
+        for (const fmv::KlvRecord& r : stream.records) {
+            nlohmann::ordered_json line{{"time", packet.time}, {"packet", k}};
+            if (r.packet) {
+                line.update(nlohmann::ordered_json::parse(fmv::st0601JsonLine(*r.packet, r.offset)));
+                ++decoded;
+                sums += r.packet->checksum == fmv::ChecksumVerdict::Mismatch;
+            } else {
+                line["offset"] = r.offset;
+                line["error"] = r.error;
+                ++broken;
+            }
+            std::printf("%s\n", line.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
+        }
+    }
+    if (!info.hasKlv) std::fprintf(stderr, "orbis: %s: no KLV metadata stream\n", file.c_str());
+    else if (broken || sums)
+        std::fprintf(stderr, "orbis: %s: %zu ST 0601 packets decoded, %zu with a wrong checksum, %zu undecodable\n", file.c_str(),
+                     decoded, sums, broken);
     return kOk;
 }
 
@@ -184,6 +237,7 @@ int infoCommand(const std::vector<std::string>& argv) {
         }
         klvProblem = stream.message();
     }
+    if (looksLikeVideo(ext)) return videoInfo(file);
     // Pose CSV sidecars of FMV (a header that names time, latitude, longitude and altitude).
     if ((ext == ".csv" || ext == ".CSV") && fmv::looksLikePoseCsv(file)) {
         auto csv = fmv::readPoseCsv(file);

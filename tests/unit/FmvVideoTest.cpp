@@ -1,0 +1,190 @@
+// FMV video through FFmpeg: an MPEG-TS with H.264 frames and a KLV stream written by
+// VideoWriter, read back by VideoFile (frame index, exact random access, KLV packets and their
+// times), and the clear errors for a video without KLV, KLV without video and files that are
+// not videos.
+#include "layers/fmv/VideoFile.h"
+#include "layers/fmv/VideoWriter.h"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+namespace orbis::fmv {
+namespace {
+
+constexpr int kW = 160, kH = 96;
+
+std::filesystem::path dir() {
+    const auto d = std::filesystem::temp_directory_path() / ("orbis-fmv-video-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(d);
+    return d;
+}
+
+// Frame n: a checkerboard, with n in binary as 8 blocks of 16 x 16 along the top row (white 1,
+// black 0), big enough to survive the compression.
+std::vector<uint8_t> frameImage(int n) {
+    std::vector<uint8_t> rgba(size_t(kW) * kH * 4);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            uint8_t* p = &rgba[(size_t(y) * kW + x) * 4];
+            uint8_t v = ((x / 20 + y / 20) % 2) ? 170 : 90;
+            if (y < 16 && x < 8 * 16) v = (n >> (x / 16)) & 1 ? 255 : 0;
+            p[0] = p[1] = p[2] = v;
+            p[3] = 255;
+        }
+    return rgba;
+}
+
+int frameNumber(const VideoFrame& f) {
+    int n = 0;
+    for (int bit = 0; bit < 8; ++bit) {
+        const uint8_t v = f.rgba[(size_t(8) * f.width + bit * 16 + 8) * 4];
+        if (v > 128) n |= 1 << bit;
+    }
+    return n;
+}
+
+std::vector<uint8_t> klvBytes(int n) {
+    std::vector<uint8_t> b(24);
+    for (size_t i = 0; i < b.size(); ++i) b[i] = uint8_t(n * 3 + int(i));
+    return b;
+}
+
+std::string writeVideo(const std::string& name, int frames, VideoWriteOptions o = {}) {
+    o.width = kW;
+    o.height = kH;
+    const std::string path = (dir() / name).string();
+    auto w = VideoWriter::create(path, o);
+    EXPECT_TRUE(w.ok()) << w.message();
+    if (!w) return path;
+    for (int i = 0; i < frames; ++i) {
+        if (o.withKlv) {
+            EXPECT_TRUE((*w)->writeKlv(double(i) / o.fps, klvBytes(i)).ok());
+        }
+        if (o.withVideo) {
+            EXPECT_TRUE((*w)->writeFrame(frameImage(i)).ok());
+        }
+    }
+    auto closed = (*w)->close();
+    EXPECT_TRUE(closed.ok()) << closed.message();
+    return path;
+}
+
+TEST(FmvVideo, FramesAndKlvComeBackWithTheirTimes) {
+    for (bool synchronous : {true, false}) {
+        SCOPED_TRACE(synchronous ? "synchronous KLV" : "asynchronous KLV");
+        VideoWriteOptions o;
+        o.fps = 10;
+        o.gop = 10;
+        o.klvSynchronous = synchronous;
+        const std::string path = writeVideo(synchronous ? "sync.ts" : "async.ts", 35, o);
+        auto v = VideoFile::open(path);
+        ASSERT_TRUE(v.ok()) << v.message();
+        VideoFile& video = **v;
+        EXPECT_EQ(video.info().width, kW);
+        EXPECT_EQ(video.info().height, kH);
+        EXPECT_EQ(video.info().codec, "h264");
+        EXPECT_NEAR(video.info().frameRate, 10.0, 1e-6);
+        EXPECT_NEAR(video.info().duration, 3.5, 1e-6);
+        ASSERT_EQ(video.frameCount(), 35u);
+        for (size_t i = 0; i < 35; ++i) EXPECT_NEAR(video.frameTimes()[i], 0.1 * double(i), 1e-6);
+        EXPECT_TRUE(video.info().hasKlv);
+        ASSERT_EQ(video.klv().size(), 35u);
+        for (size_t i = 0; i < 35; ++i) {
+            EXPECT_NEAR(video.klv()[i].time, 0.1 * double(i), 1e-4);
+            EXPECT_EQ(video.klv()[i].bytes, klvBytes(int(i))) << "packet " << i;
+        }
+        EXPECT_EQ(video.frameAt(-1.0), 0u);
+        EXPECT_EQ(video.frameAt(0.0), 0u);
+        EXPECT_EQ(video.frameAt(1.25), 12u);
+        EXPECT_EQ(video.frameAt(1e9), 34u);
+    }
+}
+
+TEST(FmvVideo, EveryFrameDecodesExactlyInAnyOrder) {
+    VideoWriteOptions o;
+    o.fps = 10;
+    o.gop = 8;
+    const std::string path = writeVideo("random-access.ts", 40, o);
+    auto v = VideoFile::open(path);
+    ASSERT_TRUE(v.ok()) << v.message();
+    VideoFile& video = **v;
+    // Playback: one seek to start, then each frame decodes once.
+    for (size_t i = 0; i < 40; ++i) {
+        auto f = video.decode(i);
+        ASSERT_TRUE(f.ok()) << f.message();
+        EXPECT_EQ(frameNumber(*f), int(i));
+        EXPECT_EQ(f->width, kW);
+        EXPECT_NEAR(f->time, 0.1 * double(i), 1e-6);
+    }
+    EXPECT_EQ(video.seeks(), 1u);
+    EXPECT_EQ(video.framesDecoded(), 40u);
+    // Scrubbing: any order, each frame exact, decoding from the key frame at or before it.
+    std::mt19937 rng(7);
+    std::vector<size_t> order(40);
+    for (size_t i = 0; i < 40; ++i) order[i] = i;
+    std::shuffle(order.begin(), order.end(), rng);
+    const uint64_t before = video.framesDecoded();
+    for (size_t i : order) {
+        auto f = video.decode(i);
+        ASSERT_TRUE(f.ok()) << f.message();
+        EXPECT_EQ(frameNumber(*f), int(i)) << "asked for frame " << i;
+    }
+    EXPECT_LE(video.framesDecoded() - before, 40u * 8u);   // never more than a GOP a frame
+    EXPECT_FALSE(video.decode(40).ok());
+}
+
+TEST(FmvVideo, VideoWithoutKlvAndKlvWithoutVideo) {
+    VideoWriteOptions noKlv;
+    noKlv.withKlv = false;
+    auto plain = VideoFile::open(writeVideo("plain.ts", 5, noKlv));
+    ASSERT_TRUE(plain.ok()) << plain.message();
+    EXPECT_FALSE((*plain)->info().hasKlv);
+    EXPECT_TRUE((*plain)->klv().empty());
+
+    VideoWriteOptions noVideo;
+    noVideo.withVideo = false;
+    const std::string path = writeVideo("klv-only.ts", 5, noVideo);
+    auto klvOnly = VideoFile::open(path);
+    ASSERT_FALSE(klvOnly.ok());
+    EXPECT_NE(klvOnly.message().find(path), std::string::npos) << klvOnly.message();
+    EXPECT_NE(klvOnly.message().find("KLV metadata but no video stream"), std::string::npos) << klvOnly.message();
+}
+
+TEST(FmvVideo, FilesThatAreNotVideosGiveClearErrors) {
+    const auto write = [](const std::string& name, const std::vector<uint8_t>& bytes) {
+        const std::string p = (dir() / name).string();
+        std::ofstream(p, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+        return p;
+    };
+    std::mt19937 rng(3);
+    std::vector<uint8_t> noise(20000);
+    for (auto& b : noise) b = uint8_t(rng());
+    for (const std::string& p : {write("empty.ts", {}), write("noise.ts", noise), (dir() / "missing.ts").string()}) {
+        auto v = VideoFile::open(p);
+        ASSERT_FALSE(v.ok()) << p;
+        EXPECT_EQ(v.message().rfind(p, 0), 0u) << v.message();
+    }
+    // A truncated video: what is there is indexed and decodes; nothing crashes.
+    const std::string whole = writeVideo("whole.ts", 20);
+    std::ifstream in(whole, std::ios::binary);
+    std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    bytes.resize(bytes.size() / 2);
+    auto half = VideoFile::open(write("half.ts", bytes));
+    if (half.ok()) {
+        EXPECT_LT((*half)->frameCount(), 20u);
+        for (size_t i = 0; i < (*half)->frameCount(); ++i) (void)(*half)->decode(i);
+    }
+    // Writer argument checks.
+    VideoWriteOptions odd;
+    odd.width = 15;
+    EXPECT_FALSE(VideoWriter::create((dir() / "odd.ts").string(), odd).ok());
+}
+
+}  // namespace
+}  // namespace orbis::fmv
