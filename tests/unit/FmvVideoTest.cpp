@@ -1,7 +1,12 @@
 // FMV video through FFmpeg: an MPEG-TS with H.264 frames and a KLV stream written by
 // VideoWriter, read back by VideoFile (frame index, exact random access, KLV packets and their
 // times), and the clear errors for a video without KLV, KLV without video and files that are
-// not videos.
+// not videos; the synthetic flight's poses over time (FmvTimeline) and decoding ahead
+// (FramePrefetcher).
+#include "layers/fmv/FmvTimeline.h"
+#include "layers/fmv/FramePrefetcher.h"
+#include "layers/fmv/St0601Encode.h"
+#include "layers/fmv/SyntheticFlight.h"
 #include "layers/fmv/VideoFile.h"
 #include "layers/fmv/VideoWriter.h"
 
@@ -13,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <thread>
 
 namespace orbis::fmv {
 namespace {
@@ -184,6 +190,103 @@ TEST(FmvVideo, FilesThatAreNotVideosGiveClearErrors) {
     VideoWriteOptions odd;
     odd.width = 15;
     EXPECT_FALSE(VideoWriter::create((dir() / "odd.ts").string(), odd).ok());
+}
+
+}  // namespace
+}  // namespace orbis::fmv
+
+// ---------------------------------------------------------------------------------------------
+// The synthetic flight's video: poses over time from its KLV, and frames decoded ahead.
+namespace orbis::fmv {
+namespace {
+
+std::string writeFlight(const std::string& name, int frames) {
+    VideoWriteOptions o;
+    o.width = kW;
+    o.height = kH;
+    o.fps = 10;
+    const std::string path = (dir() / name).string();
+    auto w = VideoWriter::create(path, o);
+    EXPECT_TRUE(w.ok()) << w.message();
+    for (int i = 0; i < frames; ++i) {
+        EXPECT_TRUE((*w)->writeKlv(i / 10.0, encodeSt0601(SyntheticFlight::packet(i / 10.0))).ok());
+        EXPECT_TRUE((*w)->writeFrame(frameImage(i)).ok());
+    }
+    EXPECT_TRUE((*w)->close().ok());
+    return path;
+}
+
+TEST(FmvTimeline, PosesOfTheFlightFromItsKlv) {
+    auto video = VideoFile::open(writeFlight("flight.ts", 20));
+    ASSERT_TRUE(video.ok()) << video.message();
+    auto timeline = FmvTimeline::fromKlv((*video)->klv(), "flight.ts");
+    ASSERT_TRUE(timeline.ok()) << timeline.message();
+    EXPECT_EQ(timeline->poses().size(), 20u);
+    EXPECT_EQ(timeline->checksumRejected(), 0u);
+    ASSERT_TRUE(timeline->videoStartUtc());
+    EXPECT_NEAR(*timeline->videoStartUtc(), double(SyntheticFlight::kStartUs) * 1e-6, 1e-4);
+    // Between packets: the flight's own pose, to within ST 0601's steps and the interpolation.
+    for (double t : {0.0, 0.05, 0.73, 1.9, 5.0}) {
+        const SensorPose got = timeline->poseAt(t), want = SyntheticFlight::pose(std::min(t, 1.9));
+        const glm::dvec3 a = SensorCamera(got).position(), b = SensorCamera(want).position();
+        EXPECT_LT(glm::length(a - b), 0.5) << "t = " << t;
+        EXPECT_NEAR(got.platformHeadingDeg, want.platformHeadingDeg, 0.01) << "t = " << t;
+        EXPECT_NEAR(got.sensorAzimuthDeg, want.sensorAzimuthDeg, 0.01) << "t = " << t;
+        EXPECT_NEAR(got.sensorElevationDeg, want.sensorElevationDeg, 0.01) << "t = " << t;
+    }
+    // A packet with a wrong checksum is left out and counted; nothing usable is an error.
+    std::vector<TimedKlv> packets = (*video)->klv();
+    packets[3].bytes[20] ^= 0x40;
+    auto damaged = FmvTimeline::fromKlv(packets, "damaged.ts");
+    ASSERT_TRUE(damaged.ok()) << damaged.message();
+    EXPECT_EQ(damaged->checksumRejected(), 1u);
+    EXPECT_EQ(damaged->poses().size(), 19u);
+    std::vector<TimedKlv> junk{{0.0, std::vector<uint8_t>(40, 0x55)}};
+    auto none = FmvTimeline::fromKlv(junk, "junk.ts");
+    ASSERT_FALSE(none.ok());
+    EXPECT_NE(none.message().find("junk.ts: no usable KLV packet"), std::string::npos) << none.message();
+    St0601Packet noFov;
+    noFov.sensorLatitudeDeg = 1.0;
+    noFov.sensorLongitudeDeg = 2.0;
+    noFov.sensorEllipsoidHeight = 100.0;
+    auto incomplete = FmvTimeline::fromPackets({{0.0, noFov}}, "poses.csv");
+    ASSERT_FALSE(incomplete.ok());
+    EXPECT_NE(incomplete.message().find("field of view"), std::string::npos) << incomplete.message();
+}
+
+TEST(FmvTimeline, InterpolationTakesTheShortWayRound) {
+    SensorPose a, b;
+    a.lonDeg = 179.9, b.lonDeg = -179.9;
+    a.platformHeadingDeg = 350.0, b.platformHeadingDeg = 10.0;
+    a.sensorAzimuthDeg = 5.0, b.sensorAzimuthDeg = 355.0;
+    const SensorPose m = interpolate(a, b, 0.5);
+    EXPECT_NEAR(std::abs(m.lonDeg), 180.0, 1e-9);
+    EXPECT_NEAR(std::fmod(m.platformHeadingDeg, 360.0), 0.0, 1e-9);
+    EXPECT_NEAR(std::fmod(m.sensorAzimuthDeg, 360.0), 0.0, 1e-9);
+    const SensorPose q = interpolate(a, b, 0.25);
+    EXPECT_NEAR(q.lonDeg, 179.95, 1e-9);
+    EXPECT_NEAR(q.platformHeadingDeg, 355.0, 1e-9);
+}
+
+TEST(FramePrefetcher, DecodesAheadAndFollowsJumps) {
+    auto video = VideoFile::open(writeVideo("prefetch.ts", 40));
+    ASSERT_TRUE(video.ok()) << video.message();
+    jobs::ThreadPool pool(1, "test-decode");
+    FramePrefetcher frames(std::shared_ptr<VideoFile>(std::move(*video)), pool, 4);
+    const auto show = [&](size_t index, bool backward = false) {
+        for (int tries = 0; tries < 2000; ++tries) {
+            if (const VideoFrame* f = frames.request(index, backward)) return frameNumber(*f);
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+        return -1;
+    };
+    for (size_t i = 0; i < 12; ++i) EXPECT_EQ(show(i), int(i));
+    EXPECT_LE(frames.framesQueued(), 5u);
+    EXPECT_EQ(show(31), 31);   // a jump
+    EXPECT_EQ(show(32), 32);
+    for (size_t i = 20; i > 14; --i) EXPECT_EQ(show(i, true), int(i));   // playing backwards
+    EXPECT_EQ(show(1000), 39);   // past the end: the last frame
+    EXPECT_TRUE(frames.error().empty());
 }
 
 }  // namespace
