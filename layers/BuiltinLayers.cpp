@@ -1,5 +1,6 @@
 #include "layers/BuiltinLayers.h"
 
+#include "layers/fmv/FmvLayer.h"
 #include "layers/globe/GlobeLayer.h"
 #include "layers/points/PointsLayer.h"
 #include "layers/terrain/TerrainLayer.h"
@@ -12,6 +13,7 @@ void registerBuiltinLayers(scene::LayerRegistry& registry) {
     registry.add("terrain", "WGS84 quadtree terrain streaming DEMs and imagery through GDAL", &TerrainLayer::create);
     registry.add("volume", "netCDF scalar field in a curved geo-box, ray cast on the GPU", &VolumeLayer::create);
     registry.add("points", "LAS point cloud, splatted by compute shaders with eye-dome lighting", &PointsLayer::create);
+    registry.add("fmv", "full-motion video (MISB ST 0601 KLV) draped on the terrain from its sensor", &FmvLayer::create);
 }
 
 }  // namespace orbis::layers

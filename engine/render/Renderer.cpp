@@ -226,6 +226,9 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw) {
     ctx.height = target_->height();
     ctx.frameNumber = frame.number;
     ctx.cameraHeight = height;
+    ctx.groundHeight = [&scene](double lon, double lat) { return scene.heightAt(lon, lat); };
+    for (auto& r : scene.resources())
+        if (r.visible && r.layer->prepared()) ctx.groundVersion += r.layer->groundVersion();
     for (auto& r : scene.resources())
         if (r.visible) r.layer->update(ctx);
     writeFrameUniforms(frame.slot, scene, ctx);

@@ -47,6 +47,11 @@ struct FrameContext {
     uint32_t width = 0, height = 0;
     uint64_t frameNumber = 0;
     double cameraHeight = 0.0;   ///< above the ellipsoid, metres
+    /// The ground's height above the ellipsoid where a visible layer knows it (the terrain's
+    /// loaded data), else nothing: Scene::heightAt.
+    std::function<std::optional<double>(double lonDeg, double latDeg)> groundHeight;
+    /// Changes whenever groundHeight's answers may have (Layer::groundVersion, summed).
+    uint64_t groundVersion = 0;
     double aspect() const { return height ? double(width) / double(height) : 1.0; }
 };
 
@@ -101,6 +106,9 @@ public:
     /// Height of the ground (metres above the ellipsoid, as drawn) at a point, for layers that
     /// are ground (terrain); nothing where the layer knows no height. Main thread only.
     virtual std::optional<double> groundHeightAt(double /*lonDeg*/, double /*latDeg*/) const { return std::nullopt; }
+    /// Changes whenever groundHeightAt's answers may have changed (tiles loaded or evicted):
+    /// layers that sample the ground (FMV's heightfield) resample only then.
+    virtual uint64_t groundVersion() const { return 0; }
     /// Distance from `eye` (ECEF) to the nearest content the layer draws (its bounds, 0 when the
     /// eye is inside them), so that the near plane never cuts content floating above the
     /// ground (a point cloud seen from 2 m at 8 000 m). Nothing for layers that are ground

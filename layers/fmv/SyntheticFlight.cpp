@@ -28,7 +28,7 @@ globe::Geodetic fromLocal(double east, double north, double height) {
 
 double SyntheticFlight::height(double lonDeg, double latDeg) {
     const glm::dvec2 xy = local(lonDeg, latDeg);
-    const double ridge = 220.0 * std::exp(-0.5 * std::pow((xy.x - 900.0) / 120.0, 2.0));
+    const double ridge = 500.0 * std::exp(-0.5 * std::pow((xy.x - 900.0) / 80.0, 2.0));
     return 600.0 + 80.0 * std::sin(xy.x / 400.0) * std::cos(xy.y / 300.0) + ridge;
 }
 
@@ -36,7 +36,7 @@ TerrainHeights SyntheticFlight::terrain() {
     TerrainHeights t;
     t.at = &SyntheticFlight::height;
     t.minHeight = 600.0 - 80.0;
-    t.maxHeight = 600.0 + 80.0 + 220.0;
+    t.maxHeight = 600.0 + 80.0 + 500.0;
     return t;
 }
 

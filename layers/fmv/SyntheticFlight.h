@@ -4,14 +4,16 @@
 // corner of every frame must land. CPU only.
 //
 // Terrain (heights above the WGS84 ellipsoid, metres), over lon 9.00..9.06, lat 46.00..46.04:
-//   h = 600 + 80 sin(x / 400) cos(y / 300) + a ridge 220 m high (a Gaussian 120 m wide along
-//       north-south, 900 m east of the target)
+//   h = 600 + 80 sin(x / 400) cos(y / 300) + a ridge 500 m high (a Gaussian of sigma 80 m across,
+//       running north-south 900 m east of the target)
 // with x, y metres east and north of the target (lon 9.03, lat 46.02).
 //
 // Flight: a circle of radius 1800 m around the target at 1500 m above the ellipsoid,
-// counter-clockwise seen from above, one lap in 240 s, starting due west of the target
-// (heading north-west... the tangent); pitch 2 degrees nose up, roll 0. The sensor points at the
-// target; field of view 24 x 18 degrees; its relative roll 0.
+// counter-clockwise seen from above, one lap in 240 s, starting due west of the target (flying
+// south); pitch 2 degrees nose up, roll 0. The sensor points at the target; field of view
+// 24 x 18 degrees; its relative roll 0. From about 90 s to 150 s the platform is east of the
+// target and the ridge hides the target from it (every ray of the view ends on the ridge's
+// east face): the occlusion case.
 
 #include "layers/fmv/SensorModel.h"
 #include "layers/fmv/St0601.h"

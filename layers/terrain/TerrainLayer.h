@@ -98,6 +98,8 @@ public:
     /// loaded data; nothing when nothing is loaded there.
     std::optional<double> heightAt(double lonDeg, double latDeg) const;
     std::optional<double> groundHeightAt(double lonDeg, double latDeg) const override { return heightAt(lonDeg, latDeg); }
+    /// Tiles loaded or evicted so far (elevation and imagery alike).
+    uint64_t groundVersion() const override { return model_ ? model_->stats().completed + model_->stats().evicted : 0; }
     /// Problems met while opening sources and loading tiles.
     const std::vector<std::string>& errors() const { return errors_; }
 

@@ -1,0 +1,490 @@
+#include "layers/fmv/FmvLayer.h"
+
+#include "engine/core/Color.h"
+#include "engine/core/Log.h"
+#include "engine/gpu/Barriers.h"
+#include "engine/gpu/Device.h"
+#include "engine/gpu/Uploader.h"
+#include "engine/gpu/VkCheck.h"
+#include "engine/jobs/ThreadPool.h"
+#include "globe/Ellipsoid.h"
+#include "shared/FmvTypes.h"
+#include "spv/fmv/composite.frag.h"
+#include "spv/fmv/composite.vert.h"
+#include "spv/fmv/drape.comp.h"
+#include "spv/fmv/footprint.comp.h"
+#include "spv/fmv/lines.frag.h"
+#include "spv/fmv/lines.vert.h"
+#include "spv/fmv/sensordepth.frag.h"
+#include "spv/fmv/sensordepth.vert.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace orbis::layers {
+namespace {
+
+constexpr uint32_t kBindings = 8;
+constexpr double kMapFovPad = 1.05;        // the distance map sees a little more than the video
+constexpr double kMaxHalfSize = 30000.0;   // the heightfield covers at most 60 km a side
+constexpr double kSensorNear = 1.0;        // metres: the distance map's near plane
+
+struct DistancePush {
+    glm::mat4 sensorClip;
+    glm::vec4 sensor, axisX;
+};
+
+const globe::Ellipsoid& wgs84() { return globe::Ellipsoid::wgs84(); }
+
+}  // namespace
+
+FmvLayer::FmvLayer(std::shared_ptr<fmv::VideoFile> video, fmv::FmvTimeline timeline, FmvSettings settings)
+    : video_(std::move(video)), timeline_(std::move(timeline)), settings_(settings), startUtc_(settings.startUtc.value_or(0.0)) {}
+
+FmvLayer::~FmvLayer() = default;
+
+// ---------------------------------------------------------------------------------------------
+// GPU objects
+void FmvLayer::prepare(const scene::RenderServices& services) {
+    services_ = services;
+    gpu::Device& device = *services.device;
+    VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    si.magFilter = si.minFilter = VK_FILTER_LINEAR;
+    si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    VkSampler sampler = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateSampler(device.vk(), &si, nullptr, &sampler));
+    linearSampler_ = gpu::Sampler(device, sampler);
+    si.magFilter = si.minFilter = VK_FILTER_NEAREST;
+    VK_CHECK(vkCreateSampler(device.vk(), &si, nullptr, &sampler));
+    nearestSampler_ = gpu::Sampler(device, sampler);
+
+    const VkShaderStageFlags all = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+    const VkDescriptorSetLayoutBinding bindings[kBindings] = {
+        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, all, nullptr},
+        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {5, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT, nullptr},
+    };
+    const uint32_t frames = services.framesInFlight;
+    descriptors_ = gpu::createDescriptorSets(device, bindings, frames);
+    setVersion_.assign(frames, 0);
+    for (uint32_t f = 0; f < frames; ++f)
+        uniforms_.emplace_back(device, sizeof(shader::FmvUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::Upload,
+                               "fmv uniforms");
+    const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(DistancePush)};
+    const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, descriptors_.layout.vk()};
+    layout_ = gpu::createPipelineLayout(device, setLayouts, {&push, 1});
+
+    // Images: the video frame, the heightfield, the distance map (colour: metres; depth).
+    const auto image = [&](VkFormat format, uint32_t w, uint32_t h, VkImageUsageFlags usage, const char* name) {
+        gpu::ImageDesc d;
+        d.format = format;
+        d.extent = {w, h, 1};
+        d.usage = usage;
+        d.name = name;
+        return gpu::Image(device, d);
+    };
+    const VkImageUsageFlags sampledDst = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    frameImage_ = image(VK_FORMAT_R8G8B8A8_SRGB, uint32_t(video_->info().width), uint32_t(video_->info().height), sampledDst,
+                        "fmv video frame");
+    const uint32_t n = uint32_t(settings_.heightfieldSize), m = uint32_t(settings_.distanceMapSize);
+    heightImage_ = image(VK_FORMAT_R32_SFLOAT, n, n, sampledDst, "fmv heightfield");
+    distanceImage_ = image(VK_FORMAT_R32_SFLOAT, m, m, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                           "fmv distance map");
+    distanceDepth_ = image(VK_FORMAT_D32_SFLOAT, m, m, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, "fmv distance map depth");
+
+    // The heightfield's grid: two triangles a cell; positions rewritten with the heights.
+    std::vector<uint32_t> indices;
+    for (uint32_t j = 0; j + 1 < n; ++j)
+        for (uint32_t i = 0; i + 1 < n; ++i) {
+            const uint32_t a = j * n + i, b = a + 1, c = a + n, d = c + 1;
+            indices.insert(indices.end(), {a, c, b, b, c, d});
+        }
+    gridIndexCount_ = uint32_t(indices.size());
+    gridIndices_ = gpu::Buffer(device, indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                               gpu::MemoryUsage::GpuOnly, "fmv grid indices");
+    device.runOnce([&](VkCommandBuffer cmd) {
+        services.uploader->toBuffer(cmd, gridIndices_, indices.data(), indices.size() * sizeof(uint32_t));
+        gpu::bufferBarrier(cmd, gridIndices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT, VK_ACCESS_2_INDEX_READ_BIT);
+    });
+    gridVertices_ = gpu::Buffer(device, size_t(n) * n * sizeof(glm::vec3), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                gpu::MemoryUsage::GpuOnly, "fmv grid vertices");
+    footprintBuffer_ = gpu::Buffer(device, shader::kFmvFootprintRays * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                   gpu::MemoryUsage::Readback, "fmv footprint");
+
+    // Pipelines.
+    drapePipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_fmv_drape_comp, nullptr, "fmv drape");
+    footprintPipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_fmv_footprint_comp, nullptr, "fmv footprint");
+    gpu::GraphicsPipelineDesc dist;
+    dist.vertexSpirv = kSpv_fmv_sensordepth_vert;
+    dist.fragmentSpirv = kSpv_fmv_sensordepth_frag;
+    dist.layout = layout_.vk();
+    dist.bindings = {{0, sizeof(glm::vec3), VK_VERTEX_INPUT_RATE_VERTEX}};
+    dist.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+    dist.cullMode = VK_CULL_MODE_NONE;
+    dist.colorFormat = VK_FORMAT_R32_SFLOAT;
+    dist.depthFormat = VK_FORMAT_D32_SFLOAT;
+    dist.name = "fmv distance map";
+    distancePipeline_ = gpu::createGraphicsPipeline(device, dist);
+    gpu::GraphicsPipelineDesc composite;
+    composite.vertexSpirv = kSpv_fmv_composite_vert;
+    composite.fragmentSpirv = kSpv_fmv_composite_frag;
+    composite.layout = layout_.vk();
+    composite.cullMode = VK_CULL_MODE_NONE;
+    composite.depthTest = composite.depthWrite = false;
+    composite.alphaBlend = true;
+    composite.colorFormat = services.colorFormat;
+    composite.depthFormat = services.depthFormat;
+    composite.name = "fmv composite";
+    compositePipeline_ = gpu::createGraphicsPipeline(device, composite);
+    for (bool frustum : {false, true}) {
+        gpu::Specialization spec;
+        spec.set<VkBool32>(0, frustum ? VK_TRUE : VK_FALSE);
+        gpu::GraphicsPipelineDesc lines;
+        lines.vertexSpirv = kSpv_fmv_lines_vert;
+        lines.fragmentSpirv = kSpv_fmv_lines_frag;
+        lines.layout = layout_.vk();
+        lines.topology = frustum ? VK_PRIMITIVE_TOPOLOGY_LINE_LIST : VK_PRIMITIVE_TOPOLOGY_LINE_STRIP;
+        lines.cullMode = VK_CULL_MODE_NONE;
+        lines.depthWrite = false;
+        lines.colorFormat = services.colorFormat;
+        lines.depthFormat = services.depthFormat;
+        lines.specialization = &spec;
+        lines.name = frustum ? "fmv frustum" : "fmv footprint outline";
+        (frustum ? frustumPipeline_ : outlinePipeline_) = gpu::createGraphicsPipeline(device, lines);
+    }
+    frames_ = std::make_unique<fmv::FramePrefetcher>(video_, services.jobs(), 4);
+    gpuReady_ = true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Each frame: the video frame and pose for the scene's time, and the ground around the view
+void FmvLayer::update(const scene::FrameContext& frame) {
+    pendingFrame_ = nullptr;
+    active_ = false;
+    wantedShown_ = true;
+    if (!gpuReady_ || video_->frameCount() == 0) return;
+    eye_ = frame.camera->position();
+    const double t = toSeconds(frame.time) - startUtc_;
+    if (t < 0.0 || t >= video_->info().duration) return;   // the video is not playing now
+    wantedIndex_ = video_->frameAt(t);
+    pose_ = timeline_.poseAt(t);
+    if (const fmv::VideoFrame* f = frames_->request(wantedIndex_)) {
+        if (!shownIndex_ || *shownIndex_ != f->index) pendingFrame_ = f;
+    }
+    wantedShown_ = (pendingFrame_ && pendingFrame_->index == wantedIndex_) || (shownIndex_ && *shownIndex_ == wantedIndex_);
+    if (!frames_->error().empty()) wantedShown_ = true;   // a damaged video: show what there is, do not wait
+    active_ = shownIndex_.has_value() || pendingFrame_ != nullptr;
+    if (active_) updateHeightfield(frame);
+}
+
+void FmvLayer::updateHeightfield(const scene::FrameContext& frame) {
+    // Where the sensor looks, roughly: its rays on the ellipsoid raised to the ground under it.
+    const fmv::SensorCamera camera(pose_);
+    // Heights not known yet (the terrain still loading there) count as 0 and keep the
+    // heightfield refreshing.
+    bool unknown = false;
+    const auto groundAt = [&](double lon, double lat) {
+        const std::optional<double> h = frame.groundHeight ? frame.groundHeight(lon, lat) : std::optional<double>(0.0);
+        unknown |= !h.has_value();
+        return h.value_or(0.0);
+    };
+    fmv::TerrainHeights flat;
+    const double h0 = groundAt(pose_.lonDeg, pose_.latDeg);
+    flat.at = [h0](double, double) { return h0; };
+    flat.minHeight = flat.maxHeight = h0;
+    const fmv::Footprint f = fmv::footprint(camera, &flat, 1e9);
+    std::vector<glm::dvec3> points{wgs84().toEcef(pose_.lonDeg, pose_.latDeg, h0), f.centre.ecef};
+    for (const auto& c : f.corners) points.push_back(c.ecef);
+    glm::dvec3 mean(0.0);
+    for (const auto& p : points) mean += p;
+    mean /= double(points.size());
+    const globe::Geodetic g = wgs84().toGeodetic(mean);
+    const glm::dmat3 enu = wgs84().enuFrame(g.lonDeg, g.latDeg);
+    const glm::dvec3 origin = wgs84().toEcef(g.lonDeg, g.latDeg, 0.0);
+    double half = 0.0;
+    for (const auto& p : points)
+        half = std::max({half, std::abs(glm::dot(p - origin, enu[0])), std::abs(glm::dot(p - origin, enu[1]))});
+    half = std::min(half * 1.15 + 200.0, kMaxHalfSize);
+    // Rebuild when the view left the heightfield or its scale changed, or the ground's data
+    // changed (tiles loaded or evicted), or parts of it were not known yet.
+    const bool inside = !heights_.empty() && half <= halfSize_ && half > 0.6 * halfSize_ &&
+                        std::abs(glm::dot(origin - origin_, enu_[0])) + half <= halfSize_ * 1.3 &&
+                        std::abs(glm::dot(origin - origin_, enu_[1])) + half <= halfSize_ * 1.3;
+    if (inside && heightsComplete_ && frame.groundVersion == groundVersion_) return;
+    if (!inside) {
+        origin_ = origin;
+        enu_ = enu;
+        halfSize_ = half;
+    }
+    groundVersion_ = frame.groundVersion;
+    const int n = settings_.heightfieldSize;
+    const double cell = 2.0 * halfSize_ / double(n - 1);
+    std::vector<float> heights(size_t(n) * size_t(n));
+    gridPositions_.resize(heights.size());
+    minHeight_ = 1e30;
+    maxHeight_ = -1e30;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const glm::dvec3 onPlane = origin_ + (-halfSize_ + i * cell) * enu_[0] + (halfSize_ - j * cell) * enu_[1];
+            const globe::Geodetic s = wgs84().toGeodetic(onPlane);
+            const double h = groundAt(s.lonDeg, s.latDeg);
+            heights[size_t(j) * size_t(n) + size_t(i)] = float(h);
+            gridPositions_[size_t(j) * size_t(n) + size_t(i)] = glm::vec3(wgs84().toEcef(s.lonDeg, s.latDeg, h) - origin_);
+            minHeight_ = std::min(minHeight_, h);
+            maxHeight_ = std::max(maxHeight_, h);
+        }
+    heightsComplete_ = !unknown;
+    ++heightfieldBuilds_;
+    heights_ = std::move(heights);
+    heightfieldDirty_ = true;
+}
+
+void FmvLayer::recordTransfers(const scene::RecordContext& rc) {
+    if (!active_) return;
+    VkCommandBuffer cmd = rc.cmd;
+    if (pendingFrame_) {
+        rc.uploader->toImage(cmd, frameImage_, pendingFrame_->rgba.data(), pendingFrame_->rgba.size());
+        gpu::transition(cmd, frameImage_, gpu::ImageUse::SampledCompute);
+        shownIndex_ = pendingFrame_->index;
+        pendingFrame_ = nullptr;
+    }
+    if (heightfieldDirty_) {
+        rc.uploader->toImage(cmd, heightImage_, heights_.data(), heights_.size() * sizeof(float));
+        gpu::transition(cmd, heightImage_, gpu::ImageUse::SampledCompute);
+        gpu::bufferBarrier(cmd, gridVertices_, VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT,
+                           VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+        rc.uploader->toBuffer(cmd, gridVertices_, gridPositions_.data(), gridPositions_.size() * sizeof(glm::vec3));
+        gpu::bufferBarrier(cmd, gridVertices_, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
+        heightfieldDirty_ = false;
+    }
+
+    const fmv::SensorCamera camera(pose_);
+    const glm::dmat3 axes = camera.axes();
+    const glm::dvec3 s = camera.position() - origin_;
+    const double tanH = std::tan(glm::radians(std::clamp(pose_.hfovDeg, 1e-3, 179.0)) * 0.5);
+    const double tanV = std::tan(glm::radians(std::clamp(pose_.vfovDeg, 1e-3, 179.0)) * 0.5);
+    const double n = double(settings_.heightfieldSize), cell = 2.0 * halfSize_ / (n - 1.0);
+    shader::FmvUniforms u{};
+    u.originFromEye = glm::vec4(glm::vec3(origin_ - eye_), float(settings_.opacity));
+    u.sensor = glm::vec4(glm::vec3(s), float(0.5 * cell));
+    u.axisX = glm::vec4(glm::vec3(axes[0]), float(tanH));
+    u.axisY = glm::vec4(glm::vec3(axes[1]), float(tanV));
+    u.axisZ = glm::vec4(glm::vec3(axes[2]), float(kMapFovPad));
+    const globe::Geodetic og = wgs84().toGeodetic(origin_);
+    const double lat = glm::radians(og.latDeg), a = wgs84().equatorialRadius(), e2 = wgs84().flattening() * (2.0 - wgs84().flattening());
+    const double w = std::sqrt(1.0 - e2 * std::sin(lat) * std::sin(lat));
+    const double radius = std::sqrt((a / w) * (a * (1.0 - e2) / (w * w * w)));   // Gaussian mean radius at O
+    u.east = glm::vec4(glm::vec3(enu_[0]), float(halfSize_));
+    u.north = glm::vec4(glm::vec3(enu_[1]), float(radius));
+    u.up = glm::vec4(glm::vec3(enu_[2]), float(n));
+    u.heights = glm::vec4(float(minHeight_), float(maxHeight_), float(std::max(0.5 * cell, 1.0)), shownIndex_ ? 1.0f : 0.0f);
+    const glm::dvec3 c = settings_.footprintColor;
+    u.outline = glm::vec4(float(srgbToLinear(c.r)), float(srgbToLinear(c.g)), float(srgbToLinear(c.b)), 0.01f);
+    u.sensorClip = glm::mat4(sensorClip());
+    uniforms_[rc.slot].write(&u, sizeof(u));
+}
+
+glm::dmat4 FmvLayer::sensorClip() const {
+    // Relative to O -> the distance map's clip space: x right, y down (the image's rows),
+    // reversed-Z with an infinite far plane, a field of view kMapFovPad times the video's.
+    const fmv::SensorCamera camera(pose_);
+    const glm::dmat3 axes = camera.axes();
+    const glm::dvec3 s = camera.position() - origin_;
+    const double tanH = std::tan(glm::radians(std::clamp(pose_.hfovDeg, 1e-3, 179.0)) * 0.5);
+    const double tanV = std::tan(glm::radians(std::clamp(pose_.vfovDeg, 1e-3, 179.0)) * 0.5);
+    const glm::dvec3 rowX = axes[1] / (tanH * kMapFovPad), rowY = axes[2] / (tanV * kMapFovPad), rowW = axes[0];
+    glm::dmat4 clip(0.0);
+    for (int c = 0; c < 3; ++c) {
+        clip[c][0] = rowX[c];
+        clip[c][1] = rowY[c];
+        clip[c][3] = rowW[c];
+    }
+    clip[3][0] = -glm::dot(rowX, s);
+    clip[3][1] = -glm::dot(rowY, s);
+    clip[3][2] = kSensorNear;
+    clip[3][3] = -glm::dot(rowW, s);
+    return clip;
+}
+
+void FmvLayer::writeDescriptors(uint32_t slot) {
+    VkDescriptorSet set = descriptors_.sets[slot];
+    const VkDescriptorBufferInfo ubo{uniforms_[slot].vk(), 0, sizeof(shader::FmvUniforms)};
+    const VkDescriptorBufferInfo foot{footprintBuffer_.vk(), 0, VK_WHOLE_SIZE};
+    const VkDescriptorImageInfo images[6] = {
+        {nearestSampler_.vk(), boundDepth_->view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+        {linearSampler_.vk(), frameImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+        {linearSampler_.vk(), distanceImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+        {linearSampler_.vk(), heightImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+        {VK_NULL_HANDLE, decalImage_.view(), VK_IMAGE_LAYOUT_GENERAL},
+        {nearestSampler_.vk(), decalImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+    };
+    VkWriteDescriptorSet w[kBindings] = {};
+    for (uint32_t b = 0; b < kBindings; ++b) {
+        w[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+        w[b].dstSet = set;
+        w[b].dstBinding = b;
+        w[b].descriptorCount = 1;
+        if (b == 0) {
+            w[b].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+            w[b].pBufferInfo = &ubo;
+        } else if (b == 7) {
+            w[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            w[b].pBufferInfo = &foot;
+        } else {
+            w[b].descriptorType = b == 5 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+            w[b].pImageInfo = &images[b - 1];
+        }
+    }
+    vkUpdateDescriptorSets(services_.device->vk(), kBindings, w, 0, nullptr);
+    setVersion_[slot] = imagesVersion_;
+}
+
+void FmvLayer::renderDistanceMap(VkCommandBuffer cmd) {
+    const gpu::ImageTransition targets[] = {{&distanceImage_, gpu::ImageUse::ColorAttachment},
+                                            {&distanceDepth_, gpu::ImageUse::DepthAttachment}};
+    gpu::transition(cmd, targets);
+    const uint32_t m = uint32_t(settings_.distanceMapSize);
+    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    color.imageView = distanceImage_.view();
+    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    color.clearValue.color = {{1e30f, 0.0f, 0.0f, 0.0f}};   // nothing seen: nothing hides
+    VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    depth.imageView = distanceDepth_.view();
+    depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    depth.clearValue.depthStencil = {0.0f, 0};
+    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    info.renderArea = {{0, 0}, {m, m}};
+    info.layerCount = 1;
+    info.colorAttachmentCount = 1;
+    info.pColorAttachments = &color;
+    info.pDepthAttachment = &depth;
+    vkCmdBeginRendering(cmd, &info);
+    const VkViewport viewport{0.0f, 0.0f, float(m), float(m), 0.0f, 1.0f};
+    const VkRect2D scissor{{0, 0}, {m, m}};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, distancePipeline_.vk());
+    const fmv::SensorCamera camera(pose_);
+    DistancePush push;
+    push.sensorClip = glm::mat4(sensorClip());
+    push.sensor = glm::vec4(glm::vec3(camera.position() - origin_), 0.0f);
+    push.axisX = glm::vec4(glm::vec3(camera.axes()[0]), 0.0f);
+    vkCmdPushConstants(cmd, layout_.vk(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof push, &push);
+    const VkDeviceSize offset = 0;
+    VkBuffer vertices = gridVertices_.vk();
+    vkCmdBindVertexBuffers(cmd, 0, 1, &vertices, &offset);
+    vkCmdBindIndexBuffer(cmd, gridIndices_.vk(), 0, VK_INDEX_TYPE_UINT32);
+    vkCmdDrawIndexed(cmd, gridIndexCount_, 1, 0, 0, 0);
+    vkCmdEndRendering(cmd);
+    gpu::transition(cmd, distanceImage_, gpu::ImageUse::SampledCompute);
+}
+
+void FmvLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
+    const scene::FrameContext& frame = *rc.frame;
+    VkCommandBuffer cmd = rc.cmd;
+    if (!decalImage_ || decalImage_.extent().width != frame.width || decalImage_.extent().height != frame.height) {
+        gpu::ImageDesc d;
+        d.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+        d.extent = {frame.width, frame.height, 1};
+        d.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+        d.name = "fmv decal";
+        decalImage_ = gpu::Image(*services_.device, d);
+        ++imagesVersion_;
+    }
+    if (boundDepth_ != rc.sceneDepth) {
+        boundDepth_ = rc.sceneDepth;
+        ++imagesVersion_;
+    }
+    if (setVersion_[rc.slot] != imagesVersion_) writeDescriptors(rc.slot);
+    renderDistanceMap(cmd);
+
+    const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), 0, 2, sets, 0, nullptr);
+    // The footprint: after the last frame's lines read it.
+    gpu::bufferBarrier(cmd, footprintBuffer_, VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, footprintPipeline_.vk());
+    vkCmdDispatch(cmd, (shader::kFmvFootprintRays + shader::kFmvFootprintGroup - 1) / shader::kFmvFootprintGroup, 1, 1);
+    gpu::bufferBarrier(cmd, footprintBuffer_, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
+                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_HOST_READ_BIT);
+    footprintOrigin_ = origin_;
+    footprintValid_ = true;
+    // The drape.
+    gpu::transition(cmd, decalImage_, gpu::ImageUse::StorageCompute);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, drapePipeline_.vk());
+    const uint32_t g = shader::kFmvGroupSize;
+    vkCmdDispatch(cmd, (frame.width + g - 1) / g, (frame.height + g - 1) / g, 1);
+    gpu::transition(cmd, decalImage_, gpu::ImageUse::SampledFragment);
+}
+
+void FmvLayer::record(scene::Pass, const scene::RecordContext& rc) {
+    if (!active_ || !decalImage_ || !boundDepth_) return;
+    VkCommandBuffer cmd = rc.cmd;
+    const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, compositePipeline_.vk());
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    if (settings_.footprint) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, outlinePipeline_.vk());
+        vkCmdDraw(cmd, 4 * shader::kFmvEdgeRays + 1, 1, 0, 0);   // closed: the first point again
+    }
+    if (settings_.frustum) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, frustumPipeline_.vk());
+        vkCmdDraw(cmd, 8, 1, 0, 0);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// State and stats
+bool FmvLayer::busy() const { return gpuReady_ && (!wantedShown_ || (active_ && !heightsComplete_)); }
+
+std::vector<std::pair<glm::dvec3, bool>> FmvLayer::footprint() const {
+    std::vector<std::pair<glm::dvec3, bool>> out;
+    if (!footprintValid_) return out;
+    const_cast<gpu::Buffer&>(footprintBuffer_).invalidate();
+    const auto* p = static_cast<const glm::vec4*>(footprintBuffer_.mapped());
+    for (uint32_t i = 0; i < shader::kFmvFootprintRays; ++i)
+        out.push_back({footprintOrigin_ + glm::dvec3(p[i]), p[i].w > 0.5f});
+    return out;
+}
+
+uint64_t FmvLayer::gpuBytes() const {
+    uint64_t bytes = uint64_t(video_->info().width) * uint64_t(video_->info().height) * 4;
+    const uint64_t n = uint64_t(settings_.heightfieldSize), m = uint64_t(settings_.distanceMapSize);
+    bytes += n * n * (4 + 12) + (n - 1) * (n - 1) * 24 + m * m * 8;
+    if (decalImage_) bytes += uint64_t(decalImage_.extent().width) * decalImage_.extent().height * 8;
+    return bytes;
+}
+
+bool FmvLayer::setParameter(std::string_view name, double value) {
+    if (name == "opacity" && value >= 0.0 && value <= 1.0) settings_.opacity = value;
+    else if (name == "footprint") settings_.footprint = value != 0.0;
+    else if (name == "frustum") settings_.frustum = value != 0.0;
+    else return false;
+    return true;
+}
+
+std::string FmvLayer::status() const {
+    if (!frames_) return {};
+    if (!frames_->error().empty()) return std::string("fmv: ").append(frames_->error());
+    char text[200];
+    if (!active_) return "fmv: the video is not playing at this time";
+    std::snprintf(text, sizeof text, "fmv: frame %zu of %zu, sensor at %.5f, %.5f, %.0f m", shownIndex_.value_or(0),
+                  video_->frameCount(), pose_.latDeg, pose_.lonDeg, pose_.height);
+    return text;
+}
+
+}  // namespace orbis::layers

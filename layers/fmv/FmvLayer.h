@@ -1,0 +1,134 @@
+#pragma once
+// "fmv": full-motion video draped on the terrain from its sensor's pose (MISB ST 0601 KLV).
+//
+//   {"type": "fmv", "name": "UAV", "path": "flight.ts",
+//    "poses": "flight.csv",          -- a pose CSV sidecar, for a video without KLV (or instead of it)
+//    "start": "2026-06-21T09:00:00Z", -- UTC of the video's first frame; default: from the KLV
+//                                       time stamps, else the pose CSV's first row, else the scene's start
+//    "opacity": 0.9, "footprint": true, "frustum": true, "footprintColor": [1, 0.75, 0.1],
+//    "heightfield": 129, "distanceMap": 512}
+//
+// The video is opened, indexed and its poses read when the scene loads (clear errors for a
+// video without KLV and no "poses", KLV without video, a damaged file); the decoder runs on a
+// worker once the layer is shown. Each frame the scene's time picks the video frame (exact:
+// the layer is busy until that frame is on the GPU) and the sensor pose (interpolated between
+// packets). Around what the sensor sees, a heightfield of the scene's ground (the terrain's
+// loaded heights) is sampled on the CPU; on the GPU it is rendered from the sensor into a
+// distance map, the footprint's rays are marched over it (compute), and every pixel of the
+// scene is projected into the sensor: inside its view and not hidden from it (the distance
+// map), it takes the video's colour (compute, then blended over the scene in the FMV pass).
+// The footprint's outline and the frustum's edges are drawn as lines.
+
+#include "engine/gpu/Buffer.h"
+#include "engine/gpu/Descriptors.h"
+#include "engine/gpu/Handle.h"
+#include "engine/gpu/Image.h"
+#include "engine/gpu/Pipeline.h"
+#include "engine/scene/Layer.h"
+#include "engine/scene/SceneDesc.h"
+#include "layers/fmv/FmvTimeline.h"
+#include "layers/fmv/FramePrefetcher.h"
+#include "layers/fmv/SensorModel.h"
+
+#include <glm/glm.hpp>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace orbis::layers {
+
+struct FmvSettings {
+    double opacity = 0.9;
+    bool footprint = true, frustum = true;
+    glm::dvec3 footprintColor{1.0, 0.75, 0.1};   ///< sRGB
+    int heightfieldSize = 129;                   ///< samples a side
+    int distanceMapSize = 512;                   ///< pixels a side
+    std::optional<double> startUtc;              ///< seconds since 1970 of the video's first frame
+};
+
+class FmvLayer final : public scene::Layer {
+public:
+    static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
+    FmvLayer(std::shared_ptr<fmv::VideoFile> video, fmv::FmvTimeline timeline, FmvSettings settings);
+    ~FmvLayer() override;
+
+    std::string_view type() const override { return "fmv"; }
+    void prepare(const scene::RenderServices& services) override;
+    void update(const scene::FrameContext& frame) override;
+    bool drawsIn(scene::Pass pass) const override { return pass == scene::Pass::Fmv; }
+    void recordTransfers(const scene::RecordContext& context) override;
+    bool computesBefore(scene::Pass pass) const override { return pass == scene::Pass::Fmv && active_; }
+    void recordCompute(scene::Pass pass, const scene::RecordContext& context) override;
+    void record(scene::Pass pass, const scene::RecordContext& context) override;
+    uint64_t gpuBytes() const override;
+    uint64_t itemsDrawn() const override { return active_ ? 1 : 0; }
+    bool busy() const override;
+    std::string status() const override;
+    /// Live: "opacity" (0..1), "footprint" and "frustum" (0/1).
+    bool setParameter(std::string_view name, double value) override;
+
+    const fmv::FmvTimeline& timeline() const { return timeline_; }
+    const FmvSettings& settings() const { return settings_; }
+    /// UTC (seconds since 1970) of the video's first frame, as used.
+    double videoStartUtc() const { return startUtc_; }
+    /// The frame shown (its index), once one is.
+    std::optional<size_t> frameShown() const { return shownIndex_; }
+    /// The pose used this frame (when active).
+    const fmv::SensorPose& pose() const { return pose_; }
+    /// The footprint the GPU computed for the last frame shown: ECEF points (4 x kFmvEdgeRays
+    /// border points from corner 1 clockwise, then the centre) and whether each met the ground.
+    /// Read back after the frame completed.
+    std::vector<std::pair<glm::dvec3, bool>> footprint() const;
+    /// Times the heightfield was sampled from the ground (stats, tests).
+    uint64_t heightfieldBuilds() const { return heightfieldBuilds_; }
+
+private:
+    void updateHeightfield(const scene::FrameContext& frame);
+    void writeDescriptors(uint32_t slot);
+    void renderDistanceMap(VkCommandBuffer cmd);
+    glm::dmat4 sensorClip() const;
+
+    std::shared_ptr<fmv::VideoFile> video_;
+    fmv::FmvTimeline timeline_;
+    FmvSettings settings_;
+    double startUtc_ = 0.0;
+    scene::RenderServices services_;
+    std::unique_ptr<fmv::FramePrefetcher> frames_;
+
+    // This frame.
+    bool active_ = false;          // the scene's time is within the video and a frame is shown
+    bool wantedShown_ = false;     // the frame for the scene's time is the one on the GPU
+    size_t wantedIndex_ = 0;
+    std::optional<size_t> shownIndex_;
+    fmv::SensorPose pose_;
+    glm::dvec3 eye_{0.0};
+    const fmv::VideoFrame* pendingFrame_ = nullptr;   // to upload this frame
+
+    // The heightfield around what the sensor sees: a square on the tangent plane at origin_.
+    glm::dvec3 origin_{0.0};
+    glm::dmat3 enu_{1.0};
+    double halfSize_ = 0.0, minHeight_ = 0.0, maxHeight_ = 0.0;
+    std::vector<float> heights_;          // row 0 north
+    std::vector<glm::vec3> gridPositions_;   // relative to origin_
+    bool heightfieldDirty_ = false, heightsComplete_ = false;
+    uint64_t groundVersion_ = 0, heightfieldBuilds_ = 0;
+    glm::dvec3 footprintOrigin_{0.0};   // origin_ when the footprint was computed
+
+    // GPU objects.
+    gpu::Image frameImage_, heightImage_, distanceImage_, distanceDepth_, decalImage_;
+    gpu::Buffer gridVertices_, gridIndices_, footprintBuffer_;
+    std::vector<gpu::Buffer> uniforms_;
+    std::vector<uint64_t> setVersion_;
+    uint64_t imagesVersion_ = 1;
+    gpu::Image* boundDepth_ = nullptr;
+    gpu::Sampler linearSampler_, nearestSampler_;
+    gpu::DescriptorSets descriptors_;
+    gpu::PipelineLayout layout_;
+    gpu::Pipeline drapePipeline_, footprintPipeline_, distancePipeline_, compositePipeline_, outlinePipeline_, frustumPipeline_;
+    uint32_t gridIndexCount_ = 0;
+    bool gpuReady_ = false, footprintValid_ = false;
+};
+
+}  // namespace orbis::layers

@@ -1,0 +1,99 @@
+// The scene-file side of the FMV layer: its keys, checked; the video opened and indexed, its
+// poses read (KLV, or a pose CSV), and the video's clock placed on the scene's time.
+#include "engine/scene/JsonReader.h"
+#include "layers/fmv/FmvLayer.h"
+#include "layers/fmv/PoseCsv.h"
+
+#include <ogr_spatialref.h>
+
+#include <memory>
+
+namespace orbis::layers {
+namespace {
+
+// EGM96 geoid heights through PROJ (Debian's proj-data carries the grid): ST 0601's true
+// altitude is above mean sea level. Without the grid, none (altitudes then count as ellipsoid
+// heights, and the layer says so).
+fmv::GeoidHeight egm96() {
+    auto msl = std::make_shared<OGRSpatialReference>();
+    auto ellipsoidal = std::make_shared<OGRSpatialReference>();
+    if (msl->SetFromUserInput("EPSG:4326+5773") != OGRERR_NONE || ellipsoidal->importFromEPSG(4979) != OGRERR_NONE) return {};
+    msl->SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    ellipsoidal->SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    std::shared_ptr<OGRCoordinateTransformation> t(OGRCreateCoordinateTransformation(msl.get(), ellipsoidal.get()));
+    if (!t) return {};
+    double x = 9.0, y = 46.0, z = 0.0;
+    if (!t->Transform(1, &x, &y, &z) || z == 0.0) return {};   // no grid: PROJ would give 0
+    return [t, msl, ellipsoidal](double lon, double lat) {
+        double x = lon, y = lat, z = 0.0;
+        return t->Transform(1, &x, &y, &z) ? z : 0.0;
+    };
+}
+
+}  // namespace
+
+Result<std::unique_ptr<scene::Layer>> FmvLayer::create(const scene::LayerDesc& desc, const scene::SceneDesc& scene) {
+    scene::JsonReader r(desc.settings, scene.file.string(), desc.jsonPath);
+    for (const char* common : {"type", "name", "visible", "viewpoint"}) r.accept(common);
+    FmvSettings s;
+    const auto path = r.string("path");
+    if (r.ok() && (!path || path->empty())) r.fail("path", "name the video file to show");
+    const auto poses = r.string("poses", std::string());
+    if (auto start = r.string("start", std::string()); start && !start->empty()) {
+        auto t = parseIso8601(*start);
+        if (!t) r.fail("start", t.message());
+        else s.startUtc = toSeconds(*t);
+    }
+    s.opacity = r.number("opacity", 0.9, 0.0, 1.0).value_or(0.9);
+    s.footprint = r.boolean("footprint", true).value_or(true);
+    s.frustum = r.boolean("frustum", true).value_or(true);
+    if (auto c = r.numbers("footprintColor", 3, std::vector<double>{1.0, 0.75, 0.1}); c && c->size() == 3) {
+        for (double v : *c)
+            if (!(v >= 0.0 && v <= 1.0)) r.fail("footprintColor", "each channel is from 0 to 1");
+        s.footprintColor = {(*c)[0], (*c)[1], (*c)[2]};
+    }
+    s.heightfieldSize = int(r.number("heightfield", 129.0, 9.0, 513.0).value_or(129.0));
+    s.distanceMapSize = int(r.number("distanceMap", 512.0, 64.0, 4096.0).value_or(512.0));
+    if (auto done = r.finish(); !done) return done.error();
+
+    const std::string where = scene.file.string() + ": " + desc.jsonPath;
+    const std::string file = scene.resolve(*path).string();
+    auto video = fmv::VideoFile::open(file);
+    if (!video) return makeError(where + ": " + video.message());
+    const fmv::GeoidHeight geoid = egm96();
+    std::optional<fmv::FmvTimeline> timeline;
+    if (poses && !poses->empty()) {
+        const std::string csvPath = scene.resolve(*poses).string();
+        auto csv = fmv::readPoseCsv(csvPath);
+        if (!csv) return makeError(where + "/poses: " + csv.message());
+        // The rows' UTC onto the video's clock: "start", else the first row is frame 0.
+        std::optional<double> start = s.startUtc;
+        std::vector<std::pair<double, fmv::St0601Packet>> placed;
+        for (const fmv::PoseSample& row : csv->samples) {
+            if (!row.pose.precisionTimeUs) continue;
+            const double utc = double(*row.pose.precisionTimeUs) * 1e-6;
+            if (!start) start = utc;
+            placed.emplace_back(utc - *start, row.pose);
+        }
+        auto t = fmv::FmvTimeline::fromPackets(placed, csvPath, geoid);
+        if (!t) return makeError(where + "/poses: " + t.message());
+        timeline = std::move(*t);
+        if (!s.startUtc) s.startUtc = start;
+    } else {
+        if (!(*video)->info().hasKlv)
+            return makeError(where + ": " + file +
+                             " has no KLV metadata stream: without the sensor's pose the video cannot be placed "
+                             "(give \"poses\": a pose CSV sidecar)");
+        auto t = fmv::FmvTimeline::fromKlv((*video)->klv(), file, geoid);
+        if (!t) return makeError(where + ": " + t.message());
+        timeline = std::move(*t);
+    }
+    if (!s.startUtc) {
+        if (timeline->videoStartUtc()) s.startUtc = timeline->videoStartUtc();
+        else s.startUtc = toSeconds(scene.time.start);
+    }
+    return std::unique_ptr<scene::Layer>(
+        std::make_unique<FmvLayer>(std::shared_ptr<fmv::VideoFile>(std::move(*video)), std::move(*timeline), s));
+}
+
+}  // namespace orbis::layers

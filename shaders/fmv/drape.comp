@@ -1,0 +1,44 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "shared/FmvTypes.h"
+#include "shared/FrameUniforms.h"
+
+// The video frame projected onto the scene: each pixel's position from the scene depth
+// (relative to the eye), seen from the sensor: inside its field of view and not hidden from it
+// (its distance along the boresight no more than the sensor's distance map says, plus a bias),
+// it takes the frame's colour at the given opacity. Output: premultiplied linear colour.
+
+layout(local_size_x = kFmvGroupSize, local_size_y = kFmvGroupSize) in;
+
+layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
+layout(set = 1, binding = 0) uniform FmvBlock { FmvUniforms fu; };
+layout(set = 1, binding = 1) uniform sampler2D sceneDepth;
+layout(set = 1, binding = 2) uniform sampler2D videoFrame;
+layout(set = 1, binding = 3) uniform sampler2D distanceMap;
+layout(set = 1, binding = 5, rgba16f) uniform writeonly image2D decal;
+
+#include "fmv/FmvCommon.glsl"
+
+void main() {
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = imageSize(decal);
+    if (px.x >= size.x || px.y >= size.y) return;
+    vec4 outColor = vec4(0.0);
+    float depth = texelFetch(sceneDepth, px, 0).r;
+    if (depth > 0.0 && fu.heights.w > 0.0) {
+        vec2 ndc = (vec2(px) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
+        vec4 w = frame.clipToWorldDir * vec4(ndc, depth, 1.0);
+        vec3 q = w.xyz / w.w - fu.originFromEye.xyz;   // relative to O
+        vec3 s = sensorImage(q);
+        if (s.z > 0.0 && all(lessThanEqual(abs(s.xy), vec2(1.0)))) {
+            vec2 mapUv = s.xy / fu.axisZ.w * 0.5 + 0.5;
+            float seen = textureLod(distanceMap, mapUv, 0.0).r;
+            float bias = fu.sensor.w + fu.outline.a * s.z;
+            if (s.z <= seen + bias) {
+                vec3 c = textureLod(videoFrame, s.xy * 0.5 + 0.5, 0.0).rgb;   // sRGB view: linear
+                outColor = vec4(c * fu.originFromEye.w, fu.originFromEye.w);
+            }
+        }
+    }
+    imageStore(decal, px, outColor);
+}
