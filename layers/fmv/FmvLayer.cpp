@@ -289,7 +289,51 @@ void FmvLayer::recordTransfers(const scene::RecordContext& rc) {
     const glm::dvec3 c = settings_.footprintColor;
     u.outline = glm::vec4(float(srgbToLinear(c.r)), float(srgbToLinear(c.g)), float(srgbToLinear(c.b)), 0.01f);
     u.sensorClip = glm::mat4(sensorClip());
+    rect_ = screenRect(*rc.frame);
+    u.rect = glm::vec4(rect_);
     uniforms_[rc.slot].write(&u, sizeof(u));
+}
+
+glm::uvec4 FmvLayer::screenRect(const scene::FrameContext& frame) const {
+    const glm::uvec4 whole(0u, 0u, frame.width, frame.height);
+    const fmv::SensorCamera sensor(pose_);
+    // The heights of the ground the sensor sees (the heightfield's samples in its view), else
+    // the heightfield's whole range: the tighter the range, the smaller the rectangle.
+    double low = 1e30, high = -1e30;
+    for (size_t k = 0; k < gridPositions_.size(); ++k) {
+        const glm::dvec3 uvd = sensor.project(origin_ + glm::dvec3(gridPositions_[k]));
+        if (uvd.z > 0.0 && std::abs(uvd.x) <= 1.1 && std::abs(uvd.y) <= 1.1) {
+            low = std::min(low, double(heights_[k]));
+            high = std::max(high, double(heights_[k]));
+        }
+    }
+    if (low > high) low = minHeight_, high = maxHeight_;
+    // A cell's worth of slack: the ground between samples.
+    const double slack = 2.0 * halfSize_ / double(settings_.heightfieldSize - 1);
+    low -= slack * 0.5;
+    high += slack * 0.5;
+    const scene::Camera& camera = *frame.camera;
+    const glm::dmat4 viewProj = camera.projection(frame.aspect()) * camera.viewRotation();
+    glm::dvec2 lo(1e30), hi(-1e30);
+    for (int i = 0; i < 4; ++i) {
+        const glm::dvec3 d = sensor.cornerRay(i);
+        for (double h : {low, high}) {
+            const std::optional<double> t = wgs84().intersectRay(sensor.position(), d, h);
+            const glm::dvec3 p = t ? sensor.position() + *t * d : fmv::horizonPoint(sensor.position(), d, h);
+            const glm::dvec4 clip = viewProj * glm::dvec4(p - camera.position(), 1.0);
+            if (clip.w <= 1e-6) return whole;   // behind the eye: no bound from this side
+            const glm::dvec2 px = (glm::dvec2(clip) / clip.w * 0.5 + 0.5) * glm::dvec2(frame.width, frame.height);
+            lo = glm::min(lo, px);
+            hi = glm::max(hi, px);
+        }
+    }
+    // The sensor's own position bounds the frustum's edges drawn as lines, not the video.
+    constexpr double kMargin = 4.0;
+    const double x0 = std::clamp(std::floor(lo.x - kMargin), 0.0, double(frame.width));
+    const double y0 = std::clamp(std::floor(lo.y - kMargin), 0.0, double(frame.height));
+    const double x1 = std::clamp(std::ceil(hi.x + kMargin), 0.0, double(frame.width));
+    const double y1 = std::clamp(std::ceil(hi.y + kMargin), 0.0, double(frame.height));
+    return glm::uvec4(uint32_t(x0), uint32_t(y0), uint32_t(x1 - x0), uint32_t(y1 - y0));
 }
 
 glm::dmat4 FmvLayer::sensorClip() const {
@@ -424,9 +468,11 @@ void FmvLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
     footprintValid_ = true;
     // The drape.
     gpu::transition(cmd, decalImage_, gpu::ImageUse::StorageCompute);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, drapePipeline_.vk());
     const uint32_t g = shader::kFmvGroupSize;
-    vkCmdDispatch(cmd, (frame.width + g - 1) / g, (frame.height + g - 1) / g, 1);
+    if (rect_.z > 0 && rect_.w > 0) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, drapePipeline_.vk());
+        vkCmdDispatch(cmd, (rect_.z + g - 1) / g, (rect_.w + g - 1) / g, 1);
+    }
     gpu::transition(cmd, decalImage_, gpu::ImageUse::SampledFragment);
 }
 
@@ -435,8 +481,14 @@ void FmvLayer::record(scene::Pass, const scene::RecordContext& rc) {
     VkCommandBuffer cmd = rc.cmd;
     const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, compositePipeline_.vk());
-    vkCmdDraw(cmd, 3, 1, 0, 0);
+    if (rect_.z > 0 && rect_.w > 0) {   // only where the video can be (the decal is stale elsewhere)
+        const VkRect2D area{{int32_t(rect_.x), int32_t(rect_.y)}, {rect_.z, rect_.w}};
+        vkCmdSetScissor(cmd, 0, 1, &area);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, compositePipeline_.vk());
+        vkCmdDraw(cmd, 3, 1, 0, 0);
+        const VkRect2D screen{{0, 0}, {rc.frame->width, rc.frame->height}};
+        vkCmdSetScissor(cmd, 0, 1, &screen);
+    }
     if (settings_.footprint) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, outlinePipeline_.vk());
         vkCmdDraw(cmd, 4 * shader::kFmvEdgeRays + 1, 1, 0, 0);   // closed: the first point again

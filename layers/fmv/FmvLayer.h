@@ -89,6 +89,10 @@ private:
     void writeDescriptors(uint32_t slot);
     void renderDistanceMap(VkCommandBuffer cmd);
     glm::dmat4 sensorClip() const;
+    /// The screen rectangle the video can cover this frame: the sensor's frustum between the
+    /// ground's lowest and highest heights, projected (x, y, width, height; the whole screen
+    /// when a part is behind the eye).
+    glm::uvec4 screenRect(const scene::FrameContext& frame) const;
 
     std::shared_ptr<fmv::VideoFile> video_;
     fmv::FmvTimeline timeline_;
@@ -105,6 +109,7 @@ private:
     fmv::SensorPose pose_;
     glm::dvec3 eye_{0.0};
     const fmv::VideoFrame* pendingFrame_ = nullptr;   // to upload this frame
+    glm::uvec4 rect_{0u};                             // screenRect() this frame
 
     // The heightfield around what the sensor sees: a square on the tangent plane at origin_.
     glm::dvec3 origin_{0.0};

@@ -6,7 +6,8 @@
 // The video frame projected onto the scene: each pixel's position from the scene depth
 // (relative to the eye), seen from the sensor: inside its field of view and not hidden from it
 // (its distance along the boresight no more than the sensor's distance map says, plus a bias),
-// it takes the frame's colour at the given opacity. Output: premultiplied linear colour.
+// it takes the frame's colour at the given opacity. Output: premultiplied linear colour. Only
+// the screen rectangle the sensor's view can cover (fu.rect, from the CPU) is dispatched.
 
 layout(local_size_x = kFmvGroupSize, local_size_y = kFmvGroupSize) in;
 
@@ -20,9 +21,9 @@ layout(set = 1, binding = 5, rgba16f) uniform writeonly image2D decal;
 #include "fmv/FmvCommon.glsl"
 
 void main() {
-    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-    ivec2 size = imageSize(decal);
-    if (px.x >= size.x || px.y >= size.y) return;
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy) + ivec2(fu.rect.xy);
+    ivec2 end = min(ivec2(fu.rect.xy + fu.rect.zw), imageSize(decal));
+    if (px.x >= end.x || px.y >= end.y) return;
     vec4 outColor = vec4(0.0);
     float depth = texelFetch(sceneDepth, px, 0).r;
     if (depth > 0.0 && fu.heights.w > 0.0) {

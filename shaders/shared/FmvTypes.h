@@ -33,12 +33,13 @@ struct FmvUniforms {
     vec4 up;              // local up at O; w: heightfield samples a side
     vec4 heights;         // x: lowest terrain height, y: highest, z: march step (m), w: 1 when a frame is shown
     vec4 outline;         // rgb: footprint colour (linear); a: occlusion bias per metre of distance
+    vec4 rect;            // the screen rectangle the video can cover (pixels): x, y, width, height
 };
 
 ORBIS_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(orbis::shader::FmvUniforms) == 64 + 10 * 16, "FmvUniforms layout changed");
+static_assert(sizeof(orbis::shader::FmvUniforms) == 64 + 11 * 16, "FmvUniforms layout changed");
 static_assert(orbis::shader::kFmvFootprintRays == 4 * orbis::shader::kFmvEdgeRays + 1);
 #endif
 
