@@ -124,7 +124,7 @@ TEST_F(FmvRender, DrapedFramesMatchGoldensAndFollowTheTime) {
 
 TEST_F(FmvRender, FootprintCornersLandWithinADemCellOfTheAnalyticOnes) {
     const fs::path& dir = fixture(0.0);
-    auto s = load(scene(dir, kAbove, R"(, "heightfield": 257)"));
+    auto s = load(scene(dir, kAbove));
     ASSERT_TRUE(s);
     auto& layer = fmvLayer(*s);
     const auto& wgs84 = globe::Ellipsoid::wgs84();
