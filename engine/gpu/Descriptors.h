@@ -22,6 +22,10 @@ struct DescriptorSets {
 };
 
 /// `count` sets of the layout made of `bindings`; the pool holds exactly what they need.
+/// A sampler of single-level images, clamped to the edge: `filter` for magnification and
+/// minification (compute and full-screen passes read render targets and lookup tables this way).
+Sampler createClampSampler(Device& device, VkFilter filter);
+
 DescriptorSets createDescriptorSets(Device& device, std::span<const VkDescriptorSetLayoutBinding> bindings, uint32_t count);
 
 }  // namespace orbis::gpu

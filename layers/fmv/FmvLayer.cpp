@@ -5,7 +5,6 @@
 #include "engine/gpu/Barriers.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Uploader.h"
-#include "engine/gpu/VkCheck.h"
 #include "engine/jobs/ThreadPool.h"
 #include "globe/Ellipsoid.h"
 #include "shared/FmvTypes.h"
@@ -49,15 +48,8 @@ FmvLayer::~FmvLayer() = default;
 void FmvLayer::prepare(const scene::RenderServices& services) {
     services_ = services;
     gpu::Device& device = *services.device;
-    VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-    si.magFilter = si.minFilter = VK_FILTER_LINEAR;
-    si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-    VkSampler sampler = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateSampler(device.vk(), &si, nullptr, &sampler));
-    linearSampler_ = gpu::Sampler(device, sampler);
-    si.magFilter = si.minFilter = VK_FILTER_NEAREST;
-    VK_CHECK(vkCreateSampler(device.vk(), &si, nullptr, &sampler));
-    nearestSampler_ = gpu::Sampler(device, sampler);
+    linearSampler_ = gpu::createClampSampler(device, VK_FILTER_LINEAR);
+    nearestSampler_ = gpu::createClampSampler(device, VK_FILTER_NEAREST);
 
     const VkShaderStageFlags all = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     const VkDescriptorSetLayoutBinding bindings[kBindings] = {

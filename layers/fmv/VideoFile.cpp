@@ -1,5 +1,7 @@
 #include "layers/fmv/VideoFile.h"
 
+#include "layers/fmv/AvError.h"
+
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
@@ -12,15 +14,6 @@ extern "C" {
 #include <limits>
 
 namespace orbis::fmv {
-namespace {
-
-std::string avError(int code) {
-    char text[AV_ERROR_MAX_STRING_SIZE] = {};
-    av_strerror(code, text, sizeof text);
-    return text;
-}
-
-}  // namespace
 
 struct VideoFile::Impl {
     AVFormatContext* format = nullptr;

@@ -1,5 +1,7 @@
 #include "layers/fmv/VideoWriter.h"
 
+#include "layers/fmv/AvError.h"
+
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
@@ -10,15 +12,6 @@ extern "C" {
 #include <cmath>
 
 namespace orbis::fmv {
-namespace {
-
-std::string avError(int code) {
-    char text[AV_ERROR_MAX_STRING_SIZE] = {};
-    av_strerror(code, text, sizeof text);
-    return text;
-}
-
-}  // namespace
 
 struct VideoWriter::Impl {
     AVFormatContext* format = nullptr;

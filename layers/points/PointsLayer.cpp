@@ -7,7 +7,6 @@
 #include "engine/gpu/Image.h"
 #include "engine/gpu/Pipeline.h"
 #include "engine/gpu/Uploader.h"
-#include "engine/gpu/VkCheck.h"
 #include "globe/Culling.h"
 #include "shared/PointTypes.h"
 #include "spv/points/pointlist.frag.h"
@@ -223,12 +222,7 @@ void PointsLayer::prepare(const scene::RenderServices& services) {
     const VkPushConstantRange push{kPushStages, 0, 2 * sizeof(uint32_t)};
     const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, descriptors_.layout.vk()};
     layout_ = gpu::createPipelineLayout(device, setLayouts, {&push, 1});
-    VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-    si.magFilter = si.minFilter = VK_FILTER_NEAREST;
-    si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-    VkSampler sampler = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateSampler(device.vk(), &si, nullptr, &sampler));
-    depthSampler_ = gpu::Sampler(device, sampler);
+    depthSampler_ = gpu::createClampSampler(device, VK_FILTER_NEAREST);
     gpuReady_ = true;
     startLoading();
 }

@@ -6,7 +6,6 @@
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
 #include "engine/gpu/Uploader.h"
-#include "engine/gpu/VkCheck.h"
 #include "globe/Ellipsoid.h"
 #include "shared/FrameUniforms.h"
 #include "shared/VolumeTypes.h"
@@ -194,17 +193,8 @@ void VolumeLayer::prepare(const scene::RenderServices& services) {
                            VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     });
 
-    VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-    si.magFilter = si.minFilter = VK_FILTER_LINEAR;
-    si.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-    si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-    si.maxLod = 0.0f;
-    VkSampler sampler = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateSampler(device.vk(), &si, nullptr, &sampler));
-    linearSampler_ = gpu::Sampler(device, sampler);
-    si.magFilter = si.minFilter = VK_FILTER_NEAREST;
-    VK_CHECK(vkCreateSampler(device.vk(), &si, nullptr, &sampler));
-    nearestSampler_ = gpu::Sampler(device, sampler);
+    linearSampler_ = gpu::createClampSampler(device, VK_FILTER_LINEAR);
+    nearestSampler_ = gpu::createClampSampler(device, VK_FILTER_NEAREST);
 
     const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
     const VkDescriptorSetLayoutBinding bindings[] = {
