@@ -149,6 +149,18 @@ TEST_F(CliGpu, RenderDefaultSceneWritesPng) {
     EXPECT_GT(fs::file_size(out), 1000u);
 }
 
+// The FMV showcase: the fixture generated at build time, draped at the scene's current time.
+TEST_F(CliGpu, RenderFmvShowcaseWritesPng) {
+    const fs::path out = fs::temp_directory_path() / "orbis-cli-test" / "fmv-flight.png";
+    fs::create_directories(out.parent_path());
+    fs::remove(out);
+    const std::string scene = std::string(ORBIS_SOURCE_DIR) + "/assets/scenes/fmv-flight.json";
+    const CliRun r = run("render " + scene + " -o " + out.string() + " --size 160x90 --validation");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    ASSERT_TRUE(fs::exists(out));
+    EXPECT_GT(fs::file_size(out), 1000u);
+}
+
 TEST_F(CliGpu, UnwritableOutputExitsOne) {
     const CliRun r = run(std::string("render ") + ORBIS_DEFAULT_SCENE + " -o /nonexistent/dir/x.png --size 32x32");
     EXPECT_EQ(r.exitCode, 1) << r.output;
