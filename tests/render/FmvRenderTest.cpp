@@ -31,20 +31,25 @@ fs::path outDir() {
     return dir;
 }
 
-// A fixture per flight start, written once per run: 30 frames at 10 fps, 320 x 240.
+// A fixture per flight start, written once per run (test processes run in parallel: see
+// makeFixture): 30 frames at 10 fps, 320 x 240.
 const fs::path& fixture(double flightStart) {
     static std::map<double, fs::path> made;
     auto it = made.find(flightStart);
     if (it != made.end()) return it->second;
     const fs::path dir = outDir() / ("flight-" + std::to_string(int(flightStart)));
-    fmv::FmvFixtureOptions o;
-    o.frames = 30;
-    o.width = 320;
-    o.height = 240;
-    o.flightStart = flightStart;
-    o.csv = true;
-    auto written = fmv::writeFmvFixture(dir, o);
-    EXPECT_TRUE(written.ok()) << written.message();
+    const bool ok = makeFixture(dir.string(), [&](const std::string& tmp) {
+        fmv::FmvFixtureOptions o;
+        o.frames = 30;
+        o.width = 320;
+        o.height = 240;
+        o.flightStart = flightStart;
+        o.csv = true;
+        auto written = fmv::writeFmvFixture(tmp, o);
+        EXPECT_TRUE(written.ok()) << written.message();
+        return written.ok();
+    });
+    EXPECT_TRUE(ok);
     return made.emplace(flightStart, dir).first->second;
 }
 

@@ -38,7 +38,8 @@ void writeLas(const std::string& path, const std::vector<points::LasPoint>& pts,
 
 // A 240 m x 240 m survey on the fixture mountain's eastern slope, in lon/lat/ellipsoidal height
 // (EPSG:4979): ground points 0.1 m above the DEM, coloured by position, a building (class 6, a
-// 40 m x 30 m x 15 m box of points) and trees (class 5, cones). Written once per run.
+// 40 m x 30 m x 15 m box of points) and trees (class 5, cones). Written once per run (and put in
+// place whole: test processes run in parallel).
 constexpr double kLon = 7.03, kLat = 46.0;
 const std::string& mountainCloud() {
     static const std::string path = [] {
@@ -79,7 +80,10 @@ const std::string& mountainCloud() {
         points::LasWriteOptions o;
         o.pointFormat = 3;
         o.scale = glm::dvec3(1e-7, 1e-7, 1e-3);
-        writeLas(p, pts, o);
+        EXPECT_TRUE(makeFixture(p, [&](const std::string& tmp) {   // other test processes read it meanwhile
+            writeLas(tmp, pts, o);
+            return !::testing::Test::HasFailure();
+        }));
         return p;
     }();
     return path;

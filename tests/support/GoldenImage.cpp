@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include <unistd.h>
+
 namespace orbis::test {
 
 std::string goldenDir() { return ORBIS_GOLDEN_DIR; }
@@ -85,6 +87,25 @@ ImageRgba8 diffImage(const ImageRgba8& actual, const ImageRgba8& golden, int tol
                << diffFile;
     }
     return ::testing::AssertionSuccess();
+}
+
+
+bool makeFixture(const std::string& path, const std::function<bool(const std::string& tmp)>& make) {
+    namespace fs = std::filesystem;
+    const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+    std::error_code ec;
+    fs::remove_all(tmp, ec);
+    if (!make(tmp)) {
+        fs::remove_all(tmp, ec);
+        return false;
+    }
+    if (fs::is_directory(tmp)) {
+        fs::rename(tmp, path, ec);   // fails when another process put its copy there first
+        if (ec) fs::remove_all(tmp, ec);
+    } else {
+        fs::rename(tmp, path, ec);   // a file replaces the other's atomically (same content)
+    }
+    return fs::exists(path);
 }
 
 }  // namespace orbis::test

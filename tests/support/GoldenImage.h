@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <string>
 
 namespace orbis::test {
@@ -20,6 +21,12 @@ struct GoldenTolerance {
 
 std::string goldenDir();
 std::string testOutputDir();
+
+/// Makes `path` (a file or a folder of files) once, safely when ctest runs test processes in
+/// parallel: `make` writes to a temporary path of this process, which is then renamed into
+/// place (a folder only if none is there yet). Readers never see a half-written fixture.
+/// Returns false when `make` did.
+bool makeFixture(const std::string& path, const std::function<bool(const std::string& tmp)>& make);
 
 ::testing::AssertionResult matchesGolden(const ImageRgba8& actual, const std::string& name,
                                          GoldenTolerance tolerance = {});
