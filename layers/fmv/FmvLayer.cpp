@@ -281,13 +281,16 @@ void FmvLayer::recordTransfers(const scene::RecordContext& rc) {
     const glm::dvec3 c = settings_.footprintColor;
     u.outline = glm::vec4(float(srgbToLinear(c.r)), float(srgbToLinear(c.g)), float(srgbToLinear(c.b)), 0.01f);
     u.sensorClip = glm::mat4(sensorClip());
-    rect_ = screenRect(*rc.frame);
+    const ScreenBounds bounds = screenBounds(*rc.frame);
+    rect_ = bounds.rect;
     u.rect = glm::vec4(rect_);
+    u.hullCount = glm::vec4(float(bounds.edges.size()), 0.0f, 0.0f, 0.0f);
+    for (size_t i = 0; i < bounds.edges.size(); ++i) u.hull[i] = glm::vec4(bounds.edges[i], 0.0f);
     uniforms_[rc.slot].write(&u, sizeof(u));
 }
 
-glm::uvec4 FmvLayer::screenRect(const scene::FrameContext& frame) const {
-    const glm::uvec4 whole(0u, 0u, frame.width, frame.height);
+FmvLayer::ScreenBounds FmvLayer::screenBounds(const scene::FrameContext& frame) const {
+    const ScreenBounds whole{glm::uvec4(0u, 0u, frame.width, frame.height), {}};
     const fmv::SensorCamera sensor(pose_);
     // The heights of the ground the sensor sees (the heightfield's samples in its view), else
     // the heightfield's whole range: the tighter the range, the smaller the rectangle.
@@ -307,6 +310,7 @@ glm::uvec4 FmvLayer::screenRect(const scene::FrameContext& frame) const {
     const scene::Camera& camera = *frame.camera;
     const glm::dmat4 viewProj = camera.projection(frame.aspect()) * camera.viewRotation();
     glm::dvec2 lo(1e30), hi(-1e30);
+    std::vector<glm::dvec2> points;
     for (int i = 0; i < 4; ++i) {
         const glm::dvec3 d = sensor.cornerRay(i);
         for (double h : {low, high}) {
@@ -317,15 +321,44 @@ glm::uvec4 FmvLayer::screenRect(const scene::FrameContext& frame) const {
             const glm::dvec2 px = (glm::dvec2(clip) / clip.w * 0.5 + 0.5) * glm::dvec2(frame.width, frame.height);
             lo = glm::min(lo, px);
             hi = glm::max(hi, px);
+            points.push_back(px);
         }
     }
-    // The sensor's own position bounds the frustum's edges drawn as lines, not the video.
     constexpr double kMargin = 4.0;
+    ScreenBounds out;
+    // The convex hull (Andrew's monotone chain, counter-clockwise in pixel coordinates), each
+    // edge moved out by the margin.
+    std::sort(points.begin(), points.end(), [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+    const auto cross = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
+        return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+    };
+    std::vector<glm::dvec2> hull(2 * points.size());
+    size_t k = 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+        while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+        hull[k++] = points[i];
+    }
+    for (size_t i = points.size() - 1, t = k + 1; i-- > 0;) {
+        while (k >= t && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+        hull[k++] = points[i];
+    }
+    hull.resize(k > 0 ? k - 1 : 0);
+    if (hull.size() >= 3 && hull.size() <= shader::kFmvHullEdges) {
+        for (size_t i = 0; i < hull.size(); ++i) {
+            const glm::dvec2 a = hull[i], b = hull[(i + 1) % hull.size()];
+            const glm::dvec2 e = b - a;
+            const double len = glm::length(e);
+            if (len < 1e-9) continue;
+            const glm::dvec2 n(-e.y / len, e.x / len);   // inward for a counter-clockwise polygon
+            out.edges.push_back(glm::vec3(glm::vec2(n), float(-glm::dot(n, a) + kMargin)));
+        }
+    }
     const double x0 = std::clamp(std::floor(lo.x - kMargin), 0.0, double(frame.width));
     const double y0 = std::clamp(std::floor(lo.y - kMargin), 0.0, double(frame.height));
     const double x1 = std::clamp(std::ceil(hi.x + kMargin), 0.0, double(frame.width));
     const double y1 = std::clamp(std::ceil(hi.y + kMargin), 0.0, double(frame.height));
-    return glm::uvec4(uint32_t(x0), uint32_t(y0), uint32_t(x1 - x0), uint32_t(y1 - y0));
+    out.rect = glm::uvec4(uint32_t(x0), uint32_t(y0), uint32_t(x1 - x0), uint32_t(y1 - y0));
+    return out;
 }
 
 glm::dmat4 FmvLayer::sensorClip() const {
@@ -444,20 +477,23 @@ void FmvLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
         ++imagesVersion_;
     }
     if (setVersion_[rc.slot] != imagesVersion_) writeDescriptors(rc.slot);
-    renderDistanceMap(cmd);
-
     const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), 0, 2, sets, 0, nullptr);
-    // The footprint: after the last frame's lines read it.
-    gpu::bufferBarrier(cmd, footprintBuffer_, VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
-                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, footprintPipeline_.vk());
-    vkCmdDispatch(cmd, (shader::kFmvFootprintRays + shader::kFmvFootprintGroup - 1) / shader::kFmvFootprintGroup, 1, 1);
-    gpu::bufferBarrier(cmd, footprintBuffer_, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                       VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
-                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_HOST_READ_BIT);
-    footprintOrigin_ = origin_;
-    footprintValid_ = true;
+    if (!mapPose_ || !(*mapPose_ == pose_) || mapBuilds_ != heightfieldBuilds_) {
+        renderDistanceMap(cmd);
+        // The footprint: after the last frame's lines read it.
+        gpu::bufferBarrier(cmd, footprintBuffer_, VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                           VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, footprintPipeline_.vk());
+        vkCmdDispatch(cmd, (shader::kFmvFootprintRays + shader::kFmvFootprintGroup - 1) / shader::kFmvFootprintGroup, 1, 1);
+        gpu::bufferBarrier(cmd, footprintBuffer_, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
+                           VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_HOST_READ_BIT);
+        footprintOrigin_ = origin_;
+        footprintValid_ = true;
+        mapPose_ = pose_;
+        mapBuilds_ = heightfieldBuilds_;
+    }
     // The drape.
     gpu::transition(cmd, decalImage_, gpu::ImageUse::StorageCompute);
     const uint32_t g = shader::kFmvGroupSize;

@@ -89,10 +89,14 @@ private:
     void writeDescriptors(uint32_t slot);
     void renderDistanceMap(VkCommandBuffer cmd);
     glm::dmat4 sensorClip() const;
-    /// The screen rectangle the video can cover this frame: the sensor's frustum between the
-    /// ground's lowest and highest heights, projected (x, y, width, height; the whole screen
-    /// when a part is behind the eye).
-    glm::uvec4 screenRect(const scene::FrameContext& frame) const;
+    /// Where on screen the video can be this frame: the sensor's frustum between the lowest and
+    /// highest ground it sees, projected: its bounding rectangle (x, y, width, height) and its
+    /// convex hull as edge equations (none when a part is behind the eye: the whole screen).
+    struct ScreenBounds {
+        glm::uvec4 rect{0u};
+        std::vector<glm::vec3> edges;   // (nx, ny, c): inside when nx x + ny y + c >= 0
+    };
+    ScreenBounds screenBounds(const scene::FrameContext& frame) const;
 
     std::shared_ptr<fmv::VideoFile> video_;
     fmv::FmvTimeline timeline_;
@@ -109,7 +113,7 @@ private:
     fmv::SensorPose pose_;
     glm::dvec3 eye_{0.0};
     const fmv::VideoFrame* pendingFrame_ = nullptr;   // to upload this frame
-    glm::uvec4 rect_{0u};                             // screenRect() this frame
+    glm::uvec4 rect_{0u};                             // screenBounds().rect this frame
 
     // The heightfield around what the sensor sees: a square on the tangent plane at origin_.
     glm::dvec3 origin_{0.0};
@@ -120,6 +124,10 @@ private:
     bool heightfieldDirty_ = false, heightsComplete_ = false;
     uint64_t groundVersion_ = 0, heightfieldBuilds_ = 0;
     glm::dvec3 footprintOrigin_{0.0};   // origin_ when the footprint was computed
+    // What the distance map and the footprint were last made from: unchanged (a paused video),
+    // they are not made again.
+    std::optional<fmv::SensorPose> mapPose_;
+    uint64_t mapBuilds_ = 0;
 
     // GPU objects.
     gpu::Image frameImage_, heightImage_, distanceImage_, distanceDepth_, decalImage_;

@@ -36,6 +36,7 @@ struct SensorPose {
     double platformHeadingDeg = 0.0, platformPitchDeg = 0.0, platformRollDeg = 0.0;
     double sensorAzimuthDeg = 0.0, sensorElevationDeg = 0.0, sensorRollDeg = 0.0;
     double hfovDeg = 30.0, vfovDeg = 20.0;
+    bool operator==(const SensorPose&) const = default;
 };
 
 /// The pose a packet describes. Height: the ellipsoid height tags (104, 75) when present, else

@@ -7,7 +7,8 @@
 // (relative to the eye), seen from the sensor: inside its field of view and not hidden from it
 // (its distance along the boresight no more than the sensor's distance map says, plus a bias),
 // it takes the frame's colour at the given opacity. Output: premultiplied linear colour. Only
-// the screen rectangle the sensor's view can cover (fu.rect, from the CPU) is dispatched.
+// the screen rectangle the sensor's view can cover (fu.rect, from the CPU) is dispatched, and
+// pixels outside the convex polygon within it (fu.hull) stop before reading anything.
 
 layout(local_size_x = kFmvGroupSize, local_size_y = kFmvGroupSize) in;
 
@@ -25,7 +26,10 @@ void main() {
     ivec2 end = min(ivec2(fu.rect.xy + fu.rect.zw), imageSize(decal));
     if (px.x >= end.x || px.y >= end.y) return;
     vec4 outColor = vec4(0.0);
-    float depth = texelFetch(sceneDepth, px, 0).r;
+    vec2 centre = vec2(px) + 0.5;
+    bool inside = true;
+    for (uint i = 0u; i < uint(fu.hullCount.x); ++i) inside = inside && dot(fu.hull[i].xy, centre) + fu.hull[i].z >= 0.0;
+    float depth = inside ? texelFetch(sceneDepth, px, 0).r : 0.0;
     if (depth > 0.0 && fu.heights.w > 0.0) {
         vec2 ndc = (vec2(px) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
         vec4 w = frame.clipToWorldDir * vec4(ndc, depth, 1.0);

@@ -19,6 +19,7 @@ ORBIS_CONST(uint, kFmvGroupSize, 8)        // drape.comp: 8 x 8 pixels a workgro
 ORBIS_CONST(uint, kFmvEdgeRays, 32)        // footprint: rays along each image edge
 ORBIS_CONST(uint, kFmvFootprintRays, 129)  // 4 edges (from corner 1 clockwise), then the centre
 ORBIS_CONST(uint, kFmvFootprintGroup, 64)
+ORBIS_CONST(uint, kFmvHullEdges, 8)        // the screen polygon the video can cover: at most 8 edges
 
 // std140: vec4 and mat4 members only.
 struct FmvUniforms {
@@ -34,12 +35,15 @@ struct FmvUniforms {
     vec4 heights;         // x: lowest terrain height, y: highest, z: march step (m), w: 1 when a frame is shown
     vec4 outline;         // rgb: footprint colour (linear); a: occlusion bias per metre of distance
     vec4 rect;            // the screen rectangle the video can cover (pixels): x, y, width, height
+    vec4 hull[kFmvHullEdges];   // the convex polygon within it: a pixel p is inside when
+                                // dot(hull[i].xy, p) + hull[i].z >= 0 for i < hullCount.x
+    vec4 hullCount;             // x: edges in use (0: the rectangle alone)
 };
 
 ORBIS_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(orbis::shader::FmvUniforms) == 64 + 11 * 16, "FmvUniforms layout changed");
+static_assert(sizeof(orbis::shader::FmvUniforms) == 64 + 20 * 16, "FmvUniforms layout changed");
 static_assert(orbis::shader::kFmvFootprintRays == 4 * orbis::shader::kFmvEdgeRays + 1);
 #endif
 
