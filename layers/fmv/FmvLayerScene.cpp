@@ -1,11 +1,13 @@
 // The scene-file side of the FMV layer: its keys, checked; the video opened and indexed, its
 // poses read (KLV, or a pose CSV), and the video's clock placed on the scene's time.
+#include "engine/core/Log.h"
 #include "engine/scene/JsonReader.h"
 #include "layers/fmv/FmvLayer.h"
 #include "layers/fmv/PoseCsv.h"
 
 #include <ogr_spatialref.h>
 
+#include <algorithm>
 #include <memory>
 
 namespace orbis::layers {
@@ -87,6 +89,17 @@ Result<std::unique_ptr<scene::Layer>> FmvLayer::create(const scene::LayerDesc& d
         auto t = fmv::FmvTimeline::fromKlv((*video)->klv(), file, geoid);
         if (!t) return makeError(where + ": " + t.message());
         timeline = std::move(*t);
+    }
+    // The rotation order against the corners the packets carry (a wrong convention in the
+    // producer, or here, shows as corners far off).
+    if (const fmv::CornerCheck& c = timeline->cornerCheck(); c.corners > 0) {
+        const bool off = c.medianDegrees > std::max(2.0, 0.2 * c.medianFovDegrees);
+        if (off)
+            log::warn("fmv: ", file, ": the sensor model's corner rays are ", c.medianDegrees, " degrees (median; max ",
+                      c.maxDegrees, ") from the corners the packets carry: its rotation order or signs may differ from the producer's");
+        else
+            log::info("fmv: ", file, ": the sensor model's corner rays are ", c.medianDegrees, " degrees (median; max ",
+                      c.maxDegrees, ") from the corners the packets carry");
     }
     if (!s.startUtc) {
         if (timeline->videoStartUtc()) s.startUtc = timeline->videoStartUtc();

@@ -1,5 +1,6 @@
 #include "layers/fmv/FmvTimeline.h"
 
+#include "globe/Ellipsoid.h"
 #include "layers/fmv/KlvFile.h"
 #include "layers/fmv/VideoFile.h"
 
@@ -82,7 +83,8 @@ Result<FmvTimeline> FmvTimeline::fromPackets(const std::vector<std::pair<double,
                                              const GeoidHeight& geoid) {
     FmvTimeline t;
     std::string firstProblem;
-    std::vector<double> offsets;
+    std::vector<double> offsets, cornerAngles, fovs;
+    const globe::Ellipsoid& wgs84 = globe::Ellipsoid::wgs84();
     for (const auto& [time, packet] : packets) {
         if (!std::isfinite(time)) continue;
         double undulation = 0.0;
@@ -101,15 +103,40 @@ Result<FmvTimeline> FmvTimeline::fromPackets(const std::vector<std::pair<double,
             p.utc = double(*packet.precisionTimeUs) * 1e-6;
             offsets.push_back(*p.utc - time);
         }
+        // The model's corner rays against the directions to the packet's corners.
+        if (packet.corner(0) && packet.corner(1) && packet.corner(2) && packet.corner(3)) {
+            double h = 0.0;
+            if (packet.frameCenterElevation) {
+                h = *packet.frameCenterElevation;
+                if (geoid && packet.frameCenterLatitudeDeg && packet.frameCenterLongitudeDeg)
+                    h += geoid(*packet.frameCenterLongitudeDeg, *packet.frameCenterLatitudeDeg);
+            }
+            const SensorCamera camera(*pose);
+            for (int i = 0; i < 4; ++i) {
+                const LatLonDeg c = *packet.corner(i);
+                const glm::dvec3 towards = wgs84.toEcef(c.lonDeg, c.latDeg, h) - camera.position();
+                if (glm::length(towards) < 1e-3) continue;
+                const double cosine = std::clamp(glm::dot(glm::normalize(towards), camera.cornerRay(i)), -1.0, 1.0);
+                cornerAngles.push_back(glm::degrees(std::acos(cosine)));
+            }
+            fovs.push_back(pose->hfovDeg);
+        }
         t.poses_.push_back(p);
     }
     if (t.poses_.empty())
         return makeError(name + ": no packet gives a sensor pose" +
                          (firstProblem.empty() ? std::string() : std::string(" (").append(firstProblem).append(")")));
     std::stable_sort(t.poses_.begin(), t.poses_.end(), [](const TimedPose& a, const TimedPose& b) { return a.time < b.time; });
-    if (!offsets.empty()) {
-        std::nth_element(offsets.begin(), offsets.begin() + ptrdiff_t(offsets.size() / 2), offsets.end());
-        t.videoStartUtc_ = offsets[offsets.size() / 2];
+    const auto median = [](std::vector<double>& v) {
+        std::nth_element(v.begin(), v.begin() + ptrdiff_t(v.size() / 2), v.end());
+        return v[v.size() / 2];
+    };
+    if (!offsets.empty()) t.videoStartUtc_ = median(offsets);
+    if (!cornerAngles.empty()) {
+        t.cornerCheck_.corners = cornerAngles.size();
+        t.cornerCheck_.maxDegrees = *std::max_element(cornerAngles.begin(), cornerAngles.end());
+        t.cornerCheck_.medianDegrees = median(cornerAngles);
+        t.cornerCheck_.medianFovDegrees = median(fovs);
     }
     return t;
 }

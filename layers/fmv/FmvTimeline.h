@@ -27,6 +27,17 @@ namespace orbis::fmv {
 
 struct TimedKlv;
 
+/// How well the sensor model (SensorModel.h's rotation order) agrees with the corner
+/// coordinates the packets carry: the angle, seen from the sensor, between each corner ray of
+/// the model and the direction to the packet's corner (placed at the frame centre's elevation:
+/// the packets do not say the corners' own heights). Relief puts a degree or two between them;
+/// a wrong rotation order or sign puts tens of degrees.
+struct CornerCheck {
+    size_t corners = 0;   ///< corners compared (packets without corners have none)
+    double medianDegrees = 0.0, maxDegrees = 0.0;
+    double medianFovDegrees = 0.0;   ///< for scale: the horizontal field of view
+};
+
 struct TimedPose {
     double time = 0.0;   ///< seconds on the video's clock
     std::optional<double> utc;   ///< the packet's precision time stamp, seconds since 1970
@@ -54,6 +65,7 @@ public:
     /// The pose at `videoTime` (interpolated; held at the ends).
     SensorPose poseAt(double videoTime) const;
 
+    const CornerCheck& cornerCheck() const { return cornerCheck_; }
     size_t checksumRejected() const { return checksumRejected_; }
     size_t incompleteRejected() const { return incompleteRejected_; }
     size_t undecodable() const { return undecodable_; }
@@ -61,6 +73,7 @@ public:
 private:
     std::vector<TimedPose> poses_;
     std::optional<double> videoStartUtc_;
+    CornerCheck cornerCheck_;
     size_t checksumRejected_ = 0, incompleteRejected_ = 0, undecodable_ = 0;
 };
 

@@ -234,6 +234,22 @@ TEST(FmvTimeline, PosesOfTheFlightFromItsKlv) {
         EXPECT_NEAR(got.sensorAzimuthDeg, want.sensorAzimuthDeg, 0.01) << "t = " << t;
         EXPECT_NEAR(got.sensorElevationDeg, want.sensorElevationDeg, 0.01) << "t = " << t;
     }
+    // The sensor model against the corners the packets carry (made on the terrain, compared on
+    // the frame centre's height: a degree or two); a producer with the azimuth's sign flipped
+    // puts them tens of degrees off.
+    const CornerCheck& check = timeline->cornerCheck();
+    EXPECT_EQ(check.corners, 80u);
+    EXPECT_LT(check.medianDegrees, 3.0);   // 1.8 here: the relief at grazing corners
+    EXPECT_DOUBLE_EQ(check.medianFovDegrees, SyntheticFlight::kHfov);
+    std::vector<std::pair<double, St0601Packet>> flipped;
+    for (int i = 0; i < 20; ++i) {
+        St0601Packet p = SyntheticFlight::packet(i / 10.0);
+        p.sensorRelativeAzimuthDeg = 360.0 - *p.sensorRelativeAzimuthDeg;
+        flipped.emplace_back(i / 10.0, p);
+    }
+    auto wrong = FmvTimeline::fromPackets(flipped, "flipped");
+    ASSERT_TRUE(wrong.ok());
+    EXPECT_GT(wrong->cornerCheck().medianDegrees, 10.0);
     // A packet with a wrong checksum is left out and counted; nothing usable is an error.
     std::vector<TimedKlv> packets = (*video)->klv();
     packets[3].bytes[20] ^= 0x40;
