@@ -261,8 +261,7 @@ void FmvLayer::recordTransfers(const scene::RecordContext& rc) {
     const fmv::SensorCamera camera(pose_);
     const glm::dmat3 axes = camera.axes();
     const glm::dvec3 s = camera.position() - origin_;
-    const double tanH = std::tan(glm::radians(std::clamp(pose_.hfovDeg, 1e-3, 179.0)) * 0.5);
-    const double tanV = std::tan(glm::radians(std::clamp(pose_.vfovDeg, 1e-3, 179.0)) * 0.5);
+    const double tanH = camera.tanHalfFov().x, tanV = camera.tanHalfFov().y;
     const double n = double(settings_.heightfieldSize), cell = 2.0 * halfSize_ / (n - 1.0);
     shader::FmvUniforms u{};
     u.originFromEye = glm::vec4(glm::vec3(origin_ - eye_), float(settings_.opacity));
@@ -367,8 +366,7 @@ glm::dmat4 FmvLayer::sensorClip() const {
     const fmv::SensorCamera camera(pose_);
     const glm::dmat3 axes = camera.axes();
     const glm::dvec3 s = camera.position() - origin_;
-    const double tanH = std::tan(glm::radians(std::clamp(pose_.hfovDeg, 1e-3, 179.0)) * 0.5);
-    const double tanV = std::tan(glm::radians(std::clamp(pose_.vfovDeg, 1e-3, 179.0)) * 0.5);
+    const double tanH = camera.tanHalfFov().x, tanV = camera.tanHalfFov().y;
     const glm::dvec3 rowX = axes[1] / (tanH * kMapFovPad), rowY = axes[2] / (tanV * kMapFovPad), rowW = axes[0];
     glm::dmat4 clip(0.0);
     for (int c = 0; c < 3; ++c) {

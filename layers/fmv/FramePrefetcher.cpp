@@ -32,17 +32,17 @@ void FramePrefetcher::schedule(size_t index, bool backward) {
     if (backward) first = index >= ahead_ ? index - ahead_ : 0;
     else last = std::min(index + ahead_, count - 1);
     // Only the frames not queued already.
-    std::vector<size_t> todo;
+    std::vector<size_t> missing;
     for (size_t k = first; k <= last; ++k)
-        if (std::none_of(frames_.begin(), frames_.end(), [&](const VideoFrame& f) { return f.index == k; })) todo.push_back(k);
-    if (todo.empty()) return;
+        if (std::none_of(frames_.begin(), frames_.end(), [&](const VideoFrame& f) { return f.index == k; })) missing.push_back(k);
+    if (missing.empty()) return;
     cancel_ = jobs::CancelToken::create();
-    jobFirst_ = todo.front();
-    jobLast_ = todo.back();
+    jobFirst_ = missing.front();
+    jobLast_ = missing.back();
     std::shared_ptr<VideoFile> video = video_;
-    job_ = pool_.submit(1.0, cancel_, [video, todo](const jobs::CancelToken& cancel) {
+    job_ = pool_.submit(1.0, cancel_, [video, missing](const jobs::CancelToken& cancel) {
         std::vector<VideoFrame> out;
-        for (size_t k : todo) {   // increasing: the decoder runs forward even when playing back
+        for (size_t k : missing) {   // increasing: the decoder runs forward even when playing back
             if (cancel.cancelled()) break;
             auto f = video->decode(k);
             if (!f) throw std::runtime_error(f.message());

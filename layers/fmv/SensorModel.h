@@ -60,6 +60,8 @@ public:
     /// Projects an ECEF point into the image: (u, v, distance along the boresight); the point
     /// is in view when the distance is > 0 and |u|, |v| <= 1.
     glm::dvec3 project(const glm::dvec3& ecef) const;
+    /// tan(hfov / 2) and tan(vfov / 2), the fields of view clamped to (0, 179.9] degrees.
+    glm::dvec2 tanHalfFov() const { return {tanHalfH_, tanHalfV_}; }
 
 private:
     SensorPose pose_;
