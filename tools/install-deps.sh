@@ -13,6 +13,8 @@ packages=(
   libglfw3-dev xvfb xauth libstb-dev
   # maths, geodesy, data, scene files
   libglm-dev libgeographiclib-dev libgdal-dev gdal-bin nlohmann-json3-dev
+  # 3-D models (glTF 2.0) and the live feed's XML messages
+  libtinygltf-dev libexpat1-dev
   # full-motion video: MPEG-TS demuxing (KLV), H.264 decoding and encoding (fixtures), RGBA
   libavformat-dev libavcodec-dev libavutil-dev libswscale-dev
   # tests

@@ -1,0 +1,531 @@
+#include "layers/models/GltfModel.h"
+
+#include <tiny_gltf.h>
+#include <stb_image.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <set>
+
+namespace orbis::models {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Extensions whose absence from our reader changes only the look, not the geometry.
+const std::set<std::string> kUnderstoodExtensions = {
+    "KHR_materials_unlit", "KHR_texture_transform", "KHR_materials_emissive_strength",
+    "KHR_materials_specular", "KHR_materials_ior", "KHR_materials_transmission",
+    "KHR_materials_clearcoat", "KHR_materials_sheen", "KHR_materials_volume",
+    "KHR_materials_variants", "KHR_lights_punctual", "KHR_mesh_quantization",
+};
+
+// Decodes an image with stb after checking its size from the header alone, so that a small
+// file claiming a huge image cannot make us allocate without bound.
+bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::string* /*warn*/, int, int,
+               const unsigned char* bytes, int size, void*) {
+    int w = 0, h = 0, comp = 0;
+    if (!stbi_info_from_memory(bytes, size, &w, &h, &comp)) {
+        if (err) *err += "image " + std::to_string(index) + ": not a PNG/JPEG/... stb can read (" + stbi_failure_reason() + ")\n";
+        return false;
+    }
+    if (w <= 0 || h <= 0 || w > int(kMaxGltfImageSide) || h > int(kMaxGltfImageSide)) {
+        if (err) {
+            *err += "image " + std::to_string(index) + ": " + std::to_string(w) + "x" + std::to_string(h) +
+                    " is larger than the " + std::to_string(kMaxGltfImageSide) + " pixels a side allowed\n";
+        }
+        return false;
+    }
+    unsigned char* data = stbi_load_from_memory(bytes, size, &w, &h, &comp, 4);
+    if (!data) {
+        if (err) *err += "image " + std::to_string(index) + ": cannot decode (" + stbi_failure_reason() + ")\n";
+        return false;
+    }
+    image->width = w;
+    image->height = h;
+    image->component = 4;
+    image->bits = 8;
+    image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    image->image.assign(data, data + size_t(w) * size_t(h) * 4);
+    stbi_image_free(data);
+    return true;
+}
+
+// tinygltf reads external buffers and images whole: refuse files over the model limit first.
+bool readWholeFileBounded(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+    std::error_code ec;
+    const auto size = fs::file_size(path, ec);
+    if (!ec && size > kMaxGltfFileBytes) {
+        if (err) *err += path + ": " + std::to_string(size >> 20) + " MiB is more than a model's file may have\n";
+        return false;
+    }
+    return tinygltf::ReadWholeFile(out, err, path, user);
+}
+
+class Reader {
+public:
+    Reader(const tinygltf::Model& m, std::string file) : m_(m), file_(std::move(file)) {}
+
+    Result<ModelData> read();
+
+private:
+    std::string where(int accessor, const std::string& what) const {
+        return file_ + ": accessor " + std::to_string(accessor) + " (" + what + ")";
+    }
+    /// Reads `components` numbers per element of `accessor` as floats (normalized integers
+    /// scaled), checking every byte against the buffer. Sparse accessors: the base values.
+    Result<std::vector<float>> floats(int accessor, int components, const std::string& what) const;
+    Result<std::vector<uint32_t>> indices(int accessor, const std::string& what) const;
+    /// The byte span of an accessor's elements, checked.
+    Result<std::pair<const uint8_t*, size_t>> span(int accessor, size_t elementBytes, size_t* stride,
+                                                   const std::string& what) const;
+    Result<void> readPrimitive(const tinygltf::Primitive& p, const std::string& meshName, ModelData& out);
+    void readMaterials(ModelData& out);
+    void readTextures(ModelData& out);
+    Result<void> walk(int node, const glm::dmat4& parent, int depth, ModelData& out);
+
+    const tinygltf::Model& m_;
+    std::string file_;
+    std::vector<std::vector<uint32_t>> meshPrimitives_;   // per mesh: our primitive indices
+    std::set<std::string> warned_;
+    void warnOnce(ModelData& out, const std::string& text) {
+        if (warned_.insert(text).second) out.warnings.push_back(text);
+    }
+};
+
+int componentCount(int type) {
+    switch (type) {
+        case TINYGLTF_TYPE_SCALAR: return 1;
+        case TINYGLTF_TYPE_VEC2: return 2;
+        case TINYGLTF_TYPE_VEC3: return 3;
+        case TINYGLTF_TYPE_VEC4: return 4;
+        case TINYGLTF_TYPE_MAT2: return 4;
+        case TINYGLTF_TYPE_MAT3: return 9;
+        case TINYGLTF_TYPE_MAT4: return 16;
+        default: return 0;
+    }
+}
+
+int componentBytes(int componentType) {
+    switch (componentType) {
+        case TINYGLTF_COMPONENT_TYPE_BYTE:
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+        case TINYGLTF_COMPONENT_TYPE_SHORT:
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+        case TINYGLTF_COMPONENT_TYPE_INT:
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+        case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
+        default: return 0;
+    }
+}
+
+float readComponent(const uint8_t* p, int componentType, bool normalized) {
+    switch (componentType) {
+        case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; std::memcpy(&v, p, 4); return v; }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? float(*p) / 255.0f : float(*p);
+        case TINYGLTF_COMPONENT_TYPE_BYTE: {
+            const float v = float(int8_t(*p));
+            return normalized ? std::max(v / 127.0f, -1.0f) : v;
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+            uint16_t v; std::memcpy(&v, p, 2);
+            return normalized ? float(v) / 65535.0f : float(v);
+        }
+        case TINYGLTF_COMPONENT_TYPE_SHORT: {
+            int16_t v; std::memcpy(&v, p, 2);
+            return normalized ? std::max(float(v) / 32767.0f, -1.0f) : float(v);
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t v; std::memcpy(&v, p, 4); return float(v); }
+        case TINYGLTF_COMPONENT_TYPE_INT: { int32_t v; std::memcpy(&v, p, 4); return float(v); }
+        default: return 0.0f;
+    }
+}
+
+Result<std::pair<const uint8_t*, size_t>> Reader::span(int index, size_t elementBytes, size_t* stride,
+                                                       const std::string& what) const {
+    if (index < 0 || size_t(index) >= m_.accessors.size()) return makeError(where(index, what) + ": no such accessor");
+    const tinygltf::Accessor& a = m_.accessors[size_t(index)];
+    if (a.bufferView < 0 || size_t(a.bufferView) >= m_.bufferViews.size()) {
+        return makeError(where(index, what) + ": has no buffer view (an all-zero or sparse-only accessor is not supported)");
+    }
+    const tinygltf::BufferView& view = m_.bufferViews[size_t(a.bufferView)];
+    if (view.buffer < 0 || size_t(view.buffer) >= m_.buffers.size()) return makeError(where(index, what) + ": its buffer view names no buffer");
+    const tinygltf::Buffer& buffer = m_.buffers[size_t(view.buffer)];
+    const size_t s = view.byteStride ? view.byteStride : elementBytes;
+    if (s < elementBytes) return makeError(where(index, what) + ": byte stride " + std::to_string(s) + " is smaller than an element");
+    *stride = s;
+    if (view.byteOffset > buffer.data.size() || view.byteLength > buffer.data.size() - view.byteOffset) {
+        return makeError(where(index, what) + ": buffer view " + std::to_string(a.bufferView) + " runs past its buffer");
+    }
+    if (a.count == 0) return std::pair<const uint8_t*, size_t>{buffer.data.data() + view.byteOffset, 0};
+    // The last element's end, in overflow-safe arithmetic.
+    const unsigned __int128 end = (unsigned __int128)a.byteOffset + (unsigned __int128)(a.count - 1) * s + elementBytes;
+    if (end > view.byteLength) return makeError(where(index, what) + ": its " + std::to_string(a.count) + " elements run past buffer view " + std::to_string(a.bufferView));
+    return std::pair<const uint8_t*, size_t>{buffer.data.data() + view.byteOffset + a.byteOffset, a.count};
+}
+
+Result<std::vector<float>> Reader::floats(int index, int components, const std::string& what) const {
+    if (index < 0 || size_t(index) >= m_.accessors.size()) return makeError(where(index, what) + ": no such accessor");
+    const tinygltf::Accessor& a = m_.accessors[size_t(index)];
+    const int n = componentCount(a.type);
+    const int cb = componentBytes(a.componentType);
+    if (n != components || cb == 0) {
+        return makeError(where(index, what) + ": expected " + std::to_string(components) + " components, found type " +
+                         std::to_string(a.type) + " of component type " + std::to_string(a.componentType));
+    }
+    if (a.count > kMaxGltfVertices) return makeError(where(index, what) + ": " + std::to_string(a.count) + " elements is more than allowed");
+    size_t stride = 0;
+    auto s = span(index, size_t(n) * size_t(cb), &stride, what);
+    if (!s) return s.error();
+    std::vector<float> out(a.count * size_t(n));
+    const uint8_t* p = s->first;
+    for (size_t i = 0; i < a.count; ++i, p += stride) {
+        for (int c = 0; c < n; ++c) out[i * size_t(n) + size_t(c)] = readComponent(p + c * cb, a.componentType, a.normalized);
+    }
+    return out;
+}
+
+Result<std::vector<uint32_t>> Reader::indices(int index, const std::string& what) const {
+    if (index < 0 || size_t(index) >= m_.accessors.size()) return makeError(where(index, what) + ": no such accessor");
+    const tinygltf::Accessor& a = m_.accessors[size_t(index)];
+    const int cb = componentBytes(a.componentType);
+    if (a.type != TINYGLTF_TYPE_SCALAR || (a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+                                           a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+                                           a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)) {
+        return makeError(where(index, what) + ": indices must be unsigned byte, short or int scalars");
+    }
+    if (a.count > kMaxGltfIndices) return makeError(where(index, what) + ": " + std::to_string(a.count) + " indices is more than allowed");
+    size_t stride = 0;
+    auto s = span(index, size_t(cb), &stride, what);
+    if (!s) return s.error();
+    std::vector<uint32_t> out(a.count);
+    const uint8_t* p = s->first;
+    for (size_t i = 0; i < a.count; ++i, p += stride) out[i] = uint32_t(readComponent(p, a.componentType, false));
+    return out;
+}
+
+uint32_t packColor(float r, float g, float b, float a) {
+    auto q = [](float v) { return uint32_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
+    return q(r) | (q(g) << 8) | (q(b) << 16) | (q(a) << 24);
+}
+
+Result<void> Reader::readPrimitive(const tinygltf::Primitive& p, const std::string& meshName, ModelData& out) {
+    const std::string label = "mesh '" + meshName + "'";
+    if (p.mode != TINYGLTF_MODE_TRIANGLES && p.mode != TINYGLTF_MODE_TRIANGLE_STRIP && p.mode != TINYGLTF_MODE_TRIANGLE_FAN && p.mode != -1) {
+        warnOnce(out, "points and lines primitives are not drawn (" + label + ")");
+        return {};
+    }
+    if (!p.targets.empty()) warnOnce(out, "morph targets are not applied: the model is drawn in its rest shape (" + label + ")");
+    auto pos = p.attributes.find("POSITION");
+    if (pos == p.attributes.end()) return makeError(file_ + ": a primitive of " + label + " has no POSITION");
+    auto positions = floats(pos->second, 3, "POSITION of " + label);
+    if (!positions) return positions.error();
+    const size_t n = positions->size() / 3;
+    if (out.vertices.size() + n > kMaxGltfVertices) return makeError(file_ + ": more than " + std::to_string(kMaxGltfVertices) + " vertices in all");
+
+    std::vector<float> normals, uvs, colors;
+    int colorComponents = 0;
+    if (auto it = p.attributes.find("NORMAL"); it != p.attributes.end()) {
+        auto r = floats(it->second, 3, "NORMAL of " + label);
+        if (!r) return r.error();
+        normals = std::move(*r);
+    }
+    if (auto it = p.attributes.find("TEXCOORD_0"); it != p.attributes.end()) {
+        auto r = floats(it->second, 2, "TEXCOORD_0 of " + label);
+        if (!r) return r.error();
+        uvs = std::move(*r);
+    }
+    if (auto it = p.attributes.find("COLOR_0"); it != p.attributes.end() && it->second >= 0 && size_t(it->second) < m_.accessors.size()) {
+        colorComponents = componentCount(m_.accessors[size_t(it->second)].type);
+        if (colorComponents == 3 || colorComponents == 4) {
+            auto r = floats(it->second, colorComponents, "COLOR_0 of " + label);
+            if (!r) return r.error();
+            colors = std::move(*r);
+        }
+    }
+    for (auto* attr : {&normals, &uvs, &colors}) {
+        const size_t per = attr == &uvs ? 2 : attr == &colors ? size_t(colorComponents) : 3;
+        if (!attr->empty() && attr->size() / per != n) {
+            return makeError(file_ + ": the attributes of a primitive of " + label + " have different counts");
+        }
+    }
+
+    std::vector<uint32_t> idx;
+    if (p.indices >= 0) {
+        auto r = indices(p.indices, "indices of " + label);
+        if (!r) return r.error();
+        idx = std::move(*r);
+        for (uint32_t i : idx) {
+            if (i >= n) return makeError(where(p.indices, "indices of " + label) + ": index " + std::to_string(i) + " is past the " + std::to_string(n) + " vertices");
+        }
+    } else {
+        idx.resize(n);
+        for (size_t i = 0; i < n; ++i) idx[i] = uint32_t(i);
+    }
+    // Strips and fans to lists (the winding of every other strip triangle flipped back).
+    if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP || p.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+        std::vector<uint32_t> list;
+        for (size_t i = 2; i < idx.size(); ++i) {
+            if (p.mode == TINYGLTF_MODE_TRIANGLE_FAN) list.insert(list.end(), {idx[0], idx[i - 1], idx[i]});
+            else if (i % 2 == 0) list.insert(list.end(), {idx[i - 2], idx[i - 1], idx[i]});
+            else list.insert(list.end(), {idx[i - 1], idx[i - 2], idx[i]});
+        }
+        idx = std::move(list);
+    }
+    idx.resize(idx.size() / 3 * 3);
+    if (out.indices.size() + idx.size() > kMaxGltfIndices) return makeError(file_ + ": more than " + std::to_string(kMaxGltfIndices) + " indices in all");
+
+    std::vector<ModelVertex> verts(n);
+    for (size_t i = 0; i < n; ++i) {
+        ModelVertex& v = verts[i];
+        for (int c = 0; c < 3; ++c) v.position[c] = (*positions)[i * 3 + size_t(c)];
+        if (!normals.empty()) for (int c = 0; c < 3; ++c) v.normal[c] = normals[i * 3 + size_t(c)];
+        else v.normal[0] = v.normal[1] = v.normal[2] = 0.0f;
+        v.uv[0] = uvs.empty() ? 0.0f : uvs[i * 2];
+        v.uv[1] = uvs.empty() ? 0.0f : uvs[i * 2 + 1];
+        if (colors.empty()) v.color = 0xffffffffu;
+        else {
+            const float* c = &colors[i * size_t(colorComponents)];
+            v.color = packColor(c[0], c[1], c[2], colorComponents == 4 ? c[3] : 1.0f);
+        }
+    }
+    // No normals: flat ones (the spec's rule), so every triangle gets its own three vertices.
+    if (normals.empty()) {
+        std::vector<ModelVertex> flat;
+        flat.reserve(idx.size());
+        for (size_t t = 0; t + 2 < idx.size(); t += 3) {
+            const glm::vec3 a = glm::make_vec3(verts[idx[t]].position), b = glm::make_vec3(verts[idx[t + 1]].position),
+                            c = glm::make_vec3(verts[idx[t + 2]].position);
+            glm::vec3 nrm = glm::cross(b - a, c - a);
+            const float len = glm::length(nrm);
+            nrm = len > 0.0f ? nrm / len : glm::vec3(0.0f, 1.0f, 0.0f);
+            for (int k = 0; k < 3; ++k) {
+                ModelVertex v = verts[idx[t + size_t(k)]];
+                v.normal[0] = nrm.x; v.normal[1] = nrm.y; v.normal[2] = nrm.z;
+                flat.push_back(v);
+            }
+        }
+        verts = std::move(flat);
+        for (size_t i = 0; i < idx.size(); ++i) idx[i] = uint32_t(i);
+        if (out.vertices.size() + verts.size() > kMaxGltfVertices) return makeError(file_ + ": more than " + std::to_string(kMaxGltfVertices) + " vertices in all");
+    }
+
+    ModelPrimitive prim;
+    prim.firstIndex = uint32_t(out.indices.size());
+    prim.indexCount = uint32_t(idx.size());
+    prim.vertexOffset = int32_t(out.vertices.size());
+    prim.material = (p.material >= 0 && size_t(p.material) < m_.materials.size()) ? p.material : -1;
+    out.vertices.insert(out.vertices.end(), verts.begin(), verts.end());
+    out.indices.insert(out.indices.end(), idx.begin(), idx.end());
+    out.primitives.push_back(prim);
+    return {};
+}
+
+void Reader::readTextures(ModelData& out) {
+    for (const tinygltf::Texture& t : m_.textures) {
+        ModelTexture tex;
+        tex.name = t.name;
+        if (t.source >= 0 && size_t(t.source) < m_.images.size()) {
+            const tinygltf::Image& img = m_.images[size_t(t.source)];
+            if (tex.name.empty()) tex.name = img.name.empty() ? img.uri : img.name;
+            if (img.width > 0 && img.height > 0 && img.component == 4 && img.bits == 8 &&
+                img.image.size() == size_t(img.width) * size_t(img.height) * 4) {
+                tex.width = uint32_t(img.width);
+                tex.height = uint32_t(img.height);
+                tex.mips = buildMips(img.image.data(), tex.width, tex.height);
+            }
+        }
+        if (tex.mips.empty()) {   // missing or unreadable image: a white texel, and say so
+            warnOnce(out, "texture '" + tex.name + "' has no readable image: drawn white");
+            tex.width = tex.height = 1;
+            tex.mips = {std::vector<uint8_t>{255, 255, 255, 255}};
+        }
+        if (t.sampler >= 0 && size_t(t.sampler) < m_.samplers.size()) {
+            const tinygltf::Sampler& s = m_.samplers[size_t(t.sampler)];
+            tex.repeatU = s.wrapS != TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+            tex.repeatV = s.wrapT != TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+            tex.nearest = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+        }
+        out.textures.push_back(std::move(tex));
+    }
+}
+
+void Reader::readMaterials(ModelData& out) {
+    for (const tinygltf::Material& mat : m_.materials) {
+        ModelMaterial m;
+        m.name = mat.name;
+        const auto& f = mat.pbrMetallicRoughness.baseColorFactor;
+        if (f.size() == 4) m.baseColorFactor = glm::vec4(float(f[0]), float(f[1]), float(f[2]), float(f[3]));
+        const int t = mat.pbrMetallicRoughness.baseColorTexture.index;
+        if (t >= 0 && size_t(t) < out.textures.size()) {
+            m.baseColorTexture = t;
+            if (mat.pbrMetallicRoughness.baseColorTexture.texCoord != 0) {
+                warnOnce(out, "material '" + m.name + "' uses TEXCOORD_" + std::to_string(mat.pbrMetallicRoughness.baseColorTexture.texCoord) + ": TEXCOORD_0 is used");
+            }
+        }
+        if (mat.alphaMode == "MASK") m.alphaMode = AlphaMode::Mask;
+        else if (mat.alphaMode == "BLEND") m.alphaMode = AlphaMode::Blend;
+        m.alphaCutoff = float(mat.alphaCutoff);
+        m.doubleSided = mat.doubleSided;
+        m.unlit = mat.extensions.count("KHR_materials_unlit") > 0;
+        out.materials.push_back(std::move(m));
+    }
+}
+
+glm::dmat4 nodeMatrix(const tinygltf::Node& n) {
+    if (n.matrix.size() == 16) return glm::make_mat4(n.matrix.data());
+    glm::dmat4 m(1.0);
+    if (n.translation.size() == 3) m = glm::translate(m, glm::dvec3(n.translation[0], n.translation[1], n.translation[2]));
+    if (n.rotation.size() == 4) m *= glm::mat4_cast(glm::dquat(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]));
+    if (n.scale.size() == 3) m = glm::scale(m, glm::dvec3(n.scale[0], n.scale[1], n.scale[2]));
+    return m;
+}
+
+Result<void> Reader::walk(int node, const glm::dmat4& parent, int depth, ModelData& out) {
+    if (node < 0 || size_t(node) >= m_.nodes.size()) return makeError(file_ + ": node " + std::to_string(node) + " does not exist");
+    if (depth > 256) return makeError(file_ + ": the node hierarchy is deeper than 256 (a cycle?) at node " + std::to_string(node));
+    const tinygltf::Node& n = m_.nodes[size_t(node)];
+    const glm::dmat4 world = parent * nodeMatrix(n);
+    if (n.skin >= 0) warnOnce(out, "skins are not applied: skinned meshes are drawn in their bind pose");
+    if (n.mesh >= 0) {
+        if (size_t(n.mesh) >= meshPrimitives_.size()) return makeError(file_ + ": node " + std::to_string(node) + " names mesh " + std::to_string(n.mesh) + ", which does not exist");
+        const bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
+        for (uint32_t prim : meshPrimitives_[size_t(n.mesh)]) {
+            if (out.draws.size() >= 1'000'000) return makeError(file_ + ": more than a million drawn primitives");
+            out.draws.push_back({prim, glm::mat4(world), mirrored});
+            const ModelPrimitive& p = out.primitives[prim];
+            out.triangles += p.indexCount / 3;
+            for (uint32_t i = 0; i < p.indexCount; ++i) {
+                const ModelVertex& v = out.vertices[size_t(p.vertexOffset) + out.indices[p.firstIndex + i]];
+                const glm::dvec3 q = glm::dvec3(world * glm::dvec4(v.position[0], v.position[1], v.position[2], 1.0));
+                out.boundsMin = glm::min(out.boundsMin, q);
+                out.boundsMax = glm::max(out.boundsMax, q);
+            }
+        }
+    }
+    for (int child : n.children) {
+        if (auto r = walk(child, world, depth + 1, out); !r) return r;
+    }
+    return {};
+}
+
+Result<ModelData> Reader::read() {
+    ModelData out;
+    out.file = file_;
+    for (const std::string& ext : m_.extensionsRequired) {
+        if (!kUnderstoodExtensions.count(ext)) return makeError(file_ + ": requires the glTF extension " + ext + ", which Orbis does not read");
+    }
+    if (!m_.animations.empty()) warnOnce(out, "glTF animations are not played: the model is drawn in its rest pose (it moves along its trajectory)");
+    readTextures(out);
+    readMaterials(out);
+    meshPrimitives_.resize(m_.meshes.size());
+    for (size_t mi = 0; mi < m_.meshes.size(); ++mi) {
+        const tinygltf::Mesh& mesh = m_.meshes[mi];
+        const std::string name = mesh.name.empty() ? std::to_string(mi) : mesh.name;
+        for (const tinygltf::Primitive& p : mesh.primitives) {
+            const size_t before = out.primitives.size();
+            if (auto r = readPrimitive(p, name, out); !r) return r.error();
+            if (out.primitives.size() > before) meshPrimitives_[mi].push_back(uint32_t(before));
+        }
+    }
+    out.boundsMin = glm::dvec3(std::numeric_limits<double>::max());
+    out.boundsMax = glm::dvec3(-std::numeric_limits<double>::max());
+    std::vector<int> roots;
+    if (!m_.scenes.empty()) {
+        const int s = (m_.defaultScene >= 0 && size_t(m_.defaultScene) < m_.scenes.size()) ? m_.defaultScene : 0;
+        roots = m_.scenes[size_t(s)].nodes;
+    } else {   // no scene: every node that is nobody's child
+        std::vector<bool> child(m_.nodes.size(), false);
+        for (const auto& n : m_.nodes) for (int c : n.children) if (c >= 0 && size_t(c) < child.size()) child[size_t(c)] = true;
+        for (size_t i = 0; i < m_.nodes.size(); ++i) if (!child[i]) roots.push_back(int(i));
+    }
+    for (int r : roots) {
+        if (auto w = walk(r, glm::dmat4(1.0), 0, out); !w) return w.error();
+    }
+    if (out.draws.empty()) return makeError(file_ + ": the scene has no triangles to draw");
+    return out;
+}
+
+}  // namespace
+
+uint64_t ModelData::textureBytes() const {
+    uint64_t bytes = 0;
+    for (const auto& t : textures) for (const auto& m : t.mips) bytes += m.size();
+    return bytes;
+}
+
+glm::dmat3 gltfToBody() {
+    // Columns are the images of the glTF axes in body coordinates (x fwd, y right, z down):
+    // glTF +X (left) -> body -y, glTF +Y (up) -> body -z, glTF +Z (front) -> body +x.
+    return glm::dmat3(glm::dvec3(0, -1, 0), glm::dvec3(0, 0, -1), glm::dvec3(1, 0, 0));
+}
+
+std::vector<std::vector<uint8_t>> buildMips(const uint8_t* rgba, uint32_t width, uint32_t height) {
+    std::vector<std::vector<uint8_t>> mips;
+    mips.emplace_back(rgba, rgba + size_t(width) * height * 4);
+    uint32_t w = width, h = height;
+    while (w > 1 || h > 1) {
+        const uint32_t nw = std::max(1u, w / 2), nh = std::max(1u, h / 2);
+        const std::vector<uint8_t>& src = mips.back();
+        std::vector<uint8_t> dst(size_t(nw) * nh * 4);
+        for (uint32_t y = 0; y < nh; ++y) {
+            for (uint32_t x = 0; x < nw; ++x) {
+                const uint32_t x0 = std::min(2 * x, w - 1), x1 = std::min(2 * x + 1, w - 1);
+                const uint32_t y0 = std::min(2 * y, h - 1), y1 = std::min(2 * y + 1, h - 1);
+                for (int c = 0; c < 4; ++c) {
+                    const unsigned sum = src[(size_t(y0) * w + x0) * 4 + c] + src[(size_t(y0) * w + x1) * 4 + c] +
+                                         src[(size_t(y1) * w + x0) * 4 + c] + src[(size_t(y1) * w + x1) * 4 + c];
+                    dst[(size_t(y) * nw + x) * 4 + c] = uint8_t((sum + 2) / 4);
+                }
+            }
+        }
+        mips.push_back(std::move(dst));
+        w = nw;
+        h = nh;
+    }
+    return mips;
+}
+
+Result<ModelData> loadGltf(const std::string& path) {
+    std::error_code ec;
+    const auto size = fs::file_size(path, ec);
+    if (ec) return makeError(path + ": cannot read (" + ec.message() + ")");
+    if (size > kMaxGltfFileBytes) {
+        return makeError(path + ": " + std::to_string(size >> 20) + " MiB is more than the " + std::to_string(kMaxGltfFileBytes >> 20) + " MiB a model may have");
+    }
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(&loadImage, nullptr);
+    loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &readWholeFileBounded, &tinygltf::WriteWholeFile, nullptr});
+    tinygltf::Model model;
+    std::string err, warn;
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    bool binary = ext == ".glb";
+    if (!binary && ext != ".gltf") {   // sniff: a .glb starts with "glTF"
+        char magic[4] = {};
+        if (FILE* f = std::fopen(path.c_str(), "rb")) {
+            binary = std::fread(magic, 1, 4, f) == 4 && std::memcmp(magic, "glTF", 4) == 0;
+            std::fclose(f);
+        }
+    }
+    const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                           : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    if (!ok) {
+        while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
+        for (auto& c : err) if (c == '\n') c = ';';
+        return makeError(path + ": not a readable glTF 2.0 file: " + (err.empty() ? std::string("unknown error") : err));
+    }
+    return Reader(model, path).read();
+}
+
+}  // namespace orbis::models
