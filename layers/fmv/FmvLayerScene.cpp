@@ -2,37 +2,14 @@
 // poses read (KLV, or a pose CSV), and the video's clock placed on the scene's time.
 #include "engine/core/Log.h"
 #include "engine/scene/JsonReader.h"
+#include "globe/Geoid.h"
 #include "layers/fmv/FmvLayer.h"
 #include "layers/fmv/PoseCsv.h"
-
-#include <ogr_spatialref.h>
 
 #include <algorithm>
 #include <memory>
 
 namespace orbis::layers {
-namespace {
-
-// EGM96 geoid heights through PROJ (Debian's proj-data carries the grid): ST 0601's true
-// altitude is above mean sea level. Without the grid, none (altitudes then count as ellipsoid
-// heights, and the layer says so).
-fmv::GeoidHeight egm96() {
-    auto msl = std::make_shared<OGRSpatialReference>();
-    auto ellipsoidal = std::make_shared<OGRSpatialReference>();
-    if (msl->SetFromUserInput("EPSG:4326+5773") != OGRERR_NONE || ellipsoidal->importFromEPSG(4979) != OGRERR_NONE) return {};
-    msl->SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    ellipsoidal->SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    std::shared_ptr<OGRCoordinateTransformation> t(OGRCreateCoordinateTransformation(msl.get(), ellipsoidal.get()));
-    if (!t) return {};
-    double x = 9.0, y = 46.0, z = 0.0;
-    if (!t->Transform(1, &x, &y, &z) || z == 0.0) return {};   // no grid: PROJ would give 0
-    return [t, msl, ellipsoidal](double lon, double lat) {
-        double x = lon, y = lat, z = 0.0;
-        return t->Transform(1, &x, &y, &z) ? z : 0.0;
-    };
-}
-
-}  // namespace
 
 Result<std::unique_ptr<scene::Layer>> FmvLayer::create(const scene::LayerDesc& desc, const scene::SceneDesc& scene) {
     scene::JsonReader r(desc.settings, scene.file.string(), desc.jsonPath);
@@ -62,7 +39,7 @@ Result<std::unique_ptr<scene::Layer>> FmvLayer::create(const scene::LayerDesc& d
     const std::string file = scene.resolve(*path).string();
     auto video = fmv::VideoFile::open(file);
     if (!video) return makeError(where + ": " + video.message());
-    const fmv::GeoidHeight geoid = egm96();
+    const fmv::GeoidHeight geoid = globe::egm96Geoid();
     std::optional<fmv::FmvTimeline> timeline;
     if (poses && !poses->empty()) {
         const std::string csvPath = scene.resolve(*poses).string();
