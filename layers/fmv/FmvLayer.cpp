@@ -198,23 +198,32 @@ void FmvLayer::updateHeightfield(const scene::FrameContext& frame) {
     for (const auto& p : points) mean += p;
     mean /= double(points.size());
     const globe::Geodetic g = wgs84().toGeodetic(mean);
-    const glm::dmat3 enu = wgs84().enuFrame(g.lonDeg, g.latDeg);
-    const glm::dvec3 origin = wgs84().toEcef(g.lonDeg, g.latDeg, 0.0);
     double half = 0.0;
-    for (const auto& p : points)
-        half = std::max({half, std::abs(glm::dot(p - origin, enu[0])), std::abs(glm::dot(p - origin, enu[1]))});
-    half = std::min(half * 1.15 + 200.0, kMaxHalfSize);
-    // Rebuild when the view left the heightfield or its scale changed, or the ground's data
-    // changed (tiles loaded or evicted), or parts of it were not known yet.
-    const bool inside = !heights_.empty() && half <= halfSize_ && half > 0.6 * halfSize_ &&
-                        std::abs(glm::dot(origin - origin_, enu_[0])) + half <= halfSize_ * 1.3 &&
-                        std::abs(glm::dot(origin - origin_, enu_[1])) + half <= halfSize_ * 1.3;
-    if (inside && heightsComplete_ && frame.groundVersion == groundVersion_) return;
-    if (!inside) {
-        origin_ = origin;
-        enu_ = enu;
-        halfSize_ = half;
+    {
+        const glm::dvec3 o = wgs84().toEcef(g.lonDeg, g.latDeg, 0.0);
+        const glm::dmat3 e = wgs84().enuFrame(g.lonDeg, g.latDeg);
+        for (const auto& p : points) half = std::max({half, std::abs(glm::dot(p - o, e[0])), std::abs(glm::dot(p - o, e[1]))});
     }
+    // The heightfield is a function of the current pose alone (never of the frames before, so
+    // that one time gives one picture however it was reached): its size is the next power of two
+    // above what the view needs, and its centre snaps to a grid of an eighth of that in lon/lat.
+    // Between snaps it is reused as it is.
+    double halfSize = std::exp2(std::ceil(std::log2(std::max(half * 1.15 + 200.0, 1.0))));
+    const double step = halfSize / 8.0;
+    halfSize = std::min(halfSize + step, kMaxHalfSize);
+    const double metresPerDegree = 111320.0;
+    const double dLat = step / metresPerDegree;
+    const double lat = std::clamp(std::round(g.latDeg / dLat) * dLat, -90.0, 90.0);
+    const double dLon = step / (metresPerDegree * std::max(std::cos(glm::radians(lat)), 0.01));
+    const double lon = globe::wrapLongitude(std::round(g.lonDeg / dLon) * dLon);
+    const glm::dvec3 origin = wgs84().toEcef(lon, lat, 0.0);
+    // Rebuild when the snapped place or the size changed, or the ground's data changed (tiles
+    // loaded or evicted), or parts of it were not known yet.
+    const bool same = !heights_.empty() && origin == origin_ && halfSize == halfSize_;
+    if (same && heightsComplete_ && frame.groundVersion == groundVersion_) return;
+    origin_ = origin;
+    enu_ = wgs84().enuFrame(lon, lat);
+    halfSize_ = halfSize;
     groundVersion_ = frame.groundVersion;
     const int n = settings_.heightfieldSize;
     const double cell = 2.0 * halfSize_ / double(n - 1);
