@@ -41,6 +41,9 @@ struct RenderServices {
     std::function<jobs::ThreadPool&()> jobs;
 };
 
+/// Height of the ground above the ellipsoid at (lon, lat), or nothing where unknown.
+using GroundHeightFn = std::function<std::optional<double>(double lonDeg, double latDeg)>;
+
 struct FrameContext {
     const Camera* camera = nullptr;
     TimeNs time = 0;
@@ -49,10 +52,29 @@ struct FrameContext {
     double cameraHeight = 0.0;   ///< above the ellipsoid, metres
     /// The ground's height above the ellipsoid where a visible layer knows it (the terrain's
     /// loaded data), else nothing: Scene::heightAt.
-    std::function<std::optional<double>(double lonDeg, double latDeg)> groundHeight;
+    GroundHeightFn groundHeight;
     /// Changes whenever groundHeight's answers may have (Layer::groundVersion, summed).
     uint64_t groundVersion = 0;
     double aspect() const { return height ? double(width) / double(height) : 1.0; }
+};
+
+/// Where a moving thing is (a vehicle along its trajectory, a live position), for cameras that
+/// follow it and for the scene's time range.
+struct TrackedPose {
+    glm::dvec3 position{0.0};              ///< ECEF metres
+    glm::dquat bodyToEcef{1.0, 0.0, 0.0, 0.0};   ///< body axes (x forward, y right, z down) in ECEF
+    glm::dvec3 velocity{0.0};              ///< ECEF metres per second
+    double radius = 1.0;                   ///< bounding radius of what is drawn there, metres
+};
+
+struct TimeRange {
+    TimeNs start = 0, end = 0;
+};
+
+/// A sphere around everything a layer may draw over time (a whole path), for overview cameras.
+struct ContentBounds {
+    glm::dvec3 center{0.0};   ///< ECEF
+    double radius = 0.0;
 };
 
 struct RecordContext {
@@ -114,6 +136,13 @@ public:
     /// ground (a point cloud seen from 2 m at 8 000 m). Nothing for layers that are ground
     /// (groundHeightAt covers them) or that need no near plane (ray casting).
     virtual std::optional<double> nearestContent(const glm::dvec3& /*eye*/) const { return std::nullopt; }
+    /// The time span of the layer's data (a trajectory's samples), for scenes that give none.
+    virtual std::optional<TimeRange> timeRange() const { return std::nullopt; }
+    /// The pose of the thing the layer moves at `t` (its first copy) on `ground`, for follow and
+    /// pilot cameras; nothing for layers that move nothing or where it is hidden at `t`.
+    virtual std::optional<TrackedPose> trackedPose(TimeNs /*t*/, const GroundHeightFn& /*ground*/) const { return std::nullopt; }
+    /// Where the layer's moving content goes over its whole time range.
+    virtual std::optional<ContentBounds> contentBounds() const { return std::nullopt; }
     /// True while the layer still has work in flight that would change the picture (tiles
     /// loading or waiting for upload). Batch renders wait for it to clear.
     virtual bool busy() const { return false; }

@@ -1,6 +1,10 @@
 #include "engine/scene/Scene.h"
 
+#include "engine/core/Log.h"
+#include "engine/scene/CameraRig.h"
 #include "globe/Ellipsoid.h"
+
+#include <algorithm>
 
 namespace orbis::scene {
 
@@ -17,7 +21,20 @@ Result<std::unique_ptr<Scene>> Scene::build(SceneDesc desc, const LayerRegistry&
         r.layer = std::move(made).value();
         scene->resources_.push_back(std::move(r));
     }
-    const TimeDesc& t = scene->desc_.time;
+    TimeDesc t = scene->desc_.time;
+    if (!t.given) {   // no "time" in the file: the span of the layers' data, from its start
+        std::optional<TimeRange> all;
+        for (const Resource& r : scene->resources_) {
+            if (auto range = r.layer->timeRange()) {
+                if (!all) all = range;
+                else all = TimeRange{std::min(all->start, range->start), std::max(all->end, range->end)};
+            }
+        }
+        if (all) {
+            t.start = t.current = all->start;
+            t.end = all->end;
+        }
+    }
     if (auto ok = scene->time_.setRange(t.start, t.end); !ok) return ok.error();
     scene->time_.seek(t.current);
     scene->time_.setRate(t.rate);
@@ -25,6 +42,12 @@ Result<std::unique_ptr<Scene>> Scene::build(SceneDesc desc, const LayerRegistry&
     if (t.playing) scene->time_.play();
     scene->camera_.setVerticalFovDeg(scene->desc_.fovDeg);
     scene->goHome();
+    if (scene->desc_.camera.mode != CameraMode::Free) {
+        if (!scene->find(scene->desc_.camera.target)) {
+            return makeError(scene->desc_.file.string() + ": /camera/target: no layer is named \"" + scene->desc_.camera.target + "\"");
+        }
+        scene->cameraMode_ = scene->desc_.camera;
+    }
     return scene;
 }
 
@@ -52,6 +75,55 @@ globe::Pose Scene::keptAboveGround(globe::Pose pose, double clearance) const {
         pose.position = ellipsoid.toEcef(eye);
     }
     return pose;
+}
+
+void Scene::setCameraMode(const CameraModeSettings& settings, double flySeconds) {
+    cameraMode_ = settings;
+    warnedTarget_ = false;
+    flight_.reset();
+    if (flySeconds > 0.0 && settings.mode != CameraMode::Free) flight_ = Flight{camera_.pose(), flySeconds, std::chrono::steady_clock::now()};
+}
+
+std::optional<globe::Pose> Scene::cameraModePose(double aspect) const {
+    if (cameraMode_.mode == CameraMode::Free) return std::nullopt;
+    const Resource* target = nullptr;
+    for (const auto& r : resources_)
+        if (r.name == cameraMode_.target) target = &r;
+    if (!target) return std::nullopt;
+    const GroundHeightFn ground = [this](double lon, double lat) { return heightAt(lon, lat); };
+    const TimeNs now = time_.now();
+    if (cameraMode_.mode == CameraMode::Overview) {
+        const auto bounds = target->layer->contentBounds();
+        if (!bounds) return std::nullopt;
+        return cameraForOverview(*bounds, camera_.verticalFovRad(), aspect);
+    }
+    const auto pose = target->layer->trackedPose(now, ground);
+    if (!pose) return std::nullopt;
+    glm::dvec3 travel(0.0);
+    if (cameraMode_.mode == CameraMode::Follow) {
+        // The direction of travel over the smoothing window: a function of the time alone.
+        const TimeNs before = now - fromSeconds(std::max(cameraMode_.smoothingSeconds, 1e-3));
+        if (const auto earlier = target->layer->trackedPose(before, ground)) travel = pose->position - earlier->position;
+        if (glm::dot(travel, travel) < 1e-6) travel = pose->velocity;
+    }
+    return cameraForTarget(cameraMode_, *pose, travel);
+}
+
+void Scene::updateCamera(double aspect) {
+    auto pose = cameraModePose(aspect);
+    if (!pose) {
+        if (cameraMode_.mode != CameraMode::Free && !warnedTarget_) {
+            log::info("camera: ", toString(cameraMode_.mode), " mode: \"", cameraMode_.target, "\" has no pose now; the camera stays");
+            warnedTarget_ = true;
+        }
+        return;
+    }
+    if (flight_) {
+        const double f = std::chrono::duration<double>(std::chrono::steady_clock::now() - flight_->start).count() / flight_->seconds;
+        if (f >= 1.0) flight_.reset();
+        else *pose = blendPoses(flight_->from, *pose, f);
+    }
+    camera_.setPose(keptAboveGround(*pose, cameraMode_.mode == CameraMode::Below ? -1e9 : 0.5));
 }
 
 bool Scene::busy() const {

@@ -4,11 +4,13 @@
 
 #include "engine/core/Result.h"
 #include "engine/scene/Camera.h"
+#include "engine/scene/CameraMode.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/LayerRegistry.h"
 #include "engine/scene/SceneDesc.h"
 #include "engine/scene/TimeServer.h"
 
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
@@ -53,6 +55,19 @@ public:
     /// Puts the camera at the scene's viewpoint (the "Home" view).
     void goHome();
 
+    /// Switches the camera mode (CameraMode.h). With `flySeconds` > 0 the camera flies from
+    /// where it is to the new mode's view over that many wall seconds; else it jumps there at
+    /// the next updateCamera(). Free leaves the camera where it is (for the user to move).
+    void setCameraMode(const CameraModeSettings& settings, double flySeconds = 0.0);
+    const CameraModeSettings& cameraMode() const { return cameraMode_; }
+    /// Puts the camera where its mode wants it at the current virtual time (the target layer's
+    /// pose on the ground as loaded); does nothing in Free mode or while the target is hidden.
+    /// The renderer calls it at the start of every frame, with the frame's aspect ratio.
+    void updateCamera(double aspect);
+    /// The view the mode gives at the current time, without moving the camera; nothing in Free
+    /// mode, when the target does not exist or is hidden now.
+    std::optional<globe::Pose> cameraModePose(double aspect) const;
+
 private:
     explicit Scene(SceneDesc desc) : desc_(std::move(desc)) {}
 
@@ -60,6 +75,14 @@ private:
     std::vector<Resource> resources_;
     Camera camera_;
     TimeServer time_;
+    CameraModeSettings cameraMode_;
+    struct Flight {
+        globe::Pose from;
+        double seconds = 0.0;
+        std::chrono::steady_clock::time_point start;
+    };
+    std::optional<Flight> flight_;
+    bool warnedTarget_ = false;
 };
 
 }  // namespace orbis::scene

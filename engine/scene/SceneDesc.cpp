@@ -136,6 +136,25 @@ Result<SceneDesc> parseSceneText(std::string_view text, const std::filesystem::p
         scene.time.start = *start;
         scene.time.end = *end;
         scene.time.current = *current;
+        scene.time.given = true;
+    }
+
+    // A camera mode that watches a moving layer (CameraMode.h).
+    if (const auto* c = r.object("camera")) {
+        JsonReader cr(*c, name, "/camera");
+        CameraModeSettings& m = scene.camera;
+        if (auto mode = cr.string("mode", std::string("free"))) {
+            if (auto parsed = parseCameraMode(*mode)) m.mode = *parsed;
+            else cr.fail("mode", "expected free, overview, follow, pilot, inside, above, aside or below, got \"" + *mode + "\"");
+        }
+        m.target = cr.string("target", std::string()).value_or("");
+        if (cr.ok() && m.mode != CameraMode::Free && m.target.empty()) cr.fail("target", "name the layer the camera watches");
+        m.distance = cr.number("distance", 0.0, 0.0, 1e8).value_or(0.0);
+        m.headingDeg = cr.number("heading", 0.0, -360.0, 360.0).value_or(0.0);
+        m.pitchDeg = cr.number("pitch", -15.0, -89.0, 89.0).value_or(-15.0);
+        m.smoothingSeconds = cr.number("smoothing", 2.0, 0.0, 3600.0).value_or(2.0);
+        if (auto e = cr.numbers("eye", 3, std::vector<double>{0.0, 0.0, 0.0}); e && e->size() == 3) m.eye = {(*e)[0], (*e)[1], (*e)[2]};
+        if (auto done = cr.finish(); !done) return done.error();
     }
 
     if (const auto* layers = r.array("layers", /*required=*/true)) {

@@ -8,12 +8,15 @@
 //   "fovDeg": 45,
 //   "time": {"start": "2026-03-20T00:00:00Z", "end": "2026-03-21T00:00:00Z",
 //            "current": "2026-03-20T08:00:00Z", "rate": 1, "loop": true, "playing": false},
+//            (no "time": the range of the layers' data, e.g. trajectories, from its start)
 //   "background": [0.0, 0.0, 0.01],
+//   "camera": {"mode": "follow", "target": "Train"},          (CameraMode.h; optional)
 //   "layers": [{"type": "globe", "name": "Earth", "visible": true, "viewpoint": {...}, ...}]
 // }
 
 #include "engine/core/Result.h"
 #include "engine/core/TimeFormat.h"
+#include "engine/scene/CameraMode.h"
 #include "globe/Viewpoint.h"
 
 #include <glm/glm.hpp>
@@ -40,6 +43,7 @@ struct TimeDesc {
     double rate = 1.0;
     bool loop = false;
     bool playing = false;
+    bool given = false;   ///< the file has a "time" object; else the layers' data give the range
 };
 
 struct SceneDesc {
@@ -49,6 +53,7 @@ struct SceneDesc {
     globe::Viewpoint viewpoint;
     double fovDeg = 45.0;
     TimeDesc time;
+    CameraModeSettings camera;      ///< "camera": a mode watching a moving layer (free by default)
     glm::dvec3 background{0.0, 0.0, 0.0};
     std::vector<LayerDesc> layers;
 
