@@ -2,6 +2,7 @@
 
 #include "layers/fmv/FmvLayer.h"
 #include "layers/globe/GlobeLayer.h"
+#include "layers/models/ModelLayer.h"
 #include "layers/points/PointsLayer.h"
 #include "layers/terrain/TerrainLayer.h"
 #include "layers/volume/VolumeLayer.h"
@@ -13,6 +14,7 @@ void registerBuiltinLayers(scene::LayerRegistry& registry) {
     registry.add("terrain", "WGS84 quadtree terrain streaming DEMs and imagery through GDAL", &TerrainLayer::create);
     registry.add("volume", "netCDF scalar field in a curved geo-box, ray cast on the GPU", &VolumeLayer::create);
     registry.add("points", "LAS point cloud, splatted by compute shaders with eye-dome lighting", &PointsLayer::create);
+    registry.add("model", "glTF 2.0 model, fixed or moving along a trajectory or a live position feed", &ModelLayer::create);
     registry.add("fmv", "full-motion video (MISB ST 0601 KLV) draped on the terrain from its sensor", &FmvLayer::create);
 }
 

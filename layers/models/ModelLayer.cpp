@@ -1,0 +1,474 @@
+#include "layers/models/ModelLayer.h"
+
+#include "engine/core/Color.h"
+#include "engine/gpu/Barriers.h"
+#include "engine/gpu/Device.h"
+#include "engine/gpu/Pipeline.h"
+#include "engine/gpu/Uploader.h"
+#include "engine/gpu/VkCheck.h"
+#include "globe/Culling.h"
+#include "globe/Ellipsoid.h"
+#include "layers/models/ModelLabel.h"
+#include "shared/ModelTypes.h"
+
+#include "spv/models/line.frag.h"
+#include "spv/models/line.vert.h"
+#include "spv/models/model.frag.h"
+#include "spv/models/model.vert.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace orbis::layers {
+namespace {
+
+constexpr uint32_t kLabelMaxVertices = 6 * 2048;
+
+glm::dmat3 rotationFromHpr(const glm::dvec3& hprDeg) {
+    // Rz(heading) * Ry(pitch) * Rx(roll) about the body axes (x forward, y right, z down).
+    const glm::dquat q = glm::angleAxis(glm::radians(hprDeg.x), glm::dvec3(0, 0, 1)) *
+                         glm::angleAxis(glm::radians(hprDeg.y), glm::dvec3(0, 1, 0)) *
+                         glm::angleAxis(glm::radians(hprDeg.z), glm::dvec3(1, 0, 0));
+    return glm::mat3_cast(q);
+}
+
+glm::vec4 linearColor(const glm::dvec3& srgb, double alpha) {
+    return glm::vec4(float(srgbToLinear(srgb.r)), float(srgbToLinear(srgb.g)), float(srgbToLinear(srgb.b)), float(alpha));
+}
+
+template <typename T>
+void append(std::vector<std::byte>& out, const T& value) {
+    const auto* p = reinterpret_cast<const std::byte*>(&value);
+    out.insert(out.end(), p, p + sizeof(T));
+}
+
+}  // namespace
+
+ModelLayer::ModelLayer(ModelSettings settings, models::ModelData model, std::unique_ptr<models::ModelMotion> motion)
+    : settings_(std::move(settings)), model_(std::move(model)), motion_(std::move(motion)) {
+    modelToBody_ = rotationFromHpr(settings_.orientationDeg) * models::gltfToBody();
+    maxCopies_ = std::max(1u, settings_.copies);
+}
+
+ModelLayer::~ModelLayer() = default;
+
+bool ModelLayer::drawsIn(scene::Pass pass) const {
+    return pass == scene::Pass::Opaque || (pass == scene::Pass::Overlay && settings_.label);
+}
+
+void ModelLayer::prepare(const scene::RenderServices& services) {
+    uploadModel(services);
+    buildPipelines(services);
+}
+
+void ModelLayer::uploadModel(const scene::RenderServices& services) {
+    gpu::Device& device = *services.device;
+    const VkDeviceSize vbytes = model_.vertices.size() * sizeof(models::ModelVertex);
+    const VkDeviceSize ibytes = model_.indices.size() * sizeof(uint32_t);
+    std::vector<shader::ModelNode> nodes(model_.draws.size());
+    for (size_t i = 0; i < nodes.size(); ++i) {
+        nodes[i].transform = model_.draws[i].transform;
+        nodes[i].normal = glm::mat4(glm::transpose(glm::inverse(glm::mat3(model_.draws[i].transform))));
+    }
+    const VkDeviceSize nbytes = nodes.size() * sizeof(shader::ModelNode);
+    vertices_ = gpu::Buffer(device, vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                            gpu::MemoryUsage::GpuOnly, "model vertices");
+    indices_ = gpu::Buffer(device, ibytes, VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                           gpu::MemoryUsage::GpuOnly, "model indices");
+    nodes_ = gpu::Buffer(device, nbytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                         gpu::MemoryUsage::GpuOnly, "model nodes");
+    gpuBytes_ = vbytes + ibytes + nbytes;
+
+    // Textures: the model's, then one white texel for untextured materials.
+    std::vector<const models::ModelTexture*> sources;
+    for (const auto& t : model_.textures) sources.push_back(&t);
+    models::ModelTexture white;
+    white.width = white.height = 1;
+    white.mips = {std::vector<uint8_t>{255, 255, 255, 255}};
+    sources.push_back(&white);
+    textures_.resize(sources.size());
+    for (size_t i = 0; i < sources.size(); ++i) {
+        gpu::ImageDesc d;
+        d.format = VK_FORMAT_R8G8B8A8_SRGB;
+        d.extent = {sources[i]->width, sources[i]->height, 1};
+        d.mipLevels = uint32_t(sources[i]->mips.size());
+        d.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+        d.name = "model texture";
+        textures_[i].image = gpu::Image(device, d);
+    }
+
+    device.runOnce([&](VkCommandBuffer cmd) {
+        services.uploader->toBuffer(cmd, vertices_, model_.vertices.data(), vbytes);
+        services.uploader->toBuffer(cmd, indices_, model_.indices.data(), ibytes);
+        services.uploader->toBuffer(cmd, nodes_, nodes.data(), nbytes);
+        gpu::bufferBarrier(cmd, vertices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
+        gpu::bufferBarrier(cmd, indices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_INDEX_READ_BIT);
+        gpu::bufferBarrier(cmd, nodes_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+        for (size_t i = 0; i < sources.size(); ++i) {
+            const models::ModelTexture& t = *sources[i];
+            std::vector<uint8_t> blob;
+            std::vector<VkBufferImageCopy> regions;
+            for (uint32_t level = 0; level < t.mips.size(); ++level) {
+                VkBufferImageCopy r{};
+                r.bufferOffset = blob.size();
+                r.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level, 0, 1};
+                r.imageExtent = {std::max(1u, t.width >> level), std::max(1u, t.height >> level), 1};
+                regions.push_back(r);
+                blob.insert(blob.end(), t.mips[level].begin(), t.mips[level].end());
+            }
+            services.uploader->toImageRegions(cmd, textures_[i].image, blob.data(), blob.size(), regions);
+            gpu::transition(cmd, textures_[i].image, gpu::ImageUse::SampledFragment);
+            gpuBytes_ += blob.size();
+        }
+    });
+    // On the GPU now; keep the draw list and materials (and the bounds) for recording.
+    model_.vertices = {};
+    model_.indices = {};
+    for (auto& t : model_.textures) t.mips = {};
+}
+
+void ModelLayer::buildPipelines(const scene::RenderServices& services) {
+    gpu::Device& device = *services.device;
+    // Samplers: repeat (glTF's default) and clamp, trilinear.
+    for (bool repeat : {true, false}) {
+        VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+        si.magFilter = si.minFilter = VK_FILTER_LINEAR;
+        si.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
+        si.addressModeU = si.addressModeV = si.addressModeW =
+            repeat ? VK_SAMPLER_ADDRESS_MODE_REPEAT : VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+        si.maxLod = VK_LOD_CLAMP_NONE;
+        VkSampler s = VK_NULL_HANDLE;
+        VK_CHECK(vkCreateSampler(device.vk(), &si, nullptr, &s));
+        (repeat ? repeatSampler_ : clampSampler_) = gpu::Sampler(device, s);
+    }
+
+    const uint32_t frames = services.framesInFlight;
+    const VkDescriptorSetLayoutBinding frameBindings[] = {
+        {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr},
+        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr},
+    };
+    frameSets_ = gpu::createDescriptorSets(device, frameBindings, frames);
+    for (uint32_t f = 0; f < frames; ++f) {
+        instanceBuffers_.emplace_back(device, uint64_t(maxCopies_) * sizeof(shader::ModelInstance),
+                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Upload, "model instances");
+        gpuBytes_ += instanceBuffers_.back().size();
+        const VkDescriptorBufferInfo infos[] = {{instanceBuffers_[f].vk(), 0, VK_WHOLE_SIZE}, {nodes_.vk(), 0, VK_WHOLE_SIZE}};
+        VkWriteDescriptorSet w[2] = {};
+        for (uint32_t b = 0; b < 2; ++b) {
+            w[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+            w[b].dstSet = frameSets_.sets[f];
+            w[b].dstBinding = b;
+            w[b].descriptorCount = 1;
+            w[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            w[b].pBufferInfo = &infos[b];
+        }
+        vkUpdateDescriptorSets(device.vk(), 2, w, 0, nullptr);
+        if (settings_.path.show) {
+            pathBuffers_.emplace_back(device, uint64_t(settings_.path.maxPoints) * sizeof(shader::ModelLineVertex),
+                                      VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, gpu::MemoryUsage::Upload, "model path");
+            gpuBytes_ += pathBuffers_.back().size();
+        }
+        if (settings_.label) {
+            labelBuffers_.emplace_back(device, uint64_t(kLabelMaxVertices) * sizeof(shader::ModelLineVertex),
+                                       VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, gpu::MemoryUsage::Upload, "model label");
+            gpuBytes_ += labelBuffers_.back().size();
+        }
+    }
+
+    const VkDescriptorSetLayoutBinding materialBinding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1,
+                                                       VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
+    materialSets_ = gpu::createDescriptorSets(device, {&materialBinding, 1}, uint32_t(textures_.size()));
+    for (size_t i = 0; i < textures_.size(); ++i) {
+        const bool repeat = i < model_.textures.size() ? (model_.textures[i].repeatU || model_.textures[i].repeatV) : false;
+        textures_[i].set = materialSets_.sets[i];
+        VkDescriptorImageInfo info{repeat ? repeatSampler_.vk() : clampSampler_.vk(), textures_[i].image.view(),
+                                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+        VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        w.dstSet = textures_[i].set;
+        w.dstBinding = 0;
+        w.descriptorCount = 1;
+        w.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        w.pImageInfo = &info;
+        vkUpdateDescriptorSets(device.vk(), 1, &w, 0, nullptr);
+    }
+
+    const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(shader::ModelPush)};
+    const VkDescriptorSetLayout sets[] = {services.frameSetLayout, frameSets_.layout.vk(), materialSets_.layout.vk()};
+    layout_ = gpu::createPipelineLayout(device, sets, {&push, 1});
+
+    gpu::GraphicsPipelineDesc d;
+    d.vertexSpirv = kSpv_models_model_vert;
+    d.fragmentSpirv = kSpv_models_model_frag;
+    d.layout = layout_.vk();
+    d.bindings = {{0, sizeof(models::ModelVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
+    d.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(models::ModelVertex, position)},
+                    {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(models::ModelVertex, normal)},
+                    {2, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(models::ModelVertex, uv)},
+                    {3, 0, VK_FORMAT_R8G8B8A8_UNORM, offsetof(models::ModelVertex, color)}};
+    // Both faces: double-sided materials and mirrored nodes need them, and a closed mesh loses
+    // its back faces to the depth test anyway.
+    d.cullMode = VK_CULL_MODE_NONE;
+    d.colorFormat = services.colorFormat;
+    d.depthFormat = services.depthFormat;
+    d.name = "model opaque";
+    opaque_ = gpu::createGraphicsPipeline(device, d);
+    const bool anyBlend = std::any_of(model_.materials.begin(), model_.materials.end(),
+                                      [](const models::ModelMaterial& m) { return m.alphaMode == models::AlphaMode::Blend; });
+    if (anyBlend) {   // only models with BLEND materials build the blending pipeline
+        d.alphaBlend = true;
+        d.depthWrite = false;
+        d.name = "model blend";
+        blend_ = gpu::createGraphicsPipeline(device, d);
+    }
+
+    if (settings_.path.show || settings_.label) {
+        const VkDescriptorSetLayout lineSets[] = {services.frameSetLayout};
+        lineLayout_ = gpu::createPipelineLayout(device, lineSets, {});
+        gpu::GraphicsPipelineDesc l;
+        l.vertexSpirv = kSpv_models_line_vert;
+        l.fragmentSpirv = kSpv_models_line_frag;
+        l.layout = lineLayout_.vk();
+        l.bindings = {{0, sizeof(shader::ModelLineVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
+        l.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::ModelLineVertex, position)},
+                        {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::ModelLineVertex, color)}};
+        l.cullMode = VK_CULL_MODE_NONE;
+        l.alphaBlend = true;
+        l.depthWrite = false;
+        l.colorFormat = services.colorFormat;
+        l.depthFormat = services.depthFormat;
+        if (settings_.path.show) {
+            l.topology = VK_PRIMITIVE_TOPOLOGY_LINE_STRIP;
+            l.name = "model path";
+            path_ = gpu::createGraphicsPipeline(device, l);
+        }
+        if (settings_.label) {
+            gpu::Specialization screen;
+            screen.set<VkBool32>(0, VK_TRUE);
+            l.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+            l.depthTest = false;
+            l.specialization = &screen;
+            l.name = "model label";
+            label_ = gpu::createGraphicsPipeline(device, l);
+        }
+    }
+}
+
+glm::dmat4 ModelLayer::modelToEcef(const scene::TrackedPose& pose, double scale) const {
+    const glm::dmat3 r = glm::mat3_cast(pose.bodyToEcef) * modelToBody_ * scale;
+    glm::dmat4 m(r);
+    m[3] = glm::dvec4(pose.position, 1.0);
+    return m;
+}
+
+void ModelLayer::update(const scene::FrameContext& frame) {
+    motion_->update();
+    const scene::Camera& camera = *frame.camera;
+    eye_ = camera.position();
+    const models::GroundFn& ground = frame.groundHeight;
+    const double aspect = frame.aspect();
+    const auto frustum = globe::ViewFrustum::perspective(camera.verticalFovRad(), aspect, camera.nearPlane());
+    const glm::dmat3 view(camera.viewRotation());
+    const double pixelsPerRadian = double(frame.height) / camera.verticalFovRad();
+    const glm::dvec3 centerModel = model_.center();
+    const double radius = std::max(model_.radius(), 1e-6);
+
+    copyTransforms_.clear();
+    instanceData_.clear();
+    const glm::vec4 tint = linearColor(settings_.color, 1.0);
+    for (uint32_t i = 0; i < maxCopies_; ++i) {
+        const TimeNs t = frame.time - fromSeconds(double(i) * settings_.copySpacingSeconds);
+        const auto pose = motion_->pose(t, ground);
+        if (!pose) continue;
+        double scale = settings_.scale;
+        if (settings_.minimumPixelSize > 0.0) {
+            const double distance = std::max(glm::length(pose->position - eye_), 1e-3);
+            const double pixels = 2.0 * radius * scale / distance * pixelsPerRadian;
+            if (pixels < settings_.minimumPixelSize) scale *= settings_.minimumPixelSize / pixels;
+        }
+        const glm::dmat4 m = modelToEcef(*pose, scale);
+        const glm::dvec3 center = glm::dvec3(m * glm::dvec4(centerModel, 1.0));
+        if (i == 0) copyTransforms_.push_back(m);
+        const double r = radius * scale;
+        if (globe::sphereBelowHorizon(eye_, center, r)) continue;
+        if (glm::length(center - eye_) < r) continue;   // the eye is inside (a pilot view): the model would hide everything
+        if (!frustum.intersectsSphere(view * (center - eye_), r)) continue;
+        if (i != 0) copyTransforms_.push_back(m);
+        glm::dmat4 toEye = m;
+        toEye[3] = glm::dvec4(pose->position - eye_, 1.0);   // large minus large, in double
+        shader::ModelInstance inst;
+        inst.modelToEye = glm::mat4(toEye);
+        inst.tint = tint;
+        append(instanceData_, inst);
+    }
+    drawnCopies_ = uint32_t(instanceData_.size() / sizeof(shader::ModelInstance));
+    if (settings_.path.show) buildPath(frame);
+    if (settings_.label) buildLabel(frame);
+}
+
+void ModelLayer::buildPath(const scene::FrameContext& frame) {
+    pathData_.clear();
+    pathVertices_ = 0;
+    const auto range = motion_->range();
+    if (!range) return;
+    const TimeNs to = std::clamp(frame.time, range->start, range->end);
+    const TimeNs from = settings_.path.trailSeconds > 0.0
+                            ? std::max(range->start, to - fromSeconds(settings_.path.trailSeconds))
+                            : range->start;
+    const TimeNs end = settings_.path.trailSeconds > 0.0 ? to : range->end;
+    const auto points = motion_->path(from, end, settings_.path.maxPoints, frame.groundHeight);
+    const glm::vec4 color = linearColor(settings_.path.color, settings_.path.opacity);
+    for (const glm::dvec3& p : points) {
+        shader::ModelLineVertex v;
+        // 1 m up (geocentric up is close enough for that): the straight segments between points
+        // on the ground would otherwise dip into the terrain between its samples.
+        v.position = glm::vec4(glm::vec3(p + glm::normalize(p) - eye_), 1.0f);
+        v.color = color;
+        append(pathData_, v);
+    }
+    pathVertices_ = uint32_t(points.size());
+}
+
+void ModelLayer::buildLabel(const scene::FrameContext& frame) {
+    labelData_.clear();
+    labelVertices_ = 0;
+    const auto pose = motion_->pose(frame.time, frame.groundHeight);
+    if (!pose) return;
+    const scene::Camera& camera = *frame.camera;
+    // Anchor: the top of the model's bounding sphere, along the local up.
+    const auto& wgs84 = globe::Ellipsoid::wgs84();
+    const globe::Geodetic g = wgs84.toGeodetic(pose->position);
+    const double top = model_.radius() * settings_.scale;
+    const glm::dvec3 anchor = pose->position + wgs84.surfaceNormal(g.lonDeg, g.latDeg) * top;
+    if (globe::sphereBelowHorizon(eye_, anchor, 0.0)) return;
+    const glm::dvec4 clip = camera.projection(frame.aspect()) * camera.viewRotation() * glm::dvec4(anchor - eye_, 1.0);
+    if (clip.w <= 0.0) return;
+    const glm::dvec2 ndc = glm::dvec2(clip) / clip.w;
+    if (std::abs(ndc.x) > 1.5 || std::abs(ndc.y) > 1.5) return;
+    const std::string text = settings_.labelText.empty() ? settings_.name : settings_.labelText;
+    const auto quads = models::labelQuads(text, glm::dvec2((ndc.x * 0.5 + 0.5) * frame.width, (ndc.y * 0.5 + 0.5) * frame.height),
+                                          2.0, kLabelMaxVertices / 6);
+    const glm::vec4 textColor = linearColor(settings_.labelColor, 1.0);
+    const glm::vec4 boxColor(0.0f, 0.0f, 0.0f, 0.55f);
+    for (const models::LabelQuad& q : quads) {
+        const glm::vec4 color = q.background ? boxColor : textColor;
+        const glm::dvec2 corners[6] = {q.min, {q.max.x, q.min.y}, q.max, q.min, q.max, {q.min.x, q.max.y}};
+        for (const glm::dvec2& c : corners) {
+            shader::ModelLineVertex v;
+            v.position = glm::vec4(float(c.x / frame.width * 2.0 - 1.0), float(c.y / frame.height * 2.0 - 1.0), 1.0f, 1.0f);
+            v.color = color;
+            append(labelData_, v);
+        }
+    }
+    labelVertices_ = uint32_t(labelData_.size() / sizeof(shader::ModelLineVertex));
+}
+
+void ModelLayer::recordTransfers(const scene::RecordContext& rc) {
+    if (!instanceData_.empty()) instanceBuffers_[rc.slot].write(instanceData_.data(), instanceData_.size());
+    if (pathVertices_ > 0) pathBuffers_[rc.slot].write(pathData_.data(), pathData_.size());
+    if (labelVertices_ > 0) labelBuffers_[rc.slot].write(labelData_.data(), labelData_.size());
+}
+
+void ModelLayer::record(scene::Pass pass, const scene::RecordContext& rc) {
+    VkCommandBuffer cmd = rc.cmd;
+    const VkDeviceSize zero = 0;
+    if (pass == scene::Pass::Overlay) {
+        if (labelVertices_ == 0) return;
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, label_.vk());
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, lineLayout_.vk(), 0, 1, &rc.frameSet, 0, nullptr);
+        const VkBuffer b = labelBuffers_[rc.slot].vk();
+        vkCmdBindVertexBuffers(cmd, 0, 1, &b, &zero);
+        vkCmdDraw(cmd, labelVertices_, 1, 0, 0);
+        return;
+    }
+    if (drawnCopies_ > 0) {
+        const VkDescriptorSet sets[] = {rc.frameSet, frameSets_.sets[rc.slot]};
+        const VkBuffer vb = vertices_.vk();
+        const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+        // Opaque and masked materials first, then blended ones over them.
+        for (const bool blended : {false, true}) {
+            const gpu::Pipeline& pipeline = blended ? blend_ : opaque_;
+            if (!pipeline) continue;
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.vk());
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
+            vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
+            vkCmdBindIndexBuffer(cmd, indices_.vk(), 0, VK_INDEX_TYPE_UINT32);
+            VkDescriptorSet boundMaterial = VK_NULL_HANDLE;
+            for (uint32_t di = 0; di < model_.draws.size(); ++di) {
+                const models::ModelDraw& draw = model_.draws[di];
+                const models::ModelPrimitive& prim = model_.primitives[draw.primitive];
+                const models::ModelMaterial* mat = prim.material >= 0 ? &model_.materials[size_t(prim.material)] : nullptr;
+                const bool isBlend = mat && mat->alphaMode == models::AlphaMode::Blend;
+                if (isBlend != blended) continue;
+                const int tex = mat ? mat->baseColorTexture : -1;
+                const VkDescriptorSet set = textures_[tex >= 0 ? size_t(tex) : textures_.size() - 1].set;
+                if (set != boundMaterial) {
+                    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 2, 1, &set, 0, nullptr);
+                    boundMaterial = set;
+                }
+                shader::ModelPush push{};
+                push.baseColor = mat ? mat->baseColorFactor : glm::vec4(1.0f);
+                push.params = glm::vec4(mat && mat->alphaMode == models::AlphaMode::Mask ? mat->alphaCutoff : -1.0f,
+                                        mat && mat->unlit ? 1.0f : 0.0f, settings_.sunLighting ? 1.0f : 0.0f,
+                                        tex >= 0 ? 1.0f : 0.0f);
+                push.ids = glm::uvec4(di, 0, 0, 0);
+                vkCmdPushConstants(cmd, layout_.vk(), stages, 0, sizeof(push), &push);
+                vkCmdDrawIndexed(cmd, prim.indexCount, drawnCopies_, prim.firstIndex, prim.vertexOffset, 0);
+            }
+        }
+    }
+    if (pathVertices_ > 1) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, path_.vk());
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, lineLayout_.vk(), 0, 1, &rc.frameSet, 0, nullptr);
+        const VkBuffer b = pathBuffers_[rc.slot].vk();
+        vkCmdBindVertexBuffers(cmd, 0, 1, &b, &zero);
+        vkCmdDraw(cmd, pathVertices_, 1, 0, 0);
+    }
+}
+
+uint64_t ModelLayer::gpuBytes() const { return gpuBytes_; }
+
+std::optional<double> ModelLayer::nearestContent(const glm::dvec3& eye) const {
+    double best = -1.0;
+    const double radius = model_.radius();
+    for (const glm::dmat4& m : copyTransforms_) {
+        const glm::dvec3 c = glm::dvec3(m * glm::dvec4(model_.center(), 1.0));
+        const double r = radius * glm::length(glm::dvec3(m[0]));
+        const double d = std::max(0.0, glm::length(c - eye) - r);
+        if (best < 0.0 || d < best) best = d;
+    }
+    if (best < 0.0) return std::nullopt;
+    return best;
+}
+
+std::optional<scene::TimeRange> ModelLayer::timeRange() const {
+    auto r = motion_->range();
+    if (r && maxCopies_ > 1) r->end += fromSeconds(double(maxCopies_ - 1) * settings_.copySpacingSeconds);
+    return r;
+}
+
+std::optional<scene::TrackedPose> ModelLayer::trackedPose(TimeNs t, const scene::GroundHeightFn& ground) const {
+    auto pose = motion_->pose(t, ground);
+    if (pose) pose->radius = std::max(model_.radius() * settings_.scale, 0.1);
+    return pose;
+}
+
+std::optional<scene::ContentBounds> ModelLayer::contentBounds() const {
+    scene::ContentBounds b = motion_->bounds();
+    b.radius += model_.radius() * settings_.scale;
+    return b;
+}
+
+std::string ModelLayer::status() const {
+    std::string s = std::to_string(drawnCopies_) + " of " + std::to_string(maxCopies_) + " drawn";
+    const std::string m = motion_->status();
+    return m.empty() ? s : s + "; " + m;
+}
+
+}  // namespace orbis::layers

@@ -1,0 +1,157 @@
+// The "model" layer's scene settings (ModelLayer.h) and where its motion comes from.
+#include "engine/core/Log.h"
+#include "engine/scene/JsonReader.h"
+#include "layers/models/ModelLayer.h"
+#include "globe/Geoid.h"
+#include "layers/motion/TrajectoryFile.h"
+
+#include <cmath>
+
+namespace orbis::layers {
+namespace {
+
+std::optional<glm::dvec3> color(scene::JsonReader& r, const char* key, glm::dvec3 fallback) {
+    auto c = r.numbers(key, 3, std::vector<double>{fallback.r, fallback.g, fallback.b});
+    if (!c || c->size() != 3) return std::nullopt;
+    for (double v : *c)
+        if (!(v >= 0.0 && v <= 1.0)) {
+            r.fail(key, "each channel is from 0 to 1");
+            return std::nullopt;
+        }
+    return glm::dvec3((*c)[0], (*c)[1], (*c)[2]);
+}
+
+std::optional<motion::AltitudeRef> altitudeRef(scene::JsonReader& r, const char* key, bool allowMsl) {
+    const auto text = r.string(key, std::string());
+    if (!text || text->empty()) return std::nullopt;
+    if (*text == "ellipsoid") return motion::AltitudeRef::Ellipsoid;
+    if (*text == "ground") return motion::AltitudeRef::Ground;
+    if (allowMsl && *text == "msl") return motion::AltitudeRef::MeanSeaLevel;
+    r.fail(key, std::string("expected \"ellipsoid\"") + (allowMsl ? ", \"msl\"" : "") + " or \"ground\", got \"" + *text + "\"");
+    return std::nullopt;
+}
+
+Result<std::unique_ptr<models::ModelMotion>> trajectoryMotion(const nlohmann::json& json, const scene::LayerDesc& desc,
+                                                              const scene::SceneDesc& scene) {
+    const std::string path = desc.jsonPath + "/trajectory";
+    motion::TrajectoryFileOptions o;
+    std::string file;
+    if (json.is_string()) {
+        file = json.get<std::string>();
+    } else {
+        scene::JsonReader r(json, scene.file.string(), path);
+        file = r.string("file").value_or("");
+        if (r.ok() && file.empty()) r.fail("file", "name the trajectory file (.csv, .gpx, .klv/.bin)");
+        if (auto i = r.string("interpolation", std::string("catmull-rom"))) {
+            if (*i == "linear") o.trajectory.interpolation = motion::Interpolation::Linear;
+            else if (*i == "catmull-rom") o.trajectory.interpolation = motion::Interpolation::CatmullRom;
+            else r.fail("interpolation", "expected \"linear\" or \"catmull-rom\", got \"" + *i + "\"");
+        }
+        if (auto a = altitudeRef(r, "altitude", true)) o.csv.altitudeRef = *a;
+        o.trajectory.clampToGround = r.boolean("clampToGround", false).value_or(false);
+        if (auto e = r.string("extrapolate", std::string("hold"))) {
+            if (*e == "hold") o.trajectory.before = o.trajectory.after = motion::Extrapolation::Hold;
+            else if (*e == "linear") o.trajectory.before = o.trajectory.after = motion::Extrapolation::Linear;
+            else if (*e == "hide") o.trajectory.before = o.trajectory.after = motion::Extrapolation::Hide;
+            else r.fail("extrapolate", "expected \"hold\", \"linear\" or \"hide\", got \"" + *e + "\"");
+        }
+        if (auto s = r.string("start", std::string()); s && !s->empty()) {
+            auto t = parseIso8601(*s);
+            if (!t) r.fail("start", t.message());
+            else o.csv.timeOffset = *t;
+        }
+        if (auto done = r.finish(); !done) return done.error();
+    }
+    o.trajectory.geoid = globe::egm96Geoid();
+    auto trajectory = motion::readTrajectory(scene.resolve(file).string(), o);
+    if (!trajectory) return makeError(scene.file.string() + ": " + path + ": " + trajectory.message());
+    for (const std::string& w : trajectory->warnings()) log::warn("model '", desc.name, "': ", w);
+    return models::makeTrajectoryMotion(std::move(*trajectory));
+}
+
+}  // namespace
+
+Result<std::unique_ptr<scene::Layer>> ModelLayer::create(const scene::LayerDesc& desc, const scene::SceneDesc& scene) {
+    scene::JsonReader r(desc.settings, scene.file.string(), desc.jsonPath);
+    for (const char* common : {"type", "name", "visible", "viewpoint"}) r.accept(common);
+    ModelSettings s;
+    s.name = desc.name;
+    const auto file = r.string("file");
+    if (r.ok() && (!file || file->empty())) r.fail("file", "name the glTF model (.glb or .gltf)");
+    s.scale = r.number("scale", 1.0, 1e-6, 1e6).value_or(1.0);
+    s.minimumPixelSize = r.number("minimumPixelSize", 0.0, 0.0, 1024.0).value_or(0.0);
+    if (auto o = r.numbers("orientation", 3, std::vector<double>{0, 0, 0}); o && o->size() == 3) {
+        s.orientationDeg = {(*o)[0], (*o)[1], (*o)[2]};
+    }
+    s.color = color(r, "color", s.color).value_or(s.color);
+    if (auto l = r.string("lighting", std::string("sun"))) {
+        if (*l == "sun") s.sunLighting = true;
+        else if (*l == "headlight") s.sunLighting = false;
+        else r.fail("lighting", "expected \"sun\" or \"headlight\", got \"" + *l + "\"");
+    }
+    if (const auto* copies = r.object("copies")) {
+        scene::JsonReader c(*copies, scene.file.string(), desc.jsonPath + "/copies");
+        s.copies = uint32_t(c.number("count", 1.0, 1.0, 100000.0).value_or(1.0));
+        s.copySpacingSeconds = c.number("spacing", 1.0, 0.0, 1e9).value_or(1.0);
+        if (auto done = c.finish(); !done) return done.error();
+    }
+    if (const auto* path = r.object("path")) {
+        scene::JsonReader p(*path, scene.file.string(), desc.jsonPath + "/path");
+        s.path.show = p.boolean("show", true).value_or(true);
+        s.path.trailSeconds = p.number("trail", 0.0, 0.0, 1e10).value_or(0.0);
+        s.path.color = color(p, "color", s.path.color).value_or(s.path.color);
+        s.path.opacity = p.number("opacity", 1.0, 0.0, 1.0).value_or(1.0);
+        s.path.maxPoints = uint32_t(p.number("maxPoints", 4096.0, 2.0, 1e6).value_or(4096.0));
+        if (auto done = p.finish(); !done) return done.error();
+    }
+    if (r.has("label")) {
+        const nlohmann::json& label = desc.settings["label"];
+        r.accept("label");
+        if (label.is_boolean()) s.label = label.get<bool>();
+        else if (label.is_string()) s.label = true, s.labelText = label.get<std::string>();
+        else r.fail("label", "expected true, false or the label's text");
+    }
+    s.labelColor = color(r, "labelColor", s.labelColor).value_or(s.labelColor);
+
+    // Where the model is: exactly one of position, trajectory, live.
+    const bool hasPosition = r.has("position"), hasTrajectory = r.has("trajectory"), hasLive = r.has("live");
+    if (int(hasPosition) + int(hasTrajectory) + int(hasLive) != 1 && r.ok()) {
+        r.fail("position", "give exactly one of \"position\", \"trajectory\" or \"live\"");
+    }
+    std::optional<std::vector<double>> position, attitude;
+    std::optional<motion::AltitudeRef> positionAltitude;
+    if (hasPosition) {
+        position = r.numbers("position", 3);
+        attitude = r.numbers("attitude", 3, std::vector<double>{0, 0, 0});
+        positionAltitude = altitudeRef(r, "altitude", false);
+        if (position && position->size() == 3 && (std::abs((*position)[1]) > 90.0 || std::abs((*position)[0]) > 360.0)) {
+            r.fail("position", "expected [longitude, latitude, height] with latitude in [-90, 90]");
+        }
+    }
+    if (hasTrajectory) r.accept("trajectory");
+    if (hasLive) r.accept("live");
+    if (auto done = r.finish(); !done) return done.error();
+
+    const std::string where = scene.file.string() + ": " + desc.jsonPath;
+    std::unique_ptr<models::ModelMotion> motion;
+    if (hasPosition) {
+        const auto& p = *position;
+        const auto& a = *attitude;
+        motion = models::makeFixedMotion(p[0], p[1], p[2], positionAltitude == motion::AltitudeRef::Ground, a[0], a[1], a[2]);
+    } else if (hasTrajectory) {
+        auto m = trajectoryMotion(desc.settings["trajectory"], desc, scene);
+        if (!m) return m.error();
+        motion = std::move(*m);
+    } else {
+        auto m = models::makeLiveMotion(desc.settings["live"], scene.file.string(), desc.jsonPath + "/live");
+        if (!m) return m.error();
+        motion = std::move(*m);
+    }
+
+    auto model = models::loadGltf(scene.resolve(*file).string());
+    if (!model) return makeError(where + ": " + model.message());
+    for (const std::string& w : model->warnings) log::info("model '", desc.name, "': ", w);
+    return std::unique_ptr<scene::Layer>(std::make_unique<ModelLayer>(std::move(s), std::move(*model), std::move(motion)));
+}
+
+}  // namespace orbis::layers

@@ -1,0 +1,33 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "shared/FrameUniforms.h"
+#include "shared/ModelTypes.h"
+
+// A glTF vertex through its node's transform and its instance's model-to-eye transform (both
+// small numbers: the instance's ECEF origin minus the eye was taken in double on the CPU).
+
+layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
+layout(set = 1, binding = 0, std430) readonly buffer Instances { ModelInstance instances[]; };
+layout(set = 1, binding = 1, std430) readonly buffer Nodes { ModelNode nodes[]; };
+layout(push_constant) uniform PushBlock { ModelPush pc; };
+
+layout(location = 0) in vec3 inPosition;
+layout(location = 1) in vec3 inNormal;
+layout(location = 2) in vec2 inUv;
+layout(location = 3) in vec4 inColor;
+
+layout(location = 0) out vec3 vNormal;
+layout(location = 1) out vec2 vUv;
+layout(location = 2) out vec4 vColor;
+layout(location = 3) out vec3 vFromEye;
+
+void main() {
+    ModelInstance inst = instances[gl_InstanceIndex];
+    ModelNode node = nodes[pc.ids.x];
+    vec4 p = inst.modelToEye * (node.transform * vec4(inPosition, 1.0));
+    vNormal = mat3(inst.modelToEye) * (mat3(node.normal) * inNormal);
+    vUv = inUv;
+    vColor = inColor * vec4(inst.tint.rgb, 1.0);
+    vFromEye = p.xyz;
+    gl_Position = frame.projection * frame.viewRotation * p;
+}

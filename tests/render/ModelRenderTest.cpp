@@ -1,0 +1,189 @@
+// The model layer on lavapipe with validation: glTF models (the real sample files and the
+// repository's wagon), the heading convention on the globe, the train scene on its trajectory
+// at several times, the camera modes, and one time reached through different seek paths giving
+// the same picture (trajectory, models and FMV together).
+#include "engine/scene/CameraRig.h"
+#include "globe/Ellipsoid.h"
+#include "layers/models/ModelLayer.h"
+#include "tests/render/RenderHelpers.h"
+#include "tests/support/GoldenImage.h"
+#include "tests/support/GpuTest.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+namespace orbis::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kSource = ORBIS_SOURCE_DIR;
+const fs::path kShared = fs::path(ORBIS_SOURCE_DIR) / ".." / "shared" / "data";
+
+std::string jsonString(const fs::path& p) { return nlohmann::json(p.string()).dump(); }
+
+// The train scene (assets/scenes/train.json) with absolute paths, a camera mode and optionally
+// the FMV showcase's video over the same valley and time.
+std::string trainScene(const std::string& camera, bool withFmv = false) {
+    const fs::path assets = kSource / "assets";
+    std::string layers = R"({"type": "terrain", "name": "Ground", "sky": false, "elevation": [)" +
+                         jsonString(assets / "generated/fmv/flight-dem.tif") + "]}";
+    if (withFmv) layers += R"(, {"type": "fmv", "name": "UAV", "path": )" + jsonString(assets / "generated/fmv/flight.ts") + "}";
+    layers += R"(, {"type": "model", "name": "Train", "file": )" + jsonString(assets / "models/wagon.gltf") +
+              R"(, "trajectory": {"file": )" + jsonString(assets / "scenes/train-track.csv") +
+              R"(, "start": "2026-06-21T09:00:00Z"}, "copies": {"count": 5, "spacing": 0.95},
+                  "path": {"show": true}, "label": true})";
+    return R"({"viewpoint": {"lon": 9.03, "lat": 46.012, "height": 600, "heading": 0, "pitch": -35, "range": 3500},
+               "background": [0.05, 0.06, 0.1], "camera": )" + camera + R"(, "layers": [)" + layers + "]}";
+}
+
+TimeNs trainTime(double seconds) { return parseIso8601("2026-06-21T09:00:00Z").value() + fromSeconds(seconds); }
+
+class ModelRender : public GpuTest {
+protected:
+    void SetUp() override {
+        GpuTest::SetUp();
+        layers::registerBuiltinLayers(registry_);
+    }
+    std::unique_ptr<scene::Scene> load(const std::string& json) { return buildScene(json, registry_); }
+    ImageRgba8 render(scene::Scene& s, uint32_t w = 320, uint32_t h = 200) {
+        if (!renderer_ || renderer_->width() != w || renderer_->height() != h)
+            renderer_ = std::make_unique<render::Renderer>(device(), w, h);
+        s.time().advance(0.0);
+        renderer_->settle(s, 120.0);
+        EXPECT_FALSE(s.busy()) << "still loading after 120 s";
+        const auto frame = renderer_->render(s, true);
+        return ImageRgba8{w, h, renderer_->readPixels(frame)};
+    }
+    static layers::ModelLayer& model(scene::Scene& s) {
+        return dynamic_cast<layers::ModelLayer&>(*s.find("Train")->layer);
+    }
+
+    scene::LayerRegistry registry_;
+    std::unique_ptr<render::Renderer> renderer_;
+};
+
+TEST_F(ModelRender, TexturedBoxFromTheSampleModels) {
+    const fs::path box = kShared / "models" / "BoxTextured.glb";
+    if (!fs::exists(box)) GTEST_SKIP() << "shared data absent: " << box;
+    auto s = load(R"({"viewpoint": {"lon": 7.0, "lat": 46.0, "height": 0, "heading": 30, "pitch": -25, "range": 6},
+        "time": {"start": "2026-03-20T10:00:00Z"},
+        "layers": [{"type": "globe", "name": "Earth"},
+                   {"type": "model", "name": "Box", "file": )" + jsonString(box) +
+                  R"(, "position": [7.0, 46.0, 0.5], "label": true}]})");
+    ASSERT_TRUE(s);
+    EXPECT_TRUE(matchesGolden(render(*s), "model_box_textured"));
+}
+
+TEST_F(ModelRender, HeadingNinetyPointsEast) {
+    // The wagon's front (glTF +Z) along the local east at heading 90, north at 0; its roof up.
+    for (double heading : {0.0, 90.0}) {
+        auto s = load(R"({"time": {"start": "2026-03-20T10:00:00Z"}, "layers": [{"type": "model", "name": "Train", "file": )" +
+                      jsonString(kSource / "assets/models/wagon.gltf") + R"(, "position": [179.99, -60.0, 100], "attitude": [)" +
+                      std::to_string(heading) + R"(, 0, 0]}]})");
+        ASSERT_TRUE(s);
+        render(*s, 64, 64);
+        const auto& transforms = model(*s).copyTransforms();
+        ASSERT_EQ(transforms.size(), 1u);
+        const glm::dmat3 enu = globe::Ellipsoid::wgs84().enuFrame(179.99, -60.0);
+        const glm::dvec3 front = glm::normalize(glm::dmat3(transforms[0]) * glm::dvec3(0, 0, 1));
+        const glm::dvec3 up = glm::normalize(glm::dmat3(transforms[0]) * glm::dvec3(0, 1, 0));
+        const glm::dvec3 expected = heading == 90.0 ? enu[0] : enu[1];
+        EXPECT_NEAR(glm::dot(front, expected), 1.0, 1e-12) << "heading " << heading;
+        EXPECT_NEAR(glm::dot(up, enu[2]), 1.0, 1e-12);
+        const glm::dvec3 place = globe::Ellipsoid::wgs84().toEcef(179.99, -60.0, 100.0);
+        EXPECT_LT(glm::length(glm::dvec3(transforms[0][3]) - place), 1e-6);
+    }
+}
+
+TEST_F(ModelRender, TrainAlongItsTrackAtSeveralTimes) {
+    auto s = load(trainScene(R"({"mode": "follow", "target": "Train", "distance": 70, "heading": 150, "pitch": -20})"));
+    ASSERT_TRUE(s);
+    // No "time" in the scene: the range is the trajectory's (plus the copies' lag).
+    EXPECT_EQ(s->time().start(), trainTime(0.0));
+    EXPECT_EQ(s->time().end(), trainTime(100.0 + 4 * 0.95));
+    for (double t : {20.0, 60.0, 95.0}) {
+        s->time().seek(trainTime(t));
+        const auto image = render(*s);
+        EXPECT_TRUE(matchesGolden(image, "model_train_" + std::to_string(int(t)) + "s"));
+        EXPECT_EQ(model(*s).itemsDrawn(), 5u) << "every wagon in view at " << t << " s";
+    }
+}
+
+TEST_F(ModelRender, CameraModes) {
+    for (const char* mode : {"overview", "pilot", "above", "aside", "below"}) {
+        const std::string camera = std::string(R"({"mode": ")") + mode + R"(", "target": "Train", "eye": [0, 0, -2.5]})";
+        auto s = load(trainScene(camera));
+        ASSERT_TRUE(s);
+        s->time().seek(trainTime(60.0));
+        const auto image = render(*s);
+        EXPECT_TRUE(matchesGolden(image, std::string("model_camera_") + mode)) << mode;
+        // The camera is where the mode puts it at this time.
+        const auto pose = s->cameraModePose(320.0 / 200.0);
+        ASSERT_TRUE(pose) << mode;
+        EXPECT_LT(glm::length(pose->position - s->camera().position()), 1.0) << mode;
+    }
+}
+
+TEST_F(ModelRender, SameTimeThroughDifferentSeekPathsGivesTheSameImage) {
+    const fs::path video = kSource / "assets/generated/fmv/flight.ts";
+    ASSERT_TRUE(fs::exists(video)) << "the build generates " << video;
+    const std::string json = trainScene(R"({"mode": "overview", "target": "Train"})", true);
+    // Path A: straight to 12 s.
+    auto a = load(json);
+    ASSERT_TRUE(a);
+    a->time().seek(trainTime(12.0));
+    const auto direct = render(*a);
+    // Path B: to 25 s, played backwards and forwards in uneven steps, then a seek to 12 s.
+    auto b = load(json);
+    ASSERT_TRUE(b);
+    b->time().seek(trainTime(25.0));
+    render(*b);
+    b->time().setRate(-3.0);
+    b->time().play();
+    for (double wall : {0.37, 1.1, 0.05}) {
+        b->time().advance(wall);
+        renderer_->render(*b, false);
+    }
+    b->time().pause();
+    b->time().seek(trainTime(2.0));
+    render(*b);
+    b->time().seek(trainTime(12.0));
+    const auto viaSeeks = render(*b);
+    EXPECT_EQ(b->time().now(), a->time().now());
+    EXPECT_EQ(countDifferentPixels(direct, viaSeeks, 0), 0u);
+    if (HasFailure()) {
+        (void)writePng(testOutputDir() + "/model_seek_direct.png", direct);
+        (void)writePng(testOutputDir() + "/model_seek_via.png", viaSeeks);
+    }
+    EXPECT_TRUE(matchesGolden(direct, "model_train_fmv_12s"));
+}
+
+TEST_F(ModelRender, BrokenModelsAndSettingsGiveClearErrors) {
+    const fs::path dir = fs::path(testOutputDir()) / ("model-errors-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    std::ofstream(dir / "broken.gltf") << R"({"asset": {"version": "2.0"}, "meshes": [)";
+    auto expectError = [&](const std::string& layer, const std::string& needle) {
+        auto desc = scene::parseSceneText(R"({"layers": [)" + layer + "]}", "test.json", ".");
+        ASSERT_TRUE(desc) << desc.message();
+        auto s = scene::Scene::build(std::move(*desc), registry_);
+        ASSERT_FALSE(s) << layer;
+        EXPECT_NE(s.message().find(needle), std::string::npos) << s.message();
+    };
+    const std::string wagon = jsonString(kSource / "assets/models/wagon.gltf");
+    expectError(R"({"type": "model", "name": "M", "file": )" + jsonString(dir / "broken.gltf") + R"(, "position": [0, 0, 0]})",
+                "broken.gltf");
+    expectError(R"({"type": "model", "name": "M", "file": )" + jsonString(dir / "missing.glb") + R"(, "position": [0, 0, 0]})",
+                "missing.glb");
+    expectError(R"({"type": "model", "name": "M", "file": )" + wagon + "}", "exactly one of");
+    expectError(R"({"type": "model", "name": "M", "file": )" + wagon + R"(, "trajectory": "nothere.csv"})", "nothere.csv");
+    expectError(R"({"type": "model", "name": "M", "file": )" + wagon + R"(, "live": {"url": "tcp://localhost:99999"}})", "99999");
+    expectError(R"({"type": "model", "name": "M", "file": )" + wagon + R"(, "position": [0, 0, 0], "copies": {"count": 0}})",
+                "count");
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace orbis::test
