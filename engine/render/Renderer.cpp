@@ -203,6 +203,8 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw) {
     // GPU objects are built before the frame starts recording, and only for visible layers.
     for (auto& r : scene.resources())
         if (r.visible && !r.layer->prepared()) prepareLayer(*r.layer);
+    for (auto& r : scene.resources())
+        if (r.visible && r.layer->prepared()) r.layer->poll();
     // A camera mode that watches a moving layer puts the camera first (at the scene's time).
     scene.updateCamera(double(target_->width()) / double(std::max(1u, target_->height())));
 

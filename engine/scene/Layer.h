@@ -99,6 +99,9 @@ public:
     bool prepared() const { return prepared_; }
     void markPrepared() { prepared_ = true; }
 
+    /// First thing in a frame, before the camera modes ask for poses: takes what arrived since
+    /// the last frame (a live feed's fixes). Main thread only.
+    virtual void poll() {}
     /// Per-frame CPU work (selection, time). Main thread only.
     virtual void update(const FrameContext&) {}
     virtual bool drawsIn(Pass pass) const = 0;

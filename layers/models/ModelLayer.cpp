@@ -267,8 +267,9 @@ glm::dmat4 ModelLayer::modelToEcef(const scene::TrackedPose& pose, double scale)
     return m;
 }
 
+void ModelLayer::poll() { motion_->update(); }
+
 void ModelLayer::update(const scene::FrameContext& frame) {
-    motion_->update();
     const scene::Camera& camera = *frame.camera;
     eye_ = camera.position();
     const models::GroundFn& ground = frame.groundHeight;

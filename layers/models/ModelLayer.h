@@ -77,6 +77,7 @@ public:
 
     std::string_view type() const override { return "model"; }
     void prepare(const scene::RenderServices& services) override;
+    void poll() override;
     void update(const scene::FrameContext& frame) override;
     bool drawsIn(scene::Pass pass) const override;
     void recordTransfers(const scene::RecordContext& context) override;

@@ -36,7 +36,8 @@ public:
     virtual std::vector<glm::dvec3> path(TimeNs from, TimeNs to, std::size_t maxPoints, const GroundFn& ground) const = 0;
     /// A sphere around the whole path (or the fixed place).
     virtual scene::ContentBounds bounds() const = 0;
-    /// Once per frame on the main thread, before pose(): a live feed takes its new fixes here.
+    /// Once per frame on the main thread (Layer::poll), before pose(): a live feed takes its new
+    /// fixes here.
     virtual void update() {}
     /// True when the poses depend on the ground (altitudes above the terrain).
     virtual bool usesGround() const { return false; }

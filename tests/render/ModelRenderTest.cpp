@@ -4,7 +4,9 @@
 // the same picture (trajectory, models and FMV together).
 #include "engine/scene/CameraRig.h"
 #include "globe/Ellipsoid.h"
+#include "layers/livefeed/NmeaWriter.h"
 #include "layers/models/ModelLayer.h"
+#include "tests/livefeed/FeedServer.h"
 #include "tests/render/RenderHelpers.h"
 #include "tests/support/GoldenImage.h"
 #include "tests/support/GpuTest.h"
@@ -183,6 +185,63 @@ TEST_F(ModelRender, BrokenModelsAndSettingsGiveClearErrors) {
     expectError(R"({"type": "model", "name": "M", "file": )" + wagon + R"(, "position": [0, 0, 0], "copies": {"count": 0}})",
                 "count");
     fs::remove_all(dir);
+}
+
+
+// A model on a live NMEA feed from a server on 127.0.0.1 that plays a recorded track, stops,
+// and comes back on the same port: the model and the follow camera stay on the latest fix.
+TEST_F(ModelRender, LiveFeedMovesTheModelAndSurvivesAServerRestart) {
+
+    auto server = std::make_unique<livefeed::test::TcpFeedServer>();
+    ASSERT_TRUE(server->ok()) << server->error();
+    const uint16_t port = server->port();
+    const TimeNs start = parseIso8601("2026-03-20T10:00:00Z").value();
+    auto s = load(R"({"time": {"start": "2026-03-20T10:00:00Z", "end": "2026-03-20T11:00:00Z", "current": "2026-03-20T11:00:00Z"},
+        "camera": {"mode": "follow", "target": "Car"},
+        "layers": [{"type": "globe", "name": "Earth"},
+                   {"type": "model", "name": "Car", "file": )" + jsonString(kSource / "assets/models/wagon.gltf") +
+                  R"(, "live": {"url": ")" + server->url() + R"(", "protocol": "nmea"}, "path": {"show": true}, "label": "Car"}]})");
+    ASSERT_TRUE(s);
+    auto& layer = dynamic_cast<layers::ModelLayer&>(*s->find("Car")->layer);
+    const scene::GroundHeightFn none;
+    render(*s, 160, 100);   // prepares the layer; the feed connects on its own thread
+    EXPECT_FALSE(layer.trackedPose(s->time().now(), none)) << "no pose before the first fix";
+
+    const livefeed::NmeaWriter writer;
+    const auto track = livefeed::test::syntheticTrack(40, start, kNsPerSecond);
+    auto playAndWait = [&](livefeed::test::TcpFeedServer& srv, int from, int to) {
+        ASSERT_TRUE(srv.acceptClient()) << "the source connects";
+        for (int i = from; i < to; ++i) ASSERT_TRUE(srv.send(writer.epoch(track[size_t(i)])));
+        const livefeed::Fix& last = track[size_t(to - 1)];
+        const glm::dvec3 want = globe::Ellipsoid::wgs84().toEcef(last.lonDeg, last.latDeg, *last.heightEllipsoid);
+        const bool arrived = livefeed::test::waitUntil([&] {
+            render(*s, 160, 100);
+            const auto pose = layer.trackedPose(s->time().now(), none);
+            return pose && glm::length(pose->position - want) < 0.05;
+        }, std::chrono::seconds(10));
+        EXPECT_TRUE(arrived) << layer.status();
+    };
+    playAndWait(*server, 0, 20);
+    // The follow camera is behind the model now.
+    const auto pose = layer.trackedPose(s->time().now(), none);
+    ASSERT_TRUE(pose);
+    const double d = glm::length(s->camera().position() - pose->position);
+    EXPECT_GT(d, 5.0);
+    EXPECT_LT(d, 200.0);
+    render(*s, 160, 100);
+    EXPECT_EQ(layer.itemsDrawn(), 1u) << "the model is in the follow camera's view; camera " << d << " m away";
+    // The server goes away and comes back on the same port; the source reconnects.
+    server.reset();
+    render(*s, 160, 100);
+    server = std::make_unique<livefeed::test::TcpFeedServer>(port);
+    ASSERT_TRUE(server->ok()) << server->error();
+    playAndWait(*server, 20, 40);
+    EXPECT_NE(layer.status().find("1 reconnects"), std::string::npos) << layer.status();
+    render(*s, 160, 100);
+    const auto end = layer.trackedPose(s->time().now(), none);
+    ASSERT_TRUE(end);
+    EXPECT_EQ(layer.itemsDrawn(), 1u) << "camera " << glm::length(s->camera().position() - end->position) << " m away";
+    std::printf("[ live ] %s\n", layer.status().c_str());
 }
 
 }  // namespace
