@@ -72,11 +72,7 @@ public:
         if (!trajectory_) return std::nullopt;
         const auto p = trajectory_->pose(t, ground ? &ground : nullptr);
         if (!p) return std::nullopt;
-        scene::TrackedPose out;
-        out.position = p->ecef;
-        out.bodyToEcef = p->orientation;
-        out.velocity = p->velocity;
-        return out;
+        return toTrackedPose(*p);
     }
     std::optional<scene::TimeRange> range() const override {
         if (!trajectory_) return std::nullopt;

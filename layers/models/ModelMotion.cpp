@@ -45,11 +45,7 @@ public:
     std::optional<scene::TrackedPose> pose(TimeNs t, const GroundFn& ground) const override {
         const auto p = t_.pose(t, ground ? &ground : nullptr);
         if (!p) return std::nullopt;
-        scene::TrackedPose out;
-        out.position = p->ecef;
-        out.bodyToEcef = p->orientation;
-        out.velocity = p->velocity;
-        return out;
+        return toTrackedPose(*p);
     }
     std::optional<scene::TimeRange> range() const override {
         const auto r = t_.timeRange();

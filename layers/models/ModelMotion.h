@@ -50,6 +50,15 @@ public:
 std::unique_ptr<ModelMotion> makeFixedMotion(double lonDeg, double latDeg, double height, bool onGround,
                                              double headingDeg, double pitchDeg, double rollDeg);
 
+/// A trajectory's pose as the scene's tracked pose (radius 1).
+inline scene::TrackedPose toTrackedPose(const motion::Pose& p) {
+    scene::TrackedPose out;
+    out.position = p.ecef;
+    out.bodyToEcef = p.orientation;
+    out.velocity = p.velocity;
+    return out;
+}
+
 /// A model moving along `trajectory` (layers/motion/Trajectory.h).
 std::unique_ptr<ModelMotion> makeTrajectoryMotion(motion::Trajectory trajectory);
 

@@ -1,5 +1,7 @@
 #include "layers/motion/TrajectoryCsv.h"
 
+#include "engine/core/CsvText.h"
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -11,6 +13,11 @@
 
 namespace orbis::motion {
 namespace {
+
+using csv::isNoValue;
+using csv::normalise;
+using csv::separatorOf;
+using csv::splitLine;
 
 enum class Field { Time, Lat, Lon, Alt, Heading, Pitch, Roll };
 enum class Quantity { Time, Angle, Length };
@@ -72,13 +79,6 @@ struct Column {
     const char* unitName = "";
 };
 
-std::string normalise(std::string_view name) {
-    std::string s;
-    for (unsigned char c : name)
-        if (c < 0x80 && std::isalnum(c)) s.push_back(char(std::tolower(c)));
-    return s;
-}
-
 const Alias* aliasOf(std::string_view n) {
     for (const Alias& a : kAliases)
         for (const char* name : a.names)
@@ -98,45 +98,6 @@ Column columnOf(std::string_view header) {
     return {};
 }
 
-/// Splits one line at `sep`; double quotes protect separators ("" is a quote inside quotes).
-std::vector<std::string> splitLine(std::string_view line, char sep) {
-    std::vector<std::string> cells(1);
-    bool quoted = false;
-    for (std::size_t i = 0; i < line.size(); ++i) {
-        const char c = line[i];
-        if (quoted) {
-            if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') cells.back().push_back(line[++i]);
-            else if (c == '"') quoted = false;
-            else cells.back().push_back(c);
-        } else if (c == '"') {
-            quoted = true;
-        } else if (c == sep) {
-            cells.emplace_back();
-        } else {
-            cells.back().push_back(c);
-        }
-    }
-    for (auto& c : cells) {
-        const auto first = c.find_first_not_of(" \t");
-        c = first == std::string::npos ? std::string() : c.substr(first, c.find_last_not_of(" \t") - first + 1);
-    }
-    return cells;
-}
-
-char separatorOf(std::string_view header) {
-    char best = ',';
-    std::ptrdiff_t most = 0;
-    for (char c : {',', ';', '\t'}) {
-        const auto n = std::count(header.begin(), header.end(), c);
-        if (n > most) best = c, most = n;
-    }
-    return best;
-}
-
-bool isNoValue(const std::string& cell) {
-    const std::string n = normalise(cell);
-    return cell.empty() || cell == "-" || n == "nan" || n == "na" || n == "null" || n == "none";
-}
 
 std::string lineText(std::size_t line) { return ": line " + std::to_string(line); }
 
