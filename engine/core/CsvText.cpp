@@ -52,4 +52,17 @@ bool isNoValue(const std::string& cell) {
     return cell.empty() || cell == "-" || n == "nan" || n == "na" || n == "null" || n == "none";
 }
 
+std::string_view nextLine(std::string_view text, std::size_t& pos) {
+    const std::size_t end = std::min(text.find('\n', pos), text.size());
+    std::string_view line = text.substr(pos, end - pos);
+    pos = end + 1;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    return line;
+}
+
+bool skipLine(std::string_view line) {
+    const auto first = line.find_first_not_of(" \t");
+    return first == std::string_view::npos || line[first] == '#';
+}
+
 }  // namespace orbis::csv

@@ -18,4 +18,9 @@ char separatorOf(std::string_view header);
 /// An empty cell, "-", or NaN, NA, null, none in any case.
 bool isNoValue(const std::string& cell);
 
+/// The line of `text` starting at `pos` (without "\n" or "\r\n"); moves `pos` past it.
+std::string_view nextLine(std::string_view text, std::size_t& pos);
+/// A blank line or a '#' comment.
+bool skipLine(std::string_view line);
+
 }  // namespace orbis::csv

@@ -18,6 +18,8 @@ namespace orbis::fmv {
 namespace {
 
 using csv::isNoValue;
+using csv::nextLine;
+using csv::skipLine;
 using csv::normalise;
 using csv::separatorOf;
 using csv::splitLine;
@@ -174,18 +176,6 @@ Result<uint64_t> parseTime(const std::string& cell, double& scale, std::string& 
     return uint64_t(us);
 }
 
-std::string_view nextLine(std::string_view text, std::size_t& pos) {
-    const std::size_t end = std::min(text.find('\n', pos), text.size());
-    std::string_view line = text.substr(pos, end - pos);
-    pos = end + 1;
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    return line;
-}
-
-bool skipLine(std::string_view line) {
-    const auto first = line.find_first_not_of(" \t");
-    return first == std::string_view::npos || line[first] == '#';
-}
 
 }  // namespace
 

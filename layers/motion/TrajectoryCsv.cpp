@@ -15,6 +15,8 @@ namespace orbis::motion {
 namespace {
 
 using csv::isNoValue;
+using csv::nextLine;
+using csv::skipLine;
 using csv::normalise;
 using csv::separatorOf;
 using csv::splitLine;
@@ -227,18 +229,6 @@ Result<TimeNs> parseTime(std::string cell, double& scale, std::string& unit, Tim
     return TimeNs(ns);
 }
 
-std::string_view nextLine(std::string_view text, std::size_t& pos) {
-    const std::size_t end = std::min(text.find('\n', pos), text.size());
-    std::string_view line = text.substr(pos, end - pos);
-    pos = end + 1;
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    return line;
-}
-
-bool skipLine(std::string_view line) {
-    const auto first = line.find_first_not_of(" \t");
-    return first == std::string_view::npos || line[first] == '#';
-}
 
 const char* fieldName(Field f) {
     switch (f) {
