@@ -5,6 +5,7 @@
 #include "globe/Ellipsoid.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace orbis::scene {
 
@@ -52,7 +53,11 @@ Result<std::unique_ptr<Scene>> Scene::build(SceneDesc desc, const LayerRegistry&
 }
 
 Resource* Scene::find(const std::string& name) {
-    for (auto& r : resources_)
+    return const_cast<Resource*>(std::as_const(*this).find(name));
+}
+
+const Resource* Scene::find(const std::string& name) const {
+    for (const auto& r : resources_)
         if (r.name == name) return &r;
     return nullptr;
 }
@@ -86,9 +91,7 @@ void Scene::setCameraMode(const CameraModeSettings& settings, double flySeconds)
 
 std::optional<globe::Pose> Scene::cameraModePose(double aspect) const {
     if (cameraMode_.mode == CameraMode::Free) return std::nullopt;
-    const Resource* target = nullptr;
-    for (const auto& r : resources_)
-        if (r.name == cameraMode_.target) target = &r;
+    const Resource* target = find(cameraMode_.target);
     if (!target) return std::nullopt;
     const GroundHeightFn ground = [this](double lon, double lat) { return heightAt(lon, lat); };
     const TimeNs now = time_.now();

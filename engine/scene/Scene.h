@@ -35,6 +35,7 @@ public:
     std::vector<Resource>& resources() { return resources_; }
     const std::vector<Resource>& resources() const { return resources_; }
     Resource* find(const std::string& name);
+    const Resource* find(const std::string& name) const;
 
     Camera& camera() { return camera_; }
     const Camera& camera() const { return camera_; }

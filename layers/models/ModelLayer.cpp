@@ -9,6 +9,7 @@
 #include "globe/Culling.h"
 #include "globe/Ellipsoid.h"
 #include "layers/models/ModelLabel.h"
+#include "layers/motion/Attitude.h"
 #include "shared/ModelTypes.h"
 
 #include "spv/models/line.frag.h"
@@ -28,14 +29,6 @@ namespace {
 
 constexpr uint32_t kLabelMaxVertices = 6 * 2048;
 
-glm::dmat3 rotationFromHpr(const glm::dvec3& hprDeg) {
-    // Rz(heading) * Ry(pitch) * Rx(roll) about the body axes (x forward, y right, z down).
-    const glm::dquat q = glm::angleAxis(glm::radians(hprDeg.x), glm::dvec3(0, 0, 1)) *
-                         glm::angleAxis(glm::radians(hprDeg.y), glm::dvec3(0, 1, 0)) *
-                         glm::angleAxis(glm::radians(hprDeg.z), glm::dvec3(1, 0, 0));
-    return glm::mat3_cast(q);
-}
-
 glm::vec4 linearColor(const glm::dvec3& srgb, double alpha) {
     return glm::vec4(float(srgbToLinear(srgb.r)), float(srgbToLinear(srgb.g)), float(srgbToLinear(srgb.b)), float(alpha));
 }
@@ -50,7 +43,8 @@ void append(std::vector<std::byte>& out, const T& value) {
 
 ModelLayer::ModelLayer(ModelSettings settings, models::ModelData model, std::unique_ptr<models::ModelMotion> motion)
     : settings_(std::move(settings)), model_(std::move(model)), motion_(std::move(motion)) {
-    modelToBody_ = rotationFromHpr(settings_.orientationDeg) * models::gltfToBody();
+    const glm::dvec3& o = settings_.orientationDeg;
+    modelToBody_ = glm::mat3_cast(motion::bodyToNed(o.x, o.y, o.z)) * models::gltfToBody();
     maxCopies_ = std::max(1u, settings_.copies);
 }
 
@@ -282,11 +276,13 @@ void ModelLayer::update(const scene::FrameContext& frame) {
 
     copyTransforms_.clear();
     instanceData_.clear();
+    leadPose_.reset();
     const glm::vec4 tint = linearColor(settings_.color, 1.0);
     for (uint32_t i = 0; i < maxCopies_; ++i) {
         const TimeNs t = frame.time - fromSeconds(double(i) * settings_.copySpacingSeconds);
         const auto pose = motion_->pose(t, ground);
         if (!pose) continue;
+        if (i == 0) leadPose_ = pose;
         double scale = settings_.scale;
         if (settings_.minimumPixelSize > 0.0) {
             const double distance = std::max(glm::length(pose->position - eye_), 1e-3);
@@ -339,7 +335,7 @@ void ModelLayer::buildPath(const scene::FrameContext& frame) {
 void ModelLayer::buildLabel(const scene::FrameContext& frame) {
     labelData_.clear();
     labelVertices_ = 0;
-    const auto pose = motion_->pose(frame.time, frame.groundHeight);
+    const auto& pose = leadPose_;   // copy 0, placed by update()
     if (!pose) return;
     const scene::Camera& camera = *frame.camera;
     // Anchor: the top of the model's bounding sphere, along the local up.

@@ -115,6 +115,7 @@ private:
 
     // Per frame (CPU).
     std::vector<glm::dmat4> copyTransforms_;  ///< every visible copy, model -> ECEF
+    std::optional<scene::TrackedPose> leadPose_;   ///< copy 0's pose this frame (the label's anchor)
     glm::dvec3 eye_{0.0};
     uint32_t drawnCopies_ = 0;
     std::vector<std::byte> instanceData_;

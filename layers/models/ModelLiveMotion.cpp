@@ -91,7 +91,8 @@ public:
         const livefeed::LiveStats s = source_->stats();
         std::string out = "live " + s.address + ": " + (s.connected ? "connected" : "not connected") + ", " +
                           std::to_string(s.fixesReceived) + " fixes, " + std::to_string(s.reconnects) + " reconnects, " +
-                          std::to_string(s.decoded.badChecksum) + " bad checksums";
+                          std::to_string(s.decoded.badChecksum) + " bad checksums, " +
+                          std::to_string(outOfOrder_) + " out of order";
         if (const auto m = medianLatencyMs()) out += ", latency " + std::to_string(*m) + " ms (median)";
         if (!s.lastError.empty()) out += "; " + s.lastError;
         return out;
