@@ -6,13 +6,14 @@
 # a cloud larger than the CPU budget (BIG million points, 0 to skip; 3.4 GB of LAS for 100):
 # octree cache built on first load (its time and peak RSS), then loaded from the cache.
 #   usage: tools/bench-points.sh [BUILD_DIR]   env: SIZES="1 5 20" FRAMES=10 SIZE=1920x1080 BIG=100
+#   DEVICE=cpu|discrete|... (orbis bench --device; default: the first discrete GPU, else lavapipe)
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
 data="$build/bench-data"
 sizes="${SIZES:-1 5 20}" frames="${FRAMES:-10}" size="${SIZE:-1920x1080}" big="${BIG:-100}"
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp/orbis-xdg}"
-export VK_ICD_FILENAMES="${VK_ICD_FILENAMES:-/usr/share/vulkan/icd.d/lvp_icd.x86_64.json}"
+dev=(); [ -n "${DEVICE:-}" ] && dev=(--device "$DEVICE")
 mkdir -p "$data" "$XDG_RUNTIME_DIR"
 scene() {   # scene FILE.las BUDGET -> a scene file next to it
     local las="$1" budget="$2" out="${1%.las}-$2.json"
@@ -28,12 +29,12 @@ for m in $sizes; do
     las="$data/survey-${m}m.las"
     [ -f "$las" ] || "$build/bin/orbis-make-las" --points "${m}000000" --out "$las"
     echo "== $m M points, compute (0) vs point list (1), $size"
-    "$build/bin/orbis" bench "$(scene "$las" 0)" --size "$size" --frames "$frames" --warmup 2 --sweep renderer=0,1
+    "$build/bin/orbis" bench "${dev[@]}" "$(scene "$las" 0)" --size "$size" --frames "$frames" --warmup 2 --sweep renderer=0,1
 done
 las="$data/survey-5m.las"
 [ -f "$las" ] || "$build/bin/orbis-make-las" --points 5000000 --out "$las"
 echo "== point budget on 5 M points (reference: all), $size"
-"$build/bin/orbis" bench "$(scene "$las" 0)" --size "$size" --frames "$frames" --warmup 2 \
+"$build/bin/orbis" bench "${dev[@]}" "$(scene "$las" 0)" --size "$size" --frames "$frames" --warmup 2 \
     --sweep pointBudget=0,3000000,1000000,300000,100000 --plot "$build/points-budget.png"
 [ "$big" = 0 ] && exit 0
 las="$data/survey-${big}m.las"
@@ -41,6 +42,6 @@ las="$data/survey-${big}m.las"
 rm -f "$las.orbis-points"
 for run in "building the octree cache" "from the cache"; do
     echo "== $big M points, budget 3 M, $run, $size"
-    "$build/bin/orbis" -v bench "$(scene "$las" 3000000)" --size "$size" \
+    "$build/bin/orbis" -v bench "${dev[@]}" "$(scene "$las" 3000000)" --size "$size" \
         --frames "$frames" --warmup 2 2>&1 | grep -v "^\[orbis\] \(debug\|trace\)"
 done
