@@ -72,8 +72,20 @@ Image& Image::operator=(Image&& o) noexcept {
     return *this;
 }
 
+Image Image::borrowed(VkImage image, const ImageDesc& desc, ImageUse currentUse) {
+    Image out;
+    out.image_ = image;
+    out.desc_ = desc;
+    out.use_ = currentUse;
+    return out;
+}
+
 void Image::release() {
     if (image_ == VK_NULL_HANDLE) return;
+    if (device_ == nullptr) {   // borrowed: its owner destroys it
+        image_ = VK_NULL_HANDLE;
+        return;
+    }
     Device* device = device_;
     VkImage image = image_;
     VkImageView view = view_;

@@ -45,6 +45,8 @@ public:
     Image& operator=(Image&& other) noexcept;
     Image(const Image&) = delete;
     Image& operator=(const Image&) = delete;
+    /// An image owned by someone else (a swapchain's): tracked for barriers, never destroyed.
+    static Image borrowed(VkImage image, const ImageDesc& desc, ImageUse currentUse = ImageUse::Undefined);
 
     VkImage vk() const { return image_; }
     VkImageView view() const { return view_; }

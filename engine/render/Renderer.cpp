@@ -184,7 +184,7 @@ int Renderer::settle(scene::Scene& scene, double maxSeconds, const std::function
     const auto start = std::chrono::steady_clock::now();
     int frames = 0;
     do {
-        const FrameResult f = render(scene, /*readback=*/false, /*draw=*/false);
+        const FrameResult f = render(scene, /*readback=*/false, /*draw=*/false, nullptr);
         device_.wait(f.timelineValue);
         ++frames;
         if (afterFrame) afterFrame();
@@ -196,9 +196,13 @@ int Renderer::settle(scene::Scene& scene, double maxSeconds, const std::function
     return frames;
 }
 
-FrameResult Renderer::render(scene::Scene& scene, bool readback) { return render(scene, readback, true); }
+FrameResult Renderer::render(scene::Scene& scene, bool readback) { return render(scene, readback, true, nullptr); }
 
-FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw) {
+FrameResult Renderer::render(scene::Scene& scene, bool readback, const FrameHooks& hooks) {
+    return render(scene, readback, true, &hooks);
+}
+
+FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw, const FrameHooks* hooks) {
     const auto t0 = std::chrono::steady_clock::now();
     // GPU objects are built before the frame starts recording, and only for visible layers.
     for (auto& r : scene.resources())
@@ -271,15 +275,22 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw) {
             recordPass(pass, passName(pass), scene, rc, false, scene.desc().background);
         }
     }
+    if (hooks && hooks->overlay) {
+        gpu::transition(frame.cmd, target_->color(), gpu::ImageUse::ColorAttachment);
+        const int scope = timer_.begin(frame.cmd, "ui");
+        hooks->overlay(frame.cmd, *target_);
+        timer_.end(frame.cmd, scope);
+    }
     if (readback) {
         const int scope = timer_.begin(frame.cmd, "readback");
         target_->recordReadback(frame.cmd);
         timer_.end(frame.cmd, scope);
     }
+    if (hooks && hooks->finish) hooks->finish(frame.cmd, *target_);
     FrameResult result;
     result.frameNumber = frame.number;
     result.slot = frame.slot;
-    result.timelineValue = ring_.submit(frame);
+    result.timelineValue = hooks ? ring_.submit(frame, hooks->waits, hooks->signals) : ring_.submit(frame);
     result.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return result;
 }

@@ -32,6 +32,19 @@ struct FrameResult {
     double cpuMs = 0.0;           ///< update + record + submit
 };
 
+/// What the viewer adds to a frame: its UI drawn over the picture, a copy to the window, and
+/// the semaphores of the swapchain. All optional; the headless renderer uses none.
+struct FrameHooks {
+    /// Records after the passes, with the colour target in ImageUse::ColorAttachment (outside
+    /// any rendering scope): the UI drawn over the picture. Timed as "ui". Before any readback,
+    /// so screenshots show it.
+    std::function<void(VkCommandBuffer, gpu::RenderTarget&)> overlay;
+    /// Records last (after the readback): e.g. the blit of the colour target to a swapchain image.
+    std::function<void(VkCommandBuffer, gpu::RenderTarget&)> finish;
+    std::vector<VkSemaphoreSubmitInfo> waits;     ///< e.g. the swapchain image's acquire
+    std::vector<VkSemaphoreSubmitInfo> signals;   ///< e.g. the semaphore presentation waits on
+};
+
 class Renderer {
 public:
     Renderer(gpu::Device& device, uint32_t width, uint32_t height);
@@ -41,6 +54,8 @@ public:
 
     /// Updates the visible layers, records every pass and submits. Main thread only.
     FrameResult render(scene::Scene& scene, bool readback);
+    /// The same, with the viewer's additions (FrameHooks).
+    FrameResult render(scene::Scene& scene, bool readback, const FrameHooks& hooks);
     /// Runs frames that update, load and upload but draw nothing, until no visible layer is
     /// busy or `maxSeconds` have passed; returns the frames run. Batch renders call it before
     /// the frame they keep, so the picture has every tile the view needs. `afterFrame`, if
@@ -61,7 +76,7 @@ public:
     bool jobsStarted() const { return jobs_ != nullptr; }
 
 private:
-    FrameResult render(scene::Scene& scene, bool readback, bool draw);
+    FrameResult render(scene::Scene& scene, bool readback, bool draw, const FrameHooks* hooks);
     void prepareLayer(scene::Layer& layer);
     void writeFrameUniforms(uint32_t slot, const scene::Scene& scene, const scene::FrameContext& ctx);
     void recordPass(scene::Pass pass, const char* name, scene::Scene& scene, const scene::RecordContext& rc,

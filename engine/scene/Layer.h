@@ -14,6 +14,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace orbis::gpu {
 class Device;
@@ -87,6 +88,26 @@ struct RecordContext {
     gpu::Image* sceneDepth = nullptr;
 };
 
+/// One live setting of a layer, as the viewer's panels show it and as a saved scene writes it.
+/// `name` is the key setParameter/setOption take and the key of the layer's object in the scene
+/// file (so that saving writes `name: value` and loading reads it back).
+struct LayerSetting {
+    enum class Kind {
+        Number,    ///< setParameter(name, value), value in [min, max]
+        Integer,   ///< the same, whole numbers
+        Toggle,    ///< setParameter(name, 0 or 1); written to the scene as true/false
+        Choice,    ///< setOption(name, one of choices)
+    };
+    std::string name;
+    std::string label;         ///< for the panel ("Screen-space error (px)")
+    Kind kind = Kind::Number;
+    double value = 0.0;        ///< Number, Integer, Toggle
+    double min = 0.0, max = 1.0;
+    bool logarithmic = false;  ///< a slider over orders of magnitude (budgets, errors)
+    std::string choice;        ///< Choice: the current one
+    std::vector<std::string> choices;
+};
+
 class Layer {
 public:
     virtual ~Layer() = default;
@@ -128,6 +149,9 @@ public:
     /// Sets a named setting given as text (a colour map's name, ...), live. False when the
     /// layer has no such setting or the value is not one of its choices.
     virtual bool setOption(std::string_view /*name*/, std::string_view /*value*/) { return false; }
+    /// The settings setParameter/setOption take, with their current values, for the viewer's
+    /// panel and for saving the scene. Empty for layers without live settings.
+    virtual std::vector<LayerSetting> liveSettings() const { return {}; }
     /// Height of the ground (metres above the ellipsoid, as drawn) at a point, for layers that
     /// are ground (terrain); nothing where the layer knows no height. Main thread only.
     virtual std::optional<double> groundHeightAt(double /*lonDeg*/, double /*latDeg*/) const { return std::nullopt; }
