@@ -8,5 +8,6 @@ namespace orbis::cli {
 int renderCommand(const std::vector<std::string>& args);
 int benchCommand(const std::vector<std::string>& args);
 int infoCommand(const std::vector<std::string>& args);
+int viewCommand(const std::vector<std::string>& args);
 
 }  // namespace orbis::cli

@@ -17,6 +17,7 @@ namespace {
 const char* kUsage =
     "usage: orbis [-v|-vv|-q] COMMAND [args]\n"
     "Commands:\n"
+    "  view SCENE                open SCENE in a window (mouse, keyboard, panels)\n"
     "  render SCENE -o OUT.png   render one frame headlessly to a PNG\n"
     "  bench SCENE               frame-time statistics (CPU, GPU per pass)\n"
     "  info [FILE]               the GPU and features used, or what FILE holds\n"
@@ -57,6 +58,7 @@ int main(int argc, char** argv) {
     const std::string command = args.front();
     args.erase(args.begin());
     try {
+        if (command == "view") return cli::viewCommand(args);
         if (command == "render") return cli::renderCommand(args);
         if (command == "bench") return cli::benchCommand(args);
         if (command == "info") return cli::infoCommand(args);

@@ -1,0 +1,111 @@
+#include "ui/InputScript.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace orbis::ui {
+namespace {
+
+constexpr std::uintmax_t kMaxScriptBytes = 4u << 20;
+constexpr size_t kMaxSteps = 100000;
+
+const std::set<std::string>& knownKeys() {
+    static const std::set<std::string> k{"W", "A", "S", "D", "Q", "E", "R", "F", "Up", "Down", "Left", "Right",
+                                         "PageUp", "PageDown", "Home", "F1", "F12", "Escape"};
+    return k;
+}
+
+}  // namespace
+
+Result<std::vector<ScriptStep>> readInputScript(const std::filesystem::path& file) {
+    const std::string name = file.string();
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(file, ec);
+    if (ec) return Error{name + ": cannot read the input script (" + ec.message() + ")"};
+    if (size > kMaxScriptBytes) return Error{name + ": the input script is larger than 4 MB"};
+    std::ifstream in(file, std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    nlohmann::json doc = nlohmann::json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
+    if (doc.is_discarded()) return Error{name + ": not valid JSON"};
+    if (!doc.is_array()) return Error{name + ": expected a list of steps ([{\"do\": ...}, ...])"};
+    if (doc.size() > kMaxSteps) return Error{name + ": more than 100000 steps"};
+    const std::filesystem::path folder = file.parent_path();
+    std::vector<ScriptStep> steps;
+    for (size_t i = 0; i < doc.size(); ++i) {
+        const nlohmann::json& j = doc[i];
+        const std::string where = name + ": step " + std::to_string(i + 1);
+        if (!j.is_object() || !j.contains("do") || !j["do"].is_string())
+            return Error{where + ": each step is an object with \"do\""};
+        auto point = [&](const char* key, std::array<double, 2>& out) -> bool {
+            if (!j.contains(key)) return false;
+            const auto& p = j[key];
+            if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number()) return false;
+            out = {p[0].get<double>(), p[1].get<double>()};
+            return std::isfinite(out[0]) && std::isfinite(out[1]) && std::abs(out[0]) < 1e5 && std::abs(out[1]) < 1e5;
+        };
+        auto number = [&](const char* key, double lo, double hi, double& out) -> bool {
+            if (!j.contains(key)) return false;
+            if (!j[key].is_number()) return false;
+            out = j[key].get<double>();
+            return std::isfinite(out) && out >= lo && out <= hi;
+        };
+        ScriptStep s;
+        const std::string op = j["do"].get<std::string>();
+        if (op == "drag") {
+            s.kind = ScriptStep::Kind::Drag;
+            if (!point("from", s.from) || !point("to", s.to)) return Error{where + ": drag needs \"from\" and \"to\": [x, y] pixels"};
+            if (j.contains("button")) {
+                if (!j["button"].is_string()) return Error{where + ": \"button\" is left, right or middle"};
+                s.button = j["button"].get<std::string>();
+                if (s.button != "left" && s.button != "right" && s.button != "middle")
+                    return Error{where + ": \"button\" is left, right or middle, not \"" + s.button + "\""};
+            }
+            double frames = 8;
+            if (j.contains("frames") && !number("frames", 1, 1000, frames)) return Error{where + ": \"frames\" is 1 to 1000"};
+            s.frames = int(frames);
+        } else if (op == "scroll") {
+            s.kind = ScriptStep::Kind::Scroll;
+            if (!point("at", s.from)) return Error{where + ": scroll needs \"at\": [x, y] pixels"};
+            if (!number("lines", -100, 100, s.lines)) return Error{where + ": scroll needs \"lines\" from -100 to 100"};
+        } else if (op == "key") {
+            s.kind = ScriptStep::Kind::Key;
+            if (!j.contains("key") || !j["key"].is_string() || !knownKeys().count(j["key"].get<std::string>()))
+                return Error{where + ": \"key\" is one of W A S D Q E R F Up Down Left Right PageUp PageDown Home F1 F12 Escape"};
+            s.key = j["key"].get<std::string>();
+            double frames = 1;
+            if (j.contains("frames") && !number("frames", 1, 1000, frames)) return Error{where + ": \"frames\" is 1 to 1000"};
+            s.frames = int(frames);
+        } else if (op == "doubleClick") {
+            s.kind = ScriptStep::Kind::DoubleClick;
+            if (!point("at", s.from)) return Error{where + ": doubleClick needs \"at\": [x, y] pixels"};
+        } else if (op == "click") {
+            s.kind = ScriptStep::Kind::Click;
+            if (j.contains("item") && j["item"].is_string()) s.item = j["item"].get<std::string>();
+            else if (!point("at", s.from)) return Error{where + ": click needs \"at\": [x, y] pixels or \"item\": a label"};
+        } else if (op == "settle") {
+            s.kind = ScriptStep::Kind::Settle;
+        } else if (op == "screenshot") {
+            s.kind = ScriptStep::Kind::Screenshot;
+            if (!j.contains("file") || !j["file"].is_string() || j["file"].get<std::string>().empty())
+                return Error{where + ": screenshot needs \"file\""};
+            s.file = folder / j["file"].get<std::string>();
+        } else if (op == "idle") {
+            s.kind = ScriptStep::Kind::Idle;
+            if (!number("seconds", 0.1, 600, s.seconds)) return Error{where + ": idle needs \"seconds\" from 0.1 to 600"};
+        } else if (op == "quit") {
+            s.kind = ScriptStep::Kind::Quit;
+        } else {
+            return Error{where + ": unknown \"do\": \"" + op +
+                         "\" (drag, scroll, key, doubleClick, click, settle, screenshot, idle, quit)"};
+        }
+        steps.push_back(std::move(s));
+    }
+    return steps;
+}
+
+}  // namespace orbis::ui

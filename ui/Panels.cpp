@@ -1,0 +1,267 @@
+#include "ui/Panels.h"
+
+#include "engine/core/TimeFormat.h"
+#include "engine/scene/Layer.h"
+#include "engine/scene/Scene.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace orbis::ui {
+namespace {
+
+constexpr size_t kHistory = 120;
+
+std::string megabytes(uint64_t bytes) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f MB", double(bytes) / (1024.0 * 1024.0));
+    return text;
+}
+
+std::string distance(double metres) {
+    char text[32];
+    if (metres >= 1000.0) std::snprintf(text, sizeof text, "%g km", metres / 1000.0);
+    else std::snprintf(text, sizeof text, "%g m", metres);
+    return text;
+}
+
+/// One generic widget per live setting; true when the user changed it.
+bool settingWidget(scene::Layer& layer, const scene::LayerSetting& s, const std::string& id) {
+    using Kind = scene::LayerSetting::Kind;
+    const std::string label = s.label + "##" + id + s.name;
+    switch (s.kind) {
+        case Kind::Toggle: {
+            bool on = s.value != 0.0;
+            if (ImGui::Checkbox(label.c_str(), &on)) return layer.setParameter(s.name, on ? 1.0 : 0.0);
+            return false;
+        }
+        case Kind::Integer: {
+            int v = int(std::lround(s.value));
+            const ImGuiSliderFlags flags = s.logarithmic ? ImGuiSliderFlags_Logarithmic : 0;
+            if (ImGui::SliderInt(label.c_str(), &v, int(s.min), int(s.max), "%d", flags))
+                return layer.setParameter(s.name, double(v));
+            return false;
+        }
+        case Kind::Number: {
+            float v = float(s.value);
+            const ImGuiSliderFlags flags = s.logarithmic ? ImGuiSliderFlags_Logarithmic : 0;
+            if (ImGui::SliderFloat(label.c_str(), &v, float(s.min), float(s.max), "%.3g", flags))
+                return layer.setParameter(s.name, double(v));
+            return false;
+        }
+        case Kind::Choice: {
+            bool changed = false;
+            if (ImGui::BeginCombo(label.c_str(), s.choice.c_str())) {
+                for (const std::string& c : s.choices)
+                    if (ImGui::Selectable(c.c_str(), c == s.choice) && c != s.choice) changed = layer.setOption(s.name, c);
+                ImGui::EndCombo();
+            }
+            return changed;
+        }
+    }
+    return false;
+}
+
+}  // namespace
+
+void Panels::remember(const std::string& label) {
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    items_.push_back({label, 0.5f * (a.x + b.x), 0.5f * (a.y + b.y)});
+}
+
+std::optional<std::pair<float, float>> Panels::itemCentre(const std::string& label) const {
+    for (const Item& i : items_)
+        if (i.label == label) return std::make_pair(i.x, i.y);
+    return std::nullopt;
+}
+
+PanelActions Panels::draw(scene::Scene& scene, const ViewerStats& stats, const MapReadout& map, float uiScale) {
+    PanelActions actions;
+    items_.clear();
+    history_.push_back(float(stats.frameMs));
+    while (history_.size() > kHistory) history_.pop_front();
+
+    if (ImGui::BeginMainMenuBar()) {
+        if (ImGui::BeginMenu("File")) {
+            if (ImGui::MenuItem("Save screenshot", "F12")) actions.screenshot = true;
+            if (ImGui::MenuItem("Save scene", "Ctrl+S")) actions.saveScene = true;
+            ImGui::Separator();
+            if (ImGui::MenuItem("Quit", "Esc")) actions.quit = true;
+            ImGui::EndMenu();
+        }
+        if (ImGui::BeginMenu("View")) {
+            if (ImGui::MenuItem("Home", "Home")) actions.home = true;
+            if (ImGui::MenuItem("Panels", "F1", visible_)) visible_ = !visible_;
+            ImGui::EndMenu();
+        }
+        ImGui::EndMainMenuBar();
+    }
+    if (visible_) {
+        resourcesPanel(scene, actions);
+        timePanel(scene, actions);
+        statsPanel(stats, scene);
+    }
+    mapFurniture(map, uiScale);
+    return actions;
+}
+
+void Panels::resourcesPanel(scene::Scene& scene, PanelActions& actions) {
+    const float s = ImGui::GetIO().FontGlobalScale;
+    ImGui::SetNextWindowPos(ImVec2(10 * s, 30 * s), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(330 * s, 420 * s), ImGuiCond_FirstUseEver);
+    if (!ImGui::Begin("Resources")) {
+        ImGui::End();
+        return;
+    }
+    ImGui::PushItemWidth(ImGui::GetWindowWidth() * 0.45f);
+    for (scene::Resource& r : scene.resources()) {
+        ImGui::PushID(r.name.c_str());
+        const std::string visLabel = "##visible" + r.name;
+        if (ImGui::Checkbox(visLabel.c_str(), &r.visible)) actions.changed = true;
+        remember("Visible##" + r.name);
+        ImGui::SameLine();
+        const bool open = ImGui::TreeNodeEx(r.name.c_str(), ImGuiTreeNodeFlags_DefaultOpen, "%s  (%s)", r.name.c_str(),
+                                            r.type.c_str());
+        if (r.viewpoint) {
+            ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - 50 * ImGui::GetIO().FontGlobalScale);
+            if (ImGui::SmallButton("Fly to")) actions.flyTo = r.viewpoint;
+            remember("Fly to##" + r.name);
+        }
+        if (open) {
+            if (r.layer) {
+                const std::string status = r.layer->status();
+                if (!status.empty()) ImGui::TextWrapped("%s", status.c_str());
+                if (r.layer->busy()) ImGui::TextColored(ImVec4(0.9f, 0.7f, 0.2f, 1.0f), "loading...");
+                for (const scene::LayerSetting& setting : r.layer->liveSettings())
+                    if (settingWidget(*r.layer, setting, r.name)) actions.changed = true;
+            }
+            ImGui::TreePop();
+        }
+        ImGui::PopID();
+    }
+    ImGui::PopItemWidth();
+    ImGui::End();
+}
+
+void Panels::timePanel(scene::Scene& scene, PanelActions& actions) {
+    scene::TimeServer& time = scene.time();
+    const ImGuiIO& io = ImGui::GetIO();
+    const float s = io.FontGlobalScale;
+    ImGui::SetNextWindowPos(ImVec2(10 * s, io.DisplaySize.y - 120 * s), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(std::min(720 * s, io.DisplaySize.x - 20 * s), 90 * s), ImGuiCond_FirstUseEver);
+    if (!ImGui::Begin("Time")) {
+        ImGui::End();
+        return;
+    }
+    const double span = toSeconds(time.end() - time.start());
+    if (ImGui::Button(time.playing() ? "Pause" : "Play")) {
+        time.playing() ? time.pause() : time.play();
+        actions.changed = true;
+    }
+    remember("Play");
+    ImGui::SameLine();
+    const TimeNs stepNs = fromSeconds(span > 0.0 ? std::max(span / 100.0, 0.04) : 1.0);
+    if (ImGui::ArrowButton("back", ImGuiDir_Left)) {
+        time.step(-stepNs);
+        actions.changed = true;
+    }
+    ImGui::SameLine();
+    if (ImGui::ArrowButton("forward", ImGuiDir_Right)) {
+        time.step(stepNs);
+        actions.changed = true;
+    }
+    ImGui::SameLine();
+    bool loop = time.loop();
+    if (ImGui::Checkbox("Loop", &loop)) time.setLoop(loop);
+    ImGui::SameLine();
+    float rate = float(time.rate());
+    ImGui::SetNextItemWidth(110 * s);
+    if (ImGui::DragFloat("Rate", &rate, 0.02f * std::max(1.0f, std::abs(rate)), -1e6f, 1e6f, "%.2fx")) time.setRate(rate);
+    ImGui::SameLine();
+    ImGui::TextUnformatted(formatIso8601(time.now(), 1).c_str());
+    if (span > 0.0) {
+        float at = float(toSeconds(time.now() - time.start()));
+        ImGui::SetNextItemWidth(-1.0f);
+        if (ImGui::SliderFloat("##seek", &at, 0.0f, float(span), "%.1f s")) {
+            time.seek(time.start() + fromSeconds(at));
+            actions.changed = true;
+        }
+    }
+    ImGui::End();
+}
+
+void Panels::statsPanel(const ViewerStats& stats, const scene::Scene& scene) {
+    const ImGuiIO& io = ImGui::GetIO();
+    const float s = io.FontGlobalScale;
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 290 * s, 30 * s), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(280 * s, 300 * s), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);   // open it for the figures
+    if (!ImGui::Begin("Stats")) {
+        ImGui::End();
+        return;
+    }
+    ImGui::TextUnformatted(stats.device.c_str());
+    ImGui::Text("frame %.2f ms   cpu %.2f ms", stats.frameMs, stats.cpuMs);
+    std::vector<float> h(history_.begin(), history_.end());
+    float top = 1.0f;
+    for (float v : h) top = std::max(top, v);
+    ImGui::PlotLines("##frames", h.data(), int(h.size()), 0, nullptr, 0.0f, top * 1.1f, ImVec2(-1.0f, 40 * s));
+    double gpuTotal = 0.0;
+    for (const auto& p : stats.gpu) gpuTotal += p.ms;
+    ImGui::Text("gpu %.2f ms", gpuTotal);
+    for (const auto& p : stats.gpu) ImGui::BulletText("%s %.2f ms", p.name.c_str(), p.ms);
+    ImGui::Separator();
+    uint64_t gpuBytes = 0, cacheBytes = 0;
+    for (const scene::Resource& r : scene.resources())
+        if (r.layer) {
+            gpuBytes += r.layer->gpuBytes();
+            cacheBytes += r.layer->cacheBytes();
+        }
+    ImGui::Text("layers: GPU %s, caches %s", megabytes(gpuBytes).c_str(), megabytes(cacheBytes).c_str());
+    ImGui::Text("frames drawn %llu, vsync %s", static_cast<unsigned long long>(stats.framesDrawn), stats.vsync ? "on" : "off");
+    ImGui::End();
+}
+
+void Panels::mapFurniture(const MapReadout& map, float uiScale) {
+    const ImGuiIO& io = ImGui::GetIO();
+    ImDrawList* dl = ImGui::GetForegroundDrawList();
+    const float s = uiScale;
+    // Compass, bottom right: the needle points to north on the screen.
+    const ImVec2 c(io.DisplaySize.x - 50 * s, io.DisplaySize.y - 80 * s);
+    const float r = 26 * s;
+    const float a = float(-map.headingDeg * M_PI / 180.0);   // north turns left as the view turns right
+    const ImVec2 tip(c.x + r * std::sin(a), c.y - r * std::cos(a));
+    const ImVec2 tail(c.x - r * std::sin(a), c.y + r * std::cos(a));
+    const ImVec2 side(0.25f * r * std::cos(a), 0.25f * r * std::sin(a));
+    dl->AddCircleFilled(c, r + 6 * s, IM_COL32(0, 0, 0, 110));
+    dl->AddTriangleFilled(tip, ImVec2(c.x + side.x, c.y + side.y), ImVec2(c.x - side.x, c.y - side.y), IM_COL32(220, 60, 50, 255));
+    dl->AddTriangleFilled(tail, ImVec2(c.x - side.x, c.y - side.y), ImVec2(c.x + side.x, c.y + side.y), IM_COL32(230, 230, 230, 255));
+    dl->AddText(ImVec2(tip.x - 4 * s, tip.y - 16 * s), IM_COL32(255, 255, 255, 255), "N");
+    // Scale bar, bottom right beside the compass, above the status line.
+    const float y = io.DisplaySize.y - 34 * s;
+    if (map.scaleBarPixels > 0.0) {
+        const float x1 = io.DisplaySize.x - 100 * s, x0 = x1 - float(map.scaleBarPixels);
+        dl->AddRectFilled(ImVec2(x0 - 4 * s, y - 18 * s), ImVec2(x1 + 4 * s, y + 4 * s), IM_COL32(0, 0, 0, 110));
+        dl->AddLine(ImVec2(x0, y), ImVec2(x1, y), IM_COL32(255, 255, 255, 255), 2 * s);
+        dl->AddLine(ImVec2(x0, y - 6 * s), ImVec2(x0, y), IM_COL32(255, 255, 255, 255), 2 * s);
+        dl->AddLine(ImVec2(x1, y - 6 * s), ImVec2(x1, y), IM_COL32(255, 255, 255, 255), 2 * s);
+        dl->AddText(ImVec2(x0 + 2 * s, y - 17 * s), IM_COL32(255, 255, 255, 255), distance(map.scaleBarMetres).c_str());
+    }
+    // Status line, along the bottom.
+    char line[256];
+    if (map.lonDeg && map.latDeg)
+        std::snprintf(line, sizeof line, "lon %.6f  lat %.6f  height %.1f m   |   eye %s", *map.lonDeg, *map.latDeg,
+                      map.heightM.value_or(0.0), distance(std::round(map.eyeHeightM)).c_str());
+    else
+        std::snprintf(line, sizeof line, "(no ground under the cursor)   |   eye %s", distance(std::round(map.eyeHeightM)).c_str());
+    const float ly = io.DisplaySize.y - 20 * s;
+    dl->AddRectFilled(ImVec2(0, ly - 2 * s), ImVec2(io.DisplaySize.x, io.DisplaySize.y), IM_COL32(0, 0, 0, 150));
+    dl->AddText(ImVec2(8 * s, ly), IM_COL32(235, 235, 235, 255), line);
+    if (!map.message.empty())
+        dl->AddText(ImVec2(io.DisplaySize.x * 0.5f, ly), IM_COL32(255, 220, 120, 255), map.message.c_str());
+}
+
+}  // namespace orbis::ui

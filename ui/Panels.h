@@ -1,0 +1,81 @@
+#pragma once
+// The viewer's ImGui panels: resources (visibility, fly to, progress and errors), each layer's
+// live settings (drawn generically from Layer::liveSettings(), so a new layer kind brings its
+// own section without touching this file), the media player of the TimeServer, frame and
+// memory statistics, and the status line. The panels change the scene directly and report
+// the actions that the viewer carries out (screenshot, save, fly to). Main thread only, between
+// Gui::newFrame() and Gui::record().
+
+#include "engine/gpu/GpuTimer.h"
+#include "globe/Viewpoint.h"
+
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace orbis::scene {
+class Scene;
+}
+
+namespace orbis::ui {
+
+/// What the panels ask the viewer to do this frame.
+struct PanelActions {
+    bool screenshot = false;
+    bool saveScene = false;
+    bool home = false;
+    bool quit = false;
+    bool changed = false;   ///< a setting, visibility or the time changed: draw a new frame
+    std::optional<globe::Viewpoint> flyTo;
+};
+
+/// Figures the viewer measures and the panels show.
+struct ViewerStats {
+    double frameMs = 0.0;   ///< wall time of the last drawn frame
+    double cpuMs = 0.0;     ///< update + record + submit
+    std::vector<gpu::PassTime> gpu;   ///< per pass, of the last frame whose times arrived
+    uint64_t framesDrawn = 0;
+    bool vsync = true;
+    std::string device;
+};
+
+/// Cursor read-outs for the status line and the map furniture.
+struct MapReadout {
+    std::optional<double> lonDeg, latDeg, heightM;   ///< ground under the cursor
+    double headingDeg = 0.0;                          ///< of the view, 0 = north up
+    double scaleBarMetres = 0.0;                      ///< 0: no scale bar
+    double scaleBarPixels = 0.0;
+    double eyeHeightM = 0.0;
+    std::string message;                              ///< last screenshot / save, or an error
+};
+
+class Panels {
+public:
+    /// Builds this frame's windows. `uiScale` is the HiDPI content scale.
+    PanelActions draw(scene::Scene& scene, const ViewerStats& stats, const MapReadout& map, float uiScale);
+    bool visible() const { return visible_; }
+    void toggleVisible() { visible_ = !visible_; }
+
+    /// Where ImGui drew the item with this label in the last frame, in window pixels (centre);
+    /// scripted input clicks there ("Visible##Terrain").
+    std::optional<std::pair<float, float>> itemCentre(const std::string& label) const;
+
+private:
+    void resourcesPanel(scene::Scene& scene, PanelActions& actions);
+    void timePanel(scene::Scene& scene, PanelActions& actions);
+    void statsPanel(const ViewerStats& stats, const scene::Scene& scene);
+    void mapFurniture(const MapReadout& map, float uiScale);
+    void remember(const std::string& label);
+
+    bool visible_ = true;
+    std::deque<float> history_;   ///< frame ms, newest last
+    struct Item {
+        std::string label;
+        float x, y;
+    };
+    std::vector<Item> items_;
+};
+
+}  // namespace orbis::ui

@@ -1,0 +1,514 @@
+#include "ui/Viewer.h"
+
+#include "engine/core/Log.h"
+#include "engine/core/Png.h"
+#include "engine/gpu/Barriers.h"
+#include "engine/gpu/Device.h"
+#include "engine/gpu/Instance.h"
+#include "engine/render/Renderer.h"
+#include "engine/scene/LayerRegistry.h"
+#include "engine/scene/Scene.h"
+#include "engine/scene/SceneDesc.h"
+#include "layers/BuiltinLayers.h"
+#include "ui/Gui.h"
+#include "ui/InputScript.h"
+#include "ui/Panels.h"
+#include "ui/Swapchain.h"
+#include "ui/Window.h"
+#include "ui/input/MapTools.h"
+#include "ui/input/NavigationController.h"
+
+#define GLFW_INCLUDE_VULKAN
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cstdio>
+#include <variant>
+
+namespace orbis::ui {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Event = std::variant<MouseButtonEvent, MouseMoveEvent, ScrollEvent, KeyEvent>;
+
+/// A fixed frame time while a script plays: the same script gives the same pictures.
+constexpr double kScriptFrameSeconds = 1.0 / 30.0;
+/// Longest sleep in the event wait while idle (loads finishing on workers are noticed by then).
+constexpr double kIdleWaitSeconds = 0.25;
+constexpr double kSettleTimeoutSeconds = 300.0;
+
+/// What the GLFW callbacks collect between frames.
+struct InputSink {
+    std::vector<Event> events;
+    bool screenshot = false, saveScene = false, togglePanels = false;
+    bool resized = false;
+    bool focusLost = false;   ///< no key releases come while unfocused: forget held keys
+};
+
+std::optional<Key> keyFromGlfw(int key) {
+    switch (key) {
+        case GLFW_KEY_W: return Key::W;
+        case GLFW_KEY_A: return Key::A;
+        case GLFW_KEY_S: return Key::S;
+        case GLFW_KEY_D: return Key::D;
+        case GLFW_KEY_Q: return Key::Q;
+        case GLFW_KEY_E: return Key::E;
+        case GLFW_KEY_R: return Key::R;
+        case GLFW_KEY_F: return Key::F;
+        case GLFW_KEY_UP: return Key::Up;
+        case GLFW_KEY_DOWN: return Key::Down;
+        case GLFW_KEY_LEFT: return Key::Left;
+        case GLFW_KEY_RIGHT: return Key::Right;
+        case GLFW_KEY_PAGE_UP: return Key::PageUp;
+        case GLFW_KEY_PAGE_DOWN: return Key::PageDown;
+        case GLFW_KEY_HOME: return Key::Home;
+        default: return std::nullopt;
+    }
+}
+
+std::optional<Key> keyFromName(const std::string& name) {
+    static const std::pair<const char*, Key> names[] = {
+        {"W", Key::W},   {"A", Key::A},         {"S", Key::S},           {"D", Key::D},       {"Q", Key::Q},
+        {"E", Key::E},   {"R", Key::R},         {"F", Key::F},           {"Up", Key::Up},     {"Down", Key::Down},
+        {"Left", Key::Left}, {"Right", Key::Right}, {"PageUp", Key::PageUp}, {"PageDown", Key::PageDown},
+        {"Home", Key::Home}};
+    for (const auto& [n, k] : names)
+        if (name == n) return k;
+    return std::nullopt;
+}
+
+Modifiers modifiersFromGlfw(int mods) {
+    return {bool(mods & GLFW_MOD_SHIFT), bool(mods & GLFW_MOD_CONTROL), bool(mods & GLFW_MOD_ALT)};
+}
+
+InputSink& sinkOf(GLFWwindow* w) { return *static_cast<InputSink*>(glfwGetWindowUserPointer(w)); }
+
+void installCallbacks(GLFWwindow* window, InputSink& sink) {
+    glfwSetWindowUserPointer(window, &sink);
+    glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
+        if (button > GLFW_MOUSE_BUTTON_MIDDLE || action == GLFW_REPEAT) return;
+        double x = 0, y = 0;
+        glfwGetCursorPos(w, &x, &y);
+        MouseButtonEvent e;
+        e.button = button == GLFW_MOUSE_BUTTON_LEFT    ? MouseButton::Left
+                   : button == GLFW_MOUSE_BUTTON_RIGHT ? MouseButton::Right
+                                                       : MouseButton::Middle;
+        e.pressed = action == GLFW_PRESS;
+        e.position = {x, y};
+        e.modifiers = modifiersFromGlfw(mods);
+        e.timeSeconds = glfwGetTime();
+        sinkOf(w).events.push_back(e);
+    });
+    glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
+        sinkOf(w).events.push_back(MouseMoveEvent{{x, y}});
+    });
+    glfwSetScrollCallback(window, [](GLFWwindow* w, double x, double y) { sinkOf(w).events.push_back(ScrollEvent{x, y}); });
+    glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int mods) {
+        InputSink& s = sinkOf(w);
+        if (action == GLFW_PRESS) {
+            if (key == GLFW_KEY_F12) s.screenshot = true;
+            if (key == GLFW_KEY_S && (mods & GLFW_MOD_CONTROL)) s.saveScene = true;
+            if (key == GLFW_KEY_F1) s.togglePanels = true;
+            if (key == GLFW_KEY_ESCAPE) glfwSetWindowShouldClose(w, GLFW_TRUE);
+        }
+        if (action == GLFW_REPEAT) return;
+        if (auto k = keyFromGlfw(key)) s.events.push_back(KeyEvent{*k, action == GLFW_PRESS, modifiersFromGlfw(mods)});
+    });
+    glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int, int) { sinkOf(w).resized = true; });
+    glfwSetWindowFocusCallback(window, [](GLFWwindow* w, int focused) {
+        if (!focused) sinkOf(w).focusLost = true;
+    });
+    glfwSetWindowRefreshCallback(window, [](GLFWwindow* w) { sinkOf(w).resized = true; });
+}
+
+double processCpuSeconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+/// Plays an input script: one step's events per frame, and the mouse ImGui should see.
+class ScriptPlayer {
+public:
+    explicit ScriptPlayer(std::vector<ScriptStep> steps) : steps_(std::move(steps)) {}
+    bool done() const { return index_ >= steps_.size(); }
+    const ScriptStep* current() const { return done() ? nullptr : &steps_[index_]; }
+    int frameInStep() const { return frame_; }
+    void nextFrame() { ++frame_; }
+    void finishStep() {
+        ++index_;
+        frame_ = 0;
+    }
+    double scriptTime() const { return time_; }
+    void tick() { time_ += kScriptFrameSeconds; }
+
+    glm::dvec2 mouse{0.0};
+    bool buttons[3] = {false, false, false};
+
+private:
+    std::vector<ScriptStep> steps_;
+    size_t index_ = 0;
+    int frame_ = 0;
+    double time_ = 1000.0;   // press times for double clicks, on the script's own clock
+};
+
+}  // namespace
+
+int runViewer(const ViewerOptions& options) {
+    auto desc = scene::parseSceneFile(options.scene);
+    if (!desc) {
+        std::fprintf(stderr, "orbis: %s\n", desc.message().c_str());
+        return 1;
+    }
+    std::optional<ScriptPlayer> script;
+    if (!options.script.empty()) {
+        auto steps = readInputScript(options.script);
+        if (!steps) {
+            std::fprintf(stderr, "orbis: %s\n", steps.message().c_str());
+            return 1;
+        }
+        script.emplace(std::move(steps).value());
+    }
+
+    try {
+        gpu::InstanceOptions io;
+        io.validation = options.validation;
+        io.extensions = Window::requiredInstanceExtensions();
+        gpu::Instance instance(io);
+        Window window("Orbis - " + (desc->name.empty() ? options.scene.filename().string() : desc->name),
+                      int(options.width), int(options.height));
+        InputSink sink;
+        installCallbacks(window.glfw(), sink);   // before ImGui's, which chain to them
+        gpu::DeviceOptions dopt;
+        dopt.select = options.device;
+        dopt.surface = window.createSurface(instance.vk());
+        gpu::Device device(instance, dopt);
+
+        scene::LayerRegistry registry;
+        layers::registerBuiltinLayers(registry);
+        auto built = scene::Scene::build(std::move(desc).value(), registry);
+        if (!built) {
+            std::fprintf(stderr, "orbis: %s\n", built.message().c_str());
+            return 1;
+        }
+        std::unique_ptr<scene::Scene> scene = std::move(built).value();
+        uint32_t fbw = 0, fbh = 0;
+        window.framebufferSize(fbw, fbh);
+        render::Renderer renderer(device, std::max(fbw, 1u), std::max(fbh, 1u));
+        const float uiScale = window.contentScale();
+        Gui gui(device, window.glfw(), uiScale);
+        Swapchain swapchain(device, dopt.surface, options.vsync);
+        Panels panels;
+        if (!options.panels) panels.toggleVisible();
+
+        NavigationController nav;
+        nav.setHeightQuery([&scene](double lon, double lat) { return scene->heightAt(lon, lat); });
+        nav.setFovYRad(scene->camera().verticalFovRad());
+        nav.setHomeViewpoint(scene->desc().viewpoint);
+        nav.setPose(scene->camera().pose());
+        int ww = 0, wh = 0;
+        glfwGetWindowSize(window.glfw(), &ww, &wh);
+        nav.handle(ViewportSize{double(ww), double(wh)});
+
+        ViewerStats stats;
+        stats.vsync = swapchain.vsync();
+        stats.device = device.info().name;
+        MapReadout readout;
+        std::optional<render::FrameResult> previous;
+        uint64_t drawnRevision = ~0ull;
+        int uiFrames = 2;
+        bool dirty = true;
+        auto last = Clock::now();
+        Clock::time_point idleUntil{}, settleStart{};
+        double idleCpuStart = 0.0;
+        bool quit = false;
+        scene->time().advance(0.0);
+
+        while (!quit && !window.shouldClose()) {
+            const bool idleStep = script && !script->done() && script->current()->kind == ScriptStep::Kind::Idle;
+            const bool playingScript = script && !script->done() && !idleStep;
+            const bool animating = nav.animating() || scene->time().playing() || scene->busy() ||
+                                   scene->cameraMode().mode != scene::CameraMode::Free || nav.revision() != drawnRevision;
+            const bool wantFrame = dirty || uiFrames > 0 || animating || playingScript;
+            Window::pollEvents(!wantFrame, kIdleWaitSeconds);
+
+            // Input: the window's events, or the script's (one step's worth per frame).
+            std::vector<Event> events = std::move(sink.events);
+            sink.events.clear();
+            if (sink.resized) {
+                sink.resized = false;
+                dirty = true;
+                glfwGetWindowSize(window.glfw(), &ww, &wh);
+                nav.handle(ViewportSize{double(ww), double(wh)});
+            }
+            if (std::exchange(sink.focusLost, false)) nav.releaseAll();
+            bool wantScreenshot = std::exchange(sink.screenshot, false);
+            bool wantSave = std::exchange(sink.saveScene, false);
+            if (std::exchange(sink.togglePanels, false)) {
+                panels.toggleVisible();
+                dirty = true;
+            }
+            std::filesystem::path screenshotFile;
+            if (idleStep) {
+                const ScriptStep& step = *script->current();
+                if (script->frameInStep() == 0) {
+                    idleUntil = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(step.seconds));
+                    idleCpuStart = processCpuSeconds();
+                    script->nextFrame();
+                } else if (Clock::now() >= idleUntil) {
+                    const double cpu = processCpuSeconds() - idleCpuStart;
+                    std::printf("idle: %.3f s of CPU over %.1f s (%.1f %% of one core)\n", cpu, step.seconds,
+                                100.0 * cpu / step.seconds);
+                    std::fflush(stdout);
+                    script->finishStep();
+                }
+                if (!wantFrame && events.empty()) continue;
+            }
+            if (playingScript) {
+                events.clear();   // a script owns the input while it plays
+                const ScriptStep& step = *script->current();
+                const int f = script->frameInStep();
+                auto press = [&](MouseButton b, bool down, glm::dvec2 at) {
+                    MouseButtonEvent e;
+                    e.button = b;
+                    e.pressed = down;
+                    e.position = at;
+                    e.timeSeconds = script->scriptTime();
+                    events.push_back(e);
+                    script->buttons[int(b)] = down;
+                };
+                auto moveTo = [&](glm::dvec2 at) {
+                    script->mouse = at;
+                    events.push_back(MouseMoveEvent{at});
+                };
+                const glm::dvec2 from(step.from[0], step.from[1]), to(step.to[0], step.to[1]);
+                bool finished = true;
+                switch (step.kind) {
+                    case ScriptStep::Kind::Drag: {
+                        const MouseButton b = step.button == "right" ? MouseButton::Right
+                                              : step.button == "middle" ? MouseButton::Middle
+                                                                         : MouseButton::Left;
+                        if (f == 0) {
+                            moveTo(from);
+                            press(b, true, from);
+                            finished = false;
+                        } else if (f <= step.frames) {
+                            moveTo(from + (to - from) * (double(f) / step.frames));
+                            finished = false;
+                        } else {
+                            press(b, false, to);
+                        }
+                        break;
+                    }
+                    case ScriptStep::Kind::Scroll:
+                        moveTo(from);
+                        events.push_back(ScrollEvent{0.0, step.lines});
+                        break;
+                    case ScriptStep::Kind::Key:
+                        if (step.key == "F12") wantScreenshot = true;
+                        else if (step.key == "F1") panels.toggleVisible();
+                        else if (step.key == "Escape") quit = true;
+                        else if (auto k = keyFromName(step.key)) {
+                            if (f == 0) events.push_back(KeyEvent{*k, true, {}});
+                            if (f + 1 >= step.frames) events.push_back(KeyEvent{*k, false, {}});
+                            finished = f + 1 >= step.frames;
+                        }
+                        break;
+                    case ScriptStep::Kind::DoubleClick:
+                        moveTo(from);
+                        press(MouseButton::Left, true, from);
+                        press(MouseButton::Left, false, from);
+                        press(MouseButton::Left, true, from);
+                        press(MouseButton::Left, false, from);
+                        break;
+                    case ScriptStep::Kind::Click: {
+                        glm::dvec2 at = from;
+                        if (!step.item.empty()) {
+                            auto c = panels.itemCentre(step.item);
+                            if (!c) {
+                                std::fprintf(stderr, "orbis: %s: the panels show no item \"%s\"\n",
+                                             options.script.string().c_str(), step.item.c_str());
+                                return 1;
+                            }
+                            at = {c->first, c->second};
+                        }
+                        // Down on one frame, up on the next, as ImGui needs to see a click.
+                        if (f == 0) {
+                            moveTo(at);
+                            press(MouseButton::Left, true, at);
+                            finished = false;
+                        } else {
+                            press(MouseButton::Left, false, at);
+                        }
+                        break;
+                    }
+                    case ScriptStep::Kind::Settle:
+                        if (f == 0) settleStart = Clock::now();
+                        finished = f >= 2 && !scene->busy() && !nav.animating();
+                        if (!finished && Clock::now() - settleStart > std::chrono::seconds(int(kSettleTimeoutSeconds))) {
+                            log::warn("script: still loading after ", kSettleTimeoutSeconds, " s");
+                            finished = true;
+                        }
+                        break;
+                    case ScriptStep::Kind::Screenshot:
+                        wantScreenshot = true;
+                        screenshotFile = step.file;
+                        break;
+                    case ScriptStep::Kind::Quit: quit = true; break;
+                    case ScriptStep::Kind::Idle: break;
+                }
+                if (finished) script->finishStep();
+                else script->nextFrame();
+                script->tick();
+            }
+
+            // Events to the navigation, unless ImGui has them (releases always pass: drags end).
+            for (const Event& e : events) {
+                dirty = true;
+                uiFrames = 2;
+                std::visit(
+                    [&](const auto& ev) {
+                        using T = std::decay_t<decltype(ev)>;
+                        if constexpr (std::is_same_v<T, MouseButtonEvent>) {
+                            if (ev.pressed && gui.wantsMouse()) return;
+                        } else if constexpr (std::is_same_v<T, ScrollEvent>) {
+                            if (gui.wantsMouse()) return;
+                        } else if constexpr (std::is_same_v<T, KeyEvent>) {
+                            if (ev.pressed && gui.wantsKeyboard()) return;
+                        }
+                        if constexpr (!std::is_same_v<T, MouseMoveEvent>)
+                            if (scene->cameraMode().mode != scene::CameraMode::Free) {
+                                // The user takes the camera from a mode that was moving it.
+                                nav.setPose(scene->camera().pose());
+                                scene->setCameraMode(scene::CameraModeSettings{});
+                            }
+                        nav.handle(ev);
+                    },
+                    e);
+            }
+
+            window.framebufferSize(fbw, fbh);
+            if (fbw == 0 || fbh == 0) continue;   // minimised: nothing to draw into
+            const auto now = Clock::now();
+            const double dt = script && !script->done() ? kScriptFrameSeconds
+                                                        : std::min(0.25, std::chrono::duration<double>(now - last).count());
+            last = now;
+            nav.advance(dt);
+            if (scene->cameraMode().mode == scene::CameraMode::Free) scene->camera().setPose(nav.pose());
+            scene->time().advance(dt);
+
+            // Read-outs for the status line and the map furniture.
+            const globe::Pose pose = scene->camera().pose();
+            readout.headingDeg = compassHeadingDeg(pose);
+            readout.eyeHeightM = globe::Ellipsoid::wgs84().toGeodetic(pose.position).height;
+            if (auto g = nav.groundUnderCursor()) {
+                readout.lonDeg = g->geodetic.lonDeg;
+                readout.latDeg = g->geodetic.latDeg;
+                readout.heightM = g->geodetic.height;
+            } else {
+                readout.lonDeg.reset();
+                readout.latDeg.reset();
+                readout.heightM.reset();
+            }
+            readout.scaleBarPixels = 0.0;
+            const HeightQuery ground = [&scene](double lon, double lat) { return scene->heightAt(lon, lat); };
+            if (auto mpp = metresPerPixel(pose, scene->camera().verticalFovRad(), {double(ww), double(wh)},
+                                          {0.5 * ww, double(wh) - 60.0}, ground))
+                if (auto bar = niceScaleBar(*mpp, 150.0 * uiScale)) {
+                    readout.scaleBarMetres = bar->metres;
+                    readout.scaleBarPixels = bar->widthPx;
+                }
+
+            gui.newFrame();
+            if (script && !script->done()) {
+                ImGuiIO& imio = ImGui::GetIO();
+                imio.MousePos = ImVec2(float(script->mouse.x), float(script->mouse.y));
+                for (int b = 0; b < 3; ++b) imio.MouseDown[b] = script->buttons[b];
+            }
+            const PanelActions actions = panels.draw(*scene, stats, readout, uiScale);
+            if (actions.changed) dirty = true;
+            if (actions.quit) quit = true;
+            if (actions.home) nav.flyHome();
+            if (actions.flyTo) nav.flyTo(*actions.flyTo);
+            wantScreenshot = wantScreenshot || actions.screenshot;
+            wantSave = wantSave || actions.saveScene;
+            if (wantSave) readout.message = "saving scenes is not available yet";
+
+            auto acquired = swapchain.acquire(fbw, fbh);
+            if (!acquired) {
+                gui.endFrameWithoutDrawing();
+                continue;
+            }
+            renderer.resize(fbw, fbh);
+            render::FrameHooks hooks;
+            hooks.overlay = [&gui](VkCommandBuffer cmd, gpu::RenderTarget& target) { gui.record(cmd, target); };
+            hooks.finish = [&acquired](VkCommandBuffer cmd, gpu::RenderTarget& target) {
+                gpu::Image& dst = *acquired->image;
+                const gpu::ImageTransition uses[] = {{&target.color(), gpu::ImageUse::TransferSrc},
+                                                     {&dst, gpu::ImageUse::TransferDst}};
+                gpu::transition(cmd, uses);
+                VkImageBlit region{};
+                region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                region.dstSubresource = region.srcSubresource;
+                region.srcOffsets[1] = {int32_t(target.width()), int32_t(target.height()), 1};
+                region.dstOffsets[1] = {int32_t(dst.extent().width), int32_t(dst.extent().height), 1};
+                const bool same = target.width() == dst.extent().width && target.height() == dst.extent().height;
+                vkCmdBlitImage(cmd, target.color().vk(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, dst.vk(),
+                               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region, same ? VK_FILTER_NEAREST : VK_FILTER_LINEAR);
+                gpu::transition(cmd, dst, gpu::ImageUse::Present);
+            };
+            VkSemaphoreSubmitInfo wait{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
+            wait.semaphore = acquired->acquired;
+            wait.stageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+            VkSemaphoreSubmitInfo signal{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
+            signal.semaphore = acquired->rendered;
+            signal.stageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+            hooks.waits = {wait};
+            hooks.signals = {signal};
+
+            const auto frameStart = Clock::now();
+            const render::FrameResult frame = renderer.render(*scene, wantScreenshot, hooks);
+            swapchain.present(*acquired, frame.timelineValue);
+            drawnRevision = nav.revision();
+            dirty = false;
+            if (uiFrames > 0) --uiFrames;
+            ++stats.framesDrawn;
+            stats.cpuMs = frame.cpuMs;
+            if (previous) stats.gpu = renderer.gpuTimes(*previous);
+            previous = frame;
+            stats.frameMs = std::chrono::duration<double, std::milli>(Clock::now() - frameStart).count();
+
+            if (wantScreenshot) {
+                if (screenshotFile.empty()) {
+                    const auto stamp = std::chrono::duration_cast<std::chrono::seconds>(
+                                           std::chrono::system_clock::now().time_since_epoch()).count();
+                    screenshotFile = options.screenshotFolder / ("orbis-" + std::to_string(stamp) + ".png");
+                }
+                ImageRgba8 image{renderer.width(), renderer.height(), renderer.readPixels(frame)};
+                if (auto ok = writePng(screenshotFile, image); !ok) {
+                    readout.message = ok.message();
+                    std::fprintf(stderr, "orbis: %s\n", ok.message().c_str());
+                    if (script) return 1;
+                } else {
+                    readout.message = "saved " + screenshotFile.filename().string();
+                    std::printf("wrote %s\n", screenshotFile.string().c_str());
+                    std::fflush(stdout);
+                }
+            }
+        }
+        vkDeviceWaitIdle(device.vk());
+        if (instance.validationMessages() > 0) {
+            std::fprintf(stderr, "orbis: validation reported %d message(s); first: %s\n", instance.validationMessages(),
+                         instance.firstValidationMessage().c_str());
+            return 1;
+        }
+        return 0;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "orbis: %s\n", e.what());
+        return 1;
+    }
+}
+
+}  // namespace orbis::ui
