@@ -9,8 +9,8 @@ packages=(
   build-essential cmake ninja-build pkg-config git ca-certificates
   # Vulkan: loader, headers, lavapipe (mesa), validation layer, shader compiler
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools spirv-tools
-  # windows (GLFW surfaces; tests run them under Xvfb) and images
-  libglfw3-dev xvfb xauth libstb-dev
+  # the viewer: windows (GLFW surfaces; tests run them under Xvfb), Dear ImGui, images
+  libglfw3-dev libimgui-dev xvfb xauth libstb-dev
   # maths, geodesy, data, scene files
   libglm-dev libgeographiclib-dev libgdal-dev gdal-bin nlohmann-json3-dev
   # 3-D models (glTF 2.0) and the live feed's XML messages

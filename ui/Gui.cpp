@@ -26,7 +26,6 @@ Gui::Gui(gpu::Device& device, GLFWwindow* window, float contentScale) : device_(
     ImGui::CreateContext();
     ImGuiIO& io = ImGui::GetIO();
     io.IniFilename = nullptr;   // layouts come from the code, not from a file next to the binary
-    io.ConfigFlags |= ImGuiConfigFlags_NavEnableKeyboard;
     ImGui::StyleColorsDark();
     ImGuiStyle& style = ImGui::GetStyle();
     style.WindowRounding = 4.0f;
@@ -97,10 +96,15 @@ Gui::~Gui() {
     vkDestroyDescriptorPool(device_.vk(), pool_, nullptr);
 }
 
-void Gui::newFrame() {
+void Gui::newFrame(const MouseOverride* mouse) {
     if (frameOpen_) ImGui::EndFrame();
     ImGui_ImplVulkan_NewFrame();
     ImGui_ImplGlfw_NewFrame();
+    if (mouse) {   // after the GLFW backend has read the real mouse, before ImGui uses it
+        ImGuiIO& io = ImGui::GetIO();
+        io.MousePos = ImVec2(mouse->x, mouse->y);
+        for (int b = 0; b < 3; ++b) io.MouseDown[b] = mouse->buttons[b];
+    }
     ImGui::NewFrame();
     frameOpen_ = true;
 }

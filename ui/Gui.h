@@ -26,8 +26,13 @@ public:
     Gui(const Gui&) = delete;
     Gui& operator=(const Gui&) = delete;
 
-    /// Starts an ImGui frame; build windows after it, then call render().
-    void newFrame();
+    /// The mouse as a script plays it, instead of the window's.
+    struct MouseOverride {
+        float x = 0.0f, y = 0.0f;
+        bool buttons[3] = {false, false, false};   ///< left, right, middle
+    };
+    /// Starts an ImGui frame; build windows after it, then call record().
+    void newFrame(const MouseOverride* mouse = nullptr);
     /// Ends the ImGui frame and records its draw lists over `target` (colour in
     /// ImageUse::ColorAttachment). Called from FrameHooks::overlay.
     void record(VkCommandBuffer cmd, gpu::RenderTarget& target);

@@ -111,7 +111,8 @@ PanelActions Panels::draw(scene::Scene& scene, const ViewerStats& stats, const M
 void Panels::resourcesPanel(scene::Scene& scene, PanelActions& actions) {
     const float s = ImGui::GetIO().FontGlobalScale;
     ImGui::SetNextWindowPos(ImVec2(10 * s, 30 * s), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(330 * s, 420 * s), ImGuiCond_FirstUseEver);
+    const float below = ImGui::GetIO().DisplaySize.y - 170 * s;   // leave the time panel free
+    ImGui::SetNextWindowSize(ImVec2(330 * s, std::clamp(below - 30 * s, 120 * s, 420 * s)), ImGuiCond_FirstUseEver);
     if (!ImGui::Begin("Resources")) {
         ImGui::End();
         return;

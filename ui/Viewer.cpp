@@ -285,26 +285,30 @@ int runViewer(const ViewerOptions& options) {
                 };
                 const glm::dvec2 from(step.from[0], step.from[1]), to(step.to[0], step.to[1]);
                 bool finished = true;
+                // Pointer steps move the mouse on their first frame and act from the next, as a hand
+                // does: ImGui decides whether it owns the mouse from where it was last frame.
                 switch (step.kind) {
                     case ScriptStep::Kind::Drag: {
                         const MouseButton b = step.button == "right" ? MouseButton::Right
                                               : step.button == "middle" ? MouseButton::Middle
                                                                          : MouseButton::Left;
-                        if (f == 0) {
-                            moveTo(from);
-                            press(b, true, from);
-                            finished = false;
-                        } else if (f <= step.frames) {
-                            moveTo(from + (to - from) * (double(f) / step.frames));
-                            finished = false;
-                        } else {
+                        finished = false;
+                        if (f == 0) moveTo(from);
+                        else if (f == 1) press(b, true, from);
+                        else if (f <= step.frames + 1) moveTo(from + (to - from) * (double(f - 1) / step.frames));
+                        else {
                             press(b, false, to);
+                            finished = true;
                         }
                         break;
                     }
                     case ScriptStep::Kind::Scroll:
-                        moveTo(from);
-                        events.push_back(ScrollEvent{0.0, step.lines});
+                        if (f == 0) {
+                            moveTo(from);
+                            finished = false;
+                        } else {
+                            events.push_back(ScrollEvent{0.0, step.lines});
+                        }
                         break;
                     case ScriptStep::Kind::Key:
                         if (step.key == "F12") wantScreenshot = true;
@@ -317,11 +321,15 @@ int runViewer(const ViewerOptions& options) {
                         }
                         break;
                     case ScriptStep::Kind::DoubleClick:
-                        moveTo(from);
-                        press(MouseButton::Left, true, from);
-                        press(MouseButton::Left, false, from);
-                        press(MouseButton::Left, true, from);
-                        press(MouseButton::Left, false, from);
+                        if (f == 0) {
+                            moveTo(from);
+                            finished = false;
+                        } else {
+                            press(MouseButton::Left, true, from);
+                            press(MouseButton::Left, false, from);
+                            press(MouseButton::Left, true, from);
+                            press(MouseButton::Left, false, from);
+                        }
                         break;
                     case ScriptStep::Kind::Click: {
                         glm::dvec2 at = from;
@@ -335,13 +343,10 @@ int runViewer(const ViewerOptions& options) {
                             at = {c->first, c->second};
                         }
                         // Down on one frame, up on the next, as ImGui needs to see a click.
-                        if (f == 0) {
-                            moveTo(at);
-                            press(MouseButton::Left, true, at);
-                            finished = false;
-                        } else {
-                            press(MouseButton::Left, false, at);
-                        }
+                        if (f == 0) moveTo(at);
+                        else if (f == 1) press(MouseButton::Left, true, at);
+                        else press(MouseButton::Left, false, at);
+                        finished = f >= 2;
                         break;
                     }
                     case ScriptStep::Kind::Settle:
@@ -421,11 +426,12 @@ int runViewer(const ViewerOptions& options) {
                     readout.scaleBarPixels = bar->widthPx;
                 }
 
-            gui.newFrame();
             if (script && !script->done()) {
-                ImGuiIO& imio = ImGui::GetIO();
-                imio.MousePos = ImVec2(float(script->mouse.x), float(script->mouse.y));
-                for (int b = 0; b < 3; ++b) imio.MouseDown[b] = script->buttons[b];
+                Gui::MouseOverride mouse{float(script->mouse.x), float(script->mouse.y)};
+                for (int b = 0; b < 3; ++b) mouse.buttons[b] = script->buttons[b];
+                gui.newFrame(&mouse);
+            } else {
+                gui.newFrame();
             }
             const PanelActions actions = panels.draw(*scene, stats, readout, uiScale);
             if (actions.changed) dirty = true;

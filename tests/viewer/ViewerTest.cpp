@@ -1,0 +1,152 @@
+// orbis view under Xvfb: the viewer opens a scene, scripted input moves the camera and works
+// the panels, and each screenshot (the swapchain's picture, panels included) is compared with
+// its golden image. Every run has the Khronos validation layer on: the viewer exits with 1 if
+// it reported anything, so exit code 0 also means a clean shutdown.
+#include "tests/support/GoldenImage.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+
+namespace orbis::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ViewerRun {
+    int exitCode = -1;
+    std::string output;
+};
+
+ViewerRun shell(const std::string& cmd) {
+    ViewerRun r;
+    FILE* pipe = popen((cmd + " 2>&1").c_str(), "r");
+    if (!pipe) return r;
+    std::array<char, 4096> buf;
+    size_t n;
+    while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
+    const int status = pclose(pipe);
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return r;
+}
+
+bool haveXvfb() { return shell("command -v xvfb-run").exitCode == 0; }
+
+/// A fresh folder for one test's script and screenshots.
+fs::path workDir(const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / ("orbis-viewer-test-" + std::to_string(getpid())) / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+/// Runs the viewer on `scene` with `script` (JSON text) at 960x540 under its own Xvfb.
+ViewerRun view(const fs::path& dir, const std::string& script, const std::string& scene = ORBIS_DEFAULT_SCENE,
+         const std::string& extra = "") {
+    std::ofstream(dir / "script.json") << script;
+    const std::string env = "XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp} "
+                            "VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json ";
+    return shell(env + "xvfb-run -a -s '-screen 0 1280x720x24' " + ORBIS_BINARY + " view '" + scene +
+                 "' --device cpu --validation --size 960x540 --script '" + (dir / "script.json").string() + "' " + extra);
+}
+
+ImageRgba8 shot(const fs::path& file) {
+    auto image = readPng(file);
+    EXPECT_TRUE(image) << file << ": " << (image ? "" : image.message());
+    return image ? *image : ImageRgba8{};
+}
+
+#define REQUIRE_XVFB() \
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed (tools/install-deps.sh installs it)"
+
+TEST(Viewer, NavigatesWithScriptedInput) {
+    REQUIRE_XVFB();
+    const fs::path dir = workDir("navigate");
+    const ViewerRun r = view(dir, R"([
+        {"do": "settle"}, {"do": "screenshot", "file": "home.png"},
+        {"do": "drag", "button": "left", "from": [560, 300], "to": [480, 260], "frames": 6},
+        {"do": "settle"}, {"do": "screenshot", "file": "rotate.png"},
+        {"do": "scroll", "at": [600, 300], "lines": 4},
+        {"do": "settle"}, {"do": "screenshot", "file": "zoom.png"},
+        {"do": "drag", "button": "middle", "from": [600, 300], "to": [660, 240], "frames": 6},
+        {"do": "settle"}, {"do": "screenshot", "file": "tilt.png"},
+        {"do": "doubleClick", "at": [640, 330]},
+        {"do": "settle"}, {"do": "screenshot", "file": "fly.png"},
+        {"do": "key", "key": "Home"},
+        {"do": "settle"}, {"do": "screenshot", "file": "home-again.png"},
+        {"do": "quit"}])");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    for (const char* name : {"home", "rotate", "zoom", "tilt", "fly"})
+        EXPECT_TRUE(matchesGolden(shot(dir / (std::string(name) + ".png")), std::string("viewer_") + name)) << name;
+    // Home flies back to the scene's viewpoint: the picture of the start, but for the status line.
+    const ImageRgba8 a = shot(dir / "home.png"), b = shot(dir / "home-again.png");
+    ASSERT_EQ(a.width, 960u);
+    EXPECT_LT(countDifferentPixels(a, b, 8), size_t(960 * 24)) << "Home did not return to the start";
+    // Each step moved the camera.
+    EXPECT_GT(countDifferentPixels(a, shot(dir / "rotate.png"), 8), size_t(20000));
+    EXPECT_GT(countDifferentPixels(shot(dir / "rotate.png"), shot(dir / "zoom.png"), 8), size_t(20000));
+}
+
+TEST(Viewer, PanelTogglesALayer) {
+    REQUIRE_XVFB();
+    const fs::path dir = workDir("toggle");
+    const ViewerRun r = view(dir, R"([
+        {"do": "settle"}, {"do": "screenshot", "file": "on.png"},
+        {"do": "click", "item": "Visible##Synthetic planet"},
+        {"do": "settle"}, {"do": "screenshot", "file": "off.png"},
+        {"do": "click", "item": "Visible##Synthetic planet"},
+        {"do": "settle"}, {"do": "screenshot", "file": "on-again.png"},
+        {"do": "quit"}])");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const ImageRgba8 on = shot(dir / "on.png"), off = shot(dir / "off.png"), again = shot(dir / "on-again.png");
+    EXPECT_TRUE(matchesGolden(off, "viewer_layer_hidden"));
+    EXPECT_GT(countDifferentPixels(on, off, 8), size_t(50000)) << "hiding the terrain should remove the globe";
+    EXPECT_LT(countDifferentPixels(on, again, 8), size_t(960 * 24));
+}
+
+TEST(Viewer, SleepsWhenIdle) {
+    REQUIRE_XVFB();
+    const fs::path dir = workDir("idle");
+    const ViewerRun r = view(dir, R"([{"do": "settle"}, {"do": "idle", "seconds": 5}, {"do": "quit"}])");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(idle: ([0-9.]+) s of CPU over ([0-9.]+) s)"))) << r.output;
+    const double cpu = std::stod(m[1]), seconds = std::stod(m[2]);
+    std::printf("idle CPU: %.3f s over %.1f s\n", cpu, seconds);
+    // Drawing even 2 frames a second on lavapipe would cost far more than this.
+    EXPECT_LT(cpu / seconds, 0.05) << r.output;
+}
+
+TEST(Viewer, BadInputsGiveClearErrors) {
+    REQUIRE_XVFB();
+    const fs::path dir = workDir("bad");
+    ViewerRun r = view(dir, R"([{"do": "jump"}])");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.output.find("step 1: unknown \"do\": \"jump\""), std::string::npos) << r.output;
+    r = view(dir, "[{\"do\": \"screenshot\"}]");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.output.find("screenshot needs \"file\""), std::string::npos) << r.output;
+    r = view(dir, "not json");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.output.find("not valid JSON"), std::string::npos) << r.output;
+    r = view(dir, "[]", (dir / "missing.json").string());
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.output.find("missing.json"), std::string::npos) << r.output;
+    r = view(dir, R"([{"do": "settle"}, {"do": "click", "item": "No such button"}])");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.output.find("no item \"No such button\""), std::string::npos) << r.output;
+    // No display at all.
+    r = shell(std::string("env -u DISPLAY -u WAYLAND_DISPLAY ") + ORBIS_BINARY + " view " + ORBIS_DEFAULT_SCENE);
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.output.find("no display"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace orbis::test
