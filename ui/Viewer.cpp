@@ -23,6 +23,7 @@
 #include <imgui.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <variant>
@@ -217,6 +218,7 @@ int runViewer(const ViewerOptions& options) {
         stats.device = device.info().name;
         MapReadout readout;
         std::optional<render::FrameResult> previous;
+        std::vector<double> frameMs;   // a script's session prints their median at the end
         uint64_t drawnRevision = ~0ull;
         int uiFrames = 2;
         bool dirty = true;
@@ -485,6 +487,7 @@ int runViewer(const ViewerOptions& options) {
             if (previous) stats.gpu = renderer.gpuTimes(*previous);
             previous = frame;
             stats.frameMs = std::chrono::duration<double, std::milli>(Clock::now() - frameStart).count();
+            if (frameMs.size() < 100000) frameMs.push_back(stats.frameMs);
 
             if (wantScreenshot) {
                 if (screenshotFile.empty()) {
@@ -505,6 +508,12 @@ int runViewer(const ViewerOptions& options) {
             }
         }
         vkDeviceWaitIdle(device.vk());
+        if (script && !frameMs.empty()) {
+            std::sort(frameMs.begin(), frameMs.end());
+            std::printf("frames: %llu drawn, %ux%u, frame ms median %.1f, p95 %.1f (%s)\n",
+                        static_cast<unsigned long long>(stats.framesDrawn), fbw, fbh, frameMs[frameMs.size() / 2],
+                        frameMs[frameMs.size() * 95 / 100], device.info().name.c_str());
+        }
         if (instance.validationMessages() > 0) {
             std::fprintf(stderr, "orbis: validation reported %d message(s); first: %s\n", instance.validationMessages(),
                          instance.firstValidationMessage().c_str());
