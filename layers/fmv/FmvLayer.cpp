@@ -564,6 +564,16 @@ bool FmvLayer::setParameter(std::string_view name, double value) {
     return true;
 }
 
+std::vector<scene::LayerSetting> FmvLayer::liveSettings() const {
+    using Kind = scene::LayerSetting::Kind;
+    return {
+        {.name = "opacity", .label = "Video opacity", .kind = Kind::Number, .value = settings_.opacity,
+         .min = 0.0, .max = 1.0},
+        {.name = "footprint", .label = "Footprint outline", .kind = Kind::Toggle, .value = settings_.footprint ? 1.0 : 0.0},
+        {.name = "frustum", .label = "Sensor frustum", .kind = Kind::Toggle, .value = settings_.frustum ? 1.0 : 0.0},
+    };
+}
+
 std::string FmvLayer::status() const {
     if (!frames_) return {};
     if (!frames_->error().empty()) return std::string("fmv: ").append(frames_->error());

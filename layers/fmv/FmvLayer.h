@@ -68,6 +68,8 @@ public:
     std::string status() const override;
     /// Live: "opacity" (0..1), "footprint" and "frustum" (0/1).
     bool setParameter(std::string_view name, double value) override;
+    /// The settings above, under the scene file's keys.
+    std::vector<scene::LayerSetting> liveSettings() const override;
 
     const fmv::FmvTimeline& timeline() const { return timeline_; }
     const FmvSettings& settings() const { return settings_; }

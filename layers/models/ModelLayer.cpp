@@ -468,4 +468,23 @@ std::string ModelLayer::status() const {
     return m.empty() ? s : s + "; " + m;
 }
 
+bool ModelLayer::setParameter(std::string_view name, double value) {
+    // Both are read every frame (the copies' transforms, the label's height, tracked poses).
+    // The ranges are the scene file's (create()), so that a saved scene loads again.
+    if (name == "scale" && value >= 1e-6 && value <= 1e6) settings_.scale = value;
+    else if (name == "minimumPixelSize" && value >= 0.0 && value <= 1024.0) settings_.minimumPixelSize = value;
+    else return false;
+    return true;
+}
+
+std::vector<scene::LayerSetting> ModelLayer::liveSettings() const {
+    using Kind = scene::LayerSetting::Kind;
+    return {
+        {.name = "scale", .label = "Scale", .kind = Kind::Number, .value = settings_.scale, .min = 1e-6, .max = 1e6,
+         .logarithmic = true},
+        {.name = "minimumPixelSize", .label = "Minimum size (px)", .kind = Kind::Number,
+         .value = settings_.minimumPixelSize, .min = 0.0, .max = 1024.0},
+    };
+}
+
 }  // namespace orbis::layers

@@ -89,6 +89,10 @@ public:
     std::optional<scene::TrackedPose> trackedPose(TimeNs t, const scene::GroundHeightFn& ground) const override;
     std::optional<scene::ContentBounds> contentBounds() const override;
     std::string status() const override;
+    /// Live: "scale" (1e-6 .. 1e6) and "minimumPixelSize" (0 .. 1024 px).
+    bool setParameter(std::string_view name, double value) override;
+    /// The settings above, under the scene file's keys.
+    std::vector<scene::LayerSetting> liveSettings() const override;
 
     const ModelSettings& settings() const { return settings_; }
     const models::ModelData& model() const { return model_; }

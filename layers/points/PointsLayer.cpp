@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <limits>
 #include <queue>
 
@@ -32,6 +33,10 @@ constexpr uint64_t kUploadBytesPerFrame = uint64_t(48) << 20;
 
 /// Splat radius for a point size (diameter in pixels): 1 -> 0 (one pixel), 2..3 -> 1, ...
 int splatRadius(int pointSize) { return std::clamp(pointSize, 1, 15) / 2; }
+
+// The scene file's names of the colour modes and renderers, in the enums' order.
+constexpr const char* kColorNames[] = {"rgb", "intensity", "classification", "height", "constant"};
+constexpr const char* kRendererNames[] = {"compute", "pointList"};
 
 }  // namespace
 
@@ -457,29 +462,60 @@ uint32_t PointsLayer::pageOffset(uint32_t page) const { return uint32_t(uint64_t
 
 // ---------------------------------------------------------------------------------------------
 // Settings and stats
+bool PointsLayer::computeAvailable() const {
+    return !services_.device || services_.device->features().bufferInt64Atomics;
+}
+
 bool PointsLayer::setParameter(std::string_view name, double value) {
-    if (name == "pointBudget" && value >= 0.0) settings_.pointBudget = uint64_t(value);
+    // The ranges the scene file accepts (create()), so that a saved scene loads again.
+    if (name == "pointBudget" && value >= 0.0 && value <= 4e9) settings_.pointBudget = uint64_t(value);
     else if (name == "pointSize" && value >= 1.0 && value <= 15.0) settings_.pointSize = int(value);
     else if (name == "edl") settings_.edl = value != 0.0;
-    else if (name == "edlStrength" && value >= 0.0) settings_.edlStrength = value;
+    else if (name == "edlStrength" && value >= 0.0 && value <= 100.0) settings_.edlStrength = value;
     else if (name == "edlRadius" && value >= 0.5 && value <= 8.0) settings_.edlRadius = value;
     else if (name == "renderer" && (value == 0.0 || value == 1.0)) {
-        const bool compute = value == 0.0 && (!services_.device || services_.device->features().bufferInt64Atomics);
+        const bool compute = value == 0.0 && computeAvailable();
         settings_.renderer = compute ? PointsSettings::Renderer::Compute : PointsSettings::Renderer::PointList;
     } else return false;
     return true;
 }
 
 bool PointsLayer::setOption(std::string_view name, std::string_view value) {
+    if (name == "renderer") {
+        if (value == "compute" && computeAvailable()) settings_.renderer = PointsSettings::Renderer::Compute;
+        else if (value == "pointList") settings_.renderer = PointsSettings::Renderer::PointList;
+        else return false;
+        return true;
+    }
     if (name != "color") return false;
-    using C = PointsSettings::Color;
-    if (value == "rgb") settings_.color = C::Rgb;
-    else if (value == "intensity") settings_.color = C::Intensity;
-    else if (value == "classification") settings_.color = C::Classification;
-    else if (value == "height") settings_.color = C::Height;
-    else if (value == "constant") settings_.color = C::Constant;
-    else return false;
-    return true;
+    for (size_t i = 0; i < std::size(kColorNames); ++i) {
+        if (value == kColorNames[i]) {
+            settings_.color = PointsSettings::Color(i);
+            return true;
+        }
+    }
+    return false;
+}
+
+std::vector<scene::LayerSetting> PointsLayer::liveSettings() const {
+    using Kind = scene::LayerSetting::Kind;
+    std::vector<std::string> renderers = {kRendererNames[1]};
+    if (computeAvailable()) renderers.insert(renderers.begin(), kRendererNames[0]);
+    return {
+        {.name = "color", .label = "Colour by", .kind = Kind::Choice, .choice = kColorNames[size_t(settings_.color)],
+         .choices = {std::begin(kColorNames), std::end(kColorNames)}},
+        {.name = "pointBudget", .label = "Point budget (0: all)", .kind = Kind::Integer,
+         .value = double(settings_.pointBudget), .min = 0.0, .max = 4e9, .logarithmic = true},
+        {.name = "pointSize", .label = "Point size (px)", .kind = Kind::Integer, .value = double(settings_.pointSize),
+         .min = 1.0, .max = 15.0},
+        {.name = "edl", .label = "Eye-dome lighting", .kind = Kind::Toggle, .value = settings_.edl ? 1.0 : 0.0},
+        {.name = "edlStrength", .label = "EDL strength", .kind = Kind::Number, .value = settings_.edlStrength,
+         .min = 0.0, .max = 100.0, .logarithmic = true},
+        {.name = "edlRadius", .label = "EDL radius (px)", .kind = Kind::Number, .value = settings_.edlRadius,
+         .min = 0.5, .max = 8.0},
+        {.name = "renderer", .label = "Renderer", .kind = Kind::Choice,
+         .choice = kRendererNames[size_t(settings_.renderer)], .choices = std::move(renderers)},
+    };
 }
 
 uint64_t PointsLayer::gpuBytes() const {

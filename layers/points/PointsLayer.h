@@ -82,10 +82,14 @@ public:
     std::optional<double> nearestContent(const glm::dvec3& eye) const override;
     std::string status() const override;
     /// Live: "pointBudget", "pointSize", "edl" (0/1), "edlStrength", "edlRadius",
-    /// "renderer" (0 compute, 1 point list).
+    /// "renderer" (0 compute, 1 point list; compute falls back to the point list on a device
+    /// without 64-bit buffer atomics).
     bool setParameter(std::string_view name, double value) override;
-    /// "color": rgb | intensity | classification | height | constant.
+    /// "color": rgb | intensity | classification | height | constant; "renderer": compute
+    /// (false on a device without 64-bit buffer atomics) | pointList.
     bool setOption(std::string_view name, std::string_view value) override;
+    /// The settings above under the scene file's keys (colour and renderer as choices).
+    std::vector<scene::LayerSetting> liveSettings() const override;
 
     /// After loading: the octree (tests), or null while it loads or when loading failed.
     const points::PointStore* store() const { return store_.get(); }
@@ -110,6 +114,8 @@ private:
     void writeDescriptors(uint32_t slot);
     void writeUniforms(const scene::RecordContext& rc);
     bool computePath() const;
+    /// False on a device (once prepared) without 64-bit buffer atomics.
+    bool computeAvailable() const;
     uint32_t pageOffset(uint32_t page) const;   ///< dynamic offset of a page of data_
 
     std::shared_ptr<points::LasFile> file_;   // shared with the loading job

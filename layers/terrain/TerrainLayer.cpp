@@ -626,7 +626,8 @@ uint64_t TerrainLayer::fixedBytes() const {
 uint64_t TerrainLayer::gpuBytes() const { return fixedBytes() + allocatedBytes(); }
 
 bool TerrainLayer::setParameter(std::string_view name, double value) {
-    if (name == "maxScreenSpaceError" && value > 0.0) {
+    // The ranges the scene file accepts (create()), so that a saved scene loads again.
+    if (name == "maxScreenSpaceError" && value >= 0.25 && value <= 1000.0) {
         settings_.maxScreenSpaceError = value;
         if (selector_) {
             globe::SelectorSettings s = selector_->settings();
@@ -636,11 +637,21 @@ bool TerrainLayer::setParameter(std::string_view name, double value) {
         }
         return true;
     }
-    if (name == "verticalExaggeration" && value >= 0.0) {
+    if (name == "verticalExaggeration" && value >= 0.0 && value <= 1000.0) {
         settings_.verticalExaggeration = value;
         return true;
     }
     return false;
+}
+
+std::vector<scene::LayerSetting> TerrainLayer::liveSettings() const {
+    using Kind = scene::LayerSetting::Kind;
+    return {
+        {.name = "maxScreenSpaceError", .label = "Screen-space error (px)", .kind = Kind::Number,
+         .value = settings_.maxScreenSpaceError, .min = 0.25, .max = 1000.0, .logarithmic = true},
+        {.name = "verticalExaggeration", .label = "Vertical exaggeration", .kind = Kind::Number,
+         .value = settings_.verticalExaggeration, .min = 0.0, .max = 1000.0, .logarithmic = true},
+    };
 }
 
 bool TerrainLayer::busy() const { return (model_ && model_->loading()) || deferred_; }

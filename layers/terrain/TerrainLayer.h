@@ -80,7 +80,9 @@ public:
     uint64_t gpuBytes() const override;
     uint64_t cacheBytes() const override { return model_ ? model_->cpuBytes() : 0; }
     bool busy() const override;
+    /// Live: "maxScreenSpaceError" (0.25 .. 1000 px), "verticalExaggeration" (0 .. 1000).
     bool setParameter(std::string_view name, double value) override;
+    std::vector<scene::LayerSetting> liveSettings() const override;
     uint64_t itemsDrawn() const override { return stats_.tilesDrawn; }
     std::string status() const override;
 

@@ -526,6 +526,11 @@ bool VolumeLayer::setParameter(std::string_view name, double value) {
         transferDirty_ = true;
         return true;
     }
+    if (name == "isoOpacity" || name == "sliceOpacity") {
+        if (!(value >= 0.0 && value <= 1.0)) return false;
+        (name == "isoOpacity" ? settings_.isoOpacity : settings_.sliceOpacity) = value;
+        return true;
+    }
     if (name == "emptySkipping") {
         settings_.emptySkipping = value != 0.0;
         occupancyDirty_ = true;
@@ -537,6 +542,52 @@ bool VolumeLayer::setParameter(std::string_view name, double value) {
         return true;
     }
     return false;
+}
+
+std::vector<scene::LayerSetting> VolumeLayer::liveSettings() const {
+    using Kind = scene::LayerSetting::Kind;
+    // Data-valued settings slide over the data's extent, widened to hold the current value.
+    const auto span = [](double lo, double hi, double value) { return std::pair(std::min(lo, value), std::max(hi, value)); };
+    const bool hasData = field_.validCount > 0;
+    const double dataMin = hasData ? field_.minValue : 0.0, dataMax = hasData ? field_.maxValue : 1.0;
+    const auto& t = settings_.transfer;
+    const auto [lo, hi] = span(std::min(dataMin, t.rangeMin), std::max(dataMax, t.rangeMax), t.rangeMin);
+    std::vector<scene::LayerSetting> out = {
+        {.name = "steps", .label = "Ray steps (per box diagonal)", .kind = Kind::Integer,
+         .value = double(settings_.steps), .min = 1.0, .max = 4096.0, .logarithmic = true},
+        {.name = "opacityScale", .label = "Opacity scale", .kind = Kind::Number, .value = t.opacityScale, .min = 0.0,
+         .max = 1000.0, .logarithmic = true},
+        {.name = "opacityUnit", .label = "Opacity unit distance (box diagonals)", .kind = Kind::Number,
+         .value = settings_.opacityUnit, .min = 1e-6, .max = 10.0, .logarithmic = true},
+        {.name = "rangeMin", .label = "Colour range low", .kind = Kind::Number, .value = t.rangeMin, .min = lo, .max = hi},
+        {.name = "rangeMax", .label = "Colour range high", .kind = Kind::Number, .value = t.rangeMax, .min = lo, .max = hi},
+        {.name = "colorMap", .label = "Colour map", .kind = Kind::Choice, .choice = t.colorMap, .choices = colorMapNames()},
+        {.name = "emptySkipping", .label = "Skip empty bricks", .kind = Kind::Toggle,
+         .value = settings_.emptySkipping ? 1.0 : 0.0},
+    };
+    for (size_t i = 0; i < settings_.isovalues.size(); ++i) {
+        const auto [a, b] = span(dataMin, dataMax, settings_.isovalues[i]);
+        out.push_back({.name = "isovalue" + std::to_string(i), .label = "Isovalue " + std::to_string(i + 1),
+                       .kind = Kind::Number, .value = settings_.isovalues[i], .min = a, .max = b});
+    }
+    if (!settings_.isovalues.empty())
+        out.push_back({.name = "isoOpacity", .label = "Isosurface opacity", .kind = Kind::Number,
+                       .value = settings_.isoOpacity, .min = 0.0, .max = 1.0});
+    for (size_t i = 0; i < settings_.slices.size(); ++i) {
+        const VolumeSettings::Slice& sl = settings_.slices[i];
+        using Axis = VolumeSettings::Slice::Axis;
+        const std::vector<double>& axis = sl.axis == Axis::Lon ? field_.lonDeg : sl.axis == Axis::Lat ? field_.latDeg : field_.heightM;
+        auto [a, b] = axis.empty() ? std::pair(sl.value, sl.value)
+                                   : span(std::min(axis.front(), axis.back()), std::max(axis.front(), axis.back()), sl.value);
+        if (sl.axis == Axis::Lat) a = std::max(a, -89.0), b = std::min(b, 89.0);
+        const char* what = sl.axis == Axis::Lon ? " longitude (deg)" : sl.axis == Axis::Lat ? " latitude (deg)" : " height (m)";
+        out.push_back({.name = "slice" + std::to_string(i), .label = "Slice " + std::to_string(i + 1) + what,
+                       .kind = Kind::Number, .value = sl.value, .min = a, .max = b});
+    }
+    if (!settings_.slices.empty())
+        out.push_back({.name = "sliceOpacity", .label = "Slice opacity", .kind = Kind::Number,
+                       .value = settings_.sliceOpacity, .min = 0.0, .max = 1.0});
+    return out;
 }
 
 std::vector<uint16_t> VolumeLayer::transferTexels() {

@@ -105,12 +105,17 @@ public:
     uint64_t gpuBytes() const override;
     /// Live edits; the field is never re-uploaded. Uniforms only: "steps", "isovalue" /
     /// "isovalue0".."isovalue7" (also refreshes the brick bits, 1 bit per brick), "slice0"..
-    /// "slice3" (the slice's lon, lat or height), "opacityUnit". The transfer function (a
-    /// 256-entry table and the brick bits): "rangeMin", "rangeMax", "opacityScale".
-    /// "emptySkipping" 0 or 1 (where the scene built the ray caster with skipping).
+    /// "slice3" (the slice's lon, lat or height), "opacityUnit", "isoOpacity", "sliceOpacity".
+    /// The transfer function (a 256-entry table and the brick bits): "rangeMin", "rangeMax",
+    /// "opacityScale". "emptySkipping" 0 or 1 (where the scene built the ray caster with skipping).
     bool setParameter(std::string_view name, double value) override;
     /// "colorMap": one of colorMapNames() (rebuilds the 256-entry table).
     bool setOption(std::string_view name, std::string_view value) override;
+    /// Every setting above that the scene uses (one "isovalueN" per isovalue, one "sliceN" per
+    /// slice). Most are the scene file's keys; "rangeMin"/"rangeMax", "isovalueN" and "sliceN"
+    /// are elements of "range", "isovalues" and "slices", which the scene saver maps
+    /// (scene::writeLiveSettings).
+    std::vector<scene::LayerSetting> liveSettings() const override;
     std::string status() const override;
 
     /// Measurement (tests, benchmarks), set before the first frame: write each ray's first

@@ -203,7 +203,7 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
                     break;
                 }
                 sl.value = item.begin().value().get<double>();
-                if (sl.axis == VolumeSettings::Slice::Axis::Lat && !(std::abs(sl.value) < 89.0))
+                if (sl.axis == VolumeSettings::Slice::Axis::Lat && !(std::abs(sl.value) <= 89.0))
                     r.fail("slices", "a latitude slice must be within -89 .. 89 degrees");
                 s.slices.push_back(sl);
             }

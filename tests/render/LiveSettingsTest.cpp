@@ -1,0 +1,208 @@
+// The layers' live settings (Layer::liveSettings) as the viewer's panels show them: each layer
+// lists the settings it has, with labels, ranges that hold the current value and the full list
+// of choices; every one can be set through setParameter/setOption to values in its range and
+// reads back. Built from scene text; no frame is drawn (the layers are not prepared).
+#include "layers/fmv/FmvLayer.h"
+#include "layers/models/ModelLayer.h"
+#include "layers/points/LasReader.h"
+#include "layers/points/PointsLayer.h"
+#include "layers/terrain/TerrainLayer.h"
+#include "layers/volume/VolumeLayer.h"
+#include "tests/render/RenderHelpers.h"
+#include "tests/render/TerrainFixtures.h"
+#include "tests/support/GoldenImage.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+
+namespace orbis::test {
+namespace {
+
+namespace fs = std::filesystem;
+using Kind = scene::LayerSetting::Kind;
+
+const fs::path kSource = ORBIS_SOURCE_DIR;
+
+std::string jsonString(const fs::path& p) { return nlohmann::json(p.string()).dump(); }
+
+std::optional<scene::LayerSetting> current(const scene::Layer& layer, const std::string& name) {
+    for (const auto& s : layer.liveSettings())
+        if (s.name == name) return s;
+    return std::nullopt;
+}
+
+std::vector<std::string> names(const scene::Layer& layer) {
+    std::vector<std::string> out;
+    for (const auto& s : layer.liveSettings()) out.push_back(s.name);
+    return out;
+}
+
+/// Every listed setting, set to values within its range (a quarter and three quarters of the
+/// way, whole numbers for Integer; both states of a Toggle; every choice), reads back exactly,
+/// then is put back. "rangeMax" goes high and "rangeMin" low first, so that low < high holds.
+void expectEverySettingRoundTrips(scene::Layer& layer) {
+    for (const scene::LayerSetting& s : layer.liveSettings()) {
+        SCOPED_TRACE("setting \"" + s.name + "\"");
+        EXPECT_FALSE(s.label.empty());
+        switch (s.kind) {
+            case Kind::Choice: {
+                ASSERT_FALSE(s.choices.empty());
+                EXPECT_NE(std::find(s.choices.begin(), s.choices.end(), s.choice), s.choices.end()) << s.choice;
+                for (const std::string& c : s.choices) {
+                    EXPECT_TRUE(layer.setOption(s.name, c)) << c;
+                    EXPECT_EQ(current(layer, s.name)->choice, c);
+                }
+                EXPECT_FALSE(layer.setOption(s.name, "no-such-choice"));
+                EXPECT_TRUE(layer.setOption(s.name, s.choice));
+                break;
+            }
+            case Kind::Toggle:
+                for (double v : {1.0 - s.value, s.value}) {
+                    EXPECT_TRUE(layer.setParameter(s.name, v));
+                    EXPECT_EQ(current(layer, s.name)->value, v);
+                }
+                break;
+            case Kind::Number:
+            case Kind::Integer: {
+                EXPECT_LT(s.min, s.max);
+                EXPECT_GE(s.value, s.min);
+                EXPECT_LE(s.value, s.max);
+                const bool high = s.name.ends_with("Max");
+                const std::array<double, 2> fractions = high ? std::array{0.75, 0.25} : std::array{0.25, 0.75};
+                for (double f : fractions) {
+                    double v = s.min + f * (s.max - s.min);
+                    if (s.kind == Kind::Integer) v = std::round(v);
+                    EXPECT_TRUE(layer.setParameter(s.name, v)) << v;
+                    const auto now = current(layer, s.name);
+                    EXPECT_DOUBLE_EQ(now->value, v);
+                    EXPECT_GE(now->value, now->min);
+                    EXPECT_LE(now->value, now->max);
+                }
+                EXPECT_TRUE(layer.setParameter(s.name, s.value));
+                EXPECT_DOUBLE_EQ(current(layer, s.name)->value, s.value);
+                break;
+            }
+        }
+    }
+}
+
+class LiveSettings : public ::testing::Test {
+protected:
+    void SetUp() override { layers::registerBuiltinLayers(registry_); }
+
+    /// The first layer of a scene made of `layer`.
+    scene::Layer& load(const std::string& layer) {
+        scene_ = buildScene(R"({"time": {"start": "2026-06-21T09:00:00Z", "end": "2026-06-21T10:00:00Z"}, "layers": [)" +
+                                layer + "]}",
+                            registry_);
+        if (!scene_) throw std::runtime_error("the scene did not build");
+        return *scene_->resources().front().layer;
+    }
+
+    scene::LayerRegistry registry_;
+    std::unique_ptr<scene::Scene> scene_;
+};
+
+TEST_F(LiveSettings, TerrainListsErrorAndExaggeration) {
+    auto& layer = load(R"({"type": "terrain", "elevation": [)" + jsonString(terrainFixtures().dem) +
+                       R"(], "maxScreenSpaceError": 4, "verticalExaggeration": 2})");
+    EXPECT_EQ(names(layer), (std::vector<std::string>{"maxScreenSpaceError", "verticalExaggeration"}));
+    EXPECT_EQ(current(layer, "maxScreenSpaceError")->value, 4.0);
+    EXPECT_EQ(current(layer, "verticalExaggeration")->value, 2.0);
+    EXPECT_TRUE(current(layer, "maxScreenSpaceError")->logarithmic);
+    expectEverySettingRoundTrips(layer);
+    // Outside the scene file's ranges: refused, so that a saved scene always loads again.
+    EXPECT_FALSE(layer.setParameter("maxScreenSpaceError", 0.1));
+    EXPECT_FALSE(layer.setParameter("verticalExaggeration", 2000.0));
+}
+
+TEST_F(LiveSettings, VolumeListsOneSettingPerIsovalueAndSlice) {
+    auto& layer = load(R"({"type": "volume", "synthetic": {"field": "sphere", "size": [16, 16, 16],
+        "lon": [-10, 10], "lat": [40, 60], "height": [0, 800000]}, "colorMap": "magma",
+        "mode": ["dvr", "iso", "slice"], "isovalues": [3, 6], "slices": [{"lon": 5}, {"lat": 45}, {"height": 1000}]})");
+    EXPECT_EQ(names(layer), (std::vector<std::string>{"steps", "opacityScale", "opacityUnit", "rangeMin", "rangeMax",
+                                                      "colorMap", "emptySkipping", "isovalue0", "isovalue1", "isoOpacity",
+                                                      "slice0", "slice1", "slice2", "sliceOpacity"}));
+    const auto map = current(layer, "colorMap");
+    EXPECT_EQ(map->choice, "magma");
+    EXPECT_EQ(map->choices, layers::colorMapNames());
+    EXPECT_EQ(current(layer, "isovalue1")->value, 6.0);
+    const auto range = current(layer, "rangeMin");   // the sphere's distances: 0 .. ~13 voxels
+    EXPECT_EQ(range->value, range->min);
+    EXPECT_NEAR(range->max, std::sqrt(3.0) * 7.5, 1e-4);
+    const auto lat = current(layer, "slice1");
+    EXPECT_EQ(lat->value, 45.0);
+    EXPECT_EQ(lat->min, 40.0);
+    EXPECT_EQ(lat->max, 60.0);
+    EXPECT_NE(lat->label.find("latitude"), std::string::npos);
+    const auto height = current(layer, "slice2");
+    EXPECT_EQ(height->max, 800000.0);
+    EXPECT_EQ(current(layer, "emptySkipping")->kind, Kind::Toggle);
+    expectEverySettingRoundTrips(layer);
+}
+
+TEST_F(LiveSettings, VolumeWithoutIsoOrSlicesListsNeither) {
+    auto& layer = load(R"({"type": "volume", "synthetic": {"field": "waves", "size": [8, 8, 8]}})");
+    EXPECT_EQ(names(layer), (std::vector<std::string>{"steps", "opacityScale", "opacityUnit", "rangeMin", "rangeMax",
+                                                      "colorMap", "emptySkipping"}));
+    EXPECT_FALSE(layer.setParameter("isovalue0", 1.0));
+    expectEverySettingRoundTrips(layer);
+}
+
+TEST_F(LiveSettings, PointsListColourRendererAndLighting) {
+    const fs::path las = fs::path(testOutputDir()) / "live-settings" / "tiny.las";
+    fs::create_directories(las.parent_path());
+    ASSERT_TRUE(makeFixture(las.string(), [](const std::string& tmp) {
+        points::LasWriteOptions o;
+        o.scale = glm::dvec3(1e-7, 1e-7, 1e-3);
+        auto writer = points::LasWriter::create(tmp, o);
+        if (!writer) return false;
+        std::vector<points::LasPoint> pts(16);
+        for (size_t i = 0; i < pts.size(); ++i) pts[i].position = {7.0 + 1e-4 * double(i), 46.0, 500.0};
+        (*writer)->write(pts);
+        return (*writer)->close().ok();
+    }));
+    auto& layer = load(R"({"type": "points", "path": )" + jsonString(las) +
+                       R"(, "crs": "EPSG:4979", "color": "classification", "pointSize": 3, "edl": true})");
+    EXPECT_EQ(names(layer), (std::vector<std::string>{"color", "pointBudget", "pointSize", "edl", "edlStrength",
+                                                      "edlRadius", "renderer"}));
+    const auto color = current(layer, "color");
+    EXPECT_EQ(color->choice, "classification");
+    EXPECT_EQ(color->choices, (std::vector<std::string>{"rgb", "intensity", "classification", "height", "constant"}));
+    EXPECT_EQ(current(layer, "renderer")->choices, (std::vector<std::string>{"compute", "pointList"}));
+    EXPECT_EQ(current(layer, "pointSize")->value, 3.0);
+    EXPECT_EQ(current(layer, "pointSize")->kind, Kind::Integer);
+    EXPECT_EQ(current(layer, "edl")->value, 1.0);
+    expectEverySettingRoundTrips(layer);
+    EXPECT_FALSE(layer.setParameter("edlStrength", 101.0));
+}
+
+TEST_F(LiveSettings, FmvListsOpacityFootprintAndFrustum) {
+    const fs::path video = kSource / "assets/generated/fmv/flight.ts";
+    ASSERT_TRUE(fs::exists(video)) << video << " is made by the build (orbis_fmv_showcase)";
+    auto& layer = load(R"({"type": "fmv", "path": )" + jsonString(video) + R"(, "opacity": 0.5, "frustum": false})");
+    EXPECT_EQ(names(layer), (std::vector<std::string>{"opacity", "footprint", "frustum"}));
+    EXPECT_EQ(current(layer, "opacity")->value, 0.5);
+    EXPECT_EQ(current(layer, "footprint")->value, 1.0);
+    EXPECT_EQ(current(layer, "frustum")->value, 0.0);
+    expectEverySettingRoundTrips(layer);
+}
+
+TEST_F(LiveSettings, ModelListsScaleAndMinimumSize) {
+    auto& layer = load(R"({"type": "model", "file": )" + jsonString(kSource / "assets/models/wagon.gltf") +
+                       R"(, "position": [7, 46, 0], "scale": 2.5})");
+    EXPECT_EQ(names(layer), (std::vector<std::string>{"scale", "minimumPixelSize"}));
+    EXPECT_EQ(current(layer, "scale")->value, 2.5);
+    expectEverySettingRoundTrips(layer);
+    const auto& model = dynamic_cast<layers::ModelLayer&>(layer);
+    ASSERT_TRUE(layer.setParameter("scale", 4.0));
+    EXPECT_EQ(model.settings().scale, 4.0) << "the layer draws with what it lists";
+    EXPECT_FALSE(layer.setParameter("scale", 0.0));
+}
+
+}  // namespace
+}  // namespace orbis::test
