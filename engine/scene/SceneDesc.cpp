@@ -157,6 +157,20 @@ Result<SceneDesc> parseSceneText(std::string_view text, const std::filesystem::p
         if (auto done = cr.finish(); !done) return done.error();
     }
 
+    if (const auto* list = r.array("annotations")) {
+        for (size_t i = 0; i < list->size(); ++i) {
+            JsonReader ar((*list)[i], name, "/annotations/" + std::to_string(i));
+            Annotation a;
+            a.name = ar.string("name").value_or("");
+            if (ar.ok() && a.name.empty()) ar.fail("name", "must not be empty");
+            a.lonDeg = ar.number("lon", std::nullopt, -180.0, 180.0).value_or(0.0);
+            a.latDeg = ar.number("lat", std::nullopt, -90.0, 90.0).value_or(0.0);
+            a.height = ar.number("height", 0.0, -1.2e4, 1.0e8).value_or(0.0);
+            if (auto done = ar.finish(); !done) return done.error();
+            scene.annotations.push_back(std::move(a));
+        }
+    }
+
     if (const auto* layers = r.array("layers", /*required=*/true)) {
         for (size_t i = 0; i < layers->size(); ++i) {
             const std::string path = "/layers/" + std::to_string(i);

@@ -11,6 +11,7 @@
 //            (no "time": the range of the layers' data, e.g. trajectories, from its start)
 //   "background": [0.0, 0.0, 0.01],
 //   "camera": {"mode": "follow", "target": "Train"},          (CameraMode.h; optional)
+//   "annotations": [{"name": "Summit", "lon": 7, "lat": 46, "height": 4000}],   (optional)
 //   "layers": [{"type": "globe", "name": "Earth", "visible": true, "viewpoint": {...}, ...}]
 // }
 
@@ -46,6 +47,14 @@ struct TimeDesc {
     bool given = false;   ///< the file has a "time" object; else the layers' data give the range
 };
 
+/// A labelled pin on the globe, placed by the user in the viewer and saved with the scene.
+struct Annotation {
+    std::string name;
+    double lonDeg = 0.0;
+    double latDeg = 0.0;
+    double height = 0.0;   ///< above the ellipsoid, metres
+};
+
 struct SceneDesc {
     std::filesystem::path file;     ///< for messages ("<memory>" when parsed from text)
     std::filesystem::path folder;   ///< relative paths in layers resolve against it
@@ -56,6 +65,7 @@ struct SceneDesc {
     CameraModeSettings camera;      ///< "camera": a mode watching a moving layer (free by default)
     glm::dvec3 background{0.0, 0.0, 0.0};
     std::vector<LayerDesc> layers;
+    std::vector<Annotation> annotations;
 
     /// `path` made absolute against the scene's folder when relative.
     std::filesystem::path resolve(const std::filesystem::path& path) const;

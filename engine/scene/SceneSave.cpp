@@ -1,0 +1,222 @@
+#include "engine/scene/SceneSave.h"
+
+#include "engine/scene/Scene.h"
+#include "globe/EarthManipulator.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <string_view>
+#include <system_error>
+
+namespace orbis::scene {
+namespace fs = std::filesystem;
+namespace {
+
+/// The camera's pose as the viewpoint a scene file gives: about the ground under the screen
+/// centre where the scene knows the ground (else the ellipsoid), as the viewer's manipulator
+/// sees it. poseFromViewpoint gives the pose back (up to rounding; roll is not kept).
+globe::Viewpoint currentViewpoint(const Scene& scene) {
+    globe::EarthManipulator manipulator;
+    manipulator.setHeightQuery([&scene](double lonDeg, double latDeg) { return scene.heightAt(lonDeg, latDeg); });
+    // The pose as it is, never lifted above the ground.
+    manipulator.setMinClearance(-std::numeric_limits<double>::infinity());
+    manipulator.setPose(scene.camera().pose());
+    return manipulator.viewpoint();
+}
+
+/// An instant in ISO 8601 with as many fractional digits as it needs (0, 3, 6 or 9): exact.
+std::string exactIso8601(TimeNs t) {
+    const TimeNs fraction = ((t % 1'000'000'000) + 1'000'000'000) % 1'000'000'000;
+    const int digits = fraction == 0 ? 0 : fraction % 1'000'000 == 0 ? 3 : fraction % 1'000 == 0 ? 6 : 9;
+    return formatIso8601(t, digits);
+}
+
+nlohmann::json timeToJson(const TimeServer& time) {
+    return {{"start", exactIso8601(time.start())}, {"end", exactIso8601(time.end())},
+            {"current", exactIso8601(time.now())}, {"rate", time.rate()},
+            {"loop", time.loop()}, {"playing", time.playing()}};
+}
+
+nlohmann::json cameraModeToJson(const CameraModeSettings& m) {
+    return {{"mode", toString(m.mode)}, {"target", m.target}, {"distance", m.distance},
+            {"heading", m.headingDeg}, {"pitch", m.pitchDeg}, {"smoothing", m.smoothingSeconds},
+            {"eye", {m.eye.x, m.eye.y, m.eye.z}}};
+}
+
+/// i when `name` is `prefix` followed by the digits of i ("isovalue3" -> 3).
+std::optional<size_t> indexAfter(std::string_view name, std::string_view prefix) {
+    if (name.size() <= prefix.size() || name.substr(0, prefix.size()) != prefix) return std::nullopt;
+    size_t i = 0;
+    for (char c : name.substr(prefix.size())) {
+        if (c < '0' || c > '9') return std::nullopt;
+        i = i * 10 + size_t(c - '0');
+    }
+    return i;
+}
+
+nlohmann::json settingValue(const LayerSetting& s) {
+    switch (s.kind) {
+        case LayerSetting::Kind::Integer: return static_cast<long long>(std::llround(s.value));
+        case LayerSetting::Kind::Toggle: return s.value != 0.0;
+        case LayerSetting::Kind::Choice: return s.choice;
+        case LayerSetting::Kind::Number: break;
+    }
+    return s.value;
+}
+
+/// `path` made absolute and normal, without a trailing separator ("/a/b/." -> "/a/b").
+fs::path normalAbsolute(const fs::path& path) {
+    std::error_code ec;
+    fs::path folder = fs::absolute(path, ec);
+    if (ec) folder = path;
+    folder = folder.lexically_normal();
+    while (!folder.has_filename() && folder != folder.root_path()) folder = folder.parent_path();
+    return folder;
+}
+
+bool isPathKey(std::string_view key) {
+    return key == "path" || key == "file" || key == "poses" || key == "cacheFolder" || key == "trajectory";
+}
+
+bool isPathListKey(std::string_view key) { return key == "elevation" || key == "imagery"; }
+
+}  // namespace
+
+void writeLiveSettings(nlohmann::json& layer, const std::vector<LayerSetting>& settings) {
+    for (const LayerSetting& s : settings) {
+        const nlohmann::json value = settingValue(s);
+        if (s.name == "rangeMin" || s.name == "rangeMax") {
+            nlohmann::json& range = layer["range"];
+            if (!range.is_array() || range.size() != 2) range = nlohmann::json::array({value, value});
+            range[s.name == "rangeMin" ? 0 : 1] = value;
+        } else if (const auto i = indexAfter(s.name, "isovalue")) {
+            // The layer lists one setting per element the scene gave: the element exists.
+            const auto list = layer.find("isovalues");
+            if (list != layer.end() && list->is_array() && *i < list->size()) (*list)[*i] = value;
+        } else if (const auto i = indexAfter(s.name, "slice")) {
+            const auto list = layer.find("slices");
+            if (list != layer.end() && list->is_array() && *i < list->size() && (*list)[*i].size() == 1)
+                (*list)[*i].begin().value() = value;   // {"lon" | "lat" | "height": value}
+        } else {
+            layer[s.name] = value;
+        }
+    }
+}
+
+std::string rebasePath(const std::string& path, const fs::path& fromFolder, const fs::path& toFolder) {
+    if (path.empty() || path.find("://") != std::string::npos || fs::path(path).is_absolute()) return path;
+    const fs::path target = (normalAbsolute(fromFolder) / path).lexically_normal();
+    const fs::path to = normalAbsolute(toFolder);
+    // A path climbing up to the root and down again breaks as soon as either tree moves:
+    // relative only when the two share a folder below the root.
+    size_t common = 0;
+    for (auto t = target.begin(), f = to.begin(); t != target.end() && f != to.end() && *t == *f; ++t, ++f) ++common;
+    const fs::path relative = common >= 2 ? target.lexically_relative(to) : fs::path();
+    return relative.empty() ? target.generic_string() : relative.generic_string();
+}
+
+void rebaseLayerPaths(nlohmann::json& layer, const fs::path& fromFolder, const fs::path& toFolder) {
+    if (!layer.is_object()) return;
+    for (auto it = layer.begin(); it != layer.end(); ++it) {
+        nlohmann::json& value = it.value();
+        if (value.is_string() && isPathKey(it.key())) {
+            value = rebasePath(value.get<std::string>(), fromFolder, toFolder);
+        } else if (value.is_array()) {
+            for (nlohmann::json& item : value) {
+                if (item.is_string() && isPathListKey(it.key())) item = rebasePath(item.get<std::string>(), fromFolder, toFolder);
+                else rebaseLayerPaths(item, fromFolder, toFolder);
+            }
+        } else if (value.is_object()) {
+            rebaseLayerPaths(value, fromFolder, toFolder);
+        }
+    }
+}
+
+nlohmann::json sceneToJson(const Scene& scene, const fs::path& saveTo) {
+    const SceneDesc& desc = scene.desc();
+    nlohmann::json root;
+    root["orbis"] = 1;
+    root["name"] = desc.name;
+    root["viewpoint"] = viewpointToJson(currentViewpoint(scene));
+    // The file's own number when the camera still has it (radians and back would add noise).
+    const double fovRad = scene.camera().verticalFovRad();
+    root["fovDeg"] = glm::radians(desc.fovDeg) == fovRad ? desc.fovDeg : glm::degrees(fovRad);
+    root["time"] = timeToJson(scene.time());
+    root["background"] = {desc.background.r, desc.background.g, desc.background.b};
+    if (scene.cameraMode().mode != CameraMode::Free) root["camera"] = cameraModeToJson(scene.cameraMode());
+    if (!desc.annotations.empty()) {
+        nlohmann::json pins = nlohmann::json::array();
+        for (const Annotation& a : desc.annotations)
+            pins.push_back({{"name", a.name}, {"lon", a.lonDeg}, {"lat", a.latDeg}, {"height", a.height}});
+        root["annotations"] = std::move(pins);
+    }
+
+    // Resources are in the order Scene::build made them from desc.layers.
+    const fs::path toFolder = normalAbsolute(saveTo).parent_path();
+    nlohmann::json layers = nlohmann::json::array();
+    const auto& resources = scene.resources();
+    for (size_t i = 0; i < resources.size() && i < desc.layers.size(); ++i) {
+        nlohmann::json layer = desc.layers[i].settings;
+        layer["name"] = resources[i].name;
+        layer["visible"] = resources[i].visible;
+        writeLiveSettings(layer, resources[i].layer->liveSettings());
+        rebaseLayerPaths(layer, desc.folder, toFolder);
+        layers.push_back(std::move(layer));
+    }
+    root["layers"] = std::move(layers);
+    return root;
+}
+
+Result<void> saveScene(const Scene& scene, const fs::path& file) {
+    if (file.empty()) return makeError("cannot save the scene: no file name given");
+    const std::string name = file.string();
+    const fs::path target = normalAbsolute(file);
+    const fs::path folder = target.parent_path();
+    std::error_code ec;
+    if (fs::is_directory(target, ec)) return makeError(name + ": cannot save the scene: this is a folder; give a file name");
+    if (!fs::exists(folder, ec))
+        return makeError(name + ": cannot save the scene: the folder " + folder.string() + " does not exist");
+    if (!fs::is_directory(folder, ec))
+        return makeError(name + ": cannot save the scene: " + folder.string() + " is not a folder");
+
+    std::string text;
+    try {
+        text = sceneToJson(scene, target).dump(2) + "\n";
+    } catch (const nlohmann::json::exception& e) {   // text that is not UTF-8 (a layer's name, a path)
+        return makeError(name + ": cannot save the scene: " + e.what());
+    }
+    // What is written must load again: better an error now than a scene that fails when reopened.
+    if (auto check = parseSceneText(text, file, folder); !check)
+        return makeError(name + ": cannot save the scene: it would not load again (" + check.message() + ")");
+
+    const fs::path temporary = folder / ("." + target.filename().string() + ".saving");
+    {
+        std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+        if (!out) {
+            const int error = errno;
+            return makeError(name + ": cannot save the scene: cannot create a file in " + folder.string() + " (" +
+                             std::strerror(error) + ")");
+        }
+        out << text;
+        out.close();
+        if (!out) {
+            const int error = errno;
+            fs::remove(temporary, ec);
+            return makeError(name + ": cannot save the scene: writing " + temporary.string() + " failed (" +
+                             std::strerror(error) + ")");
+        }
+    }
+    fs::rename(temporary, target, ec);
+    if (ec) {
+        const std::string why = ec.message();
+        fs::remove(temporary, ec);
+        return makeError(name + ": cannot save the scene: cannot replace the file (" + why + ")");
+    }
+    return {};
+}
+
+}  // namespace orbis::scene
