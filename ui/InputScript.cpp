@@ -15,7 +15,7 @@ constexpr size_t kMaxSteps = 100000;
 
 const std::set<std::string>& knownKeys() {
     static const std::set<std::string> k{"W", "A", "S", "D", "Q", "E", "R", "F", "Up", "Down", "Left", "Right",
-                                         "PageUp", "PageDown", "Home", "F1", "F12", "Escape"};
+                                         "PageUp", "PageDown", "Home", "F1", "F12", "Ctrl+S", "Escape"};
     return k;
 }
 
@@ -75,7 +75,7 @@ Result<std::vector<ScriptStep>> readInputScript(const std::filesystem::path& fil
         } else if (op == "key") {
             s.kind = ScriptStep::Kind::Key;
             if (!j.contains("key") || !j["key"].is_string() || !knownKeys().count(j["key"].get<std::string>()))
-                return Error{where + ": \"key\" is one of W A S D Q E R F Up Down Left Right PageUp PageDown Home F1 F12 Escape"};
+                return Error{where + ": \"key\" is one of W A S D Q E R F Up Down Left Right PageUp PageDown Home F1 F12 Ctrl+S Escape"};
             s.key = j["key"].get<std::string>();
             double frames = 1;
             if (j.contains("frames") && !number("frames", 1, 1000, frames)) return Error{where + ": \"frames\" is 1 to 1000"};

@@ -7,7 +7,7 @@
 //   {"do": "drag", "button": "left", "from": [640, 360], "to": [700, 360], "frames": 8},
 //   {"do": "scroll", "at": [640, 360], "lines": -3},
 //   {"do": "key", "key": "Home"},                 (also W A S D Q E R F, arrows, PageUp/Down,
-//                                                  F1, F12, Escape; "frames": held that long)
+//                                                  F1, F12, Ctrl+S, Escape; "frames": held that long)
 //   {"do": "doubleClick", "at": [640, 360]},
 //   {"do": "click", "at": [20, 40]}  or  {"do": "click", "item": "Visible##Earth"},
 //   {"do": "settle"},                             (until nothing loads or moves)

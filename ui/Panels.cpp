@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 namespace orbis::ui {
 namespace {
@@ -38,11 +39,11 @@ bool settingWidget(scene::Layer& layer, const scene::LayerSetting& s, const std:
             if (ImGui::Checkbox(label.c_str(), &on)) return layer.setParameter(s.name, on ? 1.0 : 0.0);
             return false;
         }
-        case Kind::Integer: {
-            int v = int(std::lround(s.value));
+        case Kind::Integer: {   // as a double: budgets go past 2^31
+            double v = std::round(s.value);
             const ImGuiSliderFlags flags = s.logarithmic ? ImGuiSliderFlags_Logarithmic : 0;
-            if (ImGui::SliderInt(label.c_str(), &v, int(s.min), int(s.max), "%d", flags))
-                return layer.setParameter(s.name, double(v));
+            if (ImGui::SliderScalar(label.c_str(), ImGuiDataType_Double, &v, &s.min, &s.max, "%.0f", flags))
+                return layer.setParameter(s.name, std::round(v));
             return false;
         }
         case Kind::Number: {
@@ -78,16 +79,22 @@ std::optional<std::pair<float, float>> Panels::itemCentre(const std::string& lab
     return std::nullopt;
 }
 
+void Panels::setSavePath(const std::string& path) {
+    std::snprintf(savePath_, sizeof savePath_, "%s", path.c_str());
+}
+
 PanelActions Panels::draw(scene::Scene& scene, const ViewerStats& stats, const MapReadout& map, float uiScale) {
     PanelActions actions;
     items_.clear();
     history_.push_back(float(stats.frameMs));
     while (history_.size() > kHistory) history_.pop_front();
 
+    if (!visible_) return actions;   // F1: a clean view (screenshots); the keys still work
     if (ImGui::BeginMainMenuBar()) {
         if (ImGui::BeginMenu("File")) {
             if (ImGui::MenuItem("Save screenshot", "F12")) actions.screenshot = true;
             if (ImGui::MenuItem("Save scene", "Ctrl+S")) actions.saveScene = true;
+            if (ImGui::MenuItem("Save scene as...")) openSaveAs_ = true;
             ImGui::Separator();
             if (ImGui::MenuItem("Quit", "Esc")) actions.quit = true;
             ImGui::EndMenu();
@@ -99,11 +106,22 @@ PanelActions Panels::draw(scene::Scene& scene, const ViewerStats& stats, const M
         }
         ImGui::EndMainMenuBar();
     }
-    if (visible_) {
-        resourcesPanel(scene, actions);
-        timePanel(scene, actions);
-        statsPanel(stats, scene);
+    if (std::exchange(openSaveAs_, false)) ImGui::OpenPopup("Save scene as");
+    if (ImGui::BeginPopupModal("Save scene as", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::TextUnformatted("The camera, time, layers and their settings, as a scene file:");
+        ImGui::SetNextItemWidth(480 * uiScale);
+        const bool enter = ImGui::InputText("##path", savePath_, sizeof savePath_, ImGuiInputTextFlags_EnterReturnsTrue);
+        if (ImGui::Button("Save") || enter) {
+            actions.saveScene = true;
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
     }
+    resourcesPanel(scene, actions);
+    timePanel(scene, actions);
+    statsPanel(stats, scene);
     mapFurniture(map, uiScale);
     return actions;
 }

@@ -24,7 +24,7 @@ namespace orbis::ui {
 /// What the panels ask the viewer to do this frame.
 struct PanelActions {
     bool screenshot = false;
-    bool saveScene = false;
+    bool saveScene = false;   ///< to savePath()
     bool home = false;
     bool quit = false;
     bool changed = false;   ///< a setting, visibility or the time changed: draw a new frame
@@ -53,9 +53,12 @@ struct MapReadout {
 
 class Panels {
 public:
-    /// Builds this frame's windows. `uiScale` is the HiDPI content scale.
+    /// Builds this frame's windows (none while hidden). `uiScale` is the HiDPI content scale.
     PanelActions draw(scene::Scene& scene, const ViewerStats& stats, const MapReadout& map, float uiScale);
     bool visible() const { return visible_; }
+    /// Where "Save scene" writes (editable in File > Save scene as...).
+    void setSavePath(const std::string& path);
+    std::string savePath() const { return savePath_; }
     void toggleVisible() { visible_ = !visible_; }
 
     /// Where ImGui drew the item with this label in the last frame, in window pixels (centre);
@@ -70,6 +73,8 @@ private:
     void remember(const std::string& label);
 
     bool visible_ = true;
+    char savePath_[1024] = {};
+    bool openSaveAs_ = false;
     std::deque<float> history_;   ///< frame ms, newest last
     struct Item {
         std::string label;

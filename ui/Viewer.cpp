@@ -9,6 +9,7 @@
 #include "engine/scene/LayerRegistry.h"
 #include "engine/scene/Scene.h"
 #include "engine/scene/SceneDesc.h"
+#include "engine/scene/SceneSave.h"
 #include "layers/BuiltinLayers.h"
 #include "ui/Gui.h"
 #include "ui/InputScript.h"
@@ -203,6 +204,9 @@ int runViewer(const ViewerOptions& options) {
         Swapchain swapchain(device, dopt.surface, options.vsync);
         Panels panels;
         if (!options.panels) panels.toggleVisible();
+        panels.setSavePath(options.saveTo.empty()
+                               ? (options.scene.parent_path() / (options.scene.stem().string() + "-view.json")).string()
+                               : options.saveTo.string());
 
         NavigationController nav;
         nav.setHeightQuery([&scene](double lon, double lat) { return scene->heightAt(lon, lat); });
@@ -314,6 +318,7 @@ int runViewer(const ViewerOptions& options) {
                         break;
                     case ScriptStep::Kind::Key:
                         if (step.key == "F12") wantScreenshot = true;
+                        else if (step.key == "Ctrl+S") wantSave = true;
                         else if (step.key == "F1") panels.toggleVisible();
                         else if (step.key == "Escape") quit = true;
                         else if (auto k = keyFromName(step.key)) {
@@ -442,7 +447,18 @@ int runViewer(const ViewerOptions& options) {
             if (actions.flyTo) nav.flyTo(*actions.flyTo);
             wantScreenshot = wantScreenshot || actions.screenshot;
             wantSave = wantSave || actions.saveScene;
-            if (wantSave) readout.message = "saving scenes is not available yet";
+            if (wantSave) {
+                const std::filesystem::path to = panels.savePath();
+                if (auto ok = scene::saveScene(*scene, to); !ok) {
+                    readout.message = ok.message();
+                    std::fprintf(stderr, "orbis: %s\n", ok.message().c_str());
+                    if (script) return 1;   // a script expects its files
+                } else {
+                    readout.message = "saved " + to.filename().string();
+                    std::printf("wrote %s\n", to.string().c_str());
+                    std::fflush(stdout);
+                }
+            }
 
             auto acquired = swapchain.acquire(fbw, fbh);
             if (!acquired) {

@@ -18,6 +18,7 @@ struct ViewerOptions {
     bool validation = false;
     std::filesystem::path script;           ///< InputScript.h; empty: interactive
     std::filesystem::path screenshotFolder = ".";
+    std::filesystem::path saveTo;           ///< "Save scene" (Ctrl+S); default SCENE-view.json beside it
     bool panels = true;
 };
 

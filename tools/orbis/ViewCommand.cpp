@@ -21,12 +21,14 @@ const char* kHelp =
     "  --no-panels        start with the panels hidden (F1 shows them)\n"
     "  --script FILE      play an input script (JSON; see ui/InputScript.h) instead of waiting\n"
     "                     for the user: tests, demos, screenshots of the live UI\n"
-    "  --screenshots DIR  where F12 writes its PNGs (default: the current folder)\n";
+    "  --screenshots DIR  where F12 writes its PNGs (default: the current folder)\n"
+    "  --save-to FILE     where Ctrl+S saves the scene (camera, time, layers, settings) for\n"
+    "                     orbis render (default: SCENE-view.json beside SCENE)\n";
 }  // namespace
 
 int viewCommand(const std::vector<std::string>& argv) {
     std::set<std::string> valued = gpuValuedOptions();
-    valued.insert({"--size", "--script", "--screenshots"});
+    valued.insert({"--size", "--script", "--screenshots", "--save-to"});
     std::set<std::string> flags = gpuFlagOptions();
     flags.insert({"--help", "--no-vsync", "--no-panels"});
     Args args(argv, valued, flags, {{"-h", "--help"}});
@@ -46,6 +48,7 @@ int viewCommand(const std::vector<std::string>& argv) {
     o.validation = args.flag("--validation");
     o.script = args.value("--script").value_or("");
     o.screenshotFolder = args.value("--screenshots").value_or(".");
+    o.saveTo = args.value("--save-to").value_or("");
     return ui::runViewer(o) == 0 ? kOk : kBadInput;
 }
 
