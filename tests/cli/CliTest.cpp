@@ -1,6 +1,7 @@
 // The orbis command line: bad arguments exit 2, bad input exits 1 with a one-line message that
 // names the file and the problem, and nothing crashes. GPU commands run on lavapipe.
 #include "tests/support/GpuTest.h"
+#include "tests/support/Shell.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -18,23 +19,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-    int exitCode = -1;
-    std::string output;   // stdout + stderr
-};
+using CliRun = ShellRun;
 
-CliRun run(const std::string& args) {
-    CliRun r;
-    const std::string cmd = std::string(ORBIS_BINARY) + " " + args + " 2>&1";
-    FILE* pipe = popen(cmd.c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buf;
-    size_t n;
-    while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
-    const int status = pclose(pipe);
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    return r;
-}
+CliRun run(const std::string& args) { return runShell(std::string(ORBIS_BINARY) + " " + args); }
 
 fs::path tempFile(const std::string& name, const std::string& content) {
     const fs::path dir = fs::temp_directory_path() / "orbis-cli-test";

@@ -3,6 +3,7 @@
 // its golden image. Every run has the Khronos validation layer on: the viewer exits with 1 if
 // it reported anything, so exit code 0 also means a clean shutdown.
 #include "tests/support/GoldenImage.h"
+#include "tests/support/Shell.h"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -20,22 +21,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct ViewerRun {
-    int exitCode = -1;
-    std::string output;
-};
+using ViewerRun = ShellRun;
 
-ViewerRun shell(const std::string& cmd) {
-    ViewerRun r;
-    FILE* pipe = popen(("{ " + cmd + "; } 2>&1").c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buf;
-    size_t n;
-    while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
-    const int status = pclose(pipe);
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    return r;
-}
+ViewerRun shell(const std::string& cmd) { return runShell(cmd); }
 
 bool haveXvfb() { return shell("command -v Xvfb").exitCode == 0; }
 
@@ -125,24 +113,19 @@ TEST(Viewer, SavedSceneRendersTheView) {
     REQUIRE_XVFB();
     const fs::path dir = workDir("save");
     // The panels hidden (F1): the screenshot is the scene alone, as orbis render draws it.
-    const ViewerRun r = view(dir, R"([
+    const std::string script = R"([
         {"do": "settle"},
         {"do": "drag", "button": "left", "from": [560, 300], "to": [470, 250], "frames": 4},
         {"do": "scroll", "at": [480, 270], "lines": 3},
         {"do": "drag", "button": "middle", "from": [480, 300], "to": [520, 250], "frames": 4},
         {"do": "settle"}, {"do": "key", "key": "F1"}, {"do": "screenshot", "file": "view.png"},
-        {"do": "key", "key": "Ctrl+S"}, {"do": "quit"}])",
+        {"do": "key", "key": "Ctrl+S"}, {"do": "quit"}])";
+    const ViewerRun r = view(dir, script,
                              ORBIS_DEFAULT_SCENE, "--save-to \"" + (dir / "saved" / "view.json").string() + "\"");
     ASSERT_EQ(r.exitCode, 1) << "the folder does not exist yet: the save must fail clearly\n" << r.output;
     EXPECT_NE(r.output.find("view.json"), std::string::npos) << r.output;
     fs::create_directories(dir / "saved");
-    const ViewerRun ok = view(dir, R"([
-        {"do": "settle"},
-        {"do": "drag", "button": "left", "from": [560, 300], "to": [470, 250], "frames": 4},
-        {"do": "scroll", "at": [480, 270], "lines": 3},
-        {"do": "drag", "button": "middle", "from": [480, 300], "to": [520, 250], "frames": 4},
-        {"do": "settle"}, {"do": "key", "key": "F1"}, {"do": "screenshot", "file": "view.png"},
-        {"do": "key", "key": "Ctrl+S"}, {"do": "quit"}])",
+    const ViewerRun ok = view(dir, script,
                               ORBIS_DEFAULT_SCENE, "--save-to \"" + (dir / "saved" / "view.json").string() + "\"");
     ASSERT_EQ(ok.exitCode, 0) << ok.output;
     ASSERT_TRUE(fs::exists(dir / "saved" / "view.json")) << ok.output;
