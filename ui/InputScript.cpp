@@ -13,13 +13,24 @@ namespace {
 constexpr std::uintmax_t kMaxScriptBytes = 4u << 20;
 constexpr size_t kMaxSteps = 100000;
 
-const std::set<std::string>& knownKeys() {
-    static const std::set<std::string> k{"W", "A", "S", "D", "Q", "E", "R", "F", "Up", "Down", "Left", "Right",
-                                         "PageUp", "PageDown", "Home", "F1", "F12", "Ctrl+S", "Escape"};
-    return k;
+/// The keys a script may press beyond the navigation keys (the viewer's shortcuts).
+bool isShortcutKey(const std::string& name) {
+    static const std::set<std::string> k{"F1", "F12", "Ctrl+S", "Escape"};
+    return k.count(name) != 0;
 }
 
 }  // namespace
+
+std::optional<Key> navigationKey(const std::string& name) {
+    static const std::pair<const char*, Key> names[] = {
+        {"W", Key::W},       {"A", Key::A},         {"S", Key::S},           {"D", Key::D},
+        {"Q", Key::Q},       {"E", Key::E},         {"R", Key::R},           {"F", Key::F},
+        {"Up", Key::Up},     {"Down", Key::Down},   {"Left", Key::Left},     {"Right", Key::Right},
+        {"PageUp", Key::PageUp}, {"PageDown", Key::PageDown}, {"Home", Key::Home}};
+    for (const auto& [n, k] : names)
+        if (name == n) return k;
+    return std::nullopt;
+}
 
 Result<std::vector<ScriptStep>> readInputScript(const std::filesystem::path& file) {
     const std::string name = file.string();
@@ -74,7 +85,7 @@ Result<std::vector<ScriptStep>> readInputScript(const std::filesystem::path& fil
             if (!number("lines", -100, 100, s.lines)) return Error{where + ": scroll needs \"lines\" from -100 to 100"};
         } else if (op == "key") {
             s.kind = ScriptStep::Kind::Key;
-            if (!j.contains("key") || !j["key"].is_string() || !knownKeys().count(j["key"].get<std::string>()))
+            if (!j.contains("key") || !j["key"].is_string() || (!navigationKey(j["key"].get<std::string>()) && !isShortcutKey(j["key"].get<std::string>())))
                 return Error{where + ": \"key\" is one of W A S D Q E R F Up Down Left Right PageUp PageDown Home F1 F12 Ctrl+S Escape"};
             s.key = j["key"].get<std::string>();
             double frames = 1;

@@ -17,9 +17,11 @@
 // ]
 
 #include "engine/core/Result.h"
+#include "ui/input/InputEvents.h"
 
 #include <array>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +39,9 @@ struct ScriptStep {
     std::filesystem::path file;       ///< Screenshot: absolute
     double seconds = 0.0;             ///< Idle
 };
+
+/// The navigation key a script names ("W", "PageUp", "Home", ...), or nothing.
+std::optional<Key> navigationKey(const std::string& name);
 
 /// Reads and checks a script; errors name the file, the step and the key.
 Result<std::vector<ScriptStep>> readInputScript(const std::filesystem::path& file);

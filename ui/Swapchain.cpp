@@ -148,8 +148,9 @@ std::optional<Swapchain::Acquired> Swapchain::acquire(uint32_t width, uint32_t h
         }
         if (r == VK_SUBOPTIMAL_KHR) stale_ = true;   // usable now, rebuilt next time
         else VK_CHECK(r);
-        nextSlot_ = (nextSlot_ + 1) % uint32_t(acquireSlots_.size());
         Acquired a;
+        a.slot = nextSlot_;
+        nextSlot_ = (nextSlot_ + 1) % uint32_t(acquireSlots_.size());
         a.index = index;
         a.image = &images_[index];
         a.image->setCurrentUse(gpu::ImageUse::Undefined);   // its contents are not kept
@@ -161,8 +162,7 @@ std::optional<Swapchain::Acquired> Swapchain::acquire(uint32_t width, uint32_t h
 }
 
 void Swapchain::present(const Acquired& a, uint64_t timelineValue) {
-    for (auto& s : acquireSlots_)
-        if (s.semaphore == a.acquired) s.usedBy = timelineValue;
+    acquireSlots_[a.slot].usedBy = timelineValue;
     VkPresentInfoKHR info{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
     info.waitSemaphoreCount = 1;
     info.pWaitSemaphores = &a.rendered;

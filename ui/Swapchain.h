@@ -31,6 +31,7 @@ public:
         gpu::Image* image = nullptr;        ///< borrowed; its use is tracked for barriers
         VkSemaphore acquired = VK_NULL_HANDLE;   ///< the frame's submit waits on it
         VkSemaphore rendered = VK_NULL_HANDLE;   ///< the frame's submit signals it; present waits
+        uint32_t slot = 0;                       ///< the acquire semaphore's slot
     };
     /// The next image for a framebuffer of `width` x `height` pixels (the swapchain is rebuilt
     /// when the size changed or it went out of date); nothing while the window is minimised.

@@ -70,17 +70,6 @@ std::optional<Key> keyFromGlfw(int key) {
     }
 }
 
-std::optional<Key> keyFromName(const std::string& name) {
-    static const std::pair<const char*, Key> names[] = {
-        {"W", Key::W},   {"A", Key::A},         {"S", Key::S},           {"D", Key::D},       {"Q", Key::Q},
-        {"E", Key::E},   {"R", Key::R},         {"F", Key::F},           {"Up", Key::Up},     {"Down", Key::Down},
-        {"Left", Key::Left}, {"Right", Key::Right}, {"PageUp", Key::PageUp}, {"PageDown", Key::PageDown},
-        {"Home", Key::Home}};
-    for (const auto& [n, k] : names)
-        if (name == n) return k;
-    return std::nullopt;
-}
-
 Modifiers modifiersFromGlfw(int mods) {
     return {bool(mods & GLFW_MOD_SHIFT), bool(mods & GLFW_MOD_CONTROL), bool(mods & GLFW_MOD_ALT)};
 }
@@ -209,7 +198,8 @@ int runViewer(const ViewerOptions& options) {
                                : options.saveTo.string());
 
         NavigationController nav;
-        nav.setHeightQuery([&scene](double lon, double lat) { return scene->heightAt(lon, lat); });
+        const HeightQuery ground = [&scene](double lon, double lat) { return scene->heightAt(lon, lat); };
+        nav.setHeightQuery(ground);
         nav.setFovYRad(scene->camera().verticalFovRad());
         nav.setHomeViewpoint(scene->desc().viewpoint);
         nav.setPose(scene->camera().pose());
@@ -321,7 +311,7 @@ int runViewer(const ViewerOptions& options) {
                         else if (step.key == "Ctrl+S") wantSave = true;
                         else if (step.key == "F1") panels.toggleVisible();
                         else if (step.key == "Escape") quit = true;
-                        else if (auto k = keyFromName(step.key)) {
+                        else if (auto k = navigationKey(step.key)) {
                             if (f == 0) events.push_back(KeyEvent{*k, true, {}});
                             if (f + 1 >= step.frames) events.push_back(KeyEvent{*k, false, {}});
                             finished = f + 1 >= step.frames;
@@ -425,7 +415,6 @@ int runViewer(const ViewerOptions& options) {
                 readout.heightM.reset();
             }
             readout.scaleBarPixels = 0.0;
-            const HeightQuery ground = [&scene](double lon, double lat) { return scene->heightAt(lon, lat); };
             if (auto mpp = metresPerPixel(pose, scene->camera().verticalFovRad(), {double(ww), double(wh)},
                                           {0.5 * ww, double(wh) - 60.0}, ground))
                 if (auto bar = niceScaleBar(*mpp, 150.0 * uiScale)) {
