@@ -8,7 +8,7 @@
 #include "engine/gpu/VkCheck.h"
 #include "globe/Culling.h"
 #include "globe/Ellipsoid.h"
-#include "layers/models/ModelLabel.h"
+#include "engine/core/LabelText.h"
 #include "layers/motion/Attitude.h"
 #include "shared/ModelTypes.h"
 
@@ -349,11 +349,11 @@ void ModelLayer::buildLabel(const scene::FrameContext& frame) {
     const glm::dvec2 ndc = glm::dvec2(clip) / clip.w;
     if (std::abs(ndc.x) > 1.5 || std::abs(ndc.y) > 1.5) return;
     const std::string text = settings_.labelText.empty() ? settings_.name : settings_.labelText;
-    const auto quads = models::labelQuads(text, glm::dvec2((ndc.x * 0.5 + 0.5) * frame.width, (ndc.y * 0.5 + 0.5) * frame.height),
+    const auto quads = label::labelQuads(text, glm::dvec2((ndc.x * 0.5 + 0.5) * frame.width, (ndc.y * 0.5 + 0.5) * frame.height),
                                           2.0, kLabelMaxVertices / 6);
     const glm::vec4 textColor = linearColor(settings_.labelColor, 1.0);
     const glm::vec4 boxColor(0.0f, 0.0f, 0.0f, 0.55f);
-    for (const models::LabelQuad& q : quads) {
+    for (const label::LabelQuad& q : quads) {
         const glm::vec4 color = q.background ? boxColor : textColor;
         const glm::dvec2 corners[6] = {q.min, {q.max.x, q.min.y}, q.max, q.min, q.max, {q.min.x, q.max.y}};
         for (const glm::dvec2& c : corners) {

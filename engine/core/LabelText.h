@@ -1,6 +1,7 @@
 #pragma once
-// Text of a model's label as screen-space rectangles, from stb_easy_font's stroke font (no font
-// file, no texture): a translucent box first, then the strokes of the glyphs. No Vulkan.
+// Text of a label (a model's name, an annotation) as screen-space rectangles, from
+// stb_easy_font's stroke font (no font file, no texture): a translucent box first, then the
+// strokes of the glyphs. No Vulkan.
 
 #include <glm/glm.hpp>
 
@@ -8,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace orbis::models {
+namespace orbis::label {
 
 struct LabelQuad {
     glm::dvec2 min, max;      ///< pixels, x right, y down
@@ -20,4 +21,4 @@ struct LabelQuad {
 /// At most `maxQuads` rectangles, the box included.
 std::vector<LabelQuad> labelQuads(const std::string& text, glm::dvec2 anchorPx, double scale, std::size_t maxQuads);
 
-}  // namespace orbis::models
+}  // namespace orbis::label

@@ -1,11 +1,11 @@
-#include "layers/models/ModelLabel.h"
+#include "engine/core/LabelText.h"
 
 #include <stb_easy_font.h>
 
 #include <algorithm>
 #include <cstring>
 
-namespace orbis::models {
+namespace orbis::label {
 
 std::vector<LabelQuad> labelQuads(const std::string& input, glm::dvec2 anchorPx, double scale, std::size_t maxQuads) {
     std::vector<LabelQuad> out;
@@ -33,4 +33,4 @@ std::vector<LabelQuad> labelQuads(const std::string& input, glm::dvec2 anchorPx,
     return out;
 }
 
-}  // namespace orbis::models
+}  // namespace orbis::label
