@@ -122,6 +122,7 @@ PanelActions Panels::draw(scene::Scene& scene, const ViewerStats& stats, const M
     resourcesPanel(scene, actions);
     timePanel(scene, actions);
     statsPanel(stats, scene);
+    annotationsPanel(scene, actions);
     mapFurniture(map, uiScale);
     return actions;
 }
@@ -244,6 +245,59 @@ void Panels::statsPanel(const ViewerStats& stats, const scene::Scene& scene) {
     ImGui::End();
 }
 
+std::optional<std::string> Panels::placingPin() const {
+    if (!placing_) return std::nullopt;
+    return std::string(pinName_);
+}
+
+void Panels::annotationsPanel(scene::Scene& scene, PanelActions& actions) {
+    const ImGuiIO& io = ImGui::GetIO();
+    const float s = io.FontGlobalScale;
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 290 * s, 60 * s), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(280 * s, 110 * s), ImGuiCond_FirstUseEver);
+    if (!ImGui::Begin("Annotations")) {
+        ImGui::End();
+        return;
+    }
+    std::vector<scene::Annotation>& pins = scene.annotations();
+    if (pinName_[0] == '\0' && !placing_) std::snprintf(pinName_, sizeof pinName_, "Pin %zu", pins.size() + 1);
+    ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - 90 * s);
+    ImGui::InputText("##pinName", pinName_, sizeof pinName_);
+    ImGui::SameLine();
+    if (ImGui::Button(placing_ ? "Cancel" : "Place pin", ImVec2(-1.0f, 0.0f))) placing_ = !placing_;
+    remember("Place pin");
+    if (placing_) ImGui::TextColored(ImVec4(1.0f, 0.85f, 0.4f, 1.0f), "Click on the globe to place the pin.");
+    std::optional<size_t> remove;
+    for (size_t i = 0; i < pins.size(); ++i) {
+        const scene::Annotation& a = pins[i];
+        ImGui::PushID(int(i));
+        ImGui::TextUnformatted(a.name.c_str());
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("lon %.6f  lat %.6f  height %.1f m", a.lonDeg, a.latDeg, a.height);
+        ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - 100 * s);
+        if (ImGui::SmallButton("Fly to")) {
+            globe::Viewpoint vp;
+            vp.lonDeg = a.lonDeg;
+            vp.latDeg = a.latDeg;
+            vp.height = a.height;
+            vp.headingDeg = 0.0;
+            vp.pitchDeg = -45.0;
+            vp.range = 8000.0;
+            actions.flyTo = vp;
+        }
+        remember("Fly to##pin" + std::to_string(i));
+        ImGui::SameLine();
+        if (ImGui::SmallButton("Delete")) remove = i;
+        remember("Delete##pin" + std::to_string(i));
+        ImGui::PopID();
+    }
+    if (remove) {
+        pins.erase(pins.begin() + std::ptrdiff_t(*remove));
+        actions.changed = true;
+    }
+    ImGui::End();
+}
+
 void Panels::mapFurniture(const MapReadout& map, float uiScale) {
     const ImGuiIO& io = ImGui::GetIO();
     ImDrawList* dl = ImGui::GetForegroundDrawList();
@@ -279,6 +333,10 @@ void Panels::mapFurniture(const MapReadout& map, float uiScale) {
     const float ly = io.DisplaySize.y - 20 * s;
     dl->AddRectFilled(ImVec2(0, ly - 2 * s), ImVec2(io.DisplaySize.x, io.DisplaySize.y), IM_COL32(0, 0, 0, 150));
     dl->AddText(ImVec2(8 * s, ly), IM_COL32(235, 235, 235, 255), line);
+    if (placing_) {
+        const char* hint = "click on the globe to place the pin (Esc: cancel)";
+        dl->AddText(ImVec2(io.DisplaySize.x * 0.5f, ly - 22 * s), IM_COL32(255, 220, 120, 255), hint);
+    }
     if (!map.message.empty())
         dl->AddText(ImVec2(io.DisplaySize.x * 0.5f, ly), IM_COL32(255, 220, 120, 255), map.message.c_str());
 }

@@ -61,6 +61,16 @@ public:
     std::string savePath() const { return savePath_; }
     void toggleVisible() { visible_ = !visible_; }
 
+    /// The name for the pin the next click on the globe places, while the user is placing one
+    /// (Annotations > Place pin); nothing otherwise.
+    std::optional<std::string> placingPin() const;
+    /// Ends the placing: `placed` after a pin was placed (the next one gets a new default
+    /// name), else cancelled (Escape).
+    void stopPlacingPin(bool placed) {
+        placing_ = false;
+        if (placed) pinName_[0] = '\0';
+    }
+
     /// Where ImGui drew the item with this label in the last frame, in window pixels (centre);
     /// scripted input clicks there ("Visible##Terrain").
     std::optional<std::pair<float, float>> itemCentre(const std::string& label) const;
@@ -69,12 +79,15 @@ private:
     void resourcesPanel(scene::Scene& scene, PanelActions& actions);
     void timePanel(scene::Scene& scene, PanelActions& actions);
     void statsPanel(const ViewerStats& stats, const scene::Scene& scene);
+    void annotationsPanel(scene::Scene& scene, PanelActions& actions);
     void mapFurniture(const MapReadout& map, float uiScale);
     void remember(const std::string& label);
 
     bool visible_ = true;
     char savePath_[1024] = {};
     bool openSaveAs_ = false;
+    bool placing_ = false;
+    char pinName_[128] = {};
     std::deque<float> history_;   ///< frame ms, newest last
     struct Item {
         std::string label;

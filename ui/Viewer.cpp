@@ -44,7 +44,7 @@ constexpr double kSettleTimeoutSeconds = 300.0;
 /// What the GLFW callbacks collect between frames.
 struct InputSink {
     std::vector<Event> events;
-    bool screenshot = false, saveScene = false, togglePanels = false;
+    bool screenshot = false, saveScene = false, togglePanels = false, escape = false;
     bool resized = false;
     bool focusLost = false;   ///< no key releases come while unfocused: forget held keys
 };
@@ -102,7 +102,7 @@ void installCallbacks(GLFWwindow* window, InputSink& sink) {
             if (key == GLFW_KEY_F12) s.screenshot = true;
             if (key == GLFW_KEY_S && (mods & GLFW_MOD_CONTROL)) s.saveScene = true;
             if (key == GLFW_KEY_F1) s.togglePanels = true;
-            if (key == GLFW_KEY_ESCAPE) glfwSetWindowShouldClose(w, GLFW_TRUE);
+            if (key == GLFW_KEY_ESCAPE) s.escape = true;   // cancels placing a pin, else quits
         }
         if (action == GLFW_REPEAT) return;
         if (auto k = keyFromGlfw(key)) s.events.push_back(KeyEvent{*k, action == GLFW_PRESS, modifiersFromGlfw(mods)});
@@ -207,10 +207,37 @@ int runViewer(const ViewerOptions& options) {
         glfwGetWindowSize(window.glfw(), &ww, &wh);
         nav.handle(ViewportSize{double(ww), double(wh)});
 
+        MapReadout readout;
+        // Placing a pin: the press of the click that places it, and the placing itself.
+        std::optional<glm::dvec2> pinPress;
+        auto placePin = [&](const std::string& name, glm::dvec2 atPx) {
+            const glm::dvec2 ndc(2.0 * atPx.x / std::max(ww, 1) - 1.0, 2.0 * atPx.y / std::max(wh, 1) - 1.0);
+            const auto hit = pick(scene->camera().pose(), scene->camera().verticalFovRad(), double(ww) / std::max(wh, 1), ndc,
+                                  ground);
+            if (!hit) {
+                readout.message = "no ground there: the pin needs a point on the globe";
+                return;
+            }
+            scene::Annotation a;
+            a.name = name.empty() ? "Pin " + std::to_string(scene->annotations().size() + 1) : name;
+            a.lonDeg = hit->geodetic.lonDeg;
+            a.latDeg = hit->geodetic.latDeg;
+            a.height = hit->geodetic.height;
+            scene->annotations().push_back(a);
+            if (auto ok = scene->ensureAnnotationLayer(registry); !ok) {
+                readout.message = ok.message();
+                std::fprintf(stderr, "orbis: %s\n", ok.message().c_str());
+            } else {
+                char text[160];
+                std::snprintf(text, sizeof text, "placed \"%s\" at lon %.5f lat %.5f", a.name.c_str(), a.lonDeg, a.latDeg);
+                readout.message = text;
+            }
+            panels.stopPlacingPin(true);
+        };
+
         ViewerStats stats;
         stats.vsync = swapchain.vsync();
         stats.device = device.info().name;
-        MapReadout readout;
         std::optional<render::FrameResult> previous;
         std::vector<double> frameMs;   // a script's session prints their median at the end
         uint64_t drawnRevision = ~0ull;
@@ -242,6 +269,14 @@ int runViewer(const ViewerOptions& options) {
             if (std::exchange(sink.focusLost, false)) nav.releaseAll();
             bool wantScreenshot = std::exchange(sink.screenshot, false);
             bool wantSave = std::exchange(sink.saveScene, false);
+            if (std::exchange(sink.escape, false)) {
+                if (panels.placingPin()) {
+                    panels.stopPlacingPin(false);
+                    dirty = true;
+                } else {
+                    quit = true;
+                }
+            }
             if (std::exchange(sink.togglePanels, false)) {
                 panels.toggleVisible();
                 dirty = true;
@@ -310,7 +345,10 @@ int runViewer(const ViewerOptions& options) {
                         if (step.key == "F12") wantScreenshot = true;
                         else if (step.key == "Ctrl+S") wantSave = true;
                         else if (step.key == "F1") panels.toggleVisible();
-                        else if (step.key == "Escape") quit = true;
+                        else if (step.key == "Escape") {
+                            if (panels.placingPin()) panels.stopPlacingPin(false);
+                            else quit = true;
+                        }
                         else if (auto k = navigationKey(step.key)) {
                             if (f == 0) events.push_back(KeyEvent{*k, true, {}});
                             if (f + 1 >= step.frames) events.push_back(KeyEvent{*k, false, {}});
@@ -367,6 +405,7 @@ int runViewer(const ViewerOptions& options) {
             }
 
             // Events to the navigation, unless ImGui has them (releases always pass: drags end).
+            // While a pin is being placed, a left click on the globe places it instead.
             for (const Event& e : events) {
                 dirty = true;
                 uiFrames = 2;
@@ -375,6 +414,15 @@ int runViewer(const ViewerOptions& options) {
                         using T = std::decay_t<decltype(ev)>;
                         if constexpr (std::is_same_v<T, MouseButtonEvent>) {
                             if (ev.pressed && gui.wantsMouse()) return;
+                            if (ev.button == MouseButton::Left && panels.placingPin()) {
+                                if (ev.pressed) {
+                                    pinPress = ev.position;
+                                } else if (pinPress && glm::length(ev.position - *pinPress) <= 4.0) {
+                                    placePin(*panels.placingPin(), ev.position);
+                                    pinPress.reset();
+                                }
+                                return;
+                            }
                         } else if constexpr (std::is_same_v<T, ScrollEvent>) {
                             if (gui.wantsMouse()) return;
                         } else if constexpr (std::is_same_v<T, KeyEvent>) {

@@ -235,6 +235,7 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw, cons
     ctx.frameNumber = frame.number;
     ctx.cameraHeight = height;
     ctx.groundHeight = [&scene](double lon, double lat) { return scene.heightAt(lon, lat); };
+    ctx.annotations = &scene.annotations();
     for (auto& r : scene.resources())
         if (r.visible && r.layer->prepared()) ctx.groundVersion += r.layer->groundVersion();
     for (auto& r : scene.resources())

@@ -5,6 +5,7 @@
 // which the layer is visible: what a scene does not show is never built.
 
 #include "engine/core/TimeFormat.h"
+#include "engine/scene/Annotation.h"
 #include "engine/scene/Camera.h"
 
 #include <vulkan/vulkan.h>
@@ -56,6 +57,8 @@ struct FrameContext {
     GroundHeightFn groundHeight;
     /// Changes whenever groundHeight's answers may have (Layer::groundVersion, summed).
     uint64_t groundVersion = 0;
+    /// The scene's pins (Scene::annotations), for the layer that draws them.
+    const std::vector<Annotation>* annotations = nullptr;
     double aspect() const { return height ? double(width) / double(height) : 1.0; }
 };
 

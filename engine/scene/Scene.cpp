@@ -22,6 +22,9 @@ Result<std::unique_ptr<Scene>> Scene::build(SceneDesc desc, const LayerRegistry&
         r.layer = std::move(made).value();
         scene->resources_.push_back(std::move(r));
     }
+    scene->annotations_ = scene->desc_.annotations;
+    if (!scene->annotations_.empty())
+        if (auto ok = scene->ensureAnnotationLayer(registry); !ok) return ok.error();
     TimeDesc t = scene->desc_.time;
     if (!t.given) {   // no "time" in the file: the span of the layers' data, from its start
         std::optional<TimeRange> all;
@@ -50,6 +53,25 @@ Result<std::unique_ptr<Scene>> Scene::build(SceneDesc desc, const LayerRegistry&
         scene->cameraMode_ = scene->desc_.camera;
     }
     return scene;
+}
+
+Result<void> Scene::ensureAnnotationLayer(const LayerRegistry& registry) {
+    for (const Resource& r : resources_)
+        if (r.type == kAnnotationLayerType) return {};
+    if (!registry.has(kAnnotationLayerType)) return {};   // an app without it: pins are data only
+    LayerDesc layer;
+    layer.type = kAnnotationLayerType;
+    layer.name = find("Annotations") ? "Annotations (pins)" : "Annotations";
+    layer.settings = nlohmann::json::object();
+    layer.jsonPath = "/annotations";
+    auto made = registry.create(layer, desc_);
+    if (!made) return made.error();
+    Resource r;
+    r.name = layer.name;
+    r.type = layer.type;
+    r.layer = std::move(made).value();
+    resources_.push_back(std::move(r));
+    return {};
 }
 
 Resource* Scene::find(const std::string& name) {

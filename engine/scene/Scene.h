@@ -37,6 +37,15 @@ public:
     Resource* find(const std::string& name);
     const Resource* find(const std::string& name) const;
 
+    /// The labelled pins, from the file and as the user edits them. After a change, call
+    /// ensureAnnotationLayer() so that they are drawn.
+    std::vector<Annotation>& annotations() { return annotations_; }
+    const std::vector<Annotation>& annotations() const { return annotations_; }
+    /// Adds the layer that draws the pins (type "annotations", resource "Annotations", last in
+    /// the list) if the scene has none yet and `registry` knows the type. Scenes without pins
+    /// never build it. An error only when the layer cannot be made.
+    Result<void> ensureAnnotationLayer(const LayerRegistry& registry);
+
     Camera& camera() { return camera_; }
     const Camera& camera() const { return camera_; }
     TimeServer& time() { return time_; }
@@ -74,6 +83,7 @@ private:
 
     SceneDesc desc_;
     std::vector<Resource> resources_;
+    std::vector<Annotation> annotations_;
     Camera camera_;
     TimeServer time_;
     CameraModeSettings cameraMode_;

@@ -17,6 +17,7 @@
 
 #include "engine/core/Result.h"
 #include "engine/core/TimeFormat.h"
+#include "engine/scene/Annotation.h"
 #include "engine/scene/CameraMode.h"
 #include "globe/Viewpoint.h"
 
@@ -45,14 +46,6 @@ struct TimeDesc {
     bool loop = false;
     bool playing = false;
     bool given = false;   ///< the file has a "time" object; else the layers' data give the range
-};
-
-/// A labelled pin on the globe, placed by the user in the viewer and saved with the scene.
-struct Annotation {
-    std::string name;
-    double lonDeg = 0.0;
-    double latDeg = 0.0;
-    double height = 0.0;   ///< above the ellipsoid, metres
 };
 
 struct SceneDesc {

@@ -148,9 +148,9 @@ nlohmann::json sceneToJson(const Scene& scene, const fs::path& saveTo) {
     root["time"] = timeToJson(scene.time());
     root["background"] = {desc.background.r, desc.background.g, desc.background.b};
     if (scene.cameraMode().mode != CameraMode::Free) root["camera"] = cameraModeToJson(scene.cameraMode());
-    if (!desc.annotations.empty()) {
+    if (!scene.annotations().empty()) {
         nlohmann::json pins = nlohmann::json::array();
-        for (const Annotation& a : desc.annotations)
+        for (const Annotation& a : scene.annotations())
             pins.push_back({{"name", a.name}, {"lon", a.lonDeg}, {"lat", a.latDeg}, {"height", a.height}});
         root["annotations"] = std::move(pins);
     }

@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <regex>
 #include <string>
 
@@ -137,6 +138,49 @@ TEST(Viewer, SavedSceneRendersTheView) {
     // The saved viewpoint is the pose in lon/lat/height/heading/pitch/range, rounded through
     // text: sub-pixel differences along edges at most.
     EXPECT_TRUE(imagesAgree(viewed, rendered, "viewer_saved_scene", 24, 960 * 540 / 200));
+}
+
+TEST(Viewer, PlacesDeletesAndSavesPins) {
+    REQUIRE_XVFB();
+    const fs::path dir = workDir("pins");
+    // Place pin, click the globe; the pin shows, is saved (the panels hidden for the render
+    // comparison), then deleted from the list.
+    const ViewerRun r = view(dir, R"([
+        {"do": "settle"}, {"do": "screenshot", "file": "none.png"},
+        {"do": "click", "item": "Place pin"}, {"do": "click", "at": [470, 300]},
+        {"do": "settle"}, {"do": "screenshot", "file": "pin.png"},
+        {"do": "key", "key": "F1"}, {"do": "screenshot", "file": "clean.png"},
+        {"do": "key", "key": "Ctrl+S"}, {"do": "key", "key": "F1"},
+        {"do": "click", "item": "Delete##pin0"},
+        {"do": "settle"}, {"do": "screenshot", "file": "deleted.png"},
+        {"do": "click", "item": "Place pin"}, {"do": "key", "key": "Escape"},
+        {"do": "settle"}, {"do": "quit"}])",
+                             ORBIS_DEFAULT_SCENE, "--save-to \"" + (dir / "pins.json").string() + "\"");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("wrote"), std::string::npos);
+    const ImageRgba8 none = shot(dir / "none.png"), pin = shot(dir / "pin.png"), deleted = shot(dir / "deleted.png");
+    EXPECT_TRUE(matchesGolden(pin, "viewer_pin"));
+    EXPECT_GT(countDifferentPixels(none, pin, 8), size_t(600)) << "no pin drawn";
+
+    // The pin went into the saved scene at the point clicked: the centre of the default view
+    // looks at lon 5, lat 28; 10 px left and 30 px below it is a little west and south.
+    std::ifstream in(dir / "pins.json");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::regex pinRe(R"re("lat": ([-0-9.e]+),\s*"lon": ([-0-9.e]+),\s*"name": "Pin 1")re");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(text, m, pinRe)) << text;
+    const double lat = std::stod(m[1]), lon = std::stod(m[2]);
+    EXPECT_GT(lat, 15.0);
+    EXPECT_LT(lat, 28.0);
+    EXPECT_GT(lon, -3.0);
+    EXPECT_LT(lon, 5.0);
+    const ViewerRun render = shell("XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp} VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json " +
+                                   std::string(ORBIS_BINARY) + " render '" + (dir / "pins.json").string() + "' -o '" +
+                                   (dir / "rendered.png").string() + "' --size 960x540 --device cpu --validation");
+    ASSERT_EQ(render.exitCode, 0) << render.output;
+    EXPECT_TRUE(imagesAgree(shot(dir / "clean.png"), shot(dir / "rendered.png"), "viewer_pin_saved", 24, 960 * 540 / 200));
+    // Deleted: the picture of the start again, but for the status line.
+    EXPECT_LT(countDifferentPixels(none, deleted, 8), size_t(960 * 24));
 }
 
 TEST(Viewer, SleepsWhenIdle) {
