@@ -70,6 +70,13 @@ Result<std::vector<ScriptStep>> readInputScript(const std::filesystem::path& fil
         if (op == "drag") {
             s.kind = ScriptStep::Kind::Drag;
             if (!point("from", s.from) || !point("to", s.to)) return Error{where + ": drag needs \"from\" and \"to\": [x, y] pixels"};
+            if (j.contains("item")) {
+                if (!j["item"].is_string()) return Error{where + ": \"item\" is a panel item's label"};
+                s.item = j["item"].get<std::string>();
+                for (double v : {s.from[0], s.from[1], s.to[0], s.to[1]})
+                    if (v < 0.0 || v > 1.0)
+                        return Error{where + ": with \"item\", \"from\" and \"to\" are fractions of the item (0 to 1)"};
+            }
             if (j.contains("button")) {
                 if (!j["button"].is_string()) return Error{where + ": \"button\" is left, right or middle"};
                 s.button = j["button"].get<std::string>();

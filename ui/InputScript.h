@@ -5,6 +5,8 @@
 //
 // [
 //   {"do": "drag", "button": "left", "from": [640, 360], "to": [700, 360], "frames": 8},
+//   {"do": "drag", "item": "opacity##Plume", "from": [0.8, 0.9], "to": [0.8, 0.2]},
+//                                                 (on a panel item: fractions of its rectangle)
 //   {"do": "scroll", "at": [640, 360], "lines": -3},
 //   {"do": "key", "key": "Home"},                 (also W A S D Q E R F, arrows, PageUp/Down,
 //                                                  F1, F12, Ctrl+S, Escape; "frames": held that long)
@@ -35,7 +37,8 @@ struct ScriptStep {
     int frames = 1;                   ///< Drag: frames the move takes; Key: frames held
     double lines = 0.0;               ///< Scroll: + up (zoom in), - down
     std::string key;                  ///< Key
-    std::string item;                 ///< Click: an item label the panels remember, instead of `at`
+    std::string item;                 ///< Click: an item label the panels remember, instead of `at`;
+                                      ///< Drag: `from` and `to` are fractions of that item
     std::filesystem::path file;       ///< Screenshot: absolute
     double seconds = 0.0;             ///< Idle
 };

@@ -3,12 +3,14 @@
 #include "engine/core/TimeFormat.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/Scene.h"
+#include "ui/input/CurveEdit.h"
 
 #include <imgui.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <utility>
 
 namespace orbis::ui {
@@ -29,8 +31,82 @@ std::string distance(double metres) {
     return text;
 }
 
+/// A curve over a colour strip (a transfer function's opacity): click to add a point, drag a
+/// point to move it, right-click a point to remove it. True when the layer took a change.
+bool curveWidget(scene::Layer& layer, const scene::LayerSetting& s, const std::string& label,
+                 const std::function<void()>& remember) {
+    const float k = ImGui::GetIO().FontGlobalScale;
+    ImGui::TextUnformatted(s.label.c_str());
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    const ImVec2 size(std::max(ImGui::GetContentRegionAvail().x, 40.0f * k), 70.0f * k);
+    const ImGuiID id = ImGui::GetID(label.c_str());
+    ImGui::InvisibleButton(label.c_str(), size, ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight);
+    remember();
+    const CurveFrame frame{s.min, s.max, {origin.x, origin.y}, {size.x, size.y}};
+    const glm::dvec2 mouse(ImGui::GetIO().MousePos.x, ImGui::GetIO().MousePos.y);
+    const double reach = 7.0 * k;
+
+    std::vector<glm::dvec2> points = s.points;
+    ImGuiStorage* storage = ImGui::GetStateStorage();
+    int dragging = storage->GetInt(id, -1);
+    bool changed = false;
+    if (ImGui::IsItemActivated() && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
+        if (auto hit = pointUnder(points, frame, mouse, reach)) {
+            dragging = int(*hit);
+        } else {
+            dragging = int(insertPoint(points, pixelsToCurve(frame, mouse)));
+            changed = true;
+        }
+    } else if (ImGui::IsItemActive() && dragging >= 0 && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 0.0f)) {
+        changed = movePoint(points, size_t(dragging), pixelsToCurve(frame, mouse));
+    }
+    if (!ImGui::IsItemActive()) dragging = -1;
+    if (ImGui::IsItemHovered() && ImGui::IsMouseClicked(ImGuiMouseButton_Right))
+        if (auto hit = pointUnder(points, frame, mouse, reach)) changed = removePoint(points, *hit) || changed;
+    storage->SetInt(id, dragging);
+    if (ImGui::IsItemHovered() && dragging < 0)
+        ImGui::SetTooltip("click: add a point   drag: move it   right-click: remove it\nvalue %.4g  alpha %.3f",
+                          pixelsToCurve(frame, mouse).x, pixelsToCurve(frame, mouse).y);
+
+    // The colour map behind, the curve (flat beyond its ends) and its handles.
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    const ImVec2 end(origin.x + size.x, origin.y + size.y);
+    const size_t n = s.gradient.size();
+    for (size_t i = 0; i < n; ++i) {
+        const glm::vec3& c = s.gradient[i];
+        dl->AddRectFilled(ImVec2(origin.x + size.x * float(i) / float(n), origin.y),
+                          ImVec2(origin.x + size.x * float(i + 1) / float(n), end.y),
+                          ImGui::GetColorU32(ImVec4(c.r, c.g, c.b, 1.0f)));
+    }
+    if (n == 0) dl->AddRectFilled(origin, end, IM_COL32(40, 40, 40, 255));
+    dl->AddRect(origin, end, IM_COL32(200, 200, 200, 255));
+    if (!points.empty()) {
+        std::vector<ImVec2> line;
+        const glm::dvec2 first = curveToPixels(frame, points.front()), last = curveToPixels(frame, points.back());
+        line.emplace_back(origin.x, float(first.y));
+        for (const glm::dvec2& p : points) {
+            const glm::dvec2 px = curveToPixels(frame, p);
+            line.emplace_back(float(px.x), float(px.y));
+        }
+        line.emplace_back(end.x, float(last.y));
+        dl->PushClipRect(origin, end, true);
+        dl->AddPolyline(line.data(), int(line.size()), IM_COL32(0, 0, 0, 255), 0, 3.0f * k);
+        dl->AddPolyline(line.data(), int(line.size()), IM_COL32(255, 255, 255, 255), 0, 1.5f * k);
+        for (size_t i = 0; i < points.size(); ++i) {
+            const glm::dvec2 px = curveToPixels(frame, points[i]);
+            dl->AddCircleFilled(ImVec2(float(px.x), float(px.y)), 4.0f * k,
+                                int(i) == dragging ? IM_COL32(255, 200, 60, 255) : IM_COL32(255, 255, 255, 255));
+            dl->AddCircle(ImVec2(float(px.x), float(px.y)), 4.0f * k, IM_COL32(0, 0, 0, 255));
+        }
+        dl->PopClipRect();
+    }
+    return changed && layer.setCurve(s.name, points);
+}
+
 /// One generic widget per live setting; true when the user changed it.
-bool settingWidget(scene::Layer& layer, const scene::LayerSetting& s, const std::string& id) {
+/// `remember` notes the last item for scripts, as "<setting>##<resource>".
+bool settingWidget(scene::Layer& layer, const scene::LayerSetting& s, const std::string& id,
+                   const std::function<void()>& remember) {
     using Kind = scene::LayerSetting::Kind;
     const std::string label = s.label + "##" + id + s.name;
     switch (s.kind) {
@@ -62,6 +138,7 @@ bool settingWidget(scene::Layer& layer, const scene::LayerSetting& s, const std:
             }
             return changed;
         }
+        case Kind::Curve: return curveWidget(layer, s, label, remember);
     }
     return false;
 }
@@ -70,12 +147,12 @@ bool settingWidget(scene::Layer& layer, const scene::LayerSetting& s, const std:
 
 void Panels::remember(const std::string& label) {
     const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
-    items_.push_back({label, 0.5f * (a.x + b.x), 0.5f * (a.y + b.y)});
+    items_.push_back({label, {a.x, a.y, b.x, b.y}});
 }
 
-std::optional<std::pair<float, float>> Panels::itemCentre(const std::string& label) const {
+std::optional<std::array<float, 4>> Panels::itemRect(const std::string& label) const {
     for (const Item& i : items_)
-        if (i.label == label) return std::make_pair(i.x, i.y);
+        if (i.label == label) return i.rect;
     return std::nullopt;
 }
 
@@ -156,7 +233,8 @@ void Panels::resourcesPanel(scene::Scene& scene, PanelActions& actions) {
                 if (!status.empty()) ImGui::TextWrapped("%s", status.c_str());
                 if (r.layer->busy()) ImGui::TextColored(ImVec4(0.9f, 0.7f, 0.2f, 1.0f), "loading...");
                 for (const scene::LayerSetting& setting : r.layer->liveSettings())
-                    if (settingWidget(*r.layer, setting, r.name)) actions.changed = true;
+                    if (settingWidget(*r.layer, setting, r.name, [&] { remember(setting.name + "##" + r.name); }))
+                        actions.changed = true;
             }
             ImGui::TreePop();
         }

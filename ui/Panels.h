@@ -9,6 +9,7 @@
 #include "engine/gpu/GpuTimer.h"
 #include "globe/Viewpoint.h"
 
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -71,9 +72,10 @@ public:
         if (placed) pinName_[0] = '\0';
     }
 
-    /// Where ImGui drew the item with this label in the last frame, in window pixels (centre);
-    /// scripted input clicks there ("Visible##Terrain").
-    std::optional<std::pair<float, float>> itemCentre(const std::string& label) const;
+    /// Where ImGui drew the item with this label in the last frame, in window pixels: its
+    /// rectangle (min x, min y, max x, max y). Scripted input clicks and drags there
+    /// ("Visible##Terrain", "opacity##Plume" for a curve editor).
+    std::optional<std::array<float, 4>> itemRect(const std::string& label) const;
 
 private:
     void resourcesPanel(scene::Scene& scene, PanelActions& actions);
@@ -91,7 +93,7 @@ private:
     std::deque<float> history_;   ///< frame ms, newest last
     struct Item {
         std::string label;
-        float x, y;
+        std::array<float, 4> rect;
     };
     std::vector<Item> items_;
 };

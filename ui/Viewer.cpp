@@ -314,10 +314,25 @@ int runViewer(const ViewerOptions& options) {
                     script->mouse = at;
                     events.push_back(MouseMoveEvent{at});
                 };
-                const glm::dvec2 from(step.from[0], step.from[1]), to(step.to[0], step.to[1]);
                 bool finished = true;
                 // Pointer steps move the mouse on their first frame and act from the next, as a hand
                 // does: ImGui decides whether it owns the mouse from where it was last frame.
+                // A step on a panel item: its rectangle, or a clear error when the panels show none.
+                auto itemRect = [&](const std::string& label) {
+                    auto r = panels.itemRect(label);
+                    if (!r)
+                        std::fprintf(stderr, "orbis: %s: the panels show no item \"%s\"\n", options.script.string().c_str(),
+                                     label.c_str());
+                    return r;
+                };
+                glm::dvec2 from(step.from[0], step.from[1]), to(step.to[0], step.to[1]);
+                if (step.kind == ScriptStep::Kind::Drag && !step.item.empty()) {   // fractions of the item
+                    const auto r = itemRect(step.item);
+                    if (!r) return 1;
+                    const glm::dvec2 lo((*r)[0], (*r)[1]), size((*r)[2] - (*r)[0], (*r)[3] - (*r)[1]);
+                    from = lo + from * size;
+                    to = lo + to * size;
+                }
                 switch (step.kind) {
                     case ScriptStep::Kind::Drag: {
                         const MouseButton b = step.button == "right" ? MouseButton::Right
@@ -369,13 +384,9 @@ int runViewer(const ViewerOptions& options) {
                     case ScriptStep::Kind::Click: {
                         glm::dvec2 at = from;
                         if (!step.item.empty()) {
-                            auto c = panels.itemCentre(step.item);
-                            if (!c) {
-                                std::fprintf(stderr, "orbis: %s: the panels show no item \"%s\"\n",
-                                             options.script.string().c_str(), step.item.c_str());
-                                return 1;
-                            }
-                            at = {c->first, c->second};
+                            const auto r = itemRect(step.item);
+                            if (!r) return 1;
+                            at = {0.5 * ((*r)[0] + (*r)[2]), 0.5 * ((*r)[1] + (*r)[3])};
                         }
                         // Down on one frame, up on the next, as ImGui needs to see a click.
                         if (f == 0) moveTo(at);

@@ -100,6 +100,7 @@ struct LayerSetting {
         Integer,   ///< the same, whole numbers
         Toggle,    ///< setParameter(name, 0 or 1); written to the scene as true/false
         Choice,    ///< setOption(name, one of choices)
+        Curve,     ///< setCurve(name, points): piecewise linear, x over [min, max], y in 0..1
     };
     std::string name;
     std::string label;         ///< for the panel ("Screen-space error (px)")
@@ -109,6 +110,8 @@ struct LayerSetting {
     bool logarithmic = false;  ///< a slider over orders of magnitude (budgets, errors)
     std::string choice;        ///< Choice: the current one
     std::vector<std::string> choices;
+    std::vector<glm::dvec2> points;   ///< Curve: its control points, sorted by x
+    std::vector<glm::vec3> gradient;  ///< Curve: linear RGB along [min, max] to draw behind it
 };
 
 class Layer {
@@ -152,6 +155,10 @@ public:
     /// Sets a named setting given as text (a colour map's name, ...), live. False when the
     /// layer has no such setting or the value is not one of its choices.
     virtual bool setOption(std::string_view /*name*/, std::string_view /*value*/) { return false; }
+    /// Sets a curve setting (LayerSetting::Kind::Curve: a transfer function's opacity) to these
+    /// control points, live. False when the layer has no such setting or the points are not
+    /// valid for it (the setting is then unchanged).
+    virtual bool setCurve(std::string_view /*name*/, const std::vector<glm::dvec2>& /*points*/) { return false; }
     /// The settings setParameter/setOption take, with their current values, for the viewer's
     /// panel and for saving the scene. Empty for layers without live settings.
     virtual std::vector<LayerSetting> liveSettings() const { return {}; }

@@ -63,6 +63,11 @@ nlohmann::json settingValue(const LayerSetting& s) {
         case LayerSetting::Kind::Integer: return static_cast<long long>(std::llround(s.value));
         case LayerSetting::Kind::Toggle: return s.value != 0.0;
         case LayerSetting::Kind::Choice: return s.choice;
+        case LayerSetting::Kind::Curve: {   // [[x, y], ...]
+            nlohmann::json points = nlohmann::json::array();
+            for (const glm::dvec2& p : s.points) points.push_back({p.x, p.y});
+            return points;
+        }
         case LayerSetting::Kind::Number: break;
     }
     return s.value;

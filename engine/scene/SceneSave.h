@@ -38,7 +38,8 @@ Result<void> saveScene(const Scene& scene, const std::filesystem::path& file);
 
 /// Writes each setting into `layer` (a layer's object in a scene file) in the form the layer's
 /// scene keys take: a setting's name is its key (Layer.h; Toggle as true/false, Integer as a
-/// whole number, Choice as its text), except these, which are elements of a key's array:
+/// whole number, Choice as its text, Curve as [[x, y], ...]), except these, which are
+/// elements of a key's array:
 ///   "rangeMin", "rangeMax"  ->  "range": [rangeMin, rangeMax]
 ///   "isovalue<i>"           ->  "isovalues"[i]
 ///   "slice<i>"              ->  "slices"[i]'s one value ({"lon" | "lat" | "height": value})

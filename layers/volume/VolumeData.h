@@ -66,6 +66,9 @@ std::vector<uint32_t> brickOccupancy(const BrickGrid& grid, const std::vector<st
 bool hasColorMap(const std::string& name);
 std::vector<std::string> colorMapNames();
 
+/// Opacity control points a transfer function may have (the scene file and the editor).
+constexpr size_t kMaxOpacityPoints = 256;
+
 struct OpacityPoint {
     double value;   ///< data units
     double alpha;   ///< 0..1, per unit of "reference step" (see VolumeSettings)

@@ -584,6 +584,16 @@ std::vector<scene::LayerSetting> VolumeLayer::liveSettings() const {
         out.push_back({.name = "slice" + std::to_string(i), .label = "Slice " + std::to_string(i + 1) + what,
                        .kind = Kind::Number, .value = sl.value, .min = a, .max = b});
     }
+    // The opacity curve over the colour range, drawn on the colour map (the transfer table's
+    // colours; an empty list is the default ramp).
+    scene::LayerSetting curve{.name = "opacity", .label = "Opacity (value, alpha)", .kind = Kind::Curve};
+    if (t.opacity.empty()) curve.points = {{t.rangeMin, 0.0}, {t.rangeMax, 1.0}};
+    for (const OpacityPoint& p : t.opacity) curve.points.push_back({p.value, p.alpha});
+    curve.min = std::min(t.rangeMin, curve.points.front().x);
+    curve.max = std::max(t.rangeMax, curve.points.back().x);
+    if (auto table = buildTransferTable(TransferFunctionDesc{t.colorMap, curve.min, curve.max, {}, 1.0}, 64))
+        for (const auto& c : *table) curve.gradient.push_back({c[0], c[1], c[2]});
+    out.push_back(std::move(curve));
     if (!settings_.slices.empty())
         out.push_back({.name = "sliceOpacity", .label = "Slice opacity", .kind = Kind::Number,
                        .value = settings_.sliceOpacity, .min = 0.0, .max = 1.0});
@@ -613,6 +623,19 @@ void VolumeLayer::updateOccupancy() {
 bool VolumeLayer::setOption(std::string_view name, std::string_view value) {
     if (name != "colorMap" || !hasColorMap(std::string(value))) return false;
     settings_.transfer.colorMap = std::string(value);
+    transferDirty_ = true;
+    return true;
+}
+
+bool VolumeLayer::setCurve(std::string_view name, const std::vector<glm::dvec2>& points) {
+    if (name != "opacity" || points.empty() || points.size() > kMaxOpacityPoints) return false;
+    std::vector<OpacityPoint> opacity;
+    for (const glm::dvec2& p : points) {
+        if (!std::isfinite(p.x) || !(p.y >= 0.0 && p.y <= 1.0)) return false;
+        opacity.push_back({p.x, p.y});
+    }
+    std::stable_sort(opacity.begin(), opacity.end(), [](const OpacityPoint& a, const OpacityPoint& b) { return a.value < b.value; });
+    settings_.transfer.opacity = std::move(opacity);
     transferDirty_ = true;
     return true;
 }

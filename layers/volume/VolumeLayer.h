@@ -111,6 +111,8 @@ public:
     bool setParameter(std::string_view name, double value) override;
     /// "colorMap": one of colorMapNames() (rebuilds the 256-entry table).
     bool setOption(std::string_view name, std::string_view value) override;
+    /// "opacity": the transfer function's opacity control points, (value, alpha).
+    bool setCurve(std::string_view name, const std::vector<glm::dvec2>& points) override;
     /// Every setting above that the scene uses (one "isovalueN" per isovalue, one "sliceN" per
     /// slice). Most are the scene file's keys; "rangeMin"/"rangeMax", "isovalueN" and "sliceN"
     /// are elements of "range", "isovalues" and "slices", which the scene saver maps

@@ -231,7 +231,10 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
         }
     }
     if (const nlohmann::json* points = r.array("opacity")) {
+        if (points->size() > kMaxOpacityPoints)
+            r.fail("opacity", "at most " + std::to_string(kMaxOpacityPoints) + " points, got " + std::to_string(points->size()));
         for (const auto& p : *points) {
+            if (points->size() > kMaxOpacityPoints) break;
             if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number() || p[1].get<double>() < 0.0 ||
                 p[1].get<double>() > 1.0) {
                 r.fail("opacity", "each point is [value, alpha] with alpha in 0..1");

@@ -86,6 +86,26 @@ void expectEverySettingRoundTrips(scene::Layer& layer) {
                 EXPECT_DOUBLE_EQ(current(layer, s.name)->value, s.value);
                 break;
             }
+            case Kind::Curve: {
+                EXPECT_LT(s.min, s.max);
+                ASSERT_GE(s.points.size(), 1u);
+                for (size_t i = 1; i < s.points.size(); ++i) EXPECT_LE(s.points[i - 1].x, s.points[i].x);
+                for (const glm::dvec2& p : s.points) EXPECT_TRUE(p.y >= 0.0 && p.y <= 1.0) << p.y;
+                const double mid = 0.5 * (s.min + s.max);
+                const std::vector<glm::dvec2> tent = {{s.min, 0.0}, {mid, 0.8}, {s.max, 0.1}};
+                EXPECT_TRUE(layer.setCurve(s.name, tent));
+                EXPECT_EQ(current(layer, s.name)->points, tent);
+                // Out of order: sorted; alpha outside 0..1, NaN, or no point: refused, unchanged.
+                EXPECT_TRUE(layer.setCurve(s.name, {{s.max, 0.5}, {s.min, 0.25}}));
+                EXPECT_EQ(current(layer, s.name)->points, (std::vector<glm::dvec2>{{s.min, 0.25}, {s.max, 0.5}}));
+                EXPECT_FALSE(layer.setCurve(s.name, {{s.min, 1.5}}));
+                EXPECT_FALSE(layer.setCurve(s.name, {{std::nan(""), 0.5}}));
+                EXPECT_FALSE(layer.setCurve(s.name, {}));
+                EXPECT_FALSE(layer.setCurve("no-such-curve", tent));
+                EXPECT_TRUE(layer.setCurve(s.name, s.points));
+                EXPECT_EQ(current(layer, s.name)->points, s.points);
+                break;
+            }
         }
     }
 }
@@ -126,7 +146,7 @@ TEST_F(LiveSettings, VolumeListsOneSettingPerIsovalueAndSlice) {
         "mode": ["dvr", "iso", "slice"], "isovalues": [3, 6], "slices": [{"lon": 5}, {"lat": 45}, {"height": 1000}]})");
     EXPECT_EQ(names(layer), (std::vector<std::string>{"steps", "opacityScale", "opacityUnit", "rangeMin", "rangeMax",
                                                       "colorMap", "emptySkipping", "isovalue0", "isovalue1", "isoOpacity",
-                                                      "slice0", "slice1", "slice2", "sliceOpacity"}));
+                                                      "slice0", "slice1", "slice2", "opacity", "sliceOpacity"}));
     const auto map = current(layer, "colorMap");
     EXPECT_EQ(map->choice, "magma");
     EXPECT_EQ(map->choices, layers::colorMapNames());
@@ -148,7 +168,7 @@ TEST_F(LiveSettings, VolumeListsOneSettingPerIsovalueAndSlice) {
 TEST_F(LiveSettings, VolumeWithoutIsoOrSlicesListsNeither) {
     auto& layer = load(R"({"type": "volume", "synthetic": {"field": "waves", "size": [8, 8, 8]}})");
     EXPECT_EQ(names(layer), (std::vector<std::string>{"steps", "opacityScale", "opacityUnit", "rangeMin", "rangeMax",
-                                                      "colorMap", "emptySkipping"}));
+                                                      "colorMap", "emptySkipping", "opacity"}));
     EXPECT_FALSE(layer.setParameter("isovalue0", 1.0));
     expectEverySettingRoundTrips(layer);
 }

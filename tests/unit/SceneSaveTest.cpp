@@ -83,8 +83,10 @@ TEST(SceneLiveSettings, EachKindIsWrittenAsTheSceneReadsIt) {
                               {.name = "steps", .kind = Kind::Integer, .value = 199.9999999},
                               {.name = "edl", .kind = Kind::Toggle, .value = 1.0},
                               {.name = "footprint", .kind = Kind::Toggle, .value = 0.0},
-                              {.name = "colorMap", .kind = Kind::Choice, .choice = "magma"}});
+                              {.name = "colorMap", .kind = Kind::Choice, .choice = "magma"},
+                              {.name = "transfer", .kind = Kind::Curve, .points = {{2.0, 0.0}, {5.5, 0.75}}}});
     EXPECT_EQ(layer["opacity"], 0.25);
+    EXPECT_EQ(layer["transfer"], nlohmann::json::parse("[[2.0, 0.0], [5.5, 0.75]]"));
     ASSERT_TRUE(layer["steps"].is_number_integer());
     EXPECT_EQ(layer["steps"], 200);
     EXPECT_EQ(layer["edl"], true);

@@ -183,6 +183,35 @@ TEST(Viewer, PlacesDeletesAndSavesPins) {
     EXPECT_LT(countDifferentPixels(none, deleted, 8), size_t(960 * 24));
 }
 
+TEST(Viewer, TransferFunctionEditorChangesTheVolume) {
+    REQUIRE_XVFB();
+    const fs::path dir = workDir("transfer");
+    std::ofstream(dir / "volume.json") << R"({
+      "viewpoint": {"lon": 0, "lat": 50, "height": 400000, "heading": 0, "pitch": -40, "range": 4200000},
+      "time": {"start": "2026-06-21T12:00:00Z", "end": "2026-06-21T12:00:00Z"},
+      "layers": [{"type": "globe", "name": "Earth"},
+        {"type": "volume", "name": "Waves", "steps": 64, "colorMap": "magma", "range": [-1, 1],
+         "synthetic": {"field": "waves", "size": [32, 32, 32], "lon": [-10, 10], "lat": [40, 60], "height": [0, 800000]},
+         "opacity": [[-1, 0.0], [0.2, 0.0], [0.6, 0.15], [1, 0.6]]}]})";
+    // The point (0.6, 0.15) sits at 80 % across and 85 % down the editor (x over [-1, 1], alpha
+    // 0..1 upward): drag it up and left.
+    const ViewerRun r = view(dir, R"([
+        {"do": "settle"}, {"do": "screenshot", "file": "before.png"},
+        {"do": "drag", "item": "opacity##Waves", "from": [0.8, 0.85], "to": [0.7, 0.25], "frames": 4},
+        {"do": "settle"}, {"do": "screenshot", "file": "after.png"},
+        {"do": "key", "key": "Ctrl+S"}, {"do": "quit"}])",
+                             (dir / "volume.json").string(), "--save-to \"" + (dir / "saved.json").string() + "\"");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const ImageRgba8 before = shot(dir / "before.png"), after = shot(dir / "after.png");
+    EXPECT_TRUE(matchesGolden(after, "viewer_transfer_function"));
+    EXPECT_GT(countDifferentPixels(before, after, 8), size_t(20000)) << "more opacity should show in the volume";
+    std::ifstream in(dir / "saved.json");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // The moved point: x from 0.6 to about 0.4, alpha from 0.15 to about 0.75; the others stay.
+    const std::regex moved(R"re("opacity": \[\s*\[\s*-1\.0,\s*0\.0\s*\],\s*\[\s*0\.2,\s*0\.0\s*\],\s*\[\s*0\.(3[6-9]|4[0-4])[0-9]*,\s*0\.(7[0-9])[0-9]*\s*\],\s*\[\s*1\.0,\s*0\.6\s*\]\s*\])re");
+    EXPECT_TRUE(std::regex_search(text, moved)) << text;
+}
+
 TEST(Viewer, SleepsWhenIdle) {
     REQUIRE_XVFB();
     const fs::path dir = workDir("idle");
