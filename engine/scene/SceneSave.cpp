@@ -58,6 +58,12 @@ std::optional<size_t> indexAfter(std::string_view name, std::string_view prefix)
     return i;
 }
 
+/// The imagery layer an "imageryOpacity<i>" or "imageryVisible<i>" setting is about.
+std::optional<size_t> imageryIndex(std::string_view name) {
+    if (auto i = indexAfter(name, "imageryOpacity")) return i;
+    return indexAfter(name, "imageryVisible");
+}
+
 nlohmann::json settingValue(const LayerSetting& s) {
     switch (s.kind) {
         case LayerSetting::Kind::Integer: return static_cast<long long>(std::llround(s.value));
@@ -98,6 +104,14 @@ void writeLiveSettings(nlohmann::json& layer, const std::vector<LayerSetting>& s
             nlohmann::json& range = layer["range"];
             if (!range.is_array() || range.size() != 2) range = nlohmann::json::array({value, value});
             range[s.name == "rangeMin" ? 0 : 1] = value;
+        } else if (const auto i = imageryIndex(s.name)) {
+            // "imagery"[i]: a file name becomes {"path": name} to take the key.
+            const auto list = layer.find("imagery");
+            if (list != layer.end() && list->is_array() && *i < list->size()) {
+                nlohmann::json& entry = (*list)[*i];
+                if (entry.is_string()) entry = nlohmann::json{{"path", entry}};
+                if (entry.is_object()) entry[s.name.starts_with("imageryOpacity") ? "opacity" : "visible"] = value;
+            }
         } else if (const auto i = indexAfter(s.name, "isovalue")) {
             // The layer lists one setting per element the scene gave: the element exists.
             const auto list = layer.find("isovalues");

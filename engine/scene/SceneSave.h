@@ -43,6 +43,8 @@ Result<void> saveScene(const Scene& scene, const std::filesystem::path& file);
 ///   "rangeMin", "rangeMax"  ->  "range": [rangeMin, rangeMax]
 ///   "isovalue<i>"           ->  "isovalues"[i]
 ///   "slice<i>"              ->  "slices"[i]'s one value ({"lon" | "lat" | "height": value})
+///   "imageryOpacity<i>"     ->  "imagery"[i]'s "opacity" (a file name becomes {"path": ...})
+///   "imageryVisible<i>"     ->  "imagery"[i]'s "visible"
 void writeLiveSettings(nlohmann::json& layer, const std::vector<LayerSetting>& settings);
 
 /// `path` as written in a scene file in `fromFolder`, rewritten so that it names the same file

@@ -641,17 +641,45 @@ bool TerrainLayer::setParameter(std::string_view name, double value) {
         settings_.verticalExaggeration = value;
         return true;
     }
+    // Imagery layer i (the scene's "imagery"[i]): its opacity over the layers under it, and
+    // whether it is drawn (and loaded) at all.
+    const auto imageryIndex = [&](std::string_view prefix) -> std::optional<size_t> {
+        if (name.size() <= prefix.size() || name.substr(0, prefix.size()) != prefix) return std::nullopt;
+        size_t i = 0;
+        for (char c : name.substr(prefix.size())) {
+            if (c < '0' || c > '9' || i > settings_.imagery.size()) return std::nullopt;
+            i = i * 10 + size_t(c - '0');
+        }
+        return i < settings_.imagery.size() ? std::optional<size_t>(i) : std::nullopt;
+    };
+    if (const auto i = imageryIndex("imageryOpacity"); i && value >= 0.0 && value <= 1.0) {
+        settings_.imagery[*i].opacity = value;
+        return true;
+    }
+    if (const auto i = imageryIndex("imageryVisible"); i && (value == 0.0 || value == 1.0)) {
+        settings_.imagery[*i].visible = value != 0.0;
+        return true;
+    }
     return false;
 }
 
 std::vector<scene::LayerSetting> TerrainLayer::liveSettings() const {
     using Kind = scene::LayerSetting::Kind;
-    return {
+    std::vector<scene::LayerSetting> out = {
         {.name = "maxScreenSpaceError", .label = "Screen-space error (px)", .kind = Kind::Number,
          .value = settings_.maxScreenSpaceError, .min = 0.25, .max = 1000.0, .logarithmic = true},
         {.name = "verticalExaggeration", .label = "Vertical exaggeration", .kind = Kind::Number,
          .value = settings_.verticalExaggeration, .min = 0.0, .max = 1000.0, .logarithmic = true},
     };
+    for (size_t i = 0; i < settings_.imagery.size(); ++i) {
+        const ImageryLayerSettings& l = settings_.imagery[i];
+        const std::string name = l.name.empty() ? "Imagery " + std::to_string(i + 1) : l.name;
+        out.push_back({.name = "imageryVisible" + std::to_string(i), .label = name, .kind = Kind::Toggle,
+                       .value = l.visible ? 1.0 : 0.0});
+        out.push_back({.name = "imageryOpacity" + std::to_string(i), .label = name + " opacity", .kind = Kind::Number,
+                       .value = l.opacity, .min = 0.0, .max = 1.0});
+    }
+    return out;
 }
 
 bool TerrainLayer::busy() const { return (model_ && model_->loading()) || deferred_; }

@@ -127,6 +127,18 @@ protected:
     std::unique_ptr<scene::Scene> scene_;
 };
 
+TEST_F(LiveSettings, TerrainListsEachImageryLayersVisibilityAndOpacity) {
+    auto& layer = load(R"({"type": "terrain", "elevation": [)" + jsonString(terrainFixtures().dem) +
+                       R"(], "imagery": [{"name": "Base", "path": )" + jsonString(terrainFixtures().image) +
+                       R"(}, {"path": )" + jsonString(terrainFixtures().image) + R"(, "opacity": 0.4, "visible": false}]})");
+    EXPECT_EQ(names(layer), (std::vector<std::string>{"maxScreenSpaceError", "verticalExaggeration", "imageryVisible0",
+                                                      "imageryOpacity0", "imageryVisible1", "imageryOpacity1"}));
+    EXPECT_EQ(current(layer, "imageryOpacity0")->label, "Base opacity");
+    EXPECT_EQ(current(layer, "imageryOpacity1")->value, 0.4);
+    EXPECT_EQ(current(layer, "imageryVisible1")->value, 0.0);
+    expectEverySettingRoundTrips(layer);
+}
+
 TEST_F(LiveSettings, TerrainListsErrorAndExaggeration) {
     auto& layer = load(R"({"type": "terrain", "elevation": [)" + jsonString(terrainFixtures().dem) +
                        R"(], "maxScreenSpaceError": 4, "verticalExaggeration": 2})");

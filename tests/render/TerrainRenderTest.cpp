@@ -489,6 +489,20 @@ TEST_F(TerrainRender, ImageryLayersBlendInOrderWithOpacityAndVisibility) {
               0);
     // Order matters: blue under red at full opacity is red.
     EXPECT_LE(maxDifference(renderWith(R"({"path": )" + blue + R"(}, {"path": )" + red + "}"), redOnly), 0);
+
+    // The same changes live, as the viewer's panel makes them (one setting per imagery layer).
+    auto live = load(terrainScene(R"({"lon": 20, "lat": 10, "range": 12000000})",
+                                  R"({"type": "terrain", "name": "Blend", "sky": false, "imagery": [{"path": )" + red +
+                                      R"(}, {"path": )" + blue + "}]}",
+                                  kDark));
+    ASSERT_TRUE(live);
+    scene::Layer& terrain = *live->find("Blend")->layer;
+    ASSERT_TRUE(terrain.setParameter("imageryOpacity1", 0.5));
+    EXPECT_LE(maxDifference(render(*live), reference), 2);
+    ASSERT_TRUE(terrain.setParameter("imageryVisible1", 0.0));
+    EXPECT_LE(maxDifference(render(*live), redOnly), 0);
+    EXPECT_FALSE(terrain.setParameter("imageryOpacity2", 0.5)) << "there is no third layer";
+    EXPECT_FALSE(terrain.setParameter("imageryOpacity0", 1.5));
     fs::remove_all(dir);
 }
 

@@ -95,6 +95,17 @@ TEST(SceneLiveSettings, EachKindIsWrittenAsTheSceneReadsIt) {
     EXPECT_EQ(layer["keep"], "me");
 }
 
+TEST(SceneLiveSettings, ImageryLayersTakeTheirOpacityAndVisibility) {
+    nlohmann::json layer = {{"imagery", {"a.tif", {{"path", "b.tif"}, {"opacity", 1.0}}}}};
+    writeLiveSettings(layer, {{.name = "imageryOpacity0", .kind = Kind::Number, .value = 0.25},
+                              {.name = "imageryVisible0", .kind = Kind::Toggle, .value = 1.0},
+                              {.name = "imageryOpacity1", .kind = Kind::Number, .value = 0.5},
+                              {.name = "imageryVisible1", .kind = Kind::Toggle, .value = 0.0},
+                              {.name = "imageryOpacity7", .kind = Kind::Number, .value = 0.5}});
+    EXPECT_EQ(layer["imagery"], nlohmann::json::parse(R"([{"path": "a.tif", "opacity": 0.25, "visible": true},
+                                                         {"path": "b.tif", "opacity": 0.5, "visible": false}])"));
+}
+
 TEST(SceneLiveSettings, VolumeArrayElementsAreMapped) {
     auto layer = nlohmann::json::parse(R"({"isovalues": [1, 2, 3], "slices": [{"lon": 5}, {"height": 1000}],
                                            "sliceOpacity": 1, "isoOpacity": 1})");
