@@ -1,5 +1,9 @@
 #include "layers/models/GltfModel.h"
 
+#include "layers/models/GltfAccessors.h"
+#include "layers/models/GltfAnimation.h"
+#include "layers/models/GltfRig.h"
+
 #include <tiny_gltf.h>
 #include <stb_image.h>
 
@@ -74,21 +78,15 @@ bool readWholeFileBounded(std::vector<unsigned char>* out, std::string* err, con
 
 class Reader {
 public:
-    Reader(const tinygltf::Model& m, std::string file) : m_(m), file_(std::move(file)) {}
+    Reader(const tinygltf::Model& m, std::string file) : m_(m), file_(file), acc_(m, std::move(file)) {}
 
     Result<ModelData> read();
 
 private:
-    std::string where(int accessor, const std::string& what) const {
-        return file_ + ": accessor " + std::to_string(accessor) + " (" + what + ")";
+    std::string where(int accessor, const std::string& what) const { return acc_.where(accessor, what); }
+    Result<std::vector<float>> floats(int accessor, int components, const std::string& what) const {
+        return acc_.floats(accessor, components, what, kMaxGltfVertices);
     }
-    /// Reads `components` numbers per element of `accessor` as floats (normalized integers
-    /// scaled), checking every byte against the buffer. Sparse accessors: the base values.
-    Result<std::vector<float>> floats(int accessor, int components, const std::string& what) const;
-    Result<std::vector<uint32_t>> indices(int accessor, const std::string& what) const;
-    /// The byte span of an accessor's elements, checked.
-    Result<std::pair<const uint8_t*, size_t>> span(int accessor, size_t elementBytes, size_t* stride,
-                                                   const std::string& what) const;
     Result<void> readPrimitive(const tinygltf::Primitive& p, const std::string& meshName, ModelData& out);
     void readMaterials(ModelData& out);
     void readTextures(ModelData& out);
@@ -96,123 +94,13 @@ private:
 
     const tinygltf::Model& m_;
     std::string file_;
+    GltfAccessors acc_;
     std::vector<std::vector<uint32_t>> meshPrimitives_;   // per mesh: our primitive indices
     std::set<std::string> warned_;
     void warnOnce(ModelData& out, const std::string& text) {
         if (warned_.insert(text).second) out.warnings.push_back(text);
     }
 };
-
-int componentCount(int type) {
-    switch (type) {
-        case TINYGLTF_TYPE_SCALAR: return 1;
-        case TINYGLTF_TYPE_VEC2: return 2;
-        case TINYGLTF_TYPE_VEC3: return 3;
-        case TINYGLTF_TYPE_VEC4: return 4;
-        case TINYGLTF_TYPE_MAT2: return 4;
-        case TINYGLTF_TYPE_MAT3: return 9;
-        case TINYGLTF_TYPE_MAT4: return 16;
-        default: return 0;
-    }
-}
-
-int componentBytes(int componentType) {
-    switch (componentType) {
-        case TINYGLTF_COMPONENT_TYPE_BYTE:
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
-        case TINYGLTF_COMPONENT_TYPE_SHORT:
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
-        case TINYGLTF_COMPONENT_TYPE_INT:
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-        case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
-        default: return 0;
-    }
-}
-
-float readComponent(const uint8_t* p, int componentType, bool normalized) {
-    switch (componentType) {
-        case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; std::memcpy(&v, p, 4); return v; }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? float(*p) / 255.0f : float(*p);
-        case TINYGLTF_COMPONENT_TYPE_BYTE: {
-            const float v = float(int8_t(*p));
-            return normalized ? std::max(v / 127.0f, -1.0f) : v;
-        }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-            uint16_t v; std::memcpy(&v, p, 2);
-            return normalized ? float(v) / 65535.0f : float(v);
-        }
-        case TINYGLTF_COMPONENT_TYPE_SHORT: {
-            int16_t v; std::memcpy(&v, p, 2);
-            return normalized ? std::max(float(v) / 32767.0f, -1.0f) : float(v);
-        }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t v; std::memcpy(&v, p, 4); return float(v); }
-        case TINYGLTF_COMPONENT_TYPE_INT: { int32_t v; std::memcpy(&v, p, 4); return float(v); }
-        default: return 0.0f;
-    }
-}
-
-Result<std::pair<const uint8_t*, size_t>> Reader::span(int index, size_t elementBytes, size_t* stride,
-                                                       const std::string& what) const {
-    if (index < 0 || size_t(index) >= m_.accessors.size()) return makeError(where(index, what) + ": no such accessor");
-    const tinygltf::Accessor& a = m_.accessors[size_t(index)];
-    if (a.bufferView < 0 || size_t(a.bufferView) >= m_.bufferViews.size()) {
-        return makeError(where(index, what) + ": has no buffer view (an all-zero or sparse-only accessor is not supported)");
-    }
-    const tinygltf::BufferView& view = m_.bufferViews[size_t(a.bufferView)];
-    if (view.buffer < 0 || size_t(view.buffer) >= m_.buffers.size()) return makeError(where(index, what) + ": its buffer view names no buffer");
-    const tinygltf::Buffer& buffer = m_.buffers[size_t(view.buffer)];
-    const size_t s = view.byteStride ? view.byteStride : elementBytes;
-    if (s < elementBytes) return makeError(where(index, what) + ": byte stride " + std::to_string(s) + " is smaller than an element");
-    *stride = s;
-    if (view.byteOffset > buffer.data.size() || view.byteLength > buffer.data.size() - view.byteOffset) {
-        return makeError(where(index, what) + ": buffer view " + std::to_string(a.bufferView) + " runs past its buffer");
-    }
-    if (a.count == 0) return std::pair<const uint8_t*, size_t>{buffer.data.data() + view.byteOffset, 0};
-    // The last element's end, in overflow-safe arithmetic.
-    const unsigned __int128 end = (unsigned __int128)a.byteOffset + (unsigned __int128)(a.count - 1) * s + elementBytes;
-    if (end > view.byteLength) return makeError(where(index, what) + ": its " + std::to_string(a.count) + " elements run past buffer view " + std::to_string(a.bufferView));
-    return std::pair<const uint8_t*, size_t>{buffer.data.data() + view.byteOffset + a.byteOffset, a.count};
-}
-
-Result<std::vector<float>> Reader::floats(int index, int components, const std::string& what) const {
-    if (index < 0 || size_t(index) >= m_.accessors.size()) return makeError(where(index, what) + ": no such accessor");
-    const tinygltf::Accessor& a = m_.accessors[size_t(index)];
-    const int n = componentCount(a.type);
-    const int cb = componentBytes(a.componentType);
-    if (n != components || cb == 0) {
-        return makeError(where(index, what) + ": expected " + std::to_string(components) + " components, found type " +
-                         std::to_string(a.type) + " of component type " + std::to_string(a.componentType));
-    }
-    if (a.count > kMaxGltfVertices) return makeError(where(index, what) + ": " + std::to_string(a.count) + " elements is more than allowed");
-    size_t stride = 0;
-    auto s = span(index, size_t(n) * size_t(cb), &stride, what);
-    if (!s) return s.error();
-    std::vector<float> out(a.count * size_t(n));
-    const uint8_t* p = s->first;
-    for (size_t i = 0; i < a.count; ++i, p += stride) {
-        for (int c = 0; c < n; ++c) out[i * size_t(n) + size_t(c)] = readComponent(p + c * cb, a.componentType, a.normalized);
-    }
-    return out;
-}
-
-Result<std::vector<uint32_t>> Reader::indices(int index, const std::string& what) const {
-    if (index < 0 || size_t(index) >= m_.accessors.size()) return makeError(where(index, what) + ": no such accessor");
-    const tinygltf::Accessor& a = m_.accessors[size_t(index)];
-    const int cb = componentBytes(a.componentType);
-    if (a.type != TINYGLTF_TYPE_SCALAR || (a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
-                                           a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-                                           a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)) {
-        return makeError(where(index, what) + ": indices must be unsigned byte, short or int scalars");
-    }
-    if (a.count > kMaxGltfIndices) return makeError(where(index, what) + ": " + std::to_string(a.count) + " indices is more than allowed");
-    size_t stride = 0;
-    auto s = span(index, size_t(cb), &stride, what);
-    if (!s) return s.error();
-    std::vector<uint32_t> out(a.count);
-    const uint8_t* p = s->first;
-    for (size_t i = 0; i < a.count; ++i, p += stride) out[i] = uint32_t(readComponent(p, a.componentType, false));
-    return out;
-}
 
 uint32_t packColor(float r, float g, float b, float a) {
     auto q = [](float v) { return uint32_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
@@ -225,7 +113,6 @@ Result<void> Reader::readPrimitive(const tinygltf::Primitive& p, const std::stri
         warnOnce(out, "points and lines primitives are not drawn (" + label + ")");
         return {};
     }
-    if (!p.targets.empty()) warnOnce(out, "morph targets are not applied: the model is drawn in its rest shape (" + label + ")");
     auto pos = p.attributes.find("POSITION");
     if (pos == p.attributes.end()) return makeError(file_ + ": a primitive of " + label + " has no POSITION");
     auto positions = floats(pos->second, 3, "POSITION of " + label);
@@ -233,7 +120,7 @@ Result<void> Reader::readPrimitive(const tinygltf::Primitive& p, const std::stri
     const size_t n = positions->size() / 3;
     if (out.vertices.size() + n > kMaxGltfVertices) return makeError(file_ + ": more than " + std::to_string(kMaxGltfVertices) + " vertices in all");
 
-    std::vector<float> normals, uvs, colors;
+    std::vector<float> normals, uvs, colors, joints, weights;
     int colorComponents = 0;
     if (auto it = p.attributes.find("NORMAL"); it != p.attributes.end()) {
         auto r = floats(it->second, 3, "NORMAL of " + label);
@@ -246,23 +133,61 @@ Result<void> Reader::readPrimitive(const tinygltf::Primitive& p, const std::stri
         uvs = std::move(*r);
     }
     if (auto it = p.attributes.find("COLOR_0"); it != p.attributes.end() && it->second >= 0 && size_t(it->second) < m_.accessors.size()) {
-        colorComponents = componentCount(m_.accessors[size_t(it->second)].type);
+        colorComponents = gltfComponentCount(m_.accessors[size_t(it->second)].type);
         if (colorComponents == 3 || colorComponents == 4) {
             auto r = floats(it->second, colorComponents, "COLOR_0 of " + label);
             if (!r) return r.error();
             colors = std::move(*r);
         }
     }
-    for (auto* attr : {&normals, &uvs, &colors}) {
-        const size_t per = attr == &uvs ? 2 : attr == &colors ? size_t(colorComponents) : 3;
+    // Skinning: JOINTS_0 (unsigned byte or short) and WEIGHTS_0 (float or normalized).
+    const auto ji = p.attributes.find("JOINTS_0"), wi = p.attributes.find("WEIGHTS_0");
+    if ((ji == p.attributes.end()) != (wi == p.attributes.end()))
+        return makeError(file_ + ": a primitive of " + label + " has " + (ji == p.attributes.end() ? "WEIGHTS_0 without JOINTS_0" : "JOINTS_0 without WEIGHTS_0"));
+    if (ji != p.attributes.end()) {
+        auto j = floats(ji->second, 4, "JOINTS_0 of " + label);
+        if (!j) return j.error();
+        auto w = floats(wi->second, 4, "WEIGHTS_0 of " + label);
+        if (!w) return w.error();
+        joints = std::move(*j);
+        weights = std::move(*w);
+        if (p.attributes.count("JOINTS_1")) warnOnce(out, "only the first four joint influences (JOINTS_0) are used (" + label + ")");
+    }
+    for (auto* attr : {&normals, &uvs, &colors, &joints, &weights}) {
+        const size_t per = attr == &uvs ? 2 : attr == &colors ? size_t(colorComponents) : (attr == &joints || attr == &weights) ? 4 : 3;
         if (!attr->empty() && attr->size() / per != n) {
             return makeError(file_ + ": the attributes of a primitive of " + label + " have different counts");
+        }
+    }
+    // Morph targets: POSITION and NORMAL deltas, (vertex, target) pairs of 6 floats.
+    const size_t targets = p.targets.size();
+    std::vector<float> morph;
+    if (targets > kMaxGltfMorphTargets)
+        return makeError(file_ + ": a primitive of " + label + " has " + std::to_string(targets) + " morph targets; at most " +
+                         std::to_string(kMaxGltfMorphTargets) + " are read");
+    if (targets > 0) {
+        if (out.rig.morphDeltas.size() / 6 + n * targets > kMaxGltfMorphDeltas)
+            return makeError(file_ + ": more than " + std::to_string(kMaxGltfMorphDeltas) + " morph target vertices in all");
+        morph.assign(n * targets * 6, 0.0f);
+        for (size_t k = 0; k < targets; ++k) {
+            for (const char* attr : {"POSITION", "NORMAL"}) {
+                const auto it = p.targets[k].find(attr);
+                if (it == p.targets[k].end()) continue;
+                const std::string what = std::string(attr) + " of morph target " + std::to_string(k) + " of " + label;
+                auto d = floats(it->second, 3, what);
+                if (!d) return d.error();
+                if (d->size() != n * 3) return makeError(where(it->second, what) + ": " + std::to_string(d->size() / 3) +
+                                                         " elements for " + std::to_string(n) + " vertices");
+                const size_t off = attr[0] == 'P' ? 0 : 3;
+                for (size_t v = 0; v < n; ++v)
+                    for (size_t c = 0; c < 3; ++c) morph[(v * targets + k) * 6 + off + c] = (*d)[v * 3 + c];
+            }
         }
     }
 
     std::vector<uint32_t> idx;
     if (p.indices >= 0) {
-        auto r = indices(p.indices, "indices of " + label);
+        auto r = acc_.indices(p.indices, "indices of " + label, kMaxGltfIndices);
         if (!r) return r.error();
         idx = std::move(*r);
         for (uint32_t i : idx) {
@@ -286,6 +211,8 @@ Result<void> Reader::readPrimitive(const tinygltf::Primitive& p, const std::stri
     if (out.indices.size() + idx.size() > kMaxGltfIndices) return makeError(file_ + ": more than " + std::to_string(kMaxGltfIndices) + " indices in all");
 
     std::vector<ModelVertex> verts(n);
+    std::vector<ModelSkinVertex> skin(joints.empty() ? 0 : n);
+    uint32_t maxJoint = 0;
     for (size_t i = 0; i < n; ++i) {
         ModelVertex& v = verts[i];
         for (int c = 0; c < 3; ++c) v.position[c] = (*positions)[i * 3 + size_t(c)];
@@ -298,10 +225,21 @@ Result<void> Reader::readPrimitive(const tinygltf::Primitive& p, const std::stri
             const float* c = &colors[i * size_t(colorComponents)];
             v.color = packColor(c[0], c[1], c[2], colorComponents == 4 ? c[3] : 1.0f);
         }
+        if (!skin.empty()) {
+            for (int c = 0; c < 4; ++c) {
+                const float j = joints[i * 4 + size_t(c)], w = weights[i * 4 + size_t(c)];
+                skin[i].joints[c] = uint16_t(std::clamp(j, 0.0f, 65535.0f));
+                skin[i].weights[c] = std::isfinite(w) ? w : 0.0f;
+                if (skin[i].weights[c] != 0.0f) maxJoint = std::max<uint32_t>(maxJoint, skin[i].joints[c]);
+            }
+        }
     }
-    // No normals: flat ones (the spec's rule), so every triangle gets its own three vertices.
+    // No normals: flat ones (the spec's rule), so every triangle gets its own three vertices
+    // (skin and morph data follow their vertex; morphing does not turn flat normals).
     if (normals.empty()) {
         std::vector<ModelVertex> flat;
+        std::vector<ModelSkinVertex> flatSkin;
+        std::vector<float> flatMorph;
         flat.reserve(idx.size());
         for (size_t t = 0; t + 2 < idx.size(); t += 3) {
             const glm::vec3 a = glm::make_vec3(verts[idx[t]].position), b = glm::make_vec3(verts[idx[t + 1]].position),
@@ -310,21 +248,40 @@ Result<void> Reader::readPrimitive(const tinygltf::Primitive& p, const std::stri
             const float len = glm::length(nrm);
             nrm = len > 0.0f ? nrm / len : glm::vec3(0.0f, 1.0f, 0.0f);
             for (int k = 0; k < 3; ++k) {
-                ModelVertex v = verts[idx[t + size_t(k)]];
+                const uint32_t src = idx[t + size_t(k)];
+                ModelVertex v = verts[src];
                 v.normal[0] = nrm.x; v.normal[1] = nrm.y; v.normal[2] = nrm.z;
                 flat.push_back(v);
+                if (!skin.empty()) flatSkin.push_back(skin[src]);
+                if (!morph.empty()) flatMorph.insert(flatMorph.end(), morph.begin() + long(src * targets * 6), morph.begin() + long((src + 1) * targets * 6));
             }
         }
         verts = std::move(flat);
+        skin = std::move(flatSkin);
+        morph = std::move(flatMorph);
         for (size_t i = 0; i < idx.size(); ++i) idx[i] = uint32_t(i);
         if (out.vertices.size() + verts.size() > kMaxGltfVertices) return makeError(file_ + ": more than " + std::to_string(kMaxGltfVertices) + " vertices in all");
+        if (out.rig.morphDeltas.size() / 6 + morph.size() / 6 > kMaxGltfMorphDeltas)
+            return makeError(file_ + ": more than " + std::to_string(kMaxGltfMorphDeltas) + " morph target vertices in all");
     }
 
     ModelPrimitive prim;
     prim.firstIndex = uint32_t(out.indices.size());
     prim.indexCount = uint32_t(idx.size());
     prim.vertexOffset = int32_t(out.vertices.size());
+    prim.vertexCount = uint32_t(verts.size());
     prim.material = (p.material >= 0 && size_t(p.material) < m_.materials.size()) ? p.material : -1;
+    prim.morphTargets = uint32_t(targets);
+    prim.morphBase = uint32_t(out.rig.morphDeltas.size() / 6);
+    prim.skinned = !skin.empty();
+    prim.maxJoint = maxJoint;
+    // Skin data stays parallel to the vertices once a skinned primitive has been read.
+    if (prim.skinned || !out.rig.skinVertices.empty()) {
+        out.rig.skinVertices.resize(out.vertices.size(), ModelSkinVertex{});   // zeros for the unskinned ones before
+        if (prim.skinned) out.rig.skinVertices.insert(out.rig.skinVertices.end(), skin.begin(), skin.end());
+        else out.rig.skinVertices.resize(out.rig.skinVertices.size() + verts.size(), ModelSkinVertex{});
+    }
+    out.rig.morphDeltas.insert(out.rig.morphDeltas.end(), morph.begin(), morph.end());
     out.vertices.insert(out.vertices.end(), verts.begin(), verts.end());
     out.indices.insert(out.indices.end(), idx.begin(), idx.end());
     out.primitives.push_back(prim);
@@ -396,14 +353,26 @@ Result<void> Reader::walk(int node, const glm::dmat4& parent, int depth, ModelDa
     if (depth > 256) return makeError(file_ + ": the node hierarchy is deeper than 256 (a cycle?) at node " + std::to_string(node));
     const tinygltf::Node& n = m_.nodes[size_t(node)];
     const glm::dmat4 world = parent * nodeMatrix(n);
-    if (n.skin >= 0) warnOnce(out, "skins are not applied: skinned meshes are drawn in their bind pose");
+    if (n.skin >= 0 && size_t(n.skin) >= out.rig.skins.size())
+        return makeError(file_ + ": node " + std::to_string(node) + " names skin " + std::to_string(n.skin) + ", which does not exist");
     if (n.mesh >= 0) {
         if (size_t(n.mesh) >= meshPrimitives_.size()) return makeError(file_ + ": node " + std::to_string(node) + " names mesh " + std::to_string(n.mesh) + ", which does not exist");
         const bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
         for (uint32_t prim : meshPrimitives_[size_t(n.mesh)]) {
             if (out.draws.size() >= 1'000'000) return makeError(file_ + ": more than a million drawn primitives");
-            out.draws.push_back({prim, glm::mat4(world), mirrored});
             const ModelPrimitive& p = out.primitives[prim];
+            int skin = -1;
+            if (p.skinned && n.skin < 0) {
+                warnOnce(out, "node " + std::to_string(node) + " draws a mesh with joints but has no skin: drawn unskinned");
+            } else if (p.skinned) {
+                skin = n.skin;
+                const size_t joints = out.rig.skins[size_t(skin)].joints.size();
+                if (p.maxJoint >= joints)
+                    return makeError(file_ + ": node " + std::to_string(node) + " uses skin " + std::to_string(skin) + " with " +
+                                     std::to_string(joints) + " joints, but its mesh " + std::to_string(n.mesh) +
+                                     " has vertices on joint " + std::to_string(p.maxJoint));
+            }
+            out.draws.push_back({prim, glm::mat4(world), mirrored, node, skin});
             out.triangles += p.indexCount / 3;
             for (uint32_t i = 0; i < p.indexCount; ++i) {
                 const ModelVertex& v = out.vertices[size_t(p.vertexOffset) + out.indices[p.firstIndex + i]];
@@ -425,7 +394,6 @@ Result<ModelData> Reader::read() {
     for (const std::string& ext : m_.extensionsRequired) {
         if (!kUnderstoodExtensions.count(ext)) return makeError(file_ + ": requires the glTF extension " + ext + ", which Orbis does not read");
     }
-    if (!m_.animations.empty()) warnOnce(out, "glTF animations are not played: the model is drawn in its rest pose (it moves along its trajectory)");
     readTextures(out);
     readMaterials(out);
     meshPrimitives_.resize(m_.meshes.size());
@@ -437,6 +405,24 @@ Result<ModelData> Reader::read() {
             if (auto r = readPrimitive(p, name, out); !r) return r.error();
             if (out.primitives.size() > before) meshPrimitives_[mi].push_back(uint32_t(before));
         }
+    }
+    // The rig, when anything can move or bend (glTF 2.0 3.7.2.1: every primitive of a mesh has
+    // the same morph targets).
+    std::vector<uint32_t> meshTargets(m_.meshes.size(), 0);
+    bool deforms = false;
+    for (size_t mi = 0; mi < m_.meshes.size(); ++mi) {
+        const auto& prims = m_.meshes[mi].primitives;
+        for (const tinygltf::Primitive& p : prims) {
+            if (p.targets.size() != prims.front().targets.size())
+                return makeError(file_ + ": the primitives of mesh " + std::to_string(mi) + " have different numbers of morph targets");
+        }
+        if (!prims.empty()) meshTargets[mi] = uint32_t(prims.front().targets.size());
+        deforms |= meshTargets[mi] > 0;
+    }
+    for (const ModelPrimitive& p : out.primitives) deforms |= p.skinned;
+    if (deforms || !m_.animations.empty() || !m_.skins.empty()) {
+        auto r = readRig(m_, acc_, file_, meshTargets, out, [&](const std::string& w) { warnOnce(out, w); });
+        if (!r) return r.error();
     }
     out.boundsMin = glm::dvec3(std::numeric_limits<double>::max());
     out.boundsMax = glm::dvec3(-std::numeric_limits<double>::max());
@@ -453,6 +439,18 @@ Result<ModelData> Reader::read() {
         if (auto w = walk(r, glm::dmat4(1.0), 0, out); !w) return w.error();
     }
     if (out.draws.empty()) return makeError(file_ + ": the scene has no triangles to draw");
+    // Keep the rig only when a pose can differ from the rest pose baked in the draws: the fast
+    // path for everything else.
+    bool animated = false;
+    for (const ModelAnimation& a : out.rig.animations) animated |= !a.channels.empty();
+    for (const ModelDraw& d : out.draws) animated |= d.skin >= 0 || out.primitives[d.primitive].morphTargets > 0;
+    if (!animated) {
+        out.rig = {};
+        for (ModelPrimitive& p : out.primitives) p.skinned = false, p.morphTargets = 0;
+        for (ModelDraw& d : out.draws) d.skin = -1;
+    } else {
+        posedBounds(out);
+    }
     return out;
 }
 

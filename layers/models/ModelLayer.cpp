@@ -1,6 +1,7 @@
 #include "layers/models/ModelLayer.h"
 
 #include "engine/core/Color.h"
+#include "engine/core/LabelText.h"
 #include "engine/gpu/Barriers.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
@@ -8,13 +9,13 @@
 #include "engine/gpu/VkCheck.h"
 #include "globe/Culling.h"
 #include "globe/Ellipsoid.h"
-#include "engine/core/LabelText.h"
 #include "layers/motion/Attitude.h"
 #include "shared/ModelTypes.h"
 
 #include "spv/models/line.frag.h"
 #include "spv/models/line.vert.h"
 #include "spv/models/model.frag.h"
+#include "spv/models/model_animated.vert.h"
 #include "spv/models/model.vert.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -46,6 +47,14 @@ ModelLayer::ModelLayer(ModelSettings settings, models::ModelData model, std::uni
     const glm::dvec3& o = settings_.orientationDeg;
     modelToBody_ = glm::mat3_cast(motion::bodyToNed(o.x, o.y, o.z)) * models::gltfToBody();
     maxCopies_ = std::max(1u, settings_.copies);
+    if (model_.animated()) {
+        poser_.emplace(model_, settings_.animation.animation);
+        const uint64_t blockBytes = uint64_t(poser_->layout().vec4s) * sizeof(glm::vec4);
+        // A model that does not move in time has one pose for every copy.
+        poseCapacity_ = !poser_->moves() ? 1u : uint32_t(std::clamp<uint64_t>(kMaxPoseBytes / blockBytes, 1, maxCopies_));
+        poseData_.reserve(size_t(poseCapacity_) * poser_->layout().vec4s);
+        poseOfTime_.reserve(poseCapacity_);
+    }
 }
 
 ModelLayer::~ModelLayer() = default;
@@ -68,6 +77,7 @@ void ModelLayer::uploadModel(const scene::RenderServices& services) {
         nodes[i].transform = model_.draws[i].transform;
         nodes[i].normal = glm::mat4(glm::transpose(glm::inverse(glm::mat3(model_.draws[i].transform))));
     }
+    if (model_.animated()) nodes.resize(1);   // unused: the poses hold the node matrices
     const VkDeviceSize nbytes = nodes.size() * sizeof(shader::ModelNode);
     vertices_ = gpu::Buffer(device, vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                             gpu::MemoryUsage::GpuOnly, "model vertices");
@@ -76,6 +86,20 @@ void ModelLayer::uploadModel(const scene::RenderServices& services) {
     nodes_ = gpu::Buffer(device, nbytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                          gpu::MemoryUsage::GpuOnly, "model nodes");
     gpuBytes_ = vbytes + ibytes + nbytes;
+    // Animated models: the joints/weights stream (one zero element read at stride 0 when nothing
+    // is skinned) and the morph deltas (a dummy float when nothing morphs).
+    std::vector<models::ModelSkinVertex> noSkin(1, models::ModelSkinVertex{});
+    std::vector<float> noMorph(4, 0.0f);
+    const auto& skin = model_.rig.skinVertices.empty() ? noSkin : model_.rig.skinVertices;
+    const auto& morph = model_.rig.morphDeltas.empty() ? noMorph : model_.rig.morphDeltas;
+    const VkDeviceSize sbytes = skin.size() * sizeof(models::ModelSkinVertex), mbytes = morph.size() * sizeof(float);
+    if (model_.animated()) {
+        skinVertices_ = gpu::Buffer(device, sbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                    gpu::MemoryUsage::GpuOnly, "model skin vertices");
+        morphDeltas_ = gpu::Buffer(device, mbytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                   gpu::MemoryUsage::GpuOnly, "model morph deltas");
+        gpuBytes_ += sbytes + mbytes;
+    }
 
     // Textures: the model's, then one white texel for untextured materials.
     std::vector<const models::ModelTexture*> sources;
@@ -99,6 +123,14 @@ void ModelLayer::uploadModel(const scene::RenderServices& services) {
         services.uploader->toBuffer(cmd, vertices_, model_.vertices.data(), vbytes);
         services.uploader->toBuffer(cmd, indices_, model_.indices.data(), ibytes);
         services.uploader->toBuffer(cmd, nodes_, nodes.data(), nbytes);
+        if (model_.animated()) {
+            services.uploader->toBuffer(cmd, skinVertices_, skin.data(), sbytes);
+            services.uploader->toBuffer(cmd, morphDeltas_, morph.data(), mbytes);
+            gpu::bufferBarrier(cmd, skinVertices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                               VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
+            gpu::bufferBarrier(cmd, morphDeltas_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                               VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+        }
         gpu::bufferBarrier(cmd, vertices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                            VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
         gpu::bufferBarrier(cmd, indices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
@@ -125,6 +157,8 @@ void ModelLayer::uploadModel(const scene::RenderServices& services) {
     // On the GPU now; keep the draw list and materials (and the bounds) for recording.
     model_.vertices = {};
     model_.indices = {};
+    model_.rig.skinVertices = {};
+    model_.rig.morphDeltas = {};
     for (auto& t : model_.textures) t.mips = {};
 }
 
@@ -144,26 +178,36 @@ void ModelLayer::buildPipelines(const scene::RenderServices& services) {
     }
 
     const uint32_t frames = services.framesInFlight;
-    const VkDescriptorSetLayoutBinding frameBindings[] = {
-        {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr},
-    };
+    // Static models: instances and node matrices; animated ones: instances, poses, morph deltas.
+    const bool animated = model_.animated();
+    const std::vector<uint32_t> bindings = animated ? std::vector<uint32_t>{0, 2, 3} : std::vector<uint32_t>{0, 1};
+    std::vector<VkDescriptorSetLayoutBinding> frameBindings;
+    for (uint32_t b : bindings) frameBindings.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr});
     frameSets_ = gpu::createDescriptorSets(device, frameBindings, frames);
     for (uint32_t f = 0; f < frames; ++f) {
         instanceBuffers_.emplace_back(device, uint64_t(maxCopies_) * sizeof(shader::ModelInstance),
                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Upload, "model instances");
         gpuBytes_ += instanceBuffers_.back().size();
-        const VkDescriptorBufferInfo infos[] = {{instanceBuffers_[f].vk(), 0, VK_WHOLE_SIZE}, {nodes_.vk(), 0, VK_WHOLE_SIZE}};
-        VkWriteDescriptorSet w[2] = {};
-        for (uint32_t b = 0; b < 2; ++b) {
+        if (animated) {
+            poseBuffers_.emplace_back(device, uint64_t(poseCapacity_) * poser_->layout().vec4s * sizeof(glm::vec4),
+                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Upload, "model poses");
+            gpuBytes_ += poseBuffers_.back().size();
+        }
+        std::vector<VkDescriptorBufferInfo> infos;
+        for (uint32_t b : bindings) {
+            const gpu::Buffer& buffer = b == 0 ? instanceBuffers_[f] : b == 1 ? nodes_ : b == 2 ? poseBuffers_[f] : morphDeltas_;
+            infos.push_back({buffer.vk(), 0, VK_WHOLE_SIZE});
+        }
+        std::vector<VkWriteDescriptorSet> w(bindings.size());
+        for (size_t b = 0; b < bindings.size(); ++b) {
             w[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
             w[b].dstSet = frameSets_.sets[f];
-            w[b].dstBinding = b;
+            w[b].dstBinding = bindings[b];
             w[b].descriptorCount = 1;
             w[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
             w[b].pBufferInfo = &infos[b];
         }
-        vkUpdateDescriptorSets(device.vk(), 2, w, 0, nullptr);
+        vkUpdateDescriptorSets(device.vk(), uint32_t(w.size()), w.data(), 0, nullptr);
         if (settings_.path.show) {
             pathBuffers_.emplace_back(device, uint64_t(settings_.path.maxPoints) * sizeof(shader::ModelLineVertex),
                                       VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, gpu::MemoryUsage::Upload, "model path");
@@ -198,7 +242,7 @@ void ModelLayer::buildPipelines(const scene::RenderServices& services) {
     layout_ = gpu::createPipelineLayout(device, sets, {&push, 1});
 
     gpu::GraphicsPipelineDesc d;
-    d.vertexSpirv = kSpv_models_model_vert;
+    d.vertexSpirv = animated ? std::span<const uint32_t>(kSpv_models_model_animated_vert) : std::span<const uint32_t>(kSpv_models_model_vert);
     d.fragmentSpirv = kSpv_models_model_frag;
     d.layout = layout_.vk();
     d.bindings = {{0, sizeof(models::ModelVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
@@ -206,6 +250,16 @@ void ModelLayer::buildPipelines(const scene::RenderServices& services) {
                     {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(models::ModelVertex, normal)},
                     {2, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(models::ModelVertex, uv)},
                     {3, 0, VK_FORMAT_R8G8B8A8_UNORM, offsetof(models::ModelVertex, color)}};
+    if (animated) {
+        // Stride 0 when nothing is skinned: every vertex reads the one zero element.
+        const uint32_t stride = model_.primitives.empty() || !std::any_of(model_.draws.begin(), model_.draws.end(),
+                                                                            [](const models::ModelDraw& m) { return m.skin >= 0; })
+                                    ? 0u
+                                    : uint32_t(sizeof(models::ModelSkinVertex));
+        d.bindings.push_back({1, stride, VK_VERTEX_INPUT_RATE_VERTEX});
+        d.attributes.push_back({4, 1, VK_FORMAT_R16G16B16A16_UINT, offsetof(models::ModelSkinVertex, joints)});
+        d.attributes.push_back({5, 1, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(models::ModelSkinVertex, weights)});
+    }
     // Both faces: double-sided materials and mirrored nodes need them, and a closed mesh loses
     // its back faces to the depth test anyway.
     d.cullMode = VK_CULL_MODE_NONE;
@@ -277,6 +331,9 @@ void ModelLayer::update(const scene::FrameContext& frame) {
     copyTransforms_.clear();
     instanceData_.clear();
     leadPose_.reset();
+    poseData_.clear();
+    poseOfTime_.clear();
+    poseCount_ = 0;
     const glm::vec4 tint = linearColor(settings_.color, 1.0);
     for (uint32_t i = 0; i < maxCopies_; ++i) {
         const TimeNs t = frame.time - fromSeconds(double(i) * settings_.copySpacingSeconds);
@@ -302,11 +359,33 @@ void ModelLayer::update(const scene::FrameContext& frame) {
         shader::ModelInstance inst;
         inst.modelToEye = glm::mat4(toEye);
         inst.tint = tint;
+        inst.pose = glm::uvec4(poser_ ? poseFor(t) : 0u, 0u, 0u, 0u);
         append(instanceData_, inst);
     }
     drawnCopies_ = uint32_t(instanceData_.size() / sizeof(shader::ModelInstance));
     if (settings_.path.show) buildPath(frame);
     if (settings_.label) buildLabel(frame);
+}
+
+uint32_t ModelLayer::poseFor(TimeNs t) {
+    // Clamped to the keyframes' span: copies before the start or after the end share a pose.
+    const double seconds = poser_->moves() ? std::clamp(models::animationSeconds(settings_.animation, poser_->duration(), t),
+                                                        poser_->start(), poser_->duration())
+                                           : 0.0;
+    uint64_t key = 0;
+    std::memcpy(&key, &seconds, sizeof key);
+    if (const auto it = poseOfTime_.find(key); it != poseOfTime_.end()) return it->second;
+    const uint32_t vec4s = poser_->layout().vec4s;
+    if (poseCount_ == poseCapacity_) {   // full: the pose evaluated last, the copy just before in time
+        ++posesShared_;
+        return (poseCount_ - 1) * vec4s;
+    }
+    const uint32_t at = poseCount_ * vec4s;
+    poseData_.resize(size_t(at) + vec4s);
+    poser_->evaluate(seconds, poseData_.data() + at);
+    ++poseCount_;
+    poseOfTime_.emplace(key, at);
+    return at;
 }
 
 void ModelLayer::buildPath(const scene::FrameContext& frame) {
@@ -368,6 +447,7 @@ void ModelLayer::buildLabel(const scene::FrameContext& frame) {
 
 void ModelLayer::recordTransfers(const scene::RecordContext& rc) {
     if (!instanceData_.empty()) instanceBuffers_[rc.slot].write(instanceData_.data(), instanceData_.size());
+    if (poseCount_ > 0) poseBuffers_[rc.slot].write(poseData_.data(), poseData_.size() * sizeof(glm::vec4));
     if (pathVertices_ > 0) pathBuffers_[rc.slot].write(pathData_.data(), pathData_.size());
     if (labelVertices_ > 0) labelBuffers_[rc.slot].write(labelData_.data(), labelData_.size());
 }
@@ -395,6 +475,10 @@ void ModelLayer::record(scene::Pass pass, const scene::RecordContext& rc) {
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.vk());
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
             vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
+            if (poser_) {
+                const VkBuffer sb = skinVertices_.vk();
+                vkCmdBindVertexBuffers(cmd, 1, 1, &sb, &zero);
+            }
             vkCmdBindIndexBuffer(cmd, indices_.vk(), 0, VK_INDEX_TYPE_UINT32);
             VkDescriptorSet boundMaterial = VK_NULL_HANDLE;
             for (uint32_t di = 0; di < model_.draws.size(); ++di) {
@@ -415,6 +499,14 @@ void ModelLayer::record(scene::Pass pass, const scene::RecordContext& rc) {
                                         mat && mat->unlit ? 1.0f : 0.0f, settings_.sunLighting ? 1.0f : 0.0f,
                                         tex >= 0 ? 1.0f : 0.0f);
                 push.ids = glm::uvec4(di, 0, 0, 0);
+                if (poser_) {
+                    const models::PoseLayout& l = poser_->layout();
+                    const bool morphs = l.drawWeights[di] != models::kPoseNone;
+                    const uint32_t targets = morphs ? prim.morphTargets : 0u;
+                    push.ids = glm::uvec4(l.drawMatrix[di], l.drawJoints[di], targets, morphs ? l.drawWeights[di] : 0u);
+                    // Wraps modulo 2^32 like the shader's uint arithmetic.
+                    push.morph.x = prim.morphBase - uint32_t(prim.vertexOffset) * targets;
+                }
                 vkCmdPushConstants(cmd, layout_.vk(), stages, 0, sizeof(push), &push);
                 vkCmdDrawIndexed(cmd, prim.indexCount, drawnCopies_, prim.firstIndex, prim.vertexOffset, 0);
             }
@@ -464,6 +556,12 @@ std::optional<scene::ContentBounds> ModelLayer::contentBounds() const {
 
 std::string ModelLayer::status() const {
     std::string s = std::to_string(drawnCopies_) + " of " + std::to_string(maxCopies_) + " drawn";
+    if (poser_ && poser_->moves()) {
+        const auto& a = model_.rig.animations[size_t(poser_->animation())];
+        s += "; animation '" + (a.name.empty() ? std::to_string(poser_->animation()) : a.name) + "': " + std::to_string(poseCount_) +
+             " poses";
+        if (posesShared_ > 0) s += " (" + std::to_string(posesShared_) + " copies shared a pose: pose buffer full)";
+    }
     const std::string m = motion_->status();
     return m.empty() ? s : s + "; " + m;
 }

@@ -14,7 +14,9 @@
 //    "live": {"url": "tcp://127.0.0.1:5000", "protocol": "nmea" | "xml" | "auto", "altitude": "ellipsoid" | "ground"},
 //    "copies": {"count": 1, "spacing": 1.0},          // followers, `spacing` seconds apart
 //    "path": {"show": true, "trail": 0, "color": [1, 0.8, 0.2], "opacity": 1, "maxPoints": 4096},
-//    "label": true | "text", "labelColor": [1, 1, 1]}
+//    "label": true | "text", "labelColor": [1, 1, 1],
+//    "animation": false | {"name": "Walk" | "index": 0, "loop": true, "speed": 1,
+//                          "start": "2026-03-20T08:00:00Z"}}
 //
 // Axes: the model's glTF axes (+Y up, +Z front) are put on the body axes of the pose (x forward,
 // y right, z down; layers/motion/Attitude.h), after "orientation" (heading, pitch, roll in
@@ -24,6 +26,24 @@
 // Copies: `count` models along the same trajectory, copy i at (t - i x spacing): a train's
 // wagons, a convoy, or the benchmark's 1 000 animated models. One instanced draw per glTF
 // primitive draws every copy.
+//
+// Animation (layers/models/GltfAnimation.h). A model with glTF animations plays one on the
+// scene's virtual time, never the wall clock: the first unless "animation" names another (by
+// name or index), looped unless "loop" is false, at "speed" animation seconds per scene second.
+// Its time 0 is "start", by default the trajectory's first sample, else the scene's
+// "time.start", else 1970-01-01T00:00:00Z. Copy i, which is where the model was i x spacing
+// seconds earlier, is also in its animation i x spacing seconds earlier. "animation": false
+// keeps the rest pose. Skins and morph targets are applied whether or not an animation plays.
+//
+// Animated models are drawn by model_animated.vert: each distinct animation time of a frame
+// is evaluated once on the CPU (a few microseconds for a vehicle-sized rig, see `orbis bench`)
+// into a pose block (node matrices, joint matrices, morph weights) that every copy drawn at that
+// time shares; morphing and skinning happen in the vertex shader, so the vertex data stays on
+// the GPU unchanged and a frame uploads only the poses (bytes per pose x distinct times).
+// Skinning on the CPU would upload every vertex of every copy each frame. Models without skins,
+// morph targets or animations keep the static path (model.vert, node matrices uploaded once).
+// Pose blocks are bounded by kMaxPoseBytes per frame in flight; past that, copies share the
+// pose evaluated last (the copy just before them in time).
 //
 // The path line is the trajectory between (t - trail) and t (trail 0: the whole path), drawn
 // after the opaque geometry with depth test. The label is the layer's name (or the given text)
@@ -36,14 +56,20 @@
 #include "engine/gpu/Image.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/SceneDesc.h"
+#include "layers/models/GltfAnimation.h"
 #include "layers/models/GltfModel.h"
 #include "layers/models/ModelMotion.h"
 
 #include <memory>
+#include <optional>
+#include <unordered_map>
 #include <string>
 #include <vector>
 
 namespace orbis::layers {
+
+/// Pose blocks of an animated model, per frame in flight (see the header).
+inline constexpr uint64_t kMaxPoseBytes = uint64_t(32) << 20;
 
 struct ModelPathSettings {
     bool show = false;
@@ -66,6 +92,7 @@ struct ModelSettings {
     bool label = false;
     std::string labelText;
     glm::dvec3 labelColor{1.0};
+    models::AnimationPlayback animation;      ///< animation -1: the rest pose
 };
 
 class ModelLayer : public scene::Layer {
@@ -99,6 +126,8 @@ public:
     /// The model-to-ECEF transform of copy 0 at the last update (rotation x scale, translation),
     /// for tests.
     const std::vector<glm::dmat4>& copyTransforms() const { return copyTransforms_; }
+    /// Distinct poses evaluated at the last update (animated models; 0 for static ones).
+    uint32_t posesThisFrame() const { return poseCount_; }
 
 private:
     struct Texture {
@@ -110,6 +139,8 @@ private:
     /// Model space -> ECEF (rotation x scale in the 3x3, the position in the translation).
     glm::dmat4 modelToEcef(const scene::TrackedPose& pose, double scale) const;
     void buildPath(const scene::FrameContext& frame);
+    /// The pose block's first vec4 for copy time `t`, evaluated unless this frame has it already.
+    uint32_t poseFor(TimeNs t);
     void buildLabel(const scene::FrameContext& frame);
 
     ModelSettings settings_;
@@ -128,8 +159,18 @@ private:
     std::vector<std::byte> labelData_;
     uint32_t labelVertices_ = 0;
 
+    // Animated models only (model_.animated()).
+    std::optional<models::PoseEvaluator> poser_;
+    uint32_t poseCapacity_ = 0;                   ///< pose blocks per frame
+    std::vector<glm::vec4> poseData_;             ///< this frame's blocks
+    uint32_t poseCount_ = 0;
+    uint64_t posesShared_ = 0;                    ///< copies that got a neighbour's pose (capacity full)
+    std::unordered_map<uint64_t, uint32_t> poseOfTime_;   ///< animation seconds (bits) -> first vec4
+
     // GPU.
     gpu::Buffer vertices_, indices_, nodes_;
+    gpu::Buffer skinVertices_, morphDeltas_;      ///< animated models: joints/weights stream, morph deltas
+    std::vector<gpu::Buffer> poseBuffers_;        ///< animated models: one per frame in flight
     std::vector<gpu::Buffer> instanceBuffers_;    ///< one per frame in flight
     std::vector<gpu::Buffer> pathBuffers_, labelBuffers_;
     uint32_t maxCopies_ = 0;

@@ -69,6 +69,85 @@ Result<std::unique_ptr<models::ModelMotion>> trajectoryMotion(const nlohmann::js
     return models::makeTrajectoryMotion(std::move(*trajectory));
 }
 
+/// "animation": false (the rest pose), or {"name" | "index", "loop", "speed", "start"}.
+struct AnimationChoice {
+    bool given = false;       ///< an object was given
+    bool off = false;         ///< false was given
+    std::optional<std::string> name;
+    std::optional<int> index;
+    bool loop = true;
+    double speed = 1.0;
+    std::optional<TimeNs> start;
+};
+
+Result<AnimationChoice> animationChoice(const nlohmann::json& value, const std::string& file, const std::string& path) {
+    AnimationChoice c;
+    if (value.is_boolean()) {
+        c.off = !value.get<bool>();
+        return c;
+    }
+    if (!value.is_object()) {
+        return makeError(file + ": " + path + ": expected false or an object with \"name\" or \"index\", \"loop\", \"speed\", \"start\"; got " +
+                         scene::describeJsonType(value));
+    }
+    c.given = true;
+    scene::JsonReader a(value, file, path);
+    if (a.has("name")) c.name = a.string("name");
+    if (a.has("index")) {
+        if (auto i = a.number("index", std::nullopt, 0.0, 1e6)) {
+            if (*i != std::floor(*i)) a.fail("index", "expected a whole number");
+            c.index = int(*i);
+        }
+    }
+    if (c.name && c.index) a.fail("index", "give \"name\" or \"index\", not both");
+    c.loop = a.boolean("loop", true).value_or(true);
+    c.speed = a.number("speed", 1.0, -1000.0, 1000.0).value_or(1.0);
+    if (auto st = a.string("start", std::string()); st && !st->empty()) {
+        auto t = parseIso8601(*st);
+        if (!t) a.fail("start", t.message());
+        else c.start = *t;
+    }
+    if (auto done = a.finish(); !done) return done.error();
+    return c;
+}
+
+/// The animation the layer plays and its time origin (ModelLayer.h), or an error naming the
+/// scene's field and the model's file.
+Result<models::AnimationPlayback> resolveAnimation(const AnimationChoice& c, const models::ModelData& model,
+                                                   const models::ModelMotion& motion, const scene::SceneDesc& scene,
+                                                   const std::string& where) {
+    models::AnimationPlayback p;
+    p.loop = c.loop;
+    p.speed = c.speed;
+    const auto& anims = model.rig.animations;
+    if (c.off) return p;
+    if (anims.empty()) {
+        if (c.given) return makeError(where + "/animation: " + model.file + " has no animations");
+        return p;
+    }
+    if (c.name) {
+        for (size_t i = 0; i < anims.size() && p.animation < 0; ++i)
+            if (anims[i].name == *c.name) p.animation = int(i);
+        if (p.animation < 0) {
+            std::string names;
+            for (size_t i = 0; i < anims.size(); ++i)
+                names += (i ? ", " : "") + (anims[i].name.empty() ? "#" + std::to_string(i) : "\"" + anims[i].name + "\"");
+            return makeError(where + "/animation/name: " + model.file + " has no animation \"" + *c.name + "\" (it has " + names + ")");
+        }
+    } else if (c.index) {
+        if (size_t(*c.index) >= anims.size())
+            return makeError(where + "/animation/index: " + std::to_string(*c.index) + " is past the " + std::to_string(anims.size()) +
+                             " animations of " + model.file);
+        p.animation = *c.index;
+    } else {
+        p.animation = 0;
+    }
+    if (c.start) p.origin = *c.start;
+    else if (const auto range = motion.range()) p.origin = range->start;
+    else if (scene.time.given) p.origin = scene.time.start;
+    return p;
+}
+
 }  // namespace
 
 Result<std::unique_ptr<scene::Layer>> ModelLayer::create(const scene::LayerDesc& desc, const scene::SceneDesc& scene) {
@@ -112,6 +191,13 @@ Result<std::unique_ptr<scene::Layer>> ModelLayer::create(const scene::LayerDesc&
         else r.fail("label", "expected true, false or the label's text");
     }
     s.labelColor = color(r, "labelColor", s.labelColor).value_or(s.labelColor);
+    AnimationChoice animation;
+    if (r.has("animation")) {
+        r.accept("animation");
+        auto a = animationChoice(desc.settings["animation"], scene.file.string(), desc.jsonPath + "/animation");
+        if (!a) return a.error();
+        animation = *a;
+    }
 
     // Where the model is: exactly one of position, trajectory, live.
     const bool hasPosition = r.has("position"), hasTrajectory = r.has("trajectory"), hasLive = r.has("live");
@@ -151,6 +237,17 @@ Result<std::unique_ptr<scene::Layer>> ModelLayer::create(const scene::LayerDesc&
     auto model = models::loadGltf(scene.resolve(*file).string());
     if (!model) return makeError(where + ": " + model.message());
     for (const std::string& w : model->warnings) log::info("model '", desc.name, "': ", w);
+    auto playback = resolveAnimation(animation, *model, *motion, scene, where);
+    if (!playback) return playback.error();
+    s.animation = *playback;
+    if (model->animated()) {
+        const models::PoseEvaluator e(*model, s.animation.animation);
+        const uint64_t bytes = uint64_t(e.layout().vec4s) * sizeof(glm::vec4);
+        if (bytes > kMaxPoseBytes)
+            return makeError(where + ": " + model->file + ": one pose (" + std::to_string(model->draws.size()) + " drawn nodes, " +
+                             std::to_string(model->rig.skins.size()) + " skins) needs " + std::to_string(bytes >> 20) +
+                             " MiB, more than the " + std::to_string(kMaxPoseBytes >> 20) + " MiB a model's poses may use");
+    }
     return std::unique_ptr<scene::Layer>(std::make_unique<ModelLayer>(std::move(s), std::move(*model), std::move(motion)));
 }
 

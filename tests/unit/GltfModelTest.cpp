@@ -114,15 +114,14 @@ TEST(GltfModel, ExternalBufferWithMorphTargetsAndAnimation) {
     auto m = loadGltf((kModels / "AnimatedMorphCube" / "AnimatedMorphCube.gltf").string());
     ASSERT_TRUE(m) << m.message();
     EXPECT_EQ(m->triangles, 12u);
-    // The node scales the 2 cm cube by 100.
-    EXPECT_NEAR(m->radius(), std::sqrt(3.0) * 1.0, 0.01);
-    bool morph = false, anim = false;
-    for (const auto& w : m->warnings) {
-        morph |= w.find("morph targets") != std::string::npos;
-        anim |= w.find("animations") != std::string::npos;
-    }
-    EXPECT_TRUE(morph);
-    EXPECT_TRUE(anim);
+    // The node scales the 2 cm cube by 100; the bounds hold every pose of its animation, in
+    // which the targets pull the top up by up to 2 cm (2 m scaled) and slant it.
+    EXPECT_GT(m->radius(), std::sqrt(3.0) * 1.0);
+    EXPECT_LT(m->radius(), 3.0);
+    // Morph targets and the animation are read (GltfAnimationTest checks them): nothing is left out.
+    EXPECT_TRUE(m->animated());
+    EXPECT_EQ(m->rig.animations.size(), 1u);
+    EXPECT_TRUE(m->warnings.empty()) << m->warnings.front();
 }
 
 TEST(GltfModel, ExternalFilesMaterialAndFlatNormals) {
