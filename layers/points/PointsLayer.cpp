@@ -246,7 +246,10 @@ gpu::Pipeline& PointsLayer::splatPipeline(int radius, bool quantised) {
 
 gpu::Pipeline& PointsLayer::graphicsPipeline(std::map<int, gpu::Pipeline>& cache, int key, bool pointList,
                                              const gpu::Specialization& spec) {
-    gpu::Pipeline& p = cache[key];
+    // Below full opacity the cloud blends over the scene (premultiplied, depth still written:
+    // the nearest point of a pixel hides what the later passes would draw behind it).
+    const bool blend = settings_.opacity < 1.0;
+    gpu::Pipeline& p = cache[key * 2 + (blend ? 1 : 0)];
     if (!p) {
         gpu::GraphicsPipelineDesc d;
         d.vertexSpirv = pointList ? std::span<const uint32_t>(kSpv_points_pointlist_vert) : kSpv_points_resolve_vert;
@@ -257,6 +260,7 @@ gpu::Pipeline& PointsLayer::graphicsPipeline(std::map<int, gpu::Pipeline>& cache
         d.colorFormat = services_.colorFormat;
         d.depthFormat = services_.depthFormat;
         d.specialization = &spec;
+        d.alphaBlend = blend;
         d.name = pointList ? "points list" : "points resolve";
         p = gpu::createGraphicsPipeline(*services_.device, d);
     }
@@ -384,7 +388,7 @@ void PointsLayer::writeUniforms(const scene::RecordContext& rc) {
 
     shader::PointUniforms u{};
     u.viewProj = glm::mat4(viewProj_);
-    u.colorInfo = glm::vec4(0.0f, store_->info().intensityGain, float(settings_.heightRange.x),
+    u.colorInfo = glm::vec4(float(settings_.opacity), store_->info().intensityGain, float(settings_.heightRange.x),
                             float(1.0 / std::max(settings_.heightRange.y - settings_.heightRange.x, 1e-6)));
     u.constantColor = glm::vec4(glm::vec3(settings_.constantColor), 1.0f);
     u.edl = glm::vec4(0.0f, float(settings_.edlStrength), float(settings_.edlRadius),
@@ -470,6 +474,7 @@ bool PointsLayer::setParameter(std::string_view name, double value) {
     // The ranges the scene file accepts (create()), so that a saved scene loads again.
     if (name == "pointBudget" && value >= 0.0 && value <= 4e9) settings_.pointBudget = uint64_t(value);
     else if (name == "pointSize" && value >= 1.0 && value <= 15.0) settings_.pointSize = int(value);
+    else if (name == "opacity" && value >= 0.0 && value <= 1.0) settings_.opacity = value;
     else if (name == "edl") settings_.edl = value != 0.0;
     else if (name == "edlStrength" && value >= 0.0 && value <= 100.0) settings_.edlStrength = value;
     else if (name == "edlRadius" && value >= 0.5 && value <= 8.0) settings_.edlRadius = value;
@@ -508,6 +513,7 @@ std::vector<scene::LayerSetting> PointsLayer::liveSettings() const {
          .value = double(settings_.pointBudget), .min = 0.0, .max = 4e9, .logarithmic = true},
         {.name = "pointSize", .label = "Point size (px)", .kind = Kind::Integer, .value = double(settings_.pointSize),
          .min = 1.0, .max = 15.0},
+        {.name = "opacity", .label = "Opacity", .kind = Kind::Number, .value = settings_.opacity, .min = 0.0, .max = 1.0},
         {.name = "edl", .label = "Eye-dome lighting", .kind = Kind::Toggle, .value = settings_.edl ? 1.0 : 0.0},
         {.name = "edlStrength", .label = "EDL strength", .kind = Kind::Number, .value = settings_.edlStrength,
          .min = 0.0, .max = 100.0, .logarithmic = true},

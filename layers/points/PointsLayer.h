@@ -7,7 +7,7 @@
 //    "origin": {"lon": 9, "lat": 46, "height": 500},      -- instead: local metres east/north/up
 //    "color": "rgb" | "intensity" | "classification" | "height" | "constant",
 //    "constantColor": [1, 0.8, 0.2], "heightRange": [0, 1] (of the cloud's heights),
-//    "pointSize": 1, "edl": true, "edlStrength": 1, "edlRadius": 1.4,
+//    "pointSize": 1, "opacity": 1, "edl": true, "edlStrength": 1, "edlRadius": 1.4,
 //    "pointBudget": 3000000, "gpuMemoryMB": 1024, "cpuMemoryMB": 512,
 //    "gpuPageMB": 0 (the device's maxStorageBufferRange; smaller only to test the paging),
 //    "cacheFolder": "cache/", "renderer": "compute" | "pointList"}
@@ -51,6 +51,9 @@ struct PointsSettings {
     glm::dvec3 constantColor{1.0, 1.0, 1.0};   ///< sRGB
     glm::dvec2 heightRange{0.0, 1.0};          ///< the ramp over this part of the cloud's heights
     int pointSize = 1;                         ///< pixels (a disc of this diameter), 1..15
+    /// 0..1, the cloud over what is behind it: the compute path blends the one point each pixel
+    /// keeps; the point list blends every point that passes the depth test (overlaps compound).
+    double opacity = 1.0;
     bool edl = false;
     double edlStrength = 1.0, edlRadius = 1.4;   ///< radius in pixels
     uint64_t pointBudget = 3'000'000;            ///< points drawn per frame at most; 0: all
@@ -81,7 +84,7 @@ public:
     bool busy() const override;
     std::optional<double> nearestContent(const glm::dvec3& eye) const override;
     std::string status() const override;
-    /// Live: "pointBudget", "pointSize", "edl" (0/1), "edlStrength", "edlRadius",
+    /// Live: "pointBudget", "pointSize", "opacity", "edl" (0/1), "edlStrength", "edlRadius",
     /// "renderer" (0 compute, 1 point list; compute falls back to the point list on a device
     /// without 64-bit buffer atomics).
     bool setParameter(std::string_view name, double value) override;

@@ -33,6 +33,7 @@ Result<std::unique_ptr<scene::Layer>> PointsLayer::create(const scene::LayerDesc
         s.heightRange = {(*range)[0], (*range)[1]};
     }
     s.pointSize = int(r.number("pointSize", 1.0, 1.0, 15.0).value_or(1.0));
+    s.opacity = r.number("opacity", 1.0, 0.0, 1.0).value_or(1.0);
     s.edl = r.boolean("edl", false).value_or(false);
     s.edlStrength = r.number("edlStrength", 1.0, 0.0, 100.0).value_or(1.0);
     s.edlRadius = r.number("edlRadius", 1.4, 0.5, 8.0).value_or(1.4);

@@ -11,7 +11,7 @@ layout(set = 1, binding = 2, std430) readonly buffer Attributes { uvec2 attribut
 layout(set = 1, binding = 4, std430) readonly buffer Nodes { PointNode nodes[]; };
 layout(push_constant) uniform Push { uint node; uint firstBatch; } push;
 
-layout(location = 0) out vec3 color;
+layout(location = 0) out vec4 color;   // premultiplied by the cloud's opacity
 
 #include "points/PointColor.glsl"
 #include "points/PointData.glsl"
@@ -21,5 +21,5 @@ void main() {
     uint local = uint(gl_VertexIndex);   // drawn from 0: the point within its node
     gl_Position = pu.viewProj * vec4(pointPosition(node, local), 1.0);
     gl_PointSize = pu.edl.w;
-    color = pointColor(attributes[node.data.x + local]);
+    color = vec4(pointColor(attributes[node.data.x + local]), 1.0) * pu.colorInfo.x;
 }

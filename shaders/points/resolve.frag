@@ -43,6 +43,6 @@ void main() {
         }
         c *= exp(-pu.edl.y * 300.0 * response / 8.0);
     }
-    outColor = vec4(c, 1.0);
+    outColor = vec4(c, 1.0) * pu.colorInfo.x;   // premultiplied; 1 unless the cloud is translucent
     gl_FragDepth = depth;
 }

@@ -34,7 +34,7 @@ struct PointNode {
 // std140: vec4 and mat4 members only.
 struct PointUniforms {
     mat4 viewProj;        // projection * view rotation: positions relative to the eye -> clip
-    vec4 colorInfo;       // x: unused, y: intensity gain (1 / the cloud's 99th percentile),
+    vec4 colorInfo;       // x: opacity of the cloud, y: intensity gain (1 / the cloud's 99th percentile),
                           // z, w: height ramp over the stored 0..1 heights: (h - z) * w
     vec4 constantColor;   // rgb: sRGB colour for kPointColorConstant
     vec4 edl;             // x: unused (EDL on/off is specialisation constant 2), y: strength, z: radius (px), w: point size (px)

@@ -200,7 +200,7 @@ TEST_F(LiveSettings, PointsListColourRendererAndLighting) {
     }));
     auto& layer = load(R"({"type": "points", "path": )" + jsonString(las) +
                        R"(, "crs": "EPSG:4979", "color": "classification", "pointSize": 3, "edl": true})");
-    EXPECT_EQ(names(layer), (std::vector<std::string>{"color", "pointBudget", "pointSize", "edl", "edlStrength",
+    EXPECT_EQ(names(layer), (std::vector<std::string>{"color", "pointBudget", "pointSize", "opacity", "edl", "edlStrength",
                                                       "edlRadius", "renderer"}));
     const auto color = current(layer, "color");
     EXPECT_EQ(color->choice, "classification");

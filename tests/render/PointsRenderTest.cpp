@@ -257,6 +257,49 @@ TEST_F(PointsRender, ColourModesAndPointListAgreeWithCompute) {
             }
 }
 
+TEST_F(PointsRender, OpacityBlendsTheCloudOverTheTerrain) {
+    // Half opacity, compute path: each pixel the cloud covers is the mean (in linear light) of
+    // the opaque cloud's colour and the terrain's (one point a pixel is resolved). The point
+    // list blends every point that passes the depth test, so where points overlap in a pixel
+    // (drawn far to near) the cloud comes out more opaque: between the two, never outside.
+    // Opacity 0 leaves the terrain alone on both.
+    const std::string layers = mountainLayer() + ", " + pointsLayer(mountainCloud(), R"(, "crs": "EPSG:4979")");
+    auto s = load(scene(surveyView(), layers));
+    ASSERT_TRUE(s);
+    const auto terrainOnly = render(scene(surveyView(), mountainLayer()));
+    const auto toLinear = [](uint8_t v) {
+        const double c = v / 255.0;
+        return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+    };
+    for (const double renderer : {0.0, 1.0}) {
+        const bool compute = renderer == 0.0;
+        SCOPED_TRACE(compute ? "compute" : "point list");
+        ASSERT_TRUE(points(*s).setParameter("renderer", renderer));
+        ASSERT_TRUE(points(*s).setParameter("opacity", 1.0));
+        const auto opaque = render(*s);
+        ASSERT_TRUE(points(*s).setParameter("opacity", 0.5));
+        const auto half = render(*s);
+        size_t covered = 0, off = 0;
+        for (size_t i = 0; i < half.pixels.size(); i += 4) {
+            if (std::abs(int(opaque.pixels[i]) - int(terrainOnly.pixels[i])) < 40) continue;   // no point here
+            ++covered;
+            for (size_t c = 0; c < 3; ++c) {
+                const double o = toLinear(opaque.pixels[i + c]), t = toLinear(terrainOnly.pixels[i + c]);
+                const double got = toLinear(half.pixels[i + c]);
+                const bool ok = compute ? std::abs(got - 0.5 * (o + t)) <= 0.02
+                                        : got >= std::min(o, t) - 0.02 && got <= std::max(o, t) + 0.02 &&
+                                              std::abs(got - t) >= 0.4 * std::abs(o - t) - 0.02;
+                if (!ok) ++off;
+            }
+        }
+        EXPECT_GT(covered, size_t(1000));
+        EXPECT_LT(off, 3 * covered / 50) << "channels not blended between the cloud and the terrain (over 2 %)";
+        ASSERT_TRUE(points(*s).setParameter("opacity", 0.0));
+        EXPECT_LT(differing(render(*s), terrainOnly, 1), size_t(10));
+    }
+    EXPECT_FALSE(points(*s).setParameter("opacity", 1.5));
+}
+
 TEST_F(PointsRender, TheOpaqueSceneHidesPointsBehindIt) {
     // The same cloud 300 m under the ground: the terrain hides it entirely.
     std::vector<points::LasPoint> pts;
