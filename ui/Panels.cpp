@@ -217,7 +217,10 @@ void Panels::resourcesPanel(scene::Scene& scene, PanelActions& actions) {
     for (scene::Resource& r : scene.resources()) {
         ImGui::PushID(r.name.c_str());
         const std::string visLabel = "##visible" + r.name;
+        const bool failed = !r.error.empty();
+        if (failed) ImGui::BeginDisabled();
         if (ImGui::Checkbox(visLabel.c_str(), &r.visible)) actions.changed = true;
+        if (failed) ImGui::EndDisabled();
         remember("Visible##" + r.name);
         ImGui::SameLine();
         const bool open = ImGui::TreeNodeEx(r.name.c_str(), ImGuiTreeNodeFlags_DefaultOpen, "%s  (%s)", r.name.c_str(),
@@ -228,7 +231,11 @@ void Panels::resourcesPanel(scene::Scene& scene, PanelActions& actions) {
             remember("Fly to##" + r.name);
         }
         if (open) {
-            if (r.layer) {
+            if (failed) {
+                ImGui::PushTextWrapPos(0.0f);
+                ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.35f, 1.0f), "not loaded: %s", r.error.c_str());
+                ImGui::PopTextWrapPos();
+            } else if (r.layer) {
                 const std::string status = r.layer->status();
                 if (!status.empty()) ImGui::TextWrapped("%s", status.c_str());
                 if (r.layer->busy()) ImGui::TextColored(ImVec4(0.9f, 0.7f, 0.2f, 1.0f), "loading...");

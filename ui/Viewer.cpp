@@ -179,7 +179,8 @@ int runViewer(const ViewerOptions& options) {
 
         scene::LayerRegistry registry;
         layers::registerBuiltinLayers(registry);
-        auto built = scene::Scene::build(std::move(desc).value(), registry);
+        // A layer that fails to load shows its error in the panel; the others load.
+        auto built = scene::Scene::build(std::move(desc).value(), registry, {.keepGoing = true});
         if (!built) {
             std::fprintf(stderr, "orbis: %s\n", built.message().c_str());
             return 1;

@@ -9,17 +9,43 @@
 
 namespace orbis::scene {
 
-Result<std::unique_ptr<Scene>> Scene::build(SceneDesc desc, const LayerRegistry& registry) {
+namespace {
+
+/// What stands in for a layer that could not be built: it draws nothing and says why.
+class FailedLayer : public Layer {
+public:
+    FailedLayer(std::string type, std::string error) : type_(std::move(type)), error_(std::move(error)) {}
+    std::string_view type() const override { return type_; }
+    void prepare(const RenderServices&) override {}
+    bool drawsIn(Pass) const override { return false; }
+    void record(Pass, const RecordContext&) override {}
+    std::string status() const override { return "not loaded: " + error_; }
+
+private:
+    std::string type_, error_;
+};
+
+}  // namespace
+
+Result<std::unique_ptr<Scene>> Scene::build(SceneDesc desc, const LayerRegistry& registry, const SceneBuildOptions& options) {
     std::unique_ptr<Scene> scene(new Scene(std::move(desc)));
     for (const LayerDesc& layer : scene->desc_.layers) {
         auto made = registry.create(layer, scene->desc_);
-        if (!made) return made.error();
         Resource r;
         r.name = layer.name;
         r.type = layer.type;
         r.visible = layer.visible;
         r.viewpoint = layer.viewpoint;
-        r.layer = std::move(made).value();
+        if (made) {
+            r.layer = std::move(made).value();
+        } else if (options.keepGoing) {
+            log::error(made.message());
+            r.error = made.message();
+            r.visible = false;
+            r.layer = std::make_unique<FailedLayer>(layer.type, made.message());
+        } else {
+            return made.error();
+        }
         scene->resources_.push_back(std::move(r));
     }
     scene->annotations_ = scene->desc_.annotations;

@@ -23,13 +23,22 @@ struct Resource {
     std::string type;
     bool visible = true;
     std::optional<globe::Viewpoint> viewpoint;
-    std::unique_ptr<Layer> layer;
+    std::unique_ptr<Layer> layer;   ///< never null: a layer that failed to build draws nothing
+    std::string error;              ///< why the layer could not be built (SceneBuildOptions::keepGoing)
+};
+
+struct SceneBuildOptions {
+    /// A layer that cannot be built (a missing file, a bad setting) becomes a resource with
+    /// its error and nothing to draw, and the rest of the scene loads: the viewer shows the
+    /// error in its panel. Off (batch renders, benchmarks): the first such error fails the build.
+    bool keepGoing = false;
 };
 
 class Scene {
 public:
     /// Builds every layer the description names (and only those). Main thread only.
-    static Result<std::unique_ptr<Scene>> build(SceneDesc desc, const LayerRegistry& registry);
+    static Result<std::unique_ptr<Scene>> build(SceneDesc desc, const LayerRegistry& registry,
+                                                const SceneBuildOptions& options = {});
 
     const SceneDesc& desc() const { return desc_; }
     std::vector<Resource>& resources() { return resources_; }

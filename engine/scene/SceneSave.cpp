@@ -181,7 +181,8 @@ nlohmann::json sceneToJson(const Scene& scene, const fs::path& saveTo) {
     for (size_t i = 0; i < resources.size() && i < desc.layers.size(); ++i) {
         nlohmann::json layer = desc.layers[i].settings;
         layer["name"] = resources[i].name;
-        layer["visible"] = resources[i].visible;
+        // A layer that could not be built keeps what its file said.
+        layer["visible"] = resources[i].error.empty() ? resources[i].visible : desc.layers[i].visible;
         writeLiveSettings(layer, resources[i].layer->liveSettings());
         rebaseLayerPaths(layer, desc.folder, toFolder);
         layers.push_back(std::move(layer));

@@ -170,5 +170,31 @@ TEST(LayerRegistry, FactoryErrorsReachTheCaller) {
     EXPECT_EQ(scene.message(), "s.json: /layers/0/file: cannot open");
 }
 
+TEST(LayerRegistry, KeepGoingLeavesAFailedLayerWithItsErrorAndLoadsTheOthers) {
+    LayerRegistry registry;
+    registry.add("bad", "test", [](const LayerDesc& l, const SceneDesc& s) -> Result<std::unique_ptr<Layer>> {
+        return Error{s.file.string() + ": " + l.jsonPath + "/file: cannot open"};
+    });
+    registry.add("good", "test", [](const LayerDesc&, const SceneDesc&) -> Result<std::unique_ptr<Layer>> {
+        return std::unique_ptr<Layer>(new CountingLayer);
+    });
+    auto desc = parse(R"({"layers": [{"type": "bad", "name": "Broken"}, {"type": "good", "name": "Fine"},
+                                     {"type": "nope", "name": "Unknown"}]})");
+    ASSERT_TRUE(desc.ok());
+    auto scene = Scene::build(std::move(desc).value(), registry, {.keepGoing = true});
+    ASSERT_TRUE(scene.ok()) << scene.message();
+    const auto& r = (*scene)->resources();
+    ASSERT_EQ(r.size(), 3u);
+    EXPECT_EQ(r[0].error, "s.json: /layers/0/file: cannot open");
+    EXPECT_FALSE(r[0].visible);
+    ASSERT_NE(r[0].layer, nullptr) << "a stand-in that draws nothing, so no caller meets a null layer";
+    EXPECT_EQ(r[0].layer->type(), "bad");
+    EXPECT_FALSE(r[0].layer->drawsIn(Pass::Opaque));
+    EXPECT_NE(r[0].layer->status().find("cannot open"), std::string::npos);
+    EXPECT_TRUE(r[1].error.empty());
+    EXPECT_TRUE(r[1].visible);
+    EXPECT_NE(r[2].error.find("unknown layer type 'nope'"), std::string::npos) << r[2].error;
+}
+
 }  // namespace
 }  // namespace orbis::scene

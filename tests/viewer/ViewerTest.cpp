@@ -225,6 +225,33 @@ TEST(Viewer, SleepsWhenIdle) {
     EXPECT_LT(cpu / seconds, 0.05) << r.output;
 }
 
+TEST(Viewer, ALayerThatFailsToLoadShowsItsErrorAndTheRestLoads) {
+    REQUIRE_XVFB();
+    const fs::path dir = workDir("failed-layer");
+    std::ofstream(dir / "scene.json") << R"({
+      "viewpoint": {"lon": 5, "lat": 28, "range": 19000000},
+      "time": {"start": "2026-03-20T12:00:00Z", "end": "2026-03-20T12:00:00Z"},
+      "layers": [{"type": "globe", "name": "Earth"},
+                 {"type": "points", "name": "Survey", "path": "no-such-cloud.las"}]})";
+    const ViewerRun r = view(dir, R"([{"do": "settle"}, {"do": "screenshot", "file": "shot.png"},
+                                      {"do": "click", "item": "Visible##Survey"}, {"do": "settle"},
+                                      {"do": "key", "key": "Ctrl+S"}, {"do": "quit"}])",
+                             (dir / "scene.json").string(), "--save-to \"" + (dir / "saved.json").string() + "\"");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("no-such-cloud.las"), std::string::npos) << r.output;
+    // The globe loaded (the centre of the view is not background); the panel shows the error
+    // (its text names the test's folder, so no golden image here).
+    const ImageRgba8 image = shot(dir / "shot.png");
+    ASSERT_EQ(image.width, 960u);
+    const size_t c = (size_t(image.height / 2) * image.width + image.width / 2) * 4;
+    EXPECT_GT(image.pixels[c] + image.pixels[c + 1] + image.pixels[c + 2], 90);
+    // The saved scene keeps the layer as the file had it: it loads once the file is there.
+    std::ifstream in(dir / "saved.json");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("no-such-cloud.las"), std::string::npos) << text;
+    EXPECT_EQ(text.find("\"visible\": false"), std::string::npos) << text;
+}
+
 TEST(Viewer, BadInputsGiveClearErrors) {
     REQUIRE_XVFB();
     const fs::path dir = workDir("bad");
