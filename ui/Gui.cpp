@@ -21,11 +21,13 @@ void checkVk(VkResult r) {
 
 }  // namespace
 
-Gui::Gui(gpu::Device& device, GLFWwindow* window, float contentScale) : device_(device) {
+Gui::Gui(gpu::Device& device, GLFWwindow* window, float contentScale, std::filesystem::path layoutFile)
+    : device_(device), layoutFile_(layoutFile.string()) {
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGuiIO& io = ImGui::GetIO();
-    io.IniFilename = nullptr;   // layouts come from the code, not from a file next to the binary
+    // Never a file next to the binary (ImGui's default): the one given, or the code's layout.
+    io.IniFilename = layoutFile_.empty() ? nullptr : layoutFile_.c_str();
     ImGui::StyleColorsDark();
     ImGuiStyle& style = ImGui::GetStyle();
     style.WindowRounding = 4.0f;

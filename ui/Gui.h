@@ -8,6 +8,8 @@
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
+#include <filesystem>
+#include <string>
 
 struct GLFWwindow;
 
@@ -20,8 +22,10 @@ namespace orbis::ui {
 
 class Gui {
 public:
-    /// Installs ImGui's GLFW callbacks after the window's own (ImGui chains to them).
-    Gui(gpu::Device& device, GLFWwindow* window, float contentScale);
+    /// Installs ImGui's GLFW callbacks after the window's own (ImGui chains to them). With a
+    /// `layoutFile`, the panels' places and sizes are read from it and written back to it (ImGui's
+    /// ini format); without, every session starts from the layout in the code.
+    Gui(gpu::Device& device, GLFWwindow* window, float contentScale, std::filesystem::path layoutFile = {});
     ~Gui();
     Gui(const Gui&) = delete;
     Gui& operator=(const Gui&) = delete;
@@ -53,6 +57,7 @@ private:
     VkImageView framebufferView_ = VK_NULL_HANDLE;
     uint32_t fbWidth_ = 0, fbHeight_ = 0;
     bool frameOpen_ = false;
+    std::string layoutFile_;   ///< ImGui keeps the pointer: it lives as long as the context
 };
 
 }  // namespace orbis::ui

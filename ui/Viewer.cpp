@@ -27,6 +27,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <csignal>
+#include <cstdlib>
 #include <variant>
 
 namespace orbis::ui {
@@ -114,6 +116,27 @@ void installCallbacks(GLFWwindow* window, InputSink& sink) {
     glfwSetWindowRefreshCallback(window, [](GLFWwindow* w) { sinkOf(w).resized = true; });
 }
 
+/// Set by SIGINT / SIGTERM: the viewer closes as if its window had been closed (the panel
+/// layout is written, the device is idle before it goes), within one idle wait.
+volatile std::sig_atomic_t gStopRequested = 0;
+
+/// Where an interactive session keeps the panels' layout: $XDG_CONFIG_HOME/orbis (or
+/// ~/.config/orbis)/viewer-layout.ini; nothing when there is no such folder and it cannot be
+/// made. Scripted sessions keep none, so that their pictures never depend on an earlier session.
+std::filesystem::path panelLayoutFile() {
+    std::filesystem::path base;
+    if (const char* xdg = std::getenv("XDG_CONFIG_HOME"); xdg && *xdg) base = xdg;
+    else if (const char* home = std::getenv("HOME"); home && *home) base = std::filesystem::path(home) / ".config";
+    else return {};
+    std::error_code ec;
+    std::filesystem::create_directories(base / "orbis", ec);
+    if (ec) {
+        log::warn("viewer: the panel layout is not kept (", (base / "orbis").string(), ": ", ec.message(), ")");
+        return {};
+    }
+    return base / "orbis" / "viewer-layout.ini";
+}
+
 double processCpuSeconds() {
     rusage u{};
     getrusage(RUSAGE_SELF, &u);
@@ -190,7 +213,7 @@ int runViewer(const ViewerOptions& options) {
         window.framebufferSize(fbw, fbh);
         render::Renderer renderer(device, std::max(fbw, 1u), std::max(fbh, 1u));
         const float uiScale = window.contentScale();
-        Gui gui(device, window.glfw(), uiScale);
+        Gui gui(device, window.glfw(), uiScale, script ? std::filesystem::path() : panelLayoutFile());
         Swapchain swapchain(device, dopt.surface, options.vsync);
         Panels panels;
         if (!options.panels) panels.toggleVisible();
@@ -250,7 +273,10 @@ int runViewer(const ViewerOptions& options) {
         bool quit = false;
         scene->time().advance(0.0);
 
-        while (!quit && !window.shouldClose()) {
+        gStopRequested = 0;
+        std::signal(SIGINT, [](int) { gStopRequested = 1; });
+        std::signal(SIGTERM, [](int) { gStopRequested = 1; });
+        while (!quit && !window.shouldClose() && !gStopRequested) {
             const bool idleStep = script && !script->done() && script->current()->kind == ScriptStep::Kind::Idle;
             const bool playingScript = script && !script->done() && !idleStep;
             const bool animating = nav.animating() || scene->time().playing() || scene->busy() ||

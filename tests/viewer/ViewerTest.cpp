@@ -252,6 +252,22 @@ TEST(Viewer, ALayerThatFailsToLoadShowsItsErrorAndTheRestLoads) {
     EXPECT_EQ(text.find("\"visible\": false"), std::string::npos) << text;
 }
 
+TEST(Viewer, TerminationClosesCleanlyAndKeepsThePanelLayout) {
+    REQUIRE_XVFB();
+    const fs::path dir = workDir("layout");
+    // An interactive session (no script) keeps its panel layout in $XDG_CONFIG_HOME/orbis;
+    // SIGTERM (or Ctrl+C) closes it as the window's close button does: exit 0, no validation
+    // message, the layout written.
+    const std::string run = "XDG_CONFIG_HOME='" + dir.string() + "' XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp} " +
+                            "VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json " + ORBIS_BINARY + " view \"" +
+                            ORBIS_DEFAULT_SCENE + "\" --device cpu --validation --size 640x400";
+    const ViewerRun r = shell(underXvfb("bash -c \"" + run + " & p=\\$!; sleep 4; kill -TERM \\$p; wait \\$p\""));
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    std::ifstream in(dir / "orbis" / "viewer-layout.ini");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("[Window][Resources]"), std::string::npos) << text;
+}
+
 TEST(Viewer, BadInputsGiveClearErrors) {
     REQUIRE_XVFB();
     const fs::path dir = workDir("bad");
