@@ -3,7 +3,8 @@
 # `orbis bench` picks (the first discrete GPU, else lavapipe; DEVICE=cpu forces lavapipe). Volumes:
 # the synthetic 256^3 field, ECHAM5 (when ../shared is there) and the VTK peer's scenes, DVR / iso /
 # slices at 1920x1080 and 960x540, the step sweep and the isosurface error. Points:
-# tools/bench-points.sh. Models: 0, 1, 100 and 1000 wagons on the train track.
+# tools/bench-points.sh. Models: 0, 1, 100 and 1000 wagons on the train track, and 1, 100, 1000
+# animated ones.
 #   usage: tools/bench-suite.sh [BUILD_DIR]
 #   env: PARTS="vol pts train" OUT=DIR (plots and images) FRAMES=30 BIG=0 (see bench-points.sh)
 set -uo pipefail
@@ -33,4 +34,5 @@ if [[ "$parts" == *" pts "* ]]; then
 fi
 if [[ "$parts" == *" train "* ]]; then
     for n in 0 1 100 1000; do bench "$scenes/train-$n.json" --frames 40 --warmup 5; done
+    for n in 1 100 1000; do bench "$scenes/train-anim-$n.json" --frames 40 --warmup 5; done
 fi

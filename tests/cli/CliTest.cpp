@@ -2,6 +2,7 @@
 // names the file and the problem, and nothing crashes. GPU commands run on lavapipe.
 #include "tests/support/GpuTest.h"
 #include "tests/support/Shell.h"
+#include "tests/unit/GltfTestFiles.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -404,6 +405,20 @@ TEST(Cli, InfoDescribesAVideoAndItsKlvPackets) {
     EXPECT_EQ(b.exitCode, 1);
     EXPECT_NE(b.output.find("bad.ts"), std::string::npos) << b.output;
     EXPECT_EQ(std::system((std::string(ORBIS_MAKE_FMV) + " " + dir.string() + " --frames none > /dev/null 2>&1").c_str()) >> 8, 2);
+}
+
+// `orbis bench --poses` times each animation's poses of a glTF model on the CPU.
+TEST(Cli, BenchPosesTimesEveryAnimation) {
+    const fs::path arm = tempFile("arm.gltf", twoJointArmGltf());
+    const CliRun r = run("bench --poses " + arm.string());
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("1 skins (2 joints), 1 animations"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("Bend"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("us/pose"), std::string::npos) << r.output;
+    const CliRun broken = run("bench --poses " + tempFile("broken.gltf", "{").string());
+    EXPECT_EQ(broken.exitCode, 1);
+    EXPECT_NE(broken.output.find("broken.gltf"), std::string::npos) << broken.output;
+    EXPECT_EQ(run("bench --poses " + arm.string() + " scene.json").exitCode, 2);
 }
 
 }  // namespace

@@ -5,8 +5,10 @@
   peer-{dvr,iso}.json          the VTK peer's volume scenes
   train-N.json                 N wagons along the train track over the FMV valley (N = 0: the model
                                hidden), overview camera, 100 s into the run (issue 7)
+  train-anim-N.json            the same with animated wagons (wagon-animated.gltf, written here by
+                               tools/gen/make-wagon.py --animated: node channels and a skin), N = 1, 100, 1000
 usage: bench-scenes.py OUT_DIR [--echam5 FILE.nc] [--dem FILE.tif]"""
-import argparse, copy, json, os
+import argparse, copy, json, os, subprocess, sys
 
 root = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..'))
 ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -58,3 +60,11 @@ for n in (0, 1, 100, 1000):
     if n == 0:
         s['layers'][1]['visible'] = False   # same camera, nothing drawn: the terrain's cost alone
     save('train-%d.json' % n, s)
+
+animated = os.path.join(os.path.abspath(args.out), 'wagon-animated.gltf')
+subprocess.run([sys.executable, os.path.join(root, 'tools', 'gen', 'make-wagon.py'), animated, '--animated'], check=True)
+for n in (1, 100, 1000):
+    s = copy.deepcopy(train)
+    s['layers'][1]['file'] = animated
+    s['layers'][1]['copies'] = {'count': n, 'spacing': 100.0 / n}
+    save('train-anim-%d.json' % n, s)

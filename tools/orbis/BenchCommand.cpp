@@ -27,12 +27,14 @@ namespace orbis::cli {
 
 namespace {
 const char* kHelp =
-    "usage: orbis bench SCENE [options]    or    orbis bench --video FILE [--seeks N]\n"
+    "usage: orbis bench SCENE [options]    or    orbis bench --video FILE [--seeks N]    or    orbis bench --poses FILE\n"
     "Renders SCENE repeatedly and reports frame times: CPU (update + record + submit), whole frame\n"
     "(until the GPU is done) and GPU time per pass, as min / median / p95 in milliseconds. A fixed\n"
     "view is measured after everything it shows has loaded.\n"
     "  --video FILE       FMV on the CPU, no scene: KLV packets/s, playback ms/frame, exact seeks\n"
     "                     (--seeks N random frames, default 50): median and p95\n"
+    "  --poses FILE       glTF poses on the CPU, no scene: microseconds per pose of each animation\n"
+    "                     (what an animated model layer pays per distinct animation time a frame)\n"
     "  --frames N         frames measured (default 100)\n"
     "  --warmup N         frames rendered first and not measured (default 5)\n"
     "  --size WxH         image size (default 1920x1080)\n"
@@ -350,11 +352,13 @@ int isoError(const Args& args, GpuSession& gpu, uint32_t width, uint32_t height,
 int tileBench(const Args& args, scene::Scene& scene, long level, unsigned threads);
 /// `orbis bench --video FILE` (VideoBench.cpp).
 int videoBench(const std::string& file, long seeks);
+/// `orbis bench --poses FILE` (PoseBench.cpp).
+int poseBench(const std::string& file);
 
 int benchCommand(const std::vector<std::string>& argv) {
     std::set<std::string> valued = gpuValuedOptions();
     valued.insert({"--frames", "--warmup", "--size", "--time", "--camera-path", "--sweep", "--plot", "--tiles", "--threads",
-                   "--iso-error", "--video", "--seeks"});
+                   "--iso-error", "--video", "--seeks", "--poses"});
     std::set<std::string> flags = gpuFlagOptions();
     flags.insert({"--help", "--json"});
     Args args(argv, valued, flags, {{"-h", "--help"}});
@@ -365,6 +369,10 @@ int benchCommand(const std::vector<std::string>& argv) {
     if (auto video = args.value("--video")) {
         if (!args.positional().empty()) throw UsageError{"bench --video takes no SCENE"};
         return videoBench(*video, args.integer("--seeks", 1, 100000).value_or(50));
+    }
+    if (auto poses = args.value("--poses")) {
+        if (!args.positional().empty()) throw UsageError{"bench --poses takes no SCENE"};
+        return poseBench(*poses);
     }
     if (args.positional().size() != 1) throw UsageError{"bench expects exactly one SCENE file"};
     const long frames = args.integer("--frames", 1, 1000000).value_or(100);
