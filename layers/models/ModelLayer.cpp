@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace orbis::layers {
 namespace {
@@ -47,6 +48,7 @@ ModelLayer::ModelLayer(ModelSettings settings, models::ModelData model, std::uni
     const glm::dvec3& o = settings_.orientationDeg;
     modelToBody_ = glm::mat3_cast(motion::bodyToNed(o.x, o.y, o.z)) * models::gltfToBody();
     maxCopies_ = std::max(1u, settings_.copies);
+    motion_->setFootprint(footprint());
     if (model_.animated()) {
         poser_.emplace(model_, settings_.animation.animation);
         const uint64_t blockBytes = uint64_t(poser_->layout().vec4s) * sizeof(glm::vec4);
@@ -315,6 +317,19 @@ glm::dmat4 ModelLayer::modelToEcef(const scene::TrackedPose& pose, double scale)
     return m;
 }
 
+motion::Footprint ModelLayer::footprint() const {
+    // The bounding box's corners on the body axes (x forward, y right), at the layer's scale.
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (int c = 0; c < 8; ++c) {
+        const glm::dvec3 corner((c & 1) ? model_.boundsMax.x : model_.boundsMin.x, (c & 2) ? model_.boundsMax.y : model_.boundsMin.y,
+                                (c & 4) ? model_.boundsMax.z : model_.boundsMin.z);
+        const glm::dvec3 body = modelToBody_ * corner * settings_.scale;
+        lo = glm::min(lo, body);
+        hi = glm::max(hi, body);
+    }
+    return {0.5 * (hi.x - lo.x), 0.5 * (hi.y - lo.y)};
+}
+
 void ModelLayer::poll() { motion_->update(); }
 
 void ModelLayer::update(const scene::FrameContext& frame) {
@@ -569,7 +584,10 @@ std::string ModelLayer::status() const {
 bool ModelLayer::setParameter(std::string_view name, double value) {
     // Both are read every frame (the copies' transforms, the label's height, tracked poses).
     // The ranges are the scene file's (create()), so that a saved scene loads again.
-    if (name == "scale" && value >= 1e-6 && value <= 1e6) settings_.scale = value;
+    if (name == "scale" && value >= 1e-6 && value <= 1e6) {
+        settings_.scale = value;
+        motion_->setFootprint(footprint());
+    }
     else if (name == "minimumPixelSize" && value >= 0.0 && value <= 1024.0) settings_.minimumPixelSize = value;
     else return false;
     return true;

@@ -23,6 +23,11 @@
 // degrees, to turn a model whose front is not +Z) and "scale". "minimumPixelSize" scales a
 // model up when it would cover fewer pixels than that (0: true size only).
 //
+// On the ground: a model on a trajectory or live feed whose altitude is "ground" (at most 1 m
+// above it, clampToGround included) keeps its track's heading and pitches and rolls with the
+// terrain under its footprint, the bounding box on the body axes at "scale"
+// (layers/motion/GroundAttitude.h). A model at a fixed position keeps its "attitude".
+//
 // Copies: `count` models along the same trajectory, copy i at (t - i x spacing): a train's
 // wagons, a convoy, or the benchmark's 1 000 animated models. One instanced draw per glTF
 // primitive draws every copy.
@@ -136,6 +141,9 @@ private:
     };
     void buildPipelines(const scene::RenderServices& services);
     void uploadModel(const scene::RenderServices& services);
+    /// Half the model's extent along the body's x and y axes at the layer's scale: the
+    /// footprint on which a vehicle on the ground follows the terrain's slope.
+    motion::Footprint footprint() const;
     /// Model space -> ECEF (rotation x scale in the 3x3, the position in the translation).
     glm::dmat4 modelToEcef(const scene::TrackedPose& pose, double scale) const;
     void buildPath(const scene::FrameContext& frame);

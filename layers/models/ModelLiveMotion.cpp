@@ -70,10 +70,12 @@ public:
 
     std::optional<scene::TrackedPose> pose(TimeNs t, const GroundFn& ground) const override {
         if (!trajectory_) return std::nullopt;
-        const auto p = trajectory_->pose(t, ground ? &ground : nullptr);
+        auto p = trajectory_->pose(t, ground ? &ground : nullptr);
         if (!p) return std::nullopt;
+        motion::followGround(*p, footprint_, ground);
         return toTrackedPose(*p);
     }
+    void setFootprint(const motion::Footprint& footprint) override { footprint_ = footprint; }
     std::optional<scene::TimeRange> range() const override {
         if (!trajectory_) return std::nullopt;
         return scene::TimeRange{trajectory_->timeRange().begin, trajectory_->timeRange().end};
@@ -111,6 +113,7 @@ private:
     std::optional<motion::Trajectory> trajectory_;
     std::vector<double> latencies_;
     std::uint64_t outOfOrder_ = 0;
+    motion::Footprint footprint_;
 };
 
 }  // namespace

@@ -43,10 +43,12 @@ public:
     }
 
     std::optional<scene::TrackedPose> pose(TimeNs t, const GroundFn& ground) const override {
-        const auto p = t_.pose(t, ground ? &ground : nullptr);
+        auto p = t_.pose(t, ground ? &ground : nullptr);
         if (!p) return std::nullopt;
+        motion::followGround(*p, footprint_, ground);
         return toTrackedPose(*p);
     }
+    void setFootprint(const motion::Footprint& footprint) override { footprint_ = footprint; }
     std::optional<scene::TimeRange> range() const override {
         const auto r = t_.timeRange();
         return scene::TimeRange{r.begin, r.end};
@@ -63,6 +65,7 @@ public:
 private:
     motion::Trajectory t_;
     bool usesGround_ = false;
+    motion::Footprint footprint_;
 };
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include "engine/core/Result.h"
 #include "engine/core/TimeFormat.h"
 #include "engine/scene/Layer.h"
+#include "layers/motion/GroundAttitude.h"
 #include "layers/motion/Trajectory.h"
 
 #include <glm/glm.hpp>
@@ -41,6 +42,10 @@ public:
     virtual void update() {}
     /// True when the poses depend on the ground (altitudes above the terrain).
     virtual bool usesGround() const { return false; }
+    /// The vehicle's extent on the ground: poses on the ground (trajectories and live feeds,
+    /// motion::Pose::onGround) pitch and roll with the terrain under it
+    /// (layers/motion/GroundAttitude.h). Empty by default: the trajectory's attitude.
+    virtual void setFootprint(const motion::Footprint& /*footprint*/) {}
     /// One line for the stats ("live tcp://...: 120 fixes, connected").
     virtual std::string status() const { return {}; }
 };

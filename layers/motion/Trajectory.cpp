@@ -252,6 +252,7 @@ void Trajectory::finish(Pose& out, const glm::dvec3& p, double groundWeight, con
             // Along the geodetic normal: the same lon/lat, the height raised exactly by this.
             const double lat = glm::radians(g.latDeg), lon = glm::radians(g.lonDeg);
             const glm::dvec3 up(std::cos(lat) * std::cos(lon), std::cos(lat) * std::sin(lon), std::sin(lat));
+            out.onGround = groundWeight >= 1.0 && std::abs(g.height) <= kOnGroundAglMetres;   // g.height: above the ground here
             out.ecef += up * (groundWeight * *terrain);
             g.height += groundWeight * *terrain;
         } else {

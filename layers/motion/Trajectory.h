@@ -85,6 +85,9 @@
 
 namespace orbis::motion {
 
+/// Poses at most this high above the ground (metres) count as on it (Pose::onGround).
+inline constexpr double kOnGroundAglMetres = 1.0;
+
 enum class Interpolation { Linear, CatmullRom };
 enum class Extrapolation { Hold, Linear, Hide };
 enum class DuplicateTimes { Error, KeepFirst };
@@ -114,6 +117,9 @@ struct Pose {
     glm::dvec3 velocity{0.0};   ///< ECEF, m/s
     bool extrapolated = false;  ///< `t` is outside timeRange()
     bool groundUnknown = false; ///< Ground altitude without a terrain height here: taken as 0
+    /// Entirely Ground altitude, at most kOnGroundAglMetres above the terrain (which is known
+    /// here): a vehicle on the ground, whose pitch and roll may follow it (GroundAttitude.h).
+    bool onGround = false;
 
     glm::dmat3 rotation() const { return glm::mat3_cast(orientation); }   ///< columns: body x, y, z in ECEF
     glm::dvec3 forward() const;   ///< body +x in ECEF (unit)
