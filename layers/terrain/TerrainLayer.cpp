@@ -168,6 +168,7 @@ void TerrainLayer::prepare(const scene::RenderServices& services) {
     ms.imageSize = settings_.imageSize;
     ms.cpuBudgetBytes = settings_.cpuCacheBytes;
     ms.maxLevel = settings_.maxLevel;
+    ground_ = std::make_unique<TerrainGround>(settings_.gridSize, settings_.maxLevel, dems);
     // No sources, no threads: the pool starts only when there is something to load.
     jobs::ThreadPool* pool = dems.empty() && images.empty() ? nullptr : &services.jobs();
     model_ = std::make_unique<globe::TerrainModel>(ms, std::move(dems), std::move(images), pool);
@@ -353,6 +354,7 @@ void TerrainLayer::update(const scene::FrameContext& frame) {
     frame_ = frame.frameNumber + 1;   // 0 means "never used"
     const scene::Camera& camera = *frame.camera;
     model_->beginFrame(frame_);
+    ground_->endFrame();
     stats_ = {};
 
     const double ex = settings_.verticalExaggeration;
@@ -638,6 +640,7 @@ bool TerrainLayer::setParameter(std::string_view name, double value) {
         return true;
     }
     if (name == "verticalExaggeration" && value >= 0.0 && value <= 1000.0) {
+        if (value != settings_.verticalExaggeration) ++groundChanges_;
         settings_.verticalExaggeration = value;
         return true;
     }
@@ -696,8 +699,8 @@ std::string TerrainLayer::status() const {
 }
 
 std::optional<double> TerrainLayer::heightAt(double lonDeg, double latDeg) const {
-    if (!model_) return std::nullopt;
-    auto h = model_->heightAt(lonDeg, latDeg);
+    if (!ground_) return std::nullopt;
+    auto h = ground_->heightAt(lonDeg, latDeg);
     if (h) *h *= settings_.verticalExaggeration;
     return h;
 }

@@ -23,6 +23,7 @@
 #include "globe/RasterSource.h"
 #include "globe/TerrainModel.h"
 #include "globe/TileSelector.h"
+#include "layers/terrain/TerrainGround.h"
 
 #include <memory>
 #include <string>
@@ -97,11 +98,12 @@ public:
     globe::TerrainModel* model() { return model_.get(); }
     const globe::TerrainModel* model() const { return model_.get(); }
     /// Terrain height (metres above the ellipsoid, exaggerated as drawn) at a point, from the
-    /// loaded data; nothing when nothing is loaded there.
+    /// DEMs at their own resolution whatever has been streamed (TerrainGround.h): the same
+    /// answer for the same point every time; nothing before prepare().
     std::optional<double> heightAt(double lonDeg, double latDeg) const;
     std::optional<double> groundHeightAt(double lonDeg, double latDeg) const override { return heightAt(lonDeg, latDeg); }
-    /// Tiles loaded or evicted so far (elevation and imagery alike).
-    uint64_t groundVersion() const override { return model_ ? model_->stats().completed + model_->stats().evicted : 0; }
+    /// The answers above change only with the vertical exaggeration.
+    uint64_t groundVersion() const override { return groundChanges_; }
     /// Problems met while opening sources and loading tiles.
     const std::vector<std::string>& errors() const { return errors_; }
 
@@ -137,6 +139,8 @@ private:
     TerrainSettings settings_;
     std::vector<std::string> errors_;
     std::unique_ptr<globe::TerrainModel> model_;
+    std::unique_ptr<TerrainGround> ground_;   ///< heightAt's own DEM reads
+    uint64_t groundChanges_ = 0;
     std::unique_ptr<globe::TileSelector> selector_;
     scene::RenderServices services_;
     uint64_t frame_ = 0;
