@@ -40,6 +40,7 @@ struct GraphicsPipelineDesc {
     bool depthWrite = true;
     VkCompareOp depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;   ///< reversed-Z: near = 1, far = 0
     bool alphaBlend = false;                                      ///< premultiplied "over"
+    bool colorWrite = true;                                       ///< false: a depth-only pass
     VkFormat colorFormat = VK_FORMAT_R8G8B8A8_SRGB;
     VkFormat depthFormat = VK_FORMAT_D32_SFLOAT;
     const Specialization* specialization = nullptr;

@@ -271,12 +271,14 @@ void ModelLayer::buildPipelines(const scene::RenderServices& services) {
     opaque_ = gpu::createGraphicsPipeline(device, d);
     const bool anyBlend = std::any_of(model_.materials.begin(), model_.materials.end(),
                                       [](const models::ModelMaterial& m) { return m.alphaMode == models::AlphaMode::Blend; });
-    if (anyBlend) {   // only models with BLEND materials build the blending pipeline
-        d.alphaBlend = true;
-        d.depthWrite = false;
-        d.name = "model blend";
-        blend_ = gpu::createGraphicsPipeline(device, d);
-    }
+    d.alphaBlend = true;
+    d.depthWrite = false;
+    d.name = "model blend";
+    blendDesc_ = d;
+    device_ = &device;
+    // Only models with BLEND materials, or drawn translucent, build the blending pipeline.
+    if (anyBlend) blend_ = gpu::createGraphicsPipeline(device, d);
+    if (settings_.opacity < 1.0) buildTranslucentPipelines();
 
     if (settings_.path.show || settings_.label) {
         const VkDescriptorSetLayout lineSets[] = {services.frameSetLayout};
@@ -332,7 +334,21 @@ motion::Footprint ModelLayer::footprint() const {
 
 void ModelLayer::poll() { motion_->update(); }
 
+void ModelLayer::buildTranslucentPipelines() {
+    if (!blendDesc_ || !device_) return;
+    if (!blend_) blend_ = gpu::createGraphicsPipeline(*device_, *blendDesc_);
+    if (!depthOnly_) {
+        gpu::GraphicsPipelineDesc d = *blendDesc_;
+        d.alphaBlend = false;
+        d.colorWrite = false;
+        d.depthWrite = true;
+        d.name = "model depth";
+        depthOnly_ = gpu::createGraphicsPipeline(*device_, d);
+    }
+}
+
 void ModelLayer::update(const scene::FrameContext& frame) {
+    if (settings_.opacity < 1.0 && (!blend_ || !depthOnly_)) buildTranslucentPipelines();
     const scene::Camera& camera = *frame.camera;
     eye_ = camera.position();
     const models::GroundFn& ground = frame.groundHeight;
@@ -483,9 +499,12 @@ void ModelLayer::record(scene::Pass pass, const scene::RecordContext& rc) {
         const VkDescriptorSet sets[] = {rc.frameSet, frameSets_.sets[rc.slot]};
         const VkBuffer vb = vertices_.vk();
         const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-        // Opaque and masked materials first, then blended ones over them.
+        // Opaque and masked materials first, then blended ones over them. A translucent model
+        // (opacity below 1) lays down its depth first, then blends every material where it is
+        // the nearest surface.
+        const bool translucent = settings_.opacity < 1.0;
         for (const bool blended : {false, true}) {
-            const gpu::Pipeline& pipeline = blended ? blend_ : opaque_;
+            const gpu::Pipeline& pipeline = blended ? blend_ : translucent ? depthOnly_ : opaque_;
             if (!pipeline) continue;
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.vk());
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
@@ -501,7 +520,8 @@ void ModelLayer::record(scene::Pass pass, const scene::RecordContext& rc) {
                 const models::ModelPrimitive& prim = model_.primitives[draw.primitive];
                 const models::ModelMaterial* mat = prim.material >= 0 ? &model_.materials[size_t(prim.material)] : nullptr;
                 const bool isBlend = mat && mat->alphaMode == models::AlphaMode::Blend;
-                if (isBlend != blended) continue;
+                if (!translucent && isBlend != blended) continue;
+                if (translucent && !blended && isBlend) continue;   // BLEND materials do not hide
                 const int tex = mat ? mat->baseColorTexture : -1;
                 const VkDescriptorSet set = textures_[tex >= 0 ? size_t(tex) : textures_.size() - 1].set;
                 if (set != boundMaterial) {
@@ -510,6 +530,7 @@ void ModelLayer::record(scene::Pass pass, const scene::RecordContext& rc) {
                 }
                 shader::ModelPush push{};
                 push.baseColor = mat ? mat->baseColorFactor : glm::vec4(1.0f);
+                push.baseColor.a *= float(settings_.opacity);
                 push.params = glm::vec4(mat && mat->alphaMode == models::AlphaMode::Mask ? mat->alphaCutoff : -1.0f,
                                         mat && mat->unlit ? 1.0f : 0.0f, settings_.sunLighting ? 1.0f : 0.0f,
                                         tex >= 0 ? 1.0f : 0.0f);
@@ -589,6 +610,7 @@ bool ModelLayer::setParameter(std::string_view name, double value) {
         motion_->setFootprint(footprint());
     }
     else if (name == "minimumPixelSize" && value >= 0.0 && value <= 1024.0) settings_.minimumPixelSize = value;
+    else if (name == "opacity" && value >= 0.0 && value <= 1.0) settings_.opacity = value;
     else return false;
     return true;
 }
@@ -600,6 +622,7 @@ std::vector<scene::LayerSetting> ModelLayer::liveSettings() const {
          .logarithmic = true},
         {.name = "minimumPixelSize", .label = "Minimum size (px)", .kind = Kind::Number,
          .value = settings_.minimumPixelSize, .min = 0.0, .max = 1024.0},
+        {.name = "opacity", .label = "Opacity", .kind = Kind::Number, .value = settings_.opacity, .min = 0.0, .max = 1.0},
     };
 }
 

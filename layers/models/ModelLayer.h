@@ -3,7 +3,7 @@
 // a live position feed on the scene's virtual time, with its path drawn as a line and a label.
 //
 //   {"type": "model", "name": "Train", "file": "models/train.glb",
-//    "scale": 1, "minimumPixelSize": 0, "orientation": [0, 0, 0], "color": [1, 1, 1],
+//    "scale": 1, "minimumPixelSize": 0, "opacity": 1, "orientation": [0, 0, 0], "color": [1, 1, 1],
 //    "lighting": "sun" | "headlight",
 //    // one of:
 //    "position": [lon, lat, height], "attitude": [heading, pitch, roll], "altitude": "ellipsoid" | "ground",
@@ -58,6 +58,7 @@
 #include "engine/gpu/Buffer.h"
 #include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Handle.h"
+#include "engine/gpu/Pipeline.h"
 #include "engine/gpu/Image.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/SceneDesc.h"
@@ -90,6 +91,9 @@ struct ModelSettings {
     double minimumPixelSize = 0.0;
     glm::dvec3 orientationDeg{0.0};          ///< heading, pitch, roll of the model on the body
     glm::dvec3 color{1.0};                   ///< sRGB tint
+    /// 0..1. Below 1 the model's depth is drawn first, then every material blends over the
+    /// scene where it is nearest: the front surface shows, not the faces behind it.
+    double opacity = 1.0;
     bool sunLighting = true;
     uint32_t copies = 1;
     double copySpacingSeconds = 1.0;
@@ -121,7 +125,7 @@ public:
     std::optional<scene::TrackedPose> trackedPose(TimeNs t, const scene::GroundHeightFn& ground) const override;
     std::optional<scene::ContentBounds> contentBounds() const override;
     std::string status() const override;
-    /// Live: "scale" (1e-6 .. 1e6) and "minimumPixelSize" (0 .. 1024 px).
+    /// Live: "scale" (1e-6 .. 1e6), "minimumPixelSize" (0 .. 1024 px) and "opacity" (0 .. 1).
     bool setParameter(std::string_view name, double value) override;
     /// The settings above, under the scene file's keys.
     std::vector<scene::LayerSetting> liveSettings() const override;
@@ -187,7 +191,12 @@ private:
     gpu::Sampler repeatSampler_, clampSampler_;
     std::vector<Texture> textures_;               ///< one per model texture, then a white one
     gpu::PipelineLayout layout_, lineLayout_;
-    gpu::Pipeline opaque_, blend_, path_, label_;
+    gpu::Pipeline opaque_, blend_, depthOnly_, path_, label_;
+    /// How blend_ and depthOnly_ are made, for a model whose opacity drops below 1 later
+    /// (built then, in update()).
+    std::optional<gpu::GraphicsPipelineDesc> blendDesc_;
+    void buildTranslucentPipelines();
+    gpu::Device* device_ = nullptr;
     uint64_t gpuBytes_ = 0;
 };
 

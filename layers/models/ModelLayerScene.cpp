@@ -159,6 +159,7 @@ Result<std::unique_ptr<scene::Layer>> ModelLayer::create(const scene::LayerDesc&
     if (r.ok() && (!file || file->empty())) r.fail("file", "name the glTF model (.glb or .gltf)");
     s.scale = r.number("scale", 1.0, 1e-6, 1e6).value_or(1.0);
     s.minimumPixelSize = r.number("minimumPixelSize", 0.0, 0.0, 1024.0).value_or(0.0);
+    s.opacity = r.number("opacity", 1.0, 0.0, 1.0).value_or(1.0);
     if (auto o = r.numbers("orientation", 3, std::vector<double>{0, 0, 0}); o && o->size() == 3) {
         s.orientationDeg = {(*o)[0], (*o)[1], (*o)[2]};
     }

@@ -227,7 +227,7 @@ TEST_F(LiveSettings, FmvListsOpacityFootprintAndFrustum) {
 TEST_F(LiveSettings, ModelListsScaleAndMinimumSize) {
     auto& layer = load(R"({"type": "model", "file": )" + jsonString(kSource / "assets/models/wagon.gltf") +
                        R"(, "position": [7, 46, 0], "scale": 2.5})");
-    EXPECT_EQ(names(layer), (std::vector<std::string>{"scale", "minimumPixelSize"}));
+    EXPECT_EQ(names(layer), (std::vector<std::string>{"scale", "minimumPixelSize", "opacity"}));
     EXPECT_EQ(current(layer, "scale")->value, 2.5);
     expectEverySettingRoundTrips(layer);
     const auto& model = dynamic_cast<layers::ModelLayer&>(layer);

@@ -79,6 +79,45 @@ TEST_F(ModelRender, TexturedBoxFromTheSampleModels) {
     EXPECT_TRUE(matchesGolden(render(*s), "model_box_textured"));
 }
 
+TEST_F(ModelRender, OpacityBlendsTheModelOverTheScene) {
+    // The wagon over the globe at half opacity: where it covers the globe, each pixel lies
+    // between the globe alone and the opaque wagon (its depth is drawn first, so the faces
+    // behind the front ones add nothing), and opacity 0 is the globe alone. The pipelines for
+    // it are made only when the opacity first drops below 1.
+    auto s = load(R"({"viewpoint": {"lon": 7.0, "lat": 46.0, "height": 0, "heading": 30, "pitch": -25, "range": 40},
+        "time": {"start": "2026-03-20T10:00:00Z"},
+        "layers": [{"type": "globe", "name": "Earth"},
+                   {"type": "model", "name": "Train", "file": )" + jsonString(kSource / "assets/models/wagon.gltf") +
+                  R"(, "position": [7.0, 46.0, 2]}]})");
+    ASSERT_TRUE(s);
+    const auto opaque = render(*s);
+    s->find("Train")->visible = false;
+    const auto globeOnly = render(*s);
+    s->find("Train")->visible = true;
+    ASSERT_TRUE(model(*s).setParameter("opacity", 0.5));
+    const auto half = render(*s);
+    size_t covered = 0, between = 0, changed = 0;
+    for (size_t i = 0; i < half.pixels.size(); i += 4) {
+        int diff = 0;
+        for (size_t c = 0; c < 3; ++c) diff = std::max(diff, std::abs(int(opaque.pixels[i + c]) - int(globeOnly.pixels[i + c])));
+        if (diff < 30) continue;
+        ++covered;
+        bool in = true;
+        for (size_t c = 0; c < 3; ++c) {
+            const int lo = std::min(opaque.pixels[i + c], globeOnly.pixels[i + c]), hi = std::max(opaque.pixels[i + c], globeOnly.pixels[i + c]);
+            in = in && half.pixels[i + c] + 3 >= lo && half.pixels[i + c] <= hi + 3;
+        }
+        between += in ? 1 : 0;
+        changed += std::abs(int(half.pixels[i]) - int(opaque.pixels[i])) > 2 ? 1 : 0;
+    }
+    ASSERT_GT(covered, size_t(500)) << "the wagon should cover part of the view";
+    EXPECT_GT(between, covered * 95 / 100);
+    EXPECT_GT(changed, covered * 9 / 10) << "half opacity should differ from the opaque wagon";
+    ASSERT_TRUE(model(*s).setParameter("opacity", 0.0));
+    EXPECT_LT(countDifferentPixels(render(*s), globeOnly, 1), size_t(10));
+    EXPECT_FALSE(model(*s).setParameter("opacity", -0.1));
+}
+
 TEST_F(ModelRender, HeadingNinetyPointsEast) {
     // The wagon's front (glTF +Z) along the local east at heading 90, north at 0; its roof up.
     for (double heading : {0.0, 90.0}) {
