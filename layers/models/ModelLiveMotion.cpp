@@ -2,6 +2,9 @@
 // trajectory on their own GPS times, so the model is where the feed said it was at the scene's
 // virtual time, and at its latest fix (held) for any later time. A viewer that follows the feed
 // keeps its TimeServer at the latest fix's time; seeking back replays the history.
+// Each fix is appended to the trajectory in amortised O(1) (Trajectory::append); the history
+// is cut back to kMaxHistory fixes once it holds a quarter more (an O(n) rebuild every
+// kMaxHistory / 4 fixes).
 #include "engine/core/Log.h"
 #include "engine/scene/JsonReader.h"
 #include "globe/Ellipsoid.h"
@@ -29,10 +32,11 @@ public:
         std::vector<livefeed::Fix> fixes = source_->drain();
         if (fixes.empty()) return;
         const auto now = livefeed::LiveSource::Clock::now();
-        bool added = false;
+        motion::TrajectoryOptions o;
+        o.interpolation = motion::Interpolation::Linear;   // a live feed has no future samples to bend towards
         for (const livefeed::Fix& f : fixes) {
             latencies_.push_back(std::chrono::duration<double, std::milli>(now - f.received).count());
-            if (!history_.empty() && f.time <= history_.back().t) {   // out of order or repeated epoch
+            if (trajectory_ && f.time <= trajectory_->timeRange().end) {   // out of order or repeated epoch
                 ++outOfOrder_;
                 continue;
             }
@@ -55,17 +59,16 @@ public:
             s.pitchDeg = f.pitchDeg;
             s.rollDeg = f.rollDeg;
             s.line = std::size_t(f.sequence);
-            history_.push_back(s);
-            added = true;
+            if (!trajectory_) {
+                auto t = motion::Trajectory::create({s}, o, source_->address().host + ":" + std::to_string(source_->address().port));
+                if (t) trajectory_ = std::move(*t);
+                else log::warn("live feed ", source_->stats().address, ": ", t.message());
+            } else if (auto r = trajectory_->append(s); !r) {
+                log::warn("live feed ", source_->stats().address, ": ", r.message());
+            }
         }
-        if (history_.size() > kMaxHistory) history_.erase(history_.begin(), history_.begin() + long(history_.size() - kMaxHistory));
+        if (trajectory_ && trajectory_->sampleCount() > kMaxHistory + kMaxHistory / 4) trajectory_->keepLast(kMaxHistory);
         if (latencies_.size() > kMaxLatencies) latencies_.erase(latencies_.begin(), latencies_.begin() + long(latencies_.size() - kMaxLatencies));
-        if (!added) return;
-        motion::TrajectoryOptions o;
-        o.interpolation = motion::Interpolation::Linear;   // a live feed has no future samples to bend towards
-        auto t = motion::Trajectory::create(history_, o, source_->address().host + ":" + std::to_string(source_->address().port));
-        if (t) trajectory_ = std::move(*t);
-        else log::warn("live feed ", source_->stats().address, ": ", t.message());
     }
 
     std::optional<scene::TrackedPose> pose(TimeNs t, const GroundFn& ground) const override {
@@ -109,7 +112,6 @@ public:
 private:
     std::unique_ptr<livefeed::LiveSource> source_;
     bool onGround_;
-    std::vector<motion::TrajectorySample> history_;
     std::optional<motion::Trajectory> trajectory_;
     std::vector<double> latencies_;
     std::uint64_t outOfOrder_ = 0;

@@ -9,29 +9,6 @@
 #include <cstdio>
 
 namespace orbis::motion {
-namespace {
-
-/// Below this speed (m/s) a sample "does not move": its direction of motion is noise.
-constexpr double kMinSpeed = 0.01;
-
-std::string where(const std::string& name, const TrajectorySample& s, std::size_t index) {
-    return name + (s.line > 0 ? ": line " + std::to_string(s.line) : ": sample " + std::to_string(index + 1));
-}
-
-std::string lineOf(const TrajectorySample& s, std::size_t index) {
-    return s.line > 0 ? "line " + std::to_string(s.line) : "sample " + std::to_string(index + 1);
-}
-
-/// ISO 8601 with milliseconds, or nanoseconds when the time has more.
-std::string timeText(TimeNs t) { return formatIso8601(t, t % 1'000'000 == 0 ? 3 : 9); }
-
-std::string number(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.10g", v);
-    return buf;
-}
-
-}  // namespace
 
 const char* toString(AltitudeRef ref) {
     switch (ref) {
@@ -68,159 +45,6 @@ glm::dvec3 Pose::forward() const { return forwardAxis(orientation); }
 glm::dvec3 Pose::right() const { return rightAxis(orientation); }
 glm::dvec3 Pose::up() const { return upAxis(orientation); }
 
-Result<Trajectory> Trajectory::create(std::vector<TrajectorySample> samples, const TrajectoryOptions& options,
-                                      const std::string& name) {
-    if (samples.empty()) return makeError(name + ": no samples (a trajectory needs at least one time-stamped position)");
-    Trajectory tr;
-    tr.name_ = name;
-    tr.interpolation_ = options.interpolation;
-    tr.before_ = options.before;
-    tr.after_ = options.after;
-
-    // Validate, drop repeated times when asked, apply clampToGround.
-    std::vector<TrajectorySample>& kept = tr.samples_;
-    kept.reserve(samples.size());
-    std::size_t keptIndex = 0;   // index in `samples` of kept.back()
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-        TrajectorySample s = samples[i];
-        if (!std::isfinite(s.lonDeg) || !std::isfinite(s.latDeg) || !std::isfinite(s.alt))
-            return makeError(where(name, s, i) + ": the position (lon " + number(s.lonDeg) + ", lat " + number(s.latDeg) +
-                             ", alt " + number(s.alt) + ") is not a number");
-        if (s.latDeg < -90.0 || s.latDeg > 90.0)
-            return makeError(where(name, s, i) + ": latitude " + number(s.latDeg) + " is outside -90..90");
-        if (s.lonDeg < -360.0 || s.lonDeg > 360.0)
-            return makeError(where(name, s, i) + ": longitude " + number(s.lonDeg) + " is outside -360..360");
-        for (std::optional<double>* a : {&s.headingDeg, &s.pitchDeg, &s.rollDeg})
-            if (*a && !std::isfinite(**a)) a->reset();
-        if (!kept.empty()) {
-            const TrajectorySample& prev = kept.back();
-            if (s.t < prev.t)
-                return makeError(where(name, s, i) + ": time " + timeText(s.t) + " is before " + lineOf(prev, keptIndex) + "'s (" +
-                                 timeText(prev.t) + "): the samples must be in time order");
-            if (s.t == prev.t) {
-                if (options.duplicateTimes == DuplicateTimes::KeepFirst) {
-                    ++tr.droppedDuplicates_;
-                    continue;
-                }
-                return makeError(where(name, s, i) + ": time " + timeText(s.t) + " is the same as " + lineOf(prev, keptIndex) +
-                                 "'s: each sample needs its own time (or drop repeats: duplicate times \"keep-first\")");
-            }
-        }
-        if (options.clampToGround) {
-            s.altRef = AltitudeRef::Ground;
-            s.alt = 0.0;
-        }
-        kept.push_back(s);
-        keptIndex = i;
-    }
-    if (tr.droppedDuplicates_ > 0)
-        tr.warnings_.push_back(name + ": " + std::to_string(tr.droppedDuplicates_) +
-                               " samples dropped: their time repeats the sample before");
-
-    const bool needsGeoid = std::any_of(kept.begin(), kept.end(), [](const TrajectorySample& s) {
-        return s.altRef == AltitudeRef::MeanSeaLevel;
-    });
-    if (needsGeoid && !options.geoid) {
-        tr.warnings_.push_back(name + ": altitudes above mean sea level are taken as heights above the ellipsoid "
-                                      "(no geoid model): they may be off by up to about 100 m");
-        log::warn(tr.warnings_.back());
-    }
-
-    const globe::Ellipsoid& e = globe::Ellipsoid::wgs84();
-    const std::size_t n = kept.size();
-    tr.times_.resize(n);
-    tr.knots_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const TrajectorySample& s = kept[i];
-        double height = s.alt;
-        if (s.altRef == AltitudeRef::MeanSeaLevel && options.geoid) {
-            const double geoid = options.geoid(s.lonDeg, s.latDeg);
-            if (std::isfinite(geoid)) height += geoid;   // a grid without this place: the ellipsoid
-        }
-        tr.times_[i] = s.t;
-        tr.knots_[i].p = e.toEcef(s.lonDeg, s.latDeg, height);
-        tr.knots_[i].groundWeight = s.altRef == AltitudeRef::Ground ? 1.0 : 0.0;
-    }
-    for (std::size_t i = 0; i + 1 < n; ++i) {
-        Knot& k = tr.knots_[i];
-        k.seconds = secondsBetween(tr.times_[i + 1], tr.times_[i]);
-        k.chordVelocity = (tr.knots_[i + 1].p - k.p) / k.seconds;
-    }
-    tr.computeTangents();
-
-    tr.computeAttitudes();
-
-    if (n >= 2) {
-        const bool linear = tr.interpolation_ == Interpolation::Linear;
-        tr.startVelocity_ = linear ? tr.knots_.front().chordVelocity : tr.knots_.front().m;
-        tr.endVelocity_ = linear ? tr.knots_[n - 2].chordVelocity : tr.knots_.back().m;
-    }
-    tr.computeBounds();
-    return tr;
-}
-
-void Trajectory::computeAttitudes() {
-    // The angles given, the missing ones from the motion (see the header).
-    const std::size_t n = knots_.size();
-    std::vector<std::optional<HeadingPitchRoll>> motion(n);
-    for (std::size_t i = 0; i < n; ++i)
-        if (glm::length(knots_[i].m) >= kMinSpeed)
-            motion[i] = headingPitchFromDirection(knots_[i].m, samples_[i].lonDeg, samples_[i].latDeg);
-    std::optional<HeadingPitchRoll> last;
-    for (std::size_t i = 0; i < n; ++i) {   // forward: the last moving sample
-        if (motion[i]) last = motion[i];
-        else motion[i] = last;
-    }
-    last.reset();
-    for (std::size_t i = n; i-- > 0;) {     // backward: the first moving one, for a still start
-        if (motion[i]) last = motion[i];
-        else motion[i] = last;
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-        TrajectorySample& s = samples_[i];
-        const HeadingPitchRoll derived = motion[i].value_or(HeadingPitchRoll{});
-        if (!s.headingDeg || !s.pitchDeg || !s.rollDeg) ++derivedAttitudes_;
-        if (!s.headingDeg) s.headingDeg = derived.headingDeg;
-        if (!s.pitchDeg) s.pitchDeg = derived.pitchDeg;
-        if (!s.rollDeg) s.rollDeg = 0.0;
-        glm::dquat q = bodyToEcef(s.lonDeg, s.latDeg, *s.headingDeg, *s.pitchDeg, *s.rollDeg);
-        if (i > 0 && glm::dot(q, knots_[i - 1].q) < 0.0) q = -q;   // one hemisphere: slerp the short way
-        knots_[i].q = q;
-    }
-    for (std::size_t i = 0; i + 1 < n; ++i) {
-        Knot& k = knots_[i];
-        const glm::dquat diff = knots_[i + 1].q - k.q, sum = knots_[i + 1].q + k.q;
-        k.angle = 2.0 * std::atan2(std::sqrt(glm::dot(diff, diff)), std::sqrt(glm::dot(sum, sum)));
-        k.invSinAngle = k.angle < 1e-9 ? 0.0 : 1.0 / std::sin(k.angle);
-    }
-}
-
-void Trajectory::computeTangents() {
-    const std::size_t n = knots_.size();
-    if (n < 2) return;
-    // d[k] = chord velocity of segment k, h[k] its duration.
-    auto d = [&](std::size_t k) { return knots_[k].chordVelocity; };
-    auto h = [&](std::size_t k) { return knots_[k].seconds; };
-    auto limit = [](glm::dvec3 m, double maxSpeed) {
-        const double speed = glm::length(m);
-        return speed > maxSpeed ? m * (maxSpeed / speed) : m;
-    };
-    if (n == 2) {
-        knots_[0].m = knots_[1].m = d(0);
-        return;
-    }
-    // The derivative of the parabola through three samples at their real times.
-    for (std::size_t i = 1; i + 1 < n; ++i) {
-        const glm::dvec3 m = (h(i) * d(i - 1) + h(i - 1) * d(i)) / (h(i - 1) + h(i));
-        knots_[i].m = limit(m, 2.0 * std::min(glm::length(d(i - 1)), glm::length(d(i))));
-    }
-    const glm::dvec3 m0 = ((2.0 * h(0) + h(1)) * d(0) - h(0) * d(1)) / (h(0) + h(1));
-    knots_[0].m = limit(m0, 2.0 * glm::length(d(0)));
-    const std::size_t l = n - 2;   // the last segment
-    const glm::dvec3 mn = ((2.0 * h(l) + h(l - 1)) * d(l) - h(l) * d(l - 1)) / (h(l) + h(l - 1));
-    knots_[n - 1].m = limit(mn, 2.0 * glm::length(d(l)));
-}
-
 void Trajectory::interpolate(std::size_t i, double s, glm::dvec3& p, glm::dvec3& v, glm::dquat& q, double& w) const {
     const Knot& a = knots_[i];
     const Knot& b = knots_[i + 1];
@@ -237,8 +61,13 @@ void Trajectory::interpolate(std::size_t i, double s, glm::dvec3& p, glm::dvec3&
         const double d01 = 6.0 * (s - s2), d10 = 3.0 * s2 - 4.0 * s + 1.0, d11 = 3.0 * s2 - 2.0 * s;
         v = (d01 / hs) * chord + d10 * a.m + d11 * b.m;
     }
-    if (a.invSinAngle == 0.0) q = glm::normalize(a.q + s * (b.q - a.q));   // under 1e-9 rad apart
-    else q = (std::sin((1.0 - s) * a.angle) * a.invSinAngle) * a.q + (std::sin(s * a.angle) * a.invSinAngle) * b.q;
+    if (i < lazyEnd_) {   // a still start whose attitude waits for the first move (TrajectoryBuild.cpp)
+        q = slerpShortest(knotQ(i), knotQ(i + 1), s);
+    } else {
+        const glm::dquat qb = a.sign * b.q;   // b's sign on a's side: slerp the short way
+        if (a.invSinAngle == 0.0) q = glm::normalize(a.q + s * (qb - a.q));   // under 1e-9 rad apart
+        else q = (std::sin((1.0 - s) * a.angle) * a.invSinAngle) * a.q + (std::sin(s * a.angle) * a.invSinAngle) * qb;
+    }
     w = a.groundWeight + s * (b.groundWeight - a.groundWeight);
 }
 
@@ -287,7 +116,7 @@ std::optional<Pose> Trajectory::pose(TimeNs t, const GroundFn* ground) const {
         if (mode == Extrapolation::Hide) return std::nullopt;
         const Knot& k = before ? knots_.front() : knots_.back();
         p = k.p;
-        out.orientation = k.q;
+        out.orientation = knotQ(before ? 0 : n - 1);
         w = k.groundWeight;
         if (mode == Extrapolation::Linear) {
             out.velocity = before ? startVelocity_ : endVelocity_;
@@ -296,7 +125,7 @@ std::optional<Pose> Trajectory::pose(TimeNs t, const GroundFn* ground) const {
         out.extrapolated = true;
     } else if (n == 1) {
         p = knots_[0].p;
-        out.orientation = knots_[0].q;
+        out.orientation = knotQ(0);
         w = knots_[0].groundWeight;
     } else {
         double s = 0.0;

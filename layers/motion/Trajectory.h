@@ -21,8 +21,8 @@
 //
 // Attitude. Each sample's heading/pitch/roll (Attitude.h: ST 0601's convention) is turned once
 // into the body-to-ECEF quaternion R_ned(sample) * Rz Ry Rx; between samples the quaternions are
-// slerped, the short way round (consecutive quaternions are put in one hemisphere at load, so
-// heading 359 -> 1 turns 2 degrees through 0). Why the body-to-ECEF quaternion and not the
+// slerped, the short way round (each segment takes the sign of its second quaternion that is on
+// the first's side, so heading 359 -> 1 turns 2 degrees through 0). Why the body-to-ECEF quaternion and not the
 // angles relative to each sample's local frame: the local frame turns along the path, and near a
 // pole it turns by up to 180 degrees between two samples (a straight flight over the pole goes
 // from heading 0 to heading 180 without turning), where interpolating local angles would spin
@@ -67,8 +67,18 @@
 // [-90, 90] and longitudes outside [-360, 360] are errors naming the line; a non-finite angle is
 // taken as absent.
 //
-// Thread rule: a Trajectory is immutable after create(); every const function may be called
-// from any thread at once (the GroundFn it is given must allow that too).
+// Appending (live feeds). append() adds a sample after the last in amortised O(1): only the
+// last three knots' tangents and attitudes and the last two segments change, exactly as create()
+// over all the samples would make them (create() is the same appends one by one), so poses are
+// the same whether a trajectory was read at once or grew fix by fix. One exception is kept lazy
+// to stay O(1): while no sample but the last moves, the derived attitude of the still samples
+// before it (which create() takes from the first moving sample after them) is computed when a
+// pose needs it, and samples() shows it only from the first move on. keepLast() bounds the
+// history (an O(n) rebuild, so call it once per many appends). The bounds grow with appends and
+// may be a little larger than create()'s (a conservative sphere); keepLast() makes them exact.
+//
+// Thread rule: the const functions may be called from any thread at once (the GroundFn they are
+// given must allow that too); append() and keepLast() not concurrently with anything.
 
 #include "engine/core/Result.h"
 #include "engine/core/TimeFormat.h"
@@ -78,6 +88,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -156,6 +167,14 @@ public:
     /// and only for Ground samples.
     std::optional<Pose> pose(TimeNs t, const GroundFn* ground = nullptr) const;
 
+    /// Adds a sample after the last (see the header's "Appending"): an error naming the sample
+    /// for the same problems as create() (a time not after the last one's, unless duplicates are
+    /// kept-first: then it is dropped and counted).
+    Result<void> append(TrajectorySample sample);
+    /// Keeps the last `count` samples (at least 1): the trajectory create() would make of them.
+    /// O(n).
+    void keepLast(std::size_t count);
+
     TimeRange timeRange() const { return {times_.front(), times_.back()}; }
     std::size_t sampleCount() const { return times_.size(); }
     /// The samples as kept (duplicates dropped, clampToGround applied, derived angles filled).
@@ -185,14 +204,34 @@ private:
         // The segment from this knot to the next (unused on the last knot):
         double seconds = 0.0;               ///< its duration
         glm::dvec3 chordVelocity{0.0};      ///< (next.p - p) / seconds
-        double angle = 0.0;                 ///< between q and next.q in 4-D (half the rotation)
+        double angle = 0.0;                 ///< between q and sign x next.q in 4-D (half the rotation)
         double invSinAngle = 0.0;
+        double sign = 1.0;                  ///< next.q's sign on q's side of the 4-D sphere
+        // The motion at this knot (from m), for derived attitudes:
+        bool moving = false;
+        double motionHeadingDeg = 0.0, motionPitchDeg = 0.0;
     };
 
     Trajectory() = default;
-    void computeTangents();
-    void computeAttitudes();   ///< after computeTangents(): fills the samples' missing angles, builds the quaternions
+    /// Checks a sample (position, angles), in time after the last kept one; `index`: its place
+    /// in the caller's input, for messages. Sets `drop` for a repeated time that is dropped.
+    Result<void> check(TrajectorySample& s, std::size_t index, bool& drop);
+    /// Adds a checked sample: its knot, the tangents and attitudes that change (TrajectoryBuild.cpp).
+    void appendChecked(const TrajectorySample& s);
+    glm::dvec3 tangentAt(std::size_t i) const;
+    void setMotion(std::size_t i);                         ///< moving and motion angles from m
+    /// Sample i's attitude with its missing angles from (heading, pitch), roll 0: the knot's q
+    /// and the sample's filled angles.
+    void setAttitude(std::size_t i, double headingDeg, double pitchDeg);
+    glm::dquat attitudeQ(std::size_t i, double headingDeg, double pitchDeg) const;
+    void linkRotation(std::size_t i);                      ///< segment i's angle and sign
+    /// Every attitude from scratch (small trajectories, keepLast()).
+    void recomputeAttitudes();
+    /// Knot i's attitude: stored, or for a lazy still start computed now.
+    glm::dquat knotQ(std::size_t i) const { return i < lazyEnd_ ? attitudeQ(i, lazyHeadingDeg_, lazyPitchDeg_) : knots_[i].q; }
+    void updateEndVelocities();
     void computeBounds();
+    void extendBounds(std::size_t i);                      ///< after an append: grow the bounds by knot i
     /// Position, velocity, attitude and ground weight on segment `i` at fraction `s` in [0, 1].
     void interpolate(std::size_t i, double s, glm::dvec3& p, glm::dvec3& v, glm::dquat& q, double& w) const;
     /// Fills the geodetic position, terrain and angles of `out` from an ECEF point.
@@ -203,13 +242,25 @@ private:
     std::size_t segmentOf(TimeNs t, double& s) const;
 
     std::string name_;
+    TrajectoryOptions options_;
     Interpolation interpolation_ = Interpolation::CatmullRom;
     Extrapolation before_ = Extrapolation::Hold, after_ = Extrapolation::Hold;
     std::vector<TimeNs> times_;   ///< apart from knots_: the binary search walks a dense array
     std::vector<Knot> knots_;
     std::vector<TrajectorySample> samples_;
+    std::vector<uint8_t> derived_;          ///< per sample: bit 0 heading, 1 pitch, 2 roll were absent
+    std::vector<std::ptrdiff_t> lastMoving_;   ///< per knot: the last moving knot at or before it, or -1
+    std::ptrdiff_t firstMoving_ = -1;       ///< the first moving knot that is not the last one, or -1
+    /// Knots before this one are a still start waiting for the first move: their attitude takes
+    /// its missing angles from (lazyHeadingDeg_, lazyPitchDeg_) when asked (knotQ()).
+    std::size_t lazyEnd_ = 0;
+    double lazyHeadingDeg_ = 0.0, lazyPitchDeg_ = 0.0;
     glm::dvec3 startVelocity_{0.0}, endVelocity_{0.0};
+    std::size_t lastIndex_ = 0;             ///< the input index of the last sample kept (messages)
+    bool warnedGeoid_ = false;
     TrajectoryBounds bounds_;
+    glm::dvec3 boxLo_{0.0}, boxHi_{0.0};    ///< ECEF box of the knots (bounds_ is its sphere)
+    bool aroundPole_ = false;
     std::vector<std::string> warnings_;
     std::size_t droppedDuplicates_ = 0, derivedAttitudes_ = 0;
 };

@@ -169,6 +169,57 @@ void Trajectory::computeBounds() {
     bb.centerEcef = 0.5 * (lo + hi);
     bb.radius = 0.0;
     for (const Knot& k : knots_) bb.radius = std::max(bb.radius, glm::length(k.p - bb.centerEcef));
+    boxLo_ = lo;
+    boxHi_ = hi;
+    aroundPole_ = aroundPole;
+}
+
+void Trajectory::extendBounds(std::size_t i) {
+    // What computeBounds() does for every knot, for the one appended: the same box, latitudes
+    // and heights; longitudes widened on the side that needs less; the sphere kept around every
+    // knot so far (its centre moves with the box: conservative).
+    const globe::Ellipsoid& e = globe::Ellipsoid::wgs84();
+    TrajectoryBounds& bb = bounds_;
+    const glm::dvec3& p = knots_[i].p;
+    const globe::Geodetic g = e.toGeodetic(p);
+    const double lon = globe::wrapLongitude(g.lonDeg);
+    bb.southDeg = std::min(bb.southDeg, g.latDeg);
+    bb.northDeg = std::max(bb.northDeg, g.latDeg);
+    bb.minHeight = std::min(bb.minHeight, g.height);
+    bb.maxHeight = std::max(bb.maxHeight, g.height);
+    if (i > 0) {
+        const glm::dvec3& a = knots_[i - 1].p;
+        const double prevLon = e.toGeodetic(a).lonDeg;
+        if (std::abs(lonDelta(prevLon, g.lonDeg)) > 90.0) {   // past a pole: see computeBounds()
+            aroundPole_ = true;
+            const glm::dvec2 axy(a.x, a.y), dxy(p.x - a.x, p.y - a.y);
+            const double dd = glm::dot(dxy, dxy);
+            const double u = dd > 0.0 ? -glm::dot(axy, dxy) / dd : 0.0;
+            if (u > 0.0 && u < 1.0) {
+                const double lat = e.toGeodetic(a + u * (p - a)).latDeg;
+                bb.southDeg = std::min(bb.southDeg, lat);
+                bb.northDeg = std::max(bb.northDeg, lat);
+            }
+        }
+    }
+    if (aroundPole_) {
+        bb.westDeg = -180.0;
+        bb.eastDeg = 180.0;
+    } else if (!(bb.westDeg == -180.0 && bb.eastDeg == 180.0)) {
+        auto around = [](double d) { return d - 360.0 * std::floor(d / 360.0); };   // [0, 360)
+        const double width = around(bb.eastDeg - bb.westDeg);
+        if (around(lon - bb.westDeg) > width) {   // outside: grow towards it the shorter way
+            const double east = around(lon - bb.eastDeg), west = around(bb.westDeg - lon);
+            if (width + std::min(east, west) >= 360.0) bb.westDeg = -180.0, bb.eastDeg = 180.0;
+            else if (east <= west) bb.eastDeg = lon;
+            else bb.westDeg = lon;
+        }
+    }
+    const glm::dvec3 oldCenter = bb.centerEcef;
+    boxLo_ = glm::min(boxLo_, p);
+    boxHi_ = glm::max(boxHi_, p);
+    bb.centerEcef = 0.5 * (boxLo_ + boxHi_);
+    bb.radius = std::max(bb.radius + glm::length(bb.centerEcef - oldCenter), glm::length(p - bb.centerEcef));
 }
 
 }  // namespace orbis::motion
