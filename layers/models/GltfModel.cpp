@@ -3,6 +3,7 @@
 #include "layers/models/GltfAccessors.h"
 #include "layers/models/GltfAnimation.h"
 #include "layers/models/GltfRig.h"
+#include "layers/motion/Attitude.h"
 
 #include <tiny_gltf.h>
 #include <stb_image.h>
@@ -462,11 +463,7 @@ uint64_t ModelData::textureBytes() const {
     return bytes;
 }
 
-glm::dmat3 gltfToBody() {
-    // Columns are the images of the glTF axes in body coordinates (x fwd, y right, z down):
-    // glTF +X (left) -> body -y, glTF +Y (up) -> body -z, glTF +Z (front) -> body +x.
-    return glm::dmat3(glm::dvec3(0, -1, 0), glm::dvec3(0, 0, -1), glm::dvec3(1, 0, 0));
-}
+glm::dmat3 gltfToBody() { return motion::gltfToBody(); }
 
 std::vector<std::vector<uint8_t>> buildMips(const uint8_t* rgba, uint32_t width, uint32_t height) {
     std::vector<std::vector<uint8_t>> mips;

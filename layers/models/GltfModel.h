@@ -8,6 +8,7 @@
 // the asset's left. Model data stays in glTF axes here; `gltfToBody()` gives the fixed rotation
 // onto the vehicle body axes of a trajectory pose (x forward, y right, z down):
 //   body x (forward) =  glTF +Z,   body y (right) = glTF -X,   body z (down) = glTF -Y.
+// It is motion::gltfToBody() (layers/motion/Attitude.h), where the convention is written once.
 //
 // What is read: positions, normals (flat normals are made when a primitive has none), the first
 // texture coordinates, COLOR_0, indices (8, 16, 32 bit or none), TRIANGLES / TRIANGLE_STRIP /
@@ -184,7 +185,7 @@ struct ModelData {
 /// Reads `path` (.glb, or .gltf with its buffers and images beside it or embedded).
 Result<ModelData> loadGltf(const std::string& path);
 
-/// glTF model axes -> body axes (x forward, y right, z down): see the header comment.
+/// glTF model axes -> body axes (x forward, y right, z down): motion::gltfToBody().
 glm::dmat3 gltfToBody();
 
 /// The mip chain of an RGBA8 image (2x2 box filter, odd sizes clamp), level 0 included.

@@ -72,7 +72,12 @@ glm::dvec3 forwardAxis(const glm::dquat& q) { return q * kX; }
 glm::dvec3 rightAxis(const glm::dquat& q) { return q * kY; }
 glm::dvec3 upAxis(const glm::dquat& q) { return q * -kZ; }
 
-glm::dmat3 gltfToEcef(const glm::dquat& q) { return glm::dmat3(-rightAxis(q), upAxis(q), forwardAxis(q)); }
+glm::dmat3 gltfToBody() {
+    // Columns: the images of glTF +X (left), +Y (up), +Z (front) in body axes (x forward, y right, z down).
+    return glm::dmat3(-kY, -kZ, kX);
+}
+
+glm::dmat3 gltfToEcef(const glm::dquat& q) { return glm::mat3_cast(q) * gltfToBody(); }
 
 glm::dquat slerpShortest(const glm::dquat& a, const glm::dquat& bIn, double f) {
     glm::dquat b = bIn;

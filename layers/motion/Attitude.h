@@ -16,8 +16,10 @@
 // columns north, east, down of the local frame in ECEF. A body axis v maps to bodyToEcef * v.
 //
 // 3-D models: glTF is +Y up, +Z forward, +X left (glTF 2.0 spec, "Coordinate System and Units").
-// gltfToEcef() gives the columns (left = -y, up = -z, forward = x) of the body in ECEF, so a
-// model's local axes map straight onto the vehicle's body.
+// gltfToBody() is that convention, the one place it is written: glTF +X (left) = body -y,
+// +Y (up) = body -z, +Z (front) = body +x. gltfToEcef() puts it on a pose (the columns left,
+// up, forward of the body in ECEF), and the model layer (layers/models) uses gltfToBody() too,
+// so a model's local axes map straight onto the vehicle's body.
 //
 // All functions are pure and thread-safe.
 
@@ -58,7 +60,12 @@ glm::dvec3 forwardAxis(const glm::dquat& bodyToEcef);
 glm::dvec3 rightAxis(const glm::dquat& bodyToEcef);
 glm::dvec3 upAxis(const glm::dquat& bodyToEcef);
 
-/// A glTF model's axes on the body: columns (+X left, +Y up, +Z forward) in ECEF. Right-handed.
+/// glTF model axes -> body axes: its columns are glTF +X, +Y, +Z in body coordinates (see the
+/// header). A rotation (determinant +1).
+glm::dmat3 gltfToBody();
+
+/// A glTF model's axes on the body: columns (+X left, +Y up, +Z forward) in ECEF, that is
+/// R(bodyToEcef) * gltfToBody(). Right-handed.
 glm::dmat3 gltfToEcef(const glm::dquat& bodyToEcef);
 
 /// Spherical linear interpolation of unit quaternions, the short way round (q and -q are the

@@ -158,6 +158,18 @@ TEST(Attitude, GltfAxesMapYUpAndZForward) {
     EXPECT_NEAR(glm::determinant(g), 1.0, 1e-12);
 }
 
+TEST(Attitude, GltfToEcefIsThePoseOnGltfToBody) {
+    // One convention (gltfToBody), put on any pose: the columns are the body's left, up and
+    // forward axes in ECEF.
+    const glm::dquat q = bodyToEcef(-120.0, -33.0, 217.0, 12.0, -25.0);
+    const glm::dmat3 g = gltfToEcef(q);
+    expectVecNear(g[0], -rightAxis(q), 1e-15);
+    expectVecNear(g[1], upAxis(q), 1e-15);
+    expectVecNear(g[2], forwardAxis(q), 1e-15);
+    EXPECT_EQ(gltfToBody() * glm::dvec3(0, 0, 1), glm::dvec3(1, 0, 0));   // glTF front: body forward
+    EXPECT_DOUBLE_EQ(glm::determinant(gltfToBody()), 1.0);
+}
+
 TEST(Attitude, WrapHeading) {
     EXPECT_EQ(wrapHeadingDeg(360.0), 0.0);
     EXPECT_EQ(wrapHeadingDeg(-90.0), 270.0);
