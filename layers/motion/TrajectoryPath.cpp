@@ -24,6 +24,22 @@ double lonDelta(double a, double b) {
     return d;
 }
 
+/// A segment from `a` to `p` (ECEF; longitudes given) that turns the longitude by over 90
+/// degrees passes by a pole: widens `bb`'s latitudes to where the segment comes closest to the
+/// Earth's axis (over a pole, the pole itself, which no sample need be at) and returns true.
+bool widenPastPole(TrajectoryBounds& bb, const glm::dvec3& a, double aLonDeg, const glm::dvec3& p, double pLonDeg) {
+    if (std::abs(lonDelta(aLonDeg, pLonDeg)) <= 90.0) return false;
+    const glm::dvec2 axy(a.x, a.y), dxy(p.x - a.x, p.y - a.y);
+    const double dd = glm::dot(dxy, dxy);
+    const double u = dd > 0.0 ? -glm::dot(axy, dxy) / dd : 0.0;
+    if (u > 0.0 && u < 1.0) {
+        const double lat = globe::Ellipsoid::wgs84().toGeodetic(a + u * (p - a)).latDeg;
+        bb.southDeg = std::min(bb.southDeg, lat);
+        bb.northDeg = std::max(bb.northDeg, lat);
+    }
+    return true;
+}
+
 }  // namespace
 
 glm::dvec3 Trajectory::pointOn(std::size_t i, double s, const GroundFn* ground) const {
@@ -133,21 +149,7 @@ void Trajectory::computeBounds() {
         bb.maxHeight = std::max(bb.maxHeight, g.height);
         lo = glm::min(lo, p);
         hi = glm::max(hi, p);
-        // A segment that turns the longitude by over 90 degrees passes by a pole. Its extreme
-        // latitude is where it comes closest to the Earth's axis: over a pole, the pole itself,
-        // which no sample need be at.
-        if (i > 0 && std::abs(lonDelta(prevLon, g.lonDeg)) > 90.0) {
-            aroundPole = true;
-            const glm::dvec3& a = knots_[i - 1].p;
-            const glm::dvec2 axy(a.x, a.y), dxy(p.x - a.x, p.y - a.y);
-            const double dd = glm::dot(dxy, dxy);
-            const double u = dd > 0.0 ? -glm::dot(axy, dxy) / dd : 0.0;
-            if (u > 0.0 && u < 1.0) {
-                const double lat = e.toGeodetic(a + u * (p - a)).latDeg;
-                bb.southDeg = std::min(bb.southDeg, lat);
-                bb.northDeg = std::max(bb.northDeg, lat);
-            }
-        }
+        if (i > 0 && widenPastPole(bb, knots_[i - 1].p, prevLon, p, g.lonDeg)) aroundPole = true;
         prevLon = g.lonDeg;
     }
     // Longitudes: the complement of the widest gap between them around the circle.
@@ -189,18 +191,7 @@ void Trajectory::extendBounds(std::size_t i) {
     bb.maxHeight = std::max(bb.maxHeight, g.height);
     if (i > 0) {
         const glm::dvec3& a = knots_[i - 1].p;
-        const double prevLon = e.toGeodetic(a).lonDeg;
-        if (std::abs(lonDelta(prevLon, g.lonDeg)) > 90.0) {   // past a pole: see computeBounds()
-            aroundPole_ = true;
-            const glm::dvec2 axy(a.x, a.y), dxy(p.x - a.x, p.y - a.y);
-            const double dd = glm::dot(dxy, dxy);
-            const double u = dd > 0.0 ? -glm::dot(axy, dxy) / dd : 0.0;
-            if (u > 0.0 && u < 1.0) {
-                const double lat = e.toGeodetic(a + u * (p - a)).latDeg;
-                bb.southDeg = std::min(bb.southDeg, lat);
-                bb.northDeg = std::max(bb.northDeg, lat);
-            }
-        }
+        if (widenPastPole(bb, a, e.toGeodetic(a).lonDeg, p, g.lonDeg)) aroundPole_ = true;
     }
     if (aroundPole_) {
         bb.westDeg = -180.0;
