@@ -17,7 +17,6 @@ namespace {
 using csv::isNoValue;
 using csv::nextLine;
 using csv::skipLine;
-using csv::normalise;
 using csv::separatorOf;
 using csv::splitLine;
 
@@ -81,23 +80,11 @@ struct Column {
     const char* unitName = "";
 };
 
-const Alias* aliasOf(std::string_view n) {
-    for (const Alias& a : kAliases)
-        for (const char* name : a.names)
-            if (name && n == name) return &a;
-    return nullptr;
-}
-
 Column columnOf(std::string_view header) {
-    const std::string n = normalise(header);
-    if (const Alias* a = aliasOf(n)) return {a, a->quantity == Quantity::Time ? 0.0 : 1.0, ""};
-    for (const Unit& u : kUnits) {
-        const std::string_view suffix = u.suffix;
-        if (n.size() <= suffix.size() || n.compare(n.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
-        const Alias* a = aliasOf(std::string_view(n).substr(0, n.size() - suffix.size()));
-        if (a && a->quantity == u.quantity) return {a, u.scale, u.name};
-    }
-    return {};
+    const auto [a, u] = csv::matchColumn<Alias, Unit>(kAliases, kUnits, header);
+    if (!a) return {};
+    if (!u) return {a, a->quantity == Quantity::Time ? 0.0 : 1.0, ""};
+    return {a, u->scale, u->name};
 }
 
 
