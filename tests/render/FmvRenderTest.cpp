@@ -78,16 +78,10 @@ protected:
     }
     std::unique_ptr<scene::Scene> load(const std::string& json) { return buildScene(json, registry_); }
     ImageRgba8 render(scene::Scene& s, double flightSeconds, uint32_t w = 320, uint32_t h = 240) {
-        if (!renderer_ || renderer_->width() != w || renderer_->height() != h)
-            renderer_ = std::make_unique<render::Renderer>(device(), w, h);
         auto t = parseIso8601(flightTime(flightSeconds));
         EXPECT_TRUE(t.ok());
         s.time().seek(*t);
-        s.time().advance(0.0);
-        renderer_->settle(s, 120.0);
-        EXPECT_FALSE(s.busy()) << "still loading after 120 s";
-        const auto frame = renderer_->render(s, true);
-        return ImageRgba8{w, h, renderer_->readPixels(frame)};
+        return renderSettled(renderer_, device(), s, w, h);
     }
     static layers::FmvLayer& fmvLayer(scene::Scene& s) { return dynamic_cast<layers::FmvLayer&>(*s.resources().back().layer); }
 

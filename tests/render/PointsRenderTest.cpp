@@ -120,13 +120,7 @@ protected:
     }
     std::unique_ptr<scene::Scene> load(const std::string& json) { return buildScene(json, registry_); }
     ImageRgba8 render(scene::Scene& s, uint32_t w = 320, uint32_t h = 240) {
-        if (!renderer_ || renderer_->width() != w || renderer_->height() != h)
-            renderer_ = std::make_unique<render::Renderer>(device(), w, h);
-        s.time().advance(0.0);
-        renderer_->settle(s, 120.0);
-        EXPECT_FALSE(s.busy()) << "still loading after 120 s";
-        const auto frame = renderer_->render(s, true);
-        return ImageRgba8{w, h, renderer_->readPixels(frame)};
+        return renderSettled(renderer_, device(), s, w, h);
     }
     ImageRgba8 render(const std::string& json, uint32_t w = 320, uint32_t h = 240) {
         auto s = load(json);

@@ -29,6 +29,19 @@ inline ImageRgba8 renderOnce(render::Renderer& renderer, scene::Scene& scene) {
     return ImageRgba8{renderer.width(), renderer.height(), renderer.readPixels(frame)};
 }
 
+/// Renders `scene` at w x h once everything its view needs has loaded (at most 120 s), with
+/// `renderer` made (again) for that size when it has another.
+inline ImageRgba8 renderSettled(std::unique_ptr<render::Renderer>& renderer, gpu::Device& device, scene::Scene& scene,
+                                uint32_t w, uint32_t h) {
+    if (!renderer || renderer->width() != w || renderer->height() != h)
+        renderer = std::make_unique<render::Renderer>(device, w, h);
+    scene.time().advance(0.0);
+    renderer->settle(scene, 120.0);
+    EXPECT_FALSE(scene.busy()) << "still loading after 120 s";
+    const auto frame = renderer->render(scene, true);
+    return ImageRgba8{w, h, renderer->readPixels(frame)};
+}
+
 /// A globe-only scene looking at `viewpoint` (a JSON object) at a fixed time.
 inline std::string globeScene(const std::string& viewpoint, const std::string& layerExtra = "",
                               const std::string& time = "2026-03-20T12:00:00Z") {
