@@ -56,6 +56,12 @@ ViewerRun view(const fs::path& dir, const std::string& script, const std::string
                            (dir / "script.json").string() + "\" " + extra));
 }
 
+/// A file's whole text (empty when it cannot be read).
+std::string readText(const fs::path& file) {
+    std::ifstream in(file);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 ImageRgba8 shot(const fs::path& file) {
     auto image = readPng(file);
     EXPECT_TRUE(image) << file << ": " << (image ? "" : image.message());
@@ -164,8 +170,7 @@ TEST(Viewer, PlacesDeletesAndSavesPins) {
 
     // The pin went into the saved scene at the point clicked: the centre of the default view
     // looks at lon 5, lat 28; 10 px left and 30 px below it is a little west and south.
-    std::ifstream in(dir / "pins.json");
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string text = readText(dir / "pins.json");
     const std::regex pinRe(R"re("lat": ([-0-9.e]+),\s*"lon": ([-0-9.e]+),\s*"name": "Pin 1")re");
     std::smatch m;
     ASSERT_TRUE(std::regex_search(text, m, pinRe)) << text;
@@ -205,8 +210,7 @@ TEST(Viewer, TransferFunctionEditorChangesTheVolume) {
     const ImageRgba8 before = shot(dir / "before.png"), after = shot(dir / "after.png");
     EXPECT_TRUE(matchesGolden(after, "viewer_transfer_function"));
     EXPECT_GT(countDifferentPixels(before, after, 8), size_t(20000)) << "more opacity should show in the volume";
-    std::ifstream in(dir / "saved.json");
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string text = readText(dir / "saved.json");
     // The moved point: x from 0.6 to about 0.4, alpha from 0.15 to about 0.75; the others stay.
     const std::regex moved(R"re("opacity": \[\s*\[\s*-1\.0,\s*0\.0\s*\],\s*\[\s*0\.2,\s*0\.0\s*\],\s*\[\s*0\.(3[6-9]|4[0-4])[0-9]*,\s*0\.(7[0-9])[0-9]*\s*\],\s*\[\s*1\.0,\s*0\.6\s*\]\s*\])re");
     EXPECT_TRUE(std::regex_search(text, moved)) << text;
@@ -246,8 +250,7 @@ TEST(Viewer, ALayerThatFailsToLoadShowsItsErrorAndTheRestLoads) {
     const size_t c = (size_t(image.height / 2) * image.width + image.width / 2) * 4;
     EXPECT_GT(image.pixels[c] + image.pixels[c + 1] + image.pixels[c + 2], 90);
     // The saved scene keeps the layer as the file had it: it loads once the file is there.
-    std::ifstream in(dir / "saved.json");
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string text = readText(dir / "saved.json");
     EXPECT_NE(text.find("no-such-cloud.las"), std::string::npos) << text;
     EXPECT_EQ(text.find("\"visible\": false"), std::string::npos) << text;
 }
@@ -263,8 +266,7 @@ TEST(Viewer, TerminationClosesCleanlyAndKeepsThePanelLayout) {
                             ORBIS_DEFAULT_SCENE + "\" --device cpu --validation --size 640x400";
     const ViewerRun r = shell(underXvfb("bash -c \"" + run + " & p=\\$!; sleep 4; kill -TERM \\$p; wait \\$p\""));
     EXPECT_EQ(r.exitCode, 0) << r.output;
-    std::ifstream in(dir / "orbis" / "viewer-layout.ini");
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string text = readText(dir / "orbis" / "viewer-layout.ini");
     EXPECT_NE(text.find("[Window][Resources]"), std::string::npos) << text;
 }
 
