@@ -1,5 +1,7 @@
 #include "tests/livefeed/FeedServer.h"
 
+#include "tests/support/Loopback.h"
+
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <poll.h>
@@ -13,24 +15,10 @@
 namespace orbis::livefeed::test {
 
 TcpFeedServer::TcpFeedServer(std::uint16_t port, bool listenNow) {
-    listenFd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    if (listenFd_ < 0) {
-        error_ = std::string("socket: ") + std::strerror(errno);
-        return;
-    }
-    const int one = 1;
-    ::setsockopt(listenFd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-    sockaddr_in addr{};
-    addr.sin_family = AF_INET;
-    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    addr.sin_port = htons(port);
-    socklen_t len = sizeof addr;
-    if (::bind(listenFd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 ||
-        ::getsockname(listenFd_, reinterpret_cast<sockaddr*>(&addr), &len) != 0) {
-        error_ = "bind 127.0.0.1:" + std::to_string(port) + ": " + std::strerror(errno);
-        return;
-    }
-    port_ = ntohs(addr.sin_port);
+    int bound = 0;
+    listenFd_ = orbis::test::bindLoopback(port, bound, error_);
+    if (listenFd_ < 0) return;
+    port_ = bound;
     if (listenNow) listen();
 }
 

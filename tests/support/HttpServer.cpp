@@ -1,5 +1,7 @@
 #include "tests/support/HttpServer.h"
 
+#include "tests/support/Loopback.h"
+
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <poll.h>
@@ -60,26 +62,14 @@ std::string contentType(const std::filesystem::path& p) {
 }  // namespace
 
 HttpServer::HttpServer(std::filesystem::path root) : root_(std::move(root)) {
-    listenFd_ = ::socket(AF_INET, SOCK_STREAM, 0);
-    if (listenFd_ < 0) {
-        error_ = std::string("socket: ") + std::strerror(errno);
-        return;
-    }
-    const int one = 1;
-    ::setsockopt(listenFd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-    sockaddr_in addr{};
-    addr.sin_family = AF_INET;
-    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    addr.sin_port = 0;  // ephemeral
-    socklen_t len = sizeof addr;
-    if (::bind(listenFd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 || ::listen(listenFd_, 64) != 0 ||
-        ::getsockname(listenFd_, reinterpret_cast<sockaddr*>(&addr), &len) != 0) {
-        error_ = std::string("bind/listen: ") + std::strerror(errno);
+    listenFd_ = bindLoopback(0, port_, error_);
+    if (listenFd_ < 0) return;
+    if (::listen(listenFd_, 64) != 0) {
+        error_ = std::string("listen: ") + std::strerror(errno);
         ::close(listenFd_);
         listenFd_ = -1;
         return;
     }
-    port_ = ntohs(addr.sin_port);
     thread_ = std::thread([this] { serve(); });
 }
 
