@@ -3,8 +3,8 @@
 #
 #   orbis_add_shaders(TARGET name SOURCES a.vert b.frag ...)
 # creates an INTERFACE library `name`; linking it adds the include folder. A shader
-# shaders/globe/ellipsoid.vert becomes  #include "spv/globe/ellipsoid.vert.h"  with the array
-# kSpv_globe_ellipsoid_vert.
+# shaders/globe/ellipsoid.vert becomes  #include "spv/earth/ellipsoid.vert.h"  with the array
+# kSpv_earth_ellipsoid_vert.
 function(orbis_add_shaders)
   cmake_parse_arguments(ARG "" "TARGET" "SOURCES" ${ARGN})
   set(out_root ${CMAKE_BINARY_DIR}/shaders/include)

@@ -17,7 +17,7 @@
 // overview GDAL reads from). Tiles that would need more (a huge file without overviews seen from
 // far away) come back empty at once (anyValid = false): see minLevel().
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 #include "globe/TileKey.h"
 
 #include <cstdint>

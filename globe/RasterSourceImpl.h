@@ -5,8 +5,8 @@
 
 #include "globe/RasterSource.h"
 
-#include "engine/core/Log.h"
-#include "engine/jobs/ThreadPool.h"
+#include "base/Log.h"
+#include "base/ThreadPool.h"
 
 #include <cpl_conv.h>
 #include <cpl_error.h>

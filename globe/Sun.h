@@ -4,7 +4,7 @@
 //
 // All functions are pure and thread-safe.
 
-#include "engine/core/TimeFormat.h"
+#include "base/TimeFormat.h"
 
 #include <glm/glm.hpp>
 

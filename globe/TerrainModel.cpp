@@ -1,6 +1,6 @@
 #include "globe/TerrainModel.h"
 
-#include "engine/core/Log.h"
+#include "base/Log.h"
 
 #include <algorithm>
 #include <array>

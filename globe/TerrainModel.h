@@ -12,7 +12,7 @@
 // Loading goes one level at a time down each tile's chain of ancestors, so coarse data always
 // arrives first and every tile has an ancestor to stand in for it.
 
-#include "engine/jobs/ThreadPool.h"
+#include "base/ThreadPool.h"
 #include "globe/RasterSource.h"
 #include "globe/TileKey.h"
 #include "globe/TileSelector.h"

@@ -2,7 +2,7 @@
 
 #include "layers/annotations/AnnotationLayer.h"
 #include "layers/fmv/FmvLayer.h"
-#include "layers/globe/GlobeLayer.h"
+#include "layers/earth/EarthLayer.h"
 #include "layers/models/ModelLayer.h"
 #include "layers/points/PointsLayer.h"
 #include "layers/terrain/TerrainLayer.h"
@@ -11,7 +11,7 @@
 namespace orbis::layers {
 
 void registerBuiltinLayers(scene::LayerRegistry& registry) {
-    registry.add("globe", "WGS84 ellipsoid with graticule, sun lighting and sky", &GlobeLayer::create);
+    registry.add("globe", "WGS84 ellipsoid with graticule, sun lighting and sky", &EarthLayer::create);
     registry.add("terrain", "WGS84 quadtree terrain streaming DEMs and imagery through GDAL", &TerrainLayer::create);
     registry.add("volume", "netCDF scalar field in a curved geo-box, ray cast on the GPU", &VolumeLayer::create);
     registry.add("points", "LAS point cloud, splatted by compute shaders with eye-dome lighting", &PointsLayer::create);

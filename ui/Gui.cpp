@@ -1,6 +1,6 @@
 #include "ui/Gui.h"
 
-#include "engine/core/Color.h"
+#include "base/Color.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/RenderTarget.h"
 #include "engine/gpu/VkCheck.h"

@@ -18,7 +18,7 @@
 //   {"do": "quit"}
 // ]
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 #include "ui/input/InputEvents.h"
 
 #include <array>

@@ -1,6 +1,6 @@
 #include "ui/Panels.h"
 
-#include "engine/core/TimeFormat.h"
+#include "base/TimeFormat.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/Scene.h"
 #include "ui/input/CurveEdit.h"

@@ -1,6 +1,6 @@
 #include "ui/Swapchain.h"
 
-#include "engine/core/Log.h"
+#include "base/Log.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/VkCheck.h"
 

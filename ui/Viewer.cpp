@@ -1,7 +1,7 @@
 #include "ui/Viewer.h"
 
-#include "engine/core/Log.h"
-#include "engine/core/Png.h"
+#include "base/Log.h"
+#include "base/Png.h"
 #include "engine/gpu/Barriers.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Instance.h"

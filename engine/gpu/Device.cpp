@@ -1,6 +1,6 @@
 #include "engine/gpu/Device.h"
 
-#include "engine/core/Log.h"
+#include "base/Log.h"
 #include "engine/gpu/VkCheck.h"
 
 #include <algorithm>

@@ -1,6 +1,6 @@
 #include "engine/gpu/Instance.h"
 
-#include "engine/core/Log.h"
+#include "base/Log.h"
 #include "engine/gpu/VkCheck.h"
 
 #include <cstring>

@@ -20,7 +20,7 @@
 // "linear" moves at constant parameter speed and turns sharply at keys. Unknown keys anywhere
 // are errors.
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 #include "globe/Viewpoint.h"
 
 #include <cstdint>

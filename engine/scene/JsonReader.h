@@ -3,7 +3,7 @@
 // "<file>: <json path>: <what is wrong>". Keys that nobody asked for are reported too (a typo
 // such as "visble" must not be silently ignored). Layers use it to read their own settings.
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 
 #include <nlohmann/json.hpp>
 

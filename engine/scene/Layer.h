@@ -4,7 +4,7 @@
 // buffers, textures, threads) are made only in prepare(), called before the first frame in
 // which the layer is visible: what a scene does not show is never built.
 
-#include "engine/core/TimeFormat.h"
+#include "base/TimeFormat.h"
 #include "engine/scene/Annotation.h"
 #include "engine/scene/Camera.h"
 

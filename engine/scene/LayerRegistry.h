@@ -3,7 +3,7 @@
 // (tools/orbis/Layers.cpp); nothing registers itself through static initialisers. It counts what
 // it constructs, so tests can prove an unused type was never built.
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/SceneDesc.h"
 

@@ -1,6 +1,6 @@
 #include "engine/scene/Scene.h"
 
-#include "engine/core/Log.h"
+#include "base/Log.h"
 #include "engine/scene/CameraRig.h"
 #include "globe/Ellipsoid.h"
 

@@ -2,7 +2,7 @@
 // A scene as the application holds it: the list of displayable resources (name, visibility,
 // default viewpoint, layer object), the camera and the virtual time.
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 #include "engine/scene/Camera.h"
 #include "engine/scene/CameraMode.h"
 #include "engine/scene/Layer.h"

@@ -15,8 +15,8 @@
 //   "layers": [{"type": "globe", "name": "Earth", "visible": true, "viewpoint": {...}, ...}]
 // }
 
-#include "engine/core/Result.h"
-#include "engine/core/TimeFormat.h"
+#include "base/Result.h"
+#include "base/TimeFormat.h"
 #include "engine/scene/Annotation.h"
 #include "engine/scene/CameraMode.h"
 #include "globe/Viewpoint.h"

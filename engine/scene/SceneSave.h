@@ -14,7 +14,7 @@
 // Relative file paths in the layers resolve against the scene's folder, so they are rewritten
 // for the folder the file is saved into (rebasePath).
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 #include "engine/scene/Layer.h"
 
 #include <nlohmann/json.hpp>

@@ -1,6 +1,6 @@
 #include "engine/scene/TimeServer.h"
 
-#include "engine/core/Log.h"
+#include "base/Log.h"
 
 #include <algorithm>
 #include <cmath>

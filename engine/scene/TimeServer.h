@@ -12,8 +12,8 @@
 //
 // Main thread only: nothing here locks.
 
-#include "engine/core/Result.h"
-#include "engine/core/TimeFormat.h"
+#include "base/Result.h"
+#include "base/TimeFormat.h"
 
 #include <cstdint>
 #include <functional>

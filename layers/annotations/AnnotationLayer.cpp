@@ -1,14 +1,14 @@
 #include "layers/annotations/AnnotationLayer.h"
 
-#include "engine/core/Log.h"
+#include "base/Log.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
 #include "engine/scene/JsonReader.h"
-#include "shared/ModelTypes.h"
+#include "shared/PolylineTypes.h"
 
 // The model layer's screen-space shader (kScreen): clip-space positions, premultiplied colour.
-#include "spv/models/line.frag.h"
-#include "spv/models/line.vert.h"
+#include "spv/common/polyline.frag.h"
+#include "spv/common/polyline.vert.h"
 
 #include <algorithm>
 #include <cstring>
@@ -39,17 +39,17 @@ Result<std::unique_ptr<scene::Layer>> AnnotationLayer::create(const scene::Layer
 void AnnotationLayer::prepare(const scene::RenderServices& services) {
     gpu::Device& device = *services.device;
     for (uint32_t i = 0; i < services.framesInFlight; ++i)
-        vertices_.emplace_back(device, kMaxQuads * 6 * sizeof(shader::ModelLineVertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+        vertices_.emplace_back(device, kMaxQuads * 6 * sizeof(shader::PolylineVertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
                                gpu::MemoryUsage::Upload, "annotation pins");
     const VkDescriptorSetLayout sets[] = {services.frameSetLayout};
     layout_ = gpu::createPipelineLayout(device, sets, {});
     gpu::GraphicsPipelineDesc d;
-    d.vertexSpirv = kSpv_models_line_vert;
-    d.fragmentSpirv = kSpv_models_line_frag;
+    d.vertexSpirv = kSpv_common_polyline_vert;
+    d.fragmentSpirv = kSpv_common_polyline_frag;
     d.layout = layout_.vk();
-    d.bindings = {{0, sizeof(shader::ModelLineVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-    d.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::ModelLineVertex, position)},
-                    {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::ModelLineVertex, color)}};
+    d.bindings = {{0, sizeof(shader::PolylineVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
+    d.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, position)},
+                    {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, color)}};
     d.cullMode = VK_CULL_MODE_NONE;
     d.alphaBlend = true;
     d.depthWrite = false;
@@ -80,8 +80,8 @@ void AnnotationLayer::update(const scene::FrameContext& frame) {
                   " rectangles a frame; the nearest pins come first)");
         warnedDropped_ = true;
     }
-    data_.resize(quads.size() * 6 * sizeof(shader::ModelLineVertex));
-    auto* v = reinterpret_cast<shader::ModelLineVertex*>(data_.data());
+    data_.resize(quads.size() * 6 * sizeof(shader::PolylineVertex));
+    auto* v = reinterpret_cast<shader::PolylineVertex*>(data_.data());
     const double w = frame.width, h = frame.height;
     for (const PinQuad& q : quads) {
         const glm::dvec2 corners[6] = {q.min, {q.max.x, q.min.y}, q.max, q.min, q.max, {q.min.x, q.max.y}};

@@ -8,7 +8,7 @@
 // Pins are screen-space rectangles (PinOverlay) rebuilt each frame on the CPU: a few hundred
 // pins cost microseconds, and a pin hidden by a hill is left out (no depth test on the label).
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 #include "engine/gpu/Buffer.h"
 #include "engine/gpu/Handle.h"
 #include "engine/scene/Layer.h"

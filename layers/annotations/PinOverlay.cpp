@@ -1,7 +1,7 @@
 #include "layers/annotations/PinOverlay.h"
 
-#include "engine/core/Color.h"
-#include "engine/core/LabelText.h"
+#include "base/Color.h"
+#include "base/LabelText.h"
 #include "globe/Culling.h"
 #include "globe/Ellipsoid.h"
 

@@ -1,6 +1,6 @@
 #pragma once
 // The pins of a scene's annotations as screen-space rectangles: a stem from the point up, a
-// square head, and the name in a box (engine/core/LabelText). Pins hidden by the ground or the
+// square head, and the name in a box (base/LabelText). Pins hidden by the ground or the
 // ellipsoid, behind the eye or far off the screen are left out. No Vulkan.
 
 #include "engine/scene/Annotation.h"

@@ -1,10 +1,10 @@
 // The scene-file side of the FMV layer: its keys, checked; the video opened and indexed, its
 // poses read (KLV, or a pose CSV), and the video's clock placed on the scene's time.
-#include "engine/core/Log.h"
+#include "base/Log.h"
 #include "engine/scene/JsonReader.h"
 #include "globe/Geoid.h"
 #include "layers/fmv/FmvLayer.h"
-#include "layers/fmv/PoseCsv.h"
+#include "formats/fmv/PoseCsv.h"
 
 #include <algorithm>
 #include <memory>

@@ -1,7 +1,7 @@
 #include "layers/fmv/FmvTimeline.h"
 
 #include "globe/Ellipsoid.h"
-#include "layers/fmv/KlvFile.h"
+#include "formats/fmv/KlvFile.h"
 #include "layers/fmv/VideoFile.h"
 
 #include <algorithm>

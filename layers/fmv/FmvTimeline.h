@@ -14,9 +14,9 @@
 // video's clock by that same offset, which the caller gives (or the first row's time when the
 // video has no other clock: row 1 at video time 0).
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 #include "layers/fmv/SensorModel.h"
-#include "layers/fmv/St0601.h"
+#include "formats/fmv/St0601.h"
 
 #include <functional>
 #include <optional>

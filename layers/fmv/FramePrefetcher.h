@@ -7,7 +7,7 @@
 //   FramePrefetcher frames(std::move(video), pool);
 //   if (const VideoFrame* f = frames.request(index)) upload(*f);   // null: not decoded yet
 
-#include "engine/jobs/ThreadPool.h"
+#include "base/ThreadPool.h"
 #include "layers/fmv/VideoFile.h"
 
 #include <deque>

@@ -1,7 +1,7 @@
 #include "layers/fmv/SensorModel.h"
 
 #include "globe/Ellipsoid.h"
-#include "layers/fmv/St0601.h"
+#include "formats/fmv/St0601.h"
 
 #include <algorithm>
 #include <cmath>

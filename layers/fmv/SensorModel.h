@@ -18,7 +18,7 @@
 // Rays that miss the ground (the sensor looking above the horizon) are clamped to the horizon
 // in the ray's azimuth: a finite point, never NaN.
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 
 #include <glm/glm.hpp>
 

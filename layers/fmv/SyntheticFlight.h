@@ -16,7 +16,7 @@
 // east face): the occlusion case.
 
 #include "layers/fmv/SensorModel.h"
-#include "layers/fmv/St0601.h"
+#include "formats/fmv/St0601.h"
 
 #include <cstdint>
 

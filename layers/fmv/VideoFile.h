@@ -13,7 +13,7 @@
 //   for (const fmv::TimedKlv& k : (*video)->klv()) decode(k.bytes);
 //   auto frame = (*video)->decode((*video)->frameAt(12.5));
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 
 #include <cstdint>
 #include <memory>

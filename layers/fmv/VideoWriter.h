@@ -8,7 +8,7 @@
 //   (*w)->writeFrame(rgba);               // frame i is at i / fps seconds
 //   (*w)->close();
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 
 #include <cstdint>
 #include <memory>

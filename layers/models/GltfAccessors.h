@@ -7,7 +7,7 @@
 // has no buffer view) with the sparse values written over them at their indices. Morph targets
 // use them often.
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 
 #include <tiny_gltf.h>
 

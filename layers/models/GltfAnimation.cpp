@@ -1,7 +1,7 @@
 #include "layers/models/GltfAnimation.h"
 
-#include "layers/motion/Attitude.h"
-#include "layers/motion/Trajectory.h"
+#include "formats/motion/Attitude.h"
+#include "formats/motion/Trajectory.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 

@@ -22,7 +22,7 @@
 // `duration` is the animation's last keyframe time; a looped animation restarts at 0 (glTF
 // times start at 0 in practice; a first keyframe later than 0 holds its value until then).
 
-#include "engine/core/TimeFormat.h"
+#include "base/TimeFormat.h"
 #include "layers/models/GltfModel.h"
 
 #include <glm/glm.hpp>

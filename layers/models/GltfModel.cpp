@@ -3,7 +3,7 @@
 #include "layers/models/GltfAccessors.h"
 #include "layers/models/GltfAnimation.h"
 #include "layers/models/GltfRig.h"
-#include "layers/motion/Attitude.h"
+#include "formats/motion/Attitude.h"
 
 #include <tiny_gltf.h>
 #include <stb_image.h>

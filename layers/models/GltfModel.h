@@ -8,7 +8,7 @@
 // the asset's left. Model data stays in glTF axes here; `gltfToBody()` gives the fixed rotation
 // onto the vehicle body axes of a trajectory pose (x forward, y right, z down):
 //   body x (forward) =  glTF +Z,   body y (right) = glTF -X,   body z (down) = glTF -Y.
-// It is motion::gltfToBody() (layers/motion/Attitude.h), where the convention is written once.
+// It is motion::gltfToBody() (formats/motion/Attitude.h), where the convention is written once.
 //
 // What is read: positions, normals (flat normals are made when a primitive has none), the first
 // texture coordinates, COLOR_0, indices (8, 16, 32 bit or none), TRIANGLES / TRIANGLE_STRIP /
@@ -30,7 +30,7 @@
 // (after flattening) and images over kMaxGltfImageSide are refused. Messages name the file and
 // the glTF object ("model.gltf: accessor 3 (POSITION of mesh 'Wheel'): runs past its buffer").
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>

@@ -4,7 +4,7 @@
 // Every inconsistency is an error naming the file and the glTF object ("model.gltf: animation
 // 'Walk' channel 2: targets node 17, which does not exist"). No Vulkan.
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 #include "layers/models/GltfModel.h"
 
 #include <functional>

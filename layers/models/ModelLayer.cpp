@@ -1,7 +1,7 @@
 #include "layers/models/ModelLayer.h"
 
-#include "engine/core/Color.h"
-#include "engine/core/LabelText.h"
+#include "base/Color.h"
+#include "base/LabelText.h"
 #include "engine/gpu/Barriers.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
@@ -9,11 +9,12 @@
 #include "engine/gpu/VkCheck.h"
 #include "globe/Culling.h"
 #include "globe/Ellipsoid.h"
-#include "layers/motion/Attitude.h"
+#include "formats/motion/Attitude.h"
 #include "shared/ModelTypes.h"
+#include "shared/PolylineTypes.h"
 
-#include "spv/models/line.frag.h"
-#include "spv/models/line.vert.h"
+#include "spv/common/polyline.frag.h"
+#include "spv/common/polyline.vert.h"
 #include "spv/models/model.frag.h"
 #include "spv/models/model_animated.vert.h"
 #include "spv/models/model.vert.h"
@@ -211,12 +212,12 @@ void ModelLayer::buildPipelines(const scene::RenderServices& services) {
         }
         vkUpdateDescriptorSets(device.vk(), uint32_t(w.size()), w.data(), 0, nullptr);
         if (settings_.path.show) {
-            pathBuffers_.emplace_back(device, uint64_t(settings_.path.maxPoints) * sizeof(shader::ModelLineVertex),
+            pathBuffers_.emplace_back(device, uint64_t(settings_.path.maxPoints) * sizeof(shader::PolylineVertex),
                                       VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, gpu::MemoryUsage::Upload, "model path");
             gpuBytes_ += pathBuffers_.back().size();
         }
         if (settings_.label) {
-            labelBuffers_.emplace_back(device, uint64_t(kLabelMaxVertices) * sizeof(shader::ModelLineVertex),
+            labelBuffers_.emplace_back(device, uint64_t(kLabelMaxVertices) * sizeof(shader::PolylineVertex),
                                        VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, gpu::MemoryUsage::Upload, "model label");
             gpuBytes_ += labelBuffers_.back().size();
         }
@@ -284,12 +285,12 @@ void ModelLayer::buildPipelines(const scene::RenderServices& services) {
         const VkDescriptorSetLayout lineSets[] = {services.frameSetLayout};
         lineLayout_ = gpu::createPipelineLayout(device, lineSets, {});
         gpu::GraphicsPipelineDesc l;
-        l.vertexSpirv = kSpv_models_line_vert;
-        l.fragmentSpirv = kSpv_models_line_frag;
+        l.vertexSpirv = kSpv_common_polyline_vert;
+        l.fragmentSpirv = kSpv_common_polyline_frag;
         l.layout = lineLayout_.vk();
-        l.bindings = {{0, sizeof(shader::ModelLineVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-        l.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::ModelLineVertex, position)},
-                        {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::ModelLineVertex, color)}};
+        l.bindings = {{0, sizeof(shader::PolylineVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
+        l.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, position)},
+                        {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, color)}};
         l.cullMode = VK_CULL_MODE_NONE;
         l.alphaBlend = true;
         l.depthWrite = false;
@@ -432,7 +433,7 @@ void ModelLayer::buildPath(const scene::FrameContext& frame) {
     const auto points = motion_->path(from, end, settings_.path.maxPoints, frame.groundHeight);
     const glm::vec4 color = linearColor(settings_.path.color, settings_.path.opacity);
     for (const glm::dvec3& p : points) {
-        shader::ModelLineVertex v;
+        shader::PolylineVertex v;
         // 1 m up (geocentric up is close enough for that): the straight segments between points
         // on the ground would otherwise dip into the terrain between its samples.
         v.position = glm::vec4(glm::vec3(p + glm::normalize(p) - eye_), 1.0f);
@@ -467,13 +468,13 @@ void ModelLayer::buildLabel(const scene::FrameContext& frame) {
         const glm::vec4 color = q.background ? boxColor : textColor;
         const glm::dvec2 corners[6] = {q.min, {q.max.x, q.min.y}, q.max, q.min, q.max, {q.min.x, q.max.y}};
         for (const glm::dvec2& c : corners) {
-            shader::ModelLineVertex v;
+            shader::PolylineVertex v;
             v.position = glm::vec4(float(c.x / frame.width * 2.0 - 1.0), float(c.y / frame.height * 2.0 - 1.0), 1.0f, 1.0f);
             v.color = color;
             append(labelData_, v);
         }
     }
-    labelVertices_ = uint32_t(labelData_.size() / sizeof(shader::ModelLineVertex));
+    labelVertices_ = uint32_t(labelData_.size() / sizeof(shader::PolylineVertex));
 }
 
 void ModelLayer::recordTransfers(const scene::RecordContext& rc) {

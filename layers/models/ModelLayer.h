@@ -19,14 +19,14 @@
 //                          "start": "2026-03-20T08:00:00Z"}}
 //
 // Axes: the model's glTF axes (+Y up, +Z front) are put on the body axes of the pose (x forward,
-// y right, z down; layers/motion/Attitude.h), after "orientation" (heading, pitch, roll in
+// y right, z down; formats/motion/Attitude.h), after "orientation" (heading, pitch, roll in
 // degrees, to turn a model whose front is not +Z) and "scale". "minimumPixelSize" scales a
 // model up when it would cover fewer pixels than that (0: true size only).
 //
 // On the ground: a model on a trajectory or live feed whose altitude is "ground" (at most 1 m
 // above it, clampToGround included) keeps its track's heading and pitches and rolls with the
 // terrain under its footprint, the bounding box on the body axes at "scale"
-// (layers/motion/GroundAttitude.h). A model at a fixed position keeps its "attitude".
+// (formats/motion/GroundAttitude.h). A model at a fixed position keeps its "attitude".
 //
 // Copies: `count` models along the same trajectory, copy i at (t - i x spacing): a train's
 // wagons, a convoy, or the benchmark's 1 000 animated models. One instanced draw per glTF
@@ -54,7 +54,7 @@
 // after the opaque geometry with depth test. The label is the layer's name (or the given text)
 // beside the first copy, in the overlay pass, hidden when the model is behind the globe.
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 #include "engine/gpu/Buffer.h"
 #include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Handle.h"

@@ -1,9 +1,9 @@
 // The "model" layer's scene settings (ModelLayer.h) and where its motion comes from.
-#include "engine/core/Log.h"
+#include "base/Log.h"
 #include "engine/scene/JsonReader.h"
 #include "layers/models/ModelLayer.h"
 #include "globe/Geoid.h"
-#include "layers/motion/TrajectoryFile.h"
+#include "formats/motion/TrajectoryFile.h"
 
 #include <cmath>
 

@@ -1,14 +1,14 @@
-// A model on a live position feed (layers/livefeed): the fixes received so far form a growing
+// A model on a live position feed (formats/livefeed): the fixes received so far form a growing
 // trajectory on their own GPS times, so the model is where the feed said it was at the scene's
 // virtual time, and at its latest fix (held) for any later time. A viewer that follows the feed
 // keeps its TimeServer at the latest fix's time; seeking back replays the history.
 // Each fix is appended to the trajectory in amortised O(1) (Trajectory::append); the history
 // is cut back to kMaxHistory fixes once it holds a quarter more (an O(n) rebuild every
 // kMaxHistory / 4 fixes).
-#include "engine/core/Log.h"
+#include "base/Log.h"
 #include "engine/scene/JsonReader.h"
 #include "globe/Ellipsoid.h"
-#include "layers/livefeed/LiveSource.h"
+#include "formats/livefeed/LiveSource.h"
 #include "layers/models/ModelMotion.h"
 
 #include <algorithm>

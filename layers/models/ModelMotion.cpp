@@ -1,7 +1,7 @@
 #include "layers/models/ModelMotion.h"
 
 #include "globe/Ellipsoid.h"
-#include "layers/motion/Attitude.h"
+#include "formats/motion/Attitude.h"
 
 #include <algorithm>
 #include <cmath>

@@ -2,11 +2,11 @@
 // Where a model is at a virtual time: a fixed place, a trajectory read from a file, or a live
 // position feed. The model layer asks for poses only through this interface. No Vulkan.
 
-#include "engine/core/Result.h"
-#include "engine/core/TimeFormat.h"
+#include "base/Result.h"
+#include "base/TimeFormat.h"
 #include "engine/scene/Layer.h"
-#include "layers/motion/GroundAttitude.h"
-#include "layers/motion/Trajectory.h"
+#include "formats/motion/GroundAttitude.h"
+#include "formats/motion/Trajectory.h"
 
 #include <glm/glm.hpp>
 #include <nlohmann/json_fwd.hpp>
@@ -44,14 +44,14 @@ public:
     virtual bool usesGround() const { return false; }
     /// The vehicle's extent on the ground: poses on the ground (trajectories and live feeds,
     /// motion::Pose::onGround) pitch and roll with the terrain under it
-    /// (layers/motion/GroundAttitude.h). Empty by default: the trajectory's attitude.
+    /// (formats/motion/GroundAttitude.h). Empty by default: the trajectory's attitude.
     virtual void setFootprint(const motion::Footprint& /*footprint*/) {}
     /// One line for the stats ("live tcp://...: 120 fixes, connected").
     virtual std::string status() const { return {}; }
 };
 
 /// A model standing at (lon, lat, height above the ellipsoid, or above the ground when
-/// `onGround`) with the attitude heading/pitch/roll (degrees, layers/motion/Attitude.h).
+/// `onGround`) with the attitude heading/pitch/roll (degrees, formats/motion/Attitude.h).
 std::unique_ptr<ModelMotion> makeFixedMotion(double lonDeg, double latDeg, double height, bool onGround,
                                              double headingDeg, double pitchDeg, double rollDeg);
 
@@ -64,10 +64,10 @@ inline scene::TrackedPose toTrackedPose(const motion::Pose& p) {
     return out;
 }
 
-/// A model moving along `trajectory` (layers/motion/Trajectory.h).
+/// A model moving along `trajectory` (formats/motion/Trajectory.h).
 std::unique_ptr<ModelMotion> makeTrajectoryMotion(motion::Trajectory trajectory);
 
-/// A model on a live position feed (layers/livefeed/LiveSource.h) from its scene settings
+/// A model on a live position feed (formats/livefeed/LiveSource.h) from its scene settings
 /// {"url": "tcp://host:port", "protocol": "auto" | "nmea" | "xml", "altitude": "ellipsoid" | "ground"};
 /// `file` and `path` name the settings in messages. The feed's thread starts here.
 Result<std::unique_ptr<ModelMotion>> makeLiveMotion(const nlohmann::json& settings, const std::string& file,

@@ -12,7 +12,7 @@
 // turns coordinates in that CRS into ECEF (WGS84, metres, double) through GDAL/OGR, with the
 // CRS's units (feet, US survey feet) and datum shifts honoured.
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 
 #include <glm/glm.hpp>
 

@@ -10,7 +10,7 @@
 // (a device's maxStorageBufferRange can be smaller than the buffer: 128 MB on lavapipe). When
 // the whole cloud fits, every node's place is fixed from the start (packed largest first).
 
-#include "engine/jobs/ThreadPool.h"
+#include "base/ThreadPool.h"
 #include "layers/points/PointStore.h"
 
 #include <functional>

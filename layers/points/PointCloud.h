@@ -3,7 +3,7 @@
 // CRS, a scene override, or metres east/north/up of a given origin) and their way to ECEF. The
 // octree built from it is a PointStore.
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 #include "globe/Ellipsoid.h"
 #include "layers/points/LasReader.h"
 #include "layers/points/PointStore.h"

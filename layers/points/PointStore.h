@@ -17,7 +17,7 @@
 // was built from: file, size, time, CRS, options; a different key means a rebuild), then the
 // nodes' data, then the node table (StoredNode records).
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 #include "layers/points/PointOctree.h"
 
 #include <atomic>

@@ -9,7 +9,7 @@
 //      in key order, fill them exactly as the in-memory build would;
 //   5. each chunk's subtree, built in memory from its records less those taken above.
 // The result is the tree PointOctree::build makes of the whole cloud, node for node.
-#include "engine/core/Log.h"
+#include "base/Log.h"
 #include "globe/Ellipsoid.h"
 #include "layers/points/PointCloud.h"
 #include "layers/points/PointStoreFormat.h"

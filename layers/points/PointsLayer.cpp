@@ -1,6 +1,6 @@
 #include "layers/points/PointsLayer.h"
 
-#include "engine/core/Log.h"
+#include "base/Log.h"
 #include "engine/gpu/Barriers.h"
 #include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Device.h"

@@ -31,7 +31,7 @@
 #include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Handle.h"
 #include "engine/gpu/Pipeline.h"
-#include "engine/jobs/ThreadPool.h"
+#include "base/ThreadPool.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/points/NodeResidency.h"

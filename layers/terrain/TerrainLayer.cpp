@@ -1,15 +1,15 @@
 #include "layers/terrain/TerrainLayer.h"
 
-#include "engine/core/Color.h"
-#include "engine/core/Log.h"
+#include "base/Color.h"
+#include "base/Log.h"
 #include "engine/gpu/Barriers.h"
 #include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
-#include "layers/globe/SkyPipeline.h"
+#include "engine/render/SkyPipeline.h"
 #include "engine/gpu/Uploader.h"
 #include "engine/gpu/VkCheck.h"
-#include "engine/jobs/ThreadPool.h"
+#include "base/ThreadPool.h"
 #include "engine/scene/JsonReader.h"
 #include "globe/Ellipsoid.h"
 #include "globe/TileMesh.h"
@@ -276,7 +276,7 @@ void TerrainLayer::prepare(const scene::RenderServices& services) {
     surface.name = "terrain surface";
     surface_ = gpu::createGraphicsPipeline(device, surface);
 
-    if (settings_.sky) sky_ = createSkyPipeline(device, layout_.vk(), services, "terrain sky");
+    if (settings_.sky) sky_ = render::createSkyPipeline(device, layout_.vk(), services, "terrain sky");
 }
 
 uint64_t TerrainLayer::allocatedBytes() const {

@@ -21,8 +21,8 @@
 // Packing (scale_factor/add_offset), _FillValue, missing_value, valid_min/max/range and NaN all
 // become "no data" (NaN in the values, left out of the range).
 
-#include "engine/core/Result.h"
-#include "engine/core/TimeFormat.h"
+#include "base/Result.h"
+#include "base/TimeFormat.h"
 
 #include <cstddef>
 #include <cstdint>

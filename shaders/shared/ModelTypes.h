@@ -5,7 +5,7 @@
 // out by layers/models/GltfAnimation.h's PoseLayout, an instance's block at ModelInstance::pose.x),
 // and binding 3 the morph target deltas (float[], 6 per vertex and target), plus a second vertex
 // stream with joints and weights. Set 2: the material's base colour texture (sampler2D, sRGB).
-// Paths and labels use set 0 only and their own vertex streams.
+// Paths and labels are polylines (shared/PolylineTypes.h, shaders/common/polyline.*).
 //
 // Positions on the GPU are relative to the eye: each instance's model-to-eye transform is
 // built in double on the CPU (ECEF origin minus eye), then sent as float.
@@ -42,19 +42,12 @@ struct ModelPush {
     uvec4 morph;       // x: (first delta pair of the primitive) - (vertex offset) x targets, modulo 2^32
 };
 
-// The path line and the label quads: one vertex each.
-struct ModelLineVertex {
-    vec4 position;     // xyz: relative to the eye (metres, world axes); w: 1
-    vec4 color;        // linear RGBA
-};
-
 ORBIS_NAMESPACE_END
 
 #ifdef __cplusplus
 static_assert(sizeof(orbis::shader::ModelInstance) == 96, "ModelInstance layout changed");
 static_assert(sizeof(orbis::shader::ModelNode) == 128, "ModelNode layout changed");
 static_assert(sizeof(orbis::shader::ModelPush) == 64, "ModelPush must fit push constants");
-static_assert(sizeof(orbis::shader::ModelLineVertex) == 32, "ModelLineVertex layout changed");
 #endif
 
 #endif

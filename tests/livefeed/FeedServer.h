@@ -4,7 +4,7 @@
 // UDP sender. No threads of their own: the test thread calls them, and every wait has a
 // deadline. Plus the synthetic track that the servers play.
 
-#include "layers/livefeed/Fix.h"
+#include "formats/livefeed/Fix.h"
 
 #include <chrono>
 #include <cstdint>

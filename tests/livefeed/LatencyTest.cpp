@@ -10,9 +10,9 @@
 // The consumer either waits on waitForFixes() (event-driven: the pipeline's own latency) or
 // drains once per 60 Hz frame (what a viewer sees: adds up to a frame, ~8 ms on average).
 
-#include "layers/livefeed/LiveSource.h"
-#include "layers/livefeed/NmeaWriter.h"
-#include "layers/livefeed/XmlFix.h"
+#include "formats/livefeed/LiveSource.h"
+#include "formats/livefeed/NmeaWriter.h"
+#include "formats/livefeed/XmlFix.h"
 #include "tests/livefeed/FeedServer.h"
 
 #include <gtest/gtest.h>

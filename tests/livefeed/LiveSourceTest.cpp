@@ -3,10 +3,10 @@
 // restarts, refused connections, garbage and endless lines. Every wait has a deadline (5 s);
 // none of these tests sleeps for a fixed time to let something happen.
 
-#include "layers/livefeed/LiveSource.h"
-#include "layers/livefeed/Nmea.h"
-#include "layers/livefeed/NmeaWriter.h"
-#include "layers/livefeed/XmlFix.h"
+#include "formats/livefeed/LiveSource.h"
+#include "formats/livefeed/Nmea.h"
+#include "formats/livefeed/NmeaWriter.h"
+#include "formats/livefeed/XmlFix.h"
 #include "tests/livefeed/FeedServer.h"
 
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
 // The NMEA stream decoder (NmeaDecoder.h): framing, bounds, dates, merging of an epoch's
 // sentences, and the writer's round trip.
 
-#include "layers/livefeed/NmeaDecoder.h"
-#include "layers/livefeed/NmeaWriter.h"
+#include "formats/livefeed/NmeaDecoder.h"
+#include "formats/livefeed/NmeaWriter.h"
 #include "tests/livefeed/FeedServer.h"
 
 #include <gtest/gtest.h>

@@ -3,8 +3,8 @@
 // protocol specification, with their published checksums: they check our checksum independently
 // of our own writer.
 
-#include "layers/livefeed/Nmea.h"
-#include "layers/livefeed/NmeaWriter.h"
+#include "formats/livefeed/Nmea.h"
+#include "formats/livefeed/NmeaWriter.h"
 
 #include <gtest/gtest.h>
 

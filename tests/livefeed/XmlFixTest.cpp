@@ -1,8 +1,8 @@
 // The XML position message (XmlFix.h): both forms, errors, and the stream decoder's framing,
 // resynchronisation and bounds. Also the protocol auto-detection (FixDecoder.h).
 
-#include "layers/livefeed/NmeaWriter.h"
-#include "layers/livefeed/XmlFix.h"
+#include "formats/livefeed/NmeaWriter.h"
+#include "formats/livefeed/XmlFix.h"
 
 #include <gtest/gtest.h>
 

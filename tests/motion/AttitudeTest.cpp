@@ -1,7 +1,7 @@
 // The heading/pitch/roll convention (ST 0601, Attitude.h): which way each angle turns the body,
 // agreement with the FMV sensor model, the angles' round trip, slerp the short way.
 #include "layers/fmv/SensorModel.h"
-#include "layers/motion/Attitude.h"
+#include "formats/motion/Attitude.h"
 #include "MotionTestUtil.h"
 
 #include <gtest/gtest.h>

@@ -1,9 +1,9 @@
-// Ground vehicles pitch and roll with the terrain (layers/motion/GroundAttitude.h), on a
+// Ground vehicles pitch and roll with the terrain (formats/motion/GroundAttitude.h), on a
 // synthetic ground that rises 10 % towards the north.
-#include "layers/motion/GroundAttitude.h"
+#include "formats/motion/GroundAttitude.h"
 
 #include "globe/Ellipsoid.h"
-#include "layers/motion/Attitude.h"
+#include "formats/motion/Attitude.h"
 
 #include <gtest/gtest.h>
 

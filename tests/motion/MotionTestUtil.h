@@ -2,7 +2,7 @@
 // Helpers shared by the motion tests: analytic paths sampled into TrajectorySamples, the local
 // frame, temp files unique to this test process.
 #include "globe/Ellipsoid.h"
-#include "layers/motion/Trajectory.h"
+#include "formats/motion/Trajectory.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // A trajectory grown one sample at a time (Trajectory::append, the live feed's path) gives the
 // poses of the one created from all the samples at once, including still starts, stops, given
 // and derived angles; keepLast() is create() over the samples kept; bad appends are errors.
-#include "layers/motion/Attitude.h"
-#include "layers/motion/Trajectory.h"
+#include "formats/motion/Attitude.h"
+#include "formats/motion/Trajectory.h"
 
 #include <gtest/gtest.h>
 

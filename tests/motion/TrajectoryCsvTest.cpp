@@ -1,7 +1,7 @@
 // Trajectory CSV: column names and units, time forms, altitude references, separators, and
 // every error a file can give (each naming the file, line and column).
-#include "layers/motion/TrajectoryCsv.h"
-#include "layers/motion/TrajectoryFile.h"
+#include "formats/motion/TrajectoryCsv.h"
+#include "formats/motion/TrajectoryFile.h"
 #include "MotionTestUtil.h"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // GPX: the real files in ../shared/data/trajectory (a track, a route with waypoints), segments
 // and routes written here, and broken files that must give a clear error naming the line.
-#include "layers/motion/TrajectoryFile.h"
-#include "layers/motion/TrajectoryGpx.h"
+#include "formats/motion/TrajectoryFile.h"
+#include "formats/motion/TrajectoryGpx.h"
 #include "MotionTestUtil.h"
 
 #include <gtest/gtest.h>

@@ -1,9 +1,9 @@
 // Platform poses from MISB ST 0601: packets built here (through the FMV encoder and decoder),
 // a raw .bin stream, an FMV pose CSV, and the real reference packet.
-#include "layers/fmv/St0601.h"
-#include "layers/fmv/St0601Encode.h"
-#include "layers/motion/TrajectoryFile.h"
-#include "layers/motion/TrajectoryKlv.h"
+#include "formats/fmv/St0601.h"
+#include "formats/fmv/St0601Encode.h"
+#include "formats/motion/TrajectoryFile.h"
+#include "formats/motion/TrajectoryKlv.h"
 #include "MotionTestUtil.h"
 
 #include <gtest/gtest.h>

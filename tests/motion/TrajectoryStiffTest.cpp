@@ -1,6 +1,6 @@
 // Stiff cases: the antimeridian, a flight over the pole, one sample, two samples at one place,
 // times at the int64 extremes, and the sample checks (order, repeats, NaN, ranges).
-#include "layers/motion/Attitude.h"
+#include "formats/motion/Attitude.h"
 #include "MotionTestUtil.h"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // the chord's sagitta; Catmull-Rom: far below it), a constant-rate roll, constant
 // acceleration at uneven times; extrapolation at both ends; ground and mean-sea-level
 // altitudes; the path line and bounds.
-#include "layers/motion/Attitude.h"
+#include "formats/motion/Attitude.h"
 #include "MotionTestUtil.h"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // constructed, and a scene with only the globe builds the globe's pipelines and nothing else:
 // no worker thread, no other pipeline.
 #include "engine/gpu/Device.h"
-#include "engine/jobs/ThreadPool.h"
+#include "base/ThreadPool.h"
 #include "tests/render/RenderHelpers.h"
 #include "tests/support/GpuTest.h"
 

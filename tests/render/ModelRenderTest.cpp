@@ -4,7 +4,7 @@
 // the same picture (trajectory, models and FMV together).
 #include "engine/scene/CameraRig.h"
 #include "globe/Ellipsoid.h"
-#include "layers/livefeed/NmeaWriter.h"
+#include "formats/livefeed/NmeaWriter.h"
 #include "layers/models/ModelLayer.h"
 #include "tests/livefeed/FeedServer.h"
 #include "tests/render/RenderHelpers.h"

@@ -1,7 +1,7 @@
 #pragma once
 // Renders a scene given as JSON text on the test device and returns the image.
 
-#include "engine/core/Png.h"
+#include "base/Png.h"
 #include "engine/render/Renderer.h"
 #include "engine/scene/Scene.h"
 #include "layers/BuiltinLayers.h"

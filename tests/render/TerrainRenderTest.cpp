@@ -3,7 +3,7 @@
 // mountain top (no jitter), 40 000 km out, bad inputs, memory budgets, and real data from
 // ../shared/data when it is there.
 #include "engine/gpu/Device.h"
-#include "engine/jobs/ThreadPool.h"
+#include "base/ThreadPool.h"
 #include "globe/Ellipsoid.h"
 #include "layers/terrain/TerrainLayer.h"
 #include "tests/render/RenderHelpers.h"

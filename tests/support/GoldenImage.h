@@ -5,7 +5,7 @@
 // NAME.diff.png are written to the test output folder; tools/accept-goldens copies actual
 // images over the goldens after you have looked at them.
 
-#include "engine/core/Png.h"
+#include "base/Png.h"
 
 #include <gtest/gtest.h>
 

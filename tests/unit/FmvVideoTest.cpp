@@ -5,7 +5,7 @@
 // (FramePrefetcher).
 #include "layers/fmv/FmvTimeline.h"
 #include "layers/fmv/FramePrefetcher.h"
-#include "layers/fmv/St0601Encode.h"
+#include "formats/fmv/St0601Encode.h"
 #include "layers/fmv/SyntheticFlight.h"
 #include "layers/fmv/VideoFile.h"
 #include "layers/fmv/VideoWriter.h"

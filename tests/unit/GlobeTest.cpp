@@ -2,7 +2,7 @@
 #include "globe/Culling.h"
 #include "globe/Ellipsoid.h"
 #include "globe/Viewpoint.h"
-#include "layers/globe/GlobeMesh.h"
+#include "layers/earth/EarthMesh.h"
 
 #include <gtest/gtest.h>
 
@@ -108,7 +108,7 @@ TEST(Culling, HorizonHidesTheFarSideOnly) {
 TEST(GlobeMesh, NeighbouringPatchesShareBitIdenticalEdges) {
     // No cracks: every vertex position (in ECEF, rebuilt in double) on a shared edge is
     // identical from both patches, up to float rounding of the relative positions.
-    const auto mesh = layers::GlobeMesh::build(30.0, 4);
+    const auto mesh = layers::EarthMesh::build(30.0, 4);
     ASSERT_EQ(mesh.patches.size(), 12u * 6u);
     std::map<std::pair<float, float>, glm::dvec3> seen;
     double worst = 0.0;
@@ -127,7 +127,7 @@ TEST(GlobeMesh, NeighbouringPatchesShareBitIdenticalEdges) {
 }
 
 TEST(GlobeMesh, TrianglesWindCounterClockwiseFromOutside) {
-    const auto mesh = layers::GlobeMesh::build(10.0, 2);
+    const auto mesh = layers::EarthMesh::build(10.0, 2);
     const size_t patch = mesh.patches.size() / 2 + 3;
     const auto* v = &mesh.vertices[patch * mesh.verticesPerPatch()];
     for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {

@@ -1,7 +1,7 @@
 // glTF 2.0 reading: the real sample models, external files, the axis convention, and broken
 // inputs that must give clear errors.
 #include "layers/models/GltfModel.h"
-#include "layers/motion/Attitude.h"
+#include "formats/motion/Attitude.h"
 
 #include <gtest/gtest.h>
 #include <stb_image_write.h>
@@ -161,7 +161,7 @@ TEST(GltfModel, AxesOntoTheBody) {
     EXPECT_EQ(r * glm::dvec3(0, 1, 0), glm::dvec3(0, 0, -1));   // up (+Y) -> -down
     EXPECT_EQ(r * glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0));   // right (-X) -> right
     EXPECT_DOUBLE_EQ(glm::determinant(r), 1.0);                  // a rotation, not a mirror
-    EXPECT_EQ(r, orbis::motion::gltfToBody()) << "one convention, written in layers/motion/Attitude.h";
+    EXPECT_EQ(r, orbis::motion::gltfToBody()) << "one convention, written in formats/motion/Attitude.h";
 }
 
 TEST(GltfModel, MipChainAverages) {

@@ -1,9 +1,9 @@
 // Packet sources without video: raw KLV streams (.bin/.klv) with garbage and broken packets, the
 // real files in ../shared/data/klv, and pose CSV sidecars (column names, units, errors that name
 // the line and the column).
-#include "layers/fmv/KlvFile.h"
-#include "layers/fmv/PoseCsv.h"
-#include "layers/fmv/St0601Encode.h"
+#include "formats/fmv/KlvFile.h"
+#include "formats/fmv/PoseCsv.h"
+#include "formats/fmv/St0601Encode.h"
 
 #include <gtest/gtest.h>
 

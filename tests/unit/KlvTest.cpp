@@ -1,10 +1,10 @@
 // KLV and MISB ST 0601: BER lengths and tags, the two real packets in ../shared/data/klv against
 // their published decode, every mapping at its range ends and error values (through the encoder,
 // within one step of the integer), truncated, oversized and malformed packets, and random bytes.
-#include "layers/fmv/Klv.h"
-#include "layers/fmv/St0601.h"
-#include "layers/fmv/St0601Encode.h"
-#include "layers/fmv/St0601Fields.h"
+#include "formats/fmv/Klv.h"
+#include "formats/fmv/St0601.h"
+#include "formats/fmv/St0601Encode.h"
+#include "formats/fmv/St0601Fields.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

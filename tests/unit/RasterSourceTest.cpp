@@ -2,7 +2,7 @@
 // GDAL itself into a temporary folder; real data from ../shared/data is used when present.
 #include "globe/RasterSource.h"
 
-#include "engine/jobs/ThreadPool.h"
+#include "base/ThreadPool.h"
 #include "tests/support/HttpServer.h"
 #include "tests/support/XyzTiles.h"
 

@@ -3,8 +3,8 @@
 // sensors looking above the horizon, and the poles and the antimeridian.
 #include "globe/Ellipsoid.h"
 #include "layers/fmv/SensorModel.h"
-#include "layers/fmv/St0601.h"
-#include "layers/fmv/St0601Encode.h"
+#include "formats/fmv/St0601.h"
+#include "formats/fmv/St0601Encode.h"
 #include "layers/fmv/SyntheticFlight.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-#include "engine/jobs/ThreadPool.h"
+#include "base/ThreadPool.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "engine/core/TimeFormat.h"
+#include "base/TimeFormat.h"
 
 #include <gtest/gtest.h>
 

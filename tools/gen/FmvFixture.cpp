@@ -1,6 +1,6 @@
 #include "tools/gen/FmvFixture.h"
 
-#include "layers/fmv/St0601Encode.h"
+#include "formats/fmv/St0601Encode.h"
 #include "layers/fmv/SyntheticFlight.h"
 #include "layers/fmv/VideoWriter.h"
 

@@ -3,7 +3,7 @@
 // (H.264 frames and one ST 0601 KLV packet a frame) and optionally its poses as a CSV sidecar.
 // See layers/fmv/SyntheticFlight.h for the flight and the terrain.
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 
 #include <cstdint>
 #include <filesystem>

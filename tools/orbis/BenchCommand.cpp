@@ -1,7 +1,7 @@
 // orbis bench SCENE: frame time statistics, CPU and GPU per pass.
 #include "tools/orbis/Commands.h"
 
-#include "engine/core/Log.h"
+#include "base/Log.h"
 #include "engine/scene/CameraPath.h"
 #include "layers/volume/VolumeLayer.h"
 #include "tools/orbis/Plot.h"

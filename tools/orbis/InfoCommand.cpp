@@ -6,8 +6,8 @@
 #include "tools/orbis/Session.h"
 
 #include "globe/RasterSource.h"
-#include "layers/fmv/KlvFile.h"
-#include "layers/fmv/PoseCsv.h"
+#include "formats/fmv/KlvFile.h"
+#include "formats/fmv/PoseCsv.h"
 #include "layers/fmv/VideoFile.h"
 #include "layers/points/PointCloud.h"
 #include "layers/volume/VolumeReader.h"

@@ -2,7 +2,7 @@
 // A small line plot rendered to an RGBA image (no font library: digits from a 3x5 bitmap),
 // for `orbis bench --sweep`: error against run time, one labelled point per setting.
 
-#include "engine/core/Png.h"
+#include "base/Png.h"
 
 #include <string>
 #include <vector>

@@ -1,8 +1,8 @@
 // orbis render SCENE -o OUT.png: one frame, headless, to a PNG.
 #include "tools/orbis/Commands.h"
 
-#include "engine/core/Log.h"
-#include "engine/core/Png.h"
+#include "base/Log.h"
+#include "base/Png.h"
 #include "engine/gpu/VkCheck.h"
 #include "engine/scene/CameraPath.h"
 #include "tools/orbis/Session.h"

@@ -1,6 +1,6 @@
 #include "tools/orbis/Session.h"
 
-#include "engine/core/TimeFormat.h"
+#include "base/TimeFormat.h"
 #include "layers/BuiltinLayers.h"
 
 #include <cstdio>

@@ -2,7 +2,7 @@
 // What every command that renders needs: a Vulkan instance and device, the layer registry and
 // a loaded scene. Keeps the commands themselves short.
 
-#include "engine/core/Result.h"
+#include "base/Result.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Instance.h"
 #include "engine/render/Renderer.h"

@@ -8,8 +8,8 @@
 // GDAL's block cache is equally warm for both.
 #include "tools/orbis/Commands.h"
 
-#include "engine/core/Log.h"
-#include "engine/jobs/ThreadPool.h"
+#include "base/Log.h"
+#include "base/ThreadPool.h"
 #include "globe/TerrainModel.h"
 #include "layers/terrain/TerrainLayer.h"
 #include "tools/orbis/Session.h"

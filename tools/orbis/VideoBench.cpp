@@ -7,7 +7,7 @@
 #include "tools/orbis/Commands.h"
 
 #include "layers/fmv/FmvTimeline.h"
-#include "layers/fmv/KlvFile.h"
+#include "formats/fmv/KlvFile.h"
 #include "layers/fmv/VideoFile.h"
 #include "tools/orbis/Session.h"
 

@@ -1,5 +1,5 @@
 // orbis: the command-line front end. Thin: each command lives in its own file.
-#include "engine/core/Log.h"
+#include "base/Log.h"
 #include "engine/gpu/VkCheck.h"
 #include "tools/orbis/Commands.h"
 #include "tools/orbis/Session.h"
