@@ -33,7 +33,7 @@ std::string distance(double metres) {
 
 /// A curve over a colour strip (a transfer function's opacity): click to add a point, drag a
 /// point to move it, right-click a point to remove it. True when the layer took a change.
-bool curveWidget(scene::Layer& layer, const scene::LayerSetting& s, const std::string& label,
+bool curveWidget(scene::LiveSettings& layer, const scene::LayerSetting& s, const std::string& label,
                  const std::function<void()>& remember) {
     const float k = ImGui::GetIO().FontGlobalScale;
     ImGui::TextUnformatted(s.label.c_str());
@@ -105,7 +105,7 @@ bool curveWidget(scene::Layer& layer, const scene::LayerSetting& s, const std::s
 
 /// One generic widget per live setting; true when the user changed it.
 /// `remember` notes the last item for scripts, as "<setting>##<resource>".
-bool settingWidget(scene::Layer& layer, const scene::LayerSetting& s, const std::string& id,
+bool settingWidget(scene::LiveSettings& layer, const scene::LayerSetting& s, const std::string& id,
                    const std::function<void()>& remember) {
     using Kind = scene::LayerSetting::Kind;
     const std::string label = s.label + "##" + id + s.name;
@@ -239,9 +239,10 @@ void Panels::resourcesPanel(scene::Scene& scene, PanelActions& actions) {
                 const std::string status = r.layer->status();
                 if (!status.empty()) ImGui::TextWrapped("%s", status.c_str());
                 if (r.layer->busy()) ImGui::TextColored(ImVec4(0.9f, 0.7f, 0.2f, 1.0f), "loading...");
-                for (const scene::LayerSetting& setting : r.layer->liveSettings())
-                    if (settingWidget(*r.layer, setting, r.name, [&] { remember(setting.name + "##" + r.name); }))
-                        actions.changed = true;
+                if (scene::LiveSettings* live = r.layer->asLiveSettings())
+                    for (const scene::LayerSetting& setting : live->liveSettings())
+                        if (settingWidget(*live, setting, r.name, [&] { remember(setting.name + "##" + r.name); }))
+                            actions.changed = true;
             }
             ImGui::TreePop();
         }
@@ -321,9 +322,9 @@ void Panels::statsPanel(const ViewerStats& stats, const scene::Scene& scene) {
     ImGui::Separator();
     uint64_t gpuBytes = 0, cacheBytes = 0;
     for (const scene::Resource& r : scene.resources())
-        if (r.layer) {
-            gpuBytes += r.layer->gpuBytes();
-            cacheBytes += r.layer->cacheBytes();
+        if (const scene::LayerStats* layer = r.layer ? r.layer->asStats() : nullptr) {
+            gpuBytes += layer->gpuBytes();
+            cacheBytes += layer->cacheBytes();
         }
     ImGui::Text("layers: GPU %s, caches %s", megabytes(gpuBytes).c_str(), megabytes(cacheBytes).c_str());
     ImGui::Text("frames drawn %llu, vsync %s", static_cast<unsigned long long>(stats.framesDrawn), stats.vsync ? "on" : "off");

@@ -117,7 +117,6 @@ void Renderer::resize(uint32_t width, uint32_t height) {
 
 void Renderer::prepareLayer(scene::Layer& layer) {
     layer.prepare(services_);
-    layer.markPrepared();
 }
 
 void Renderer::writeFrameUniforms(uint32_t slot, const scene::Scene& scene, const scene::FrameContext& ctx) {
@@ -142,7 +141,7 @@ void Renderer::writeFrameUniforms(uint32_t slot, const scene::Scene& scene, cons
     frameUniforms_[slot].write(&u, sizeof(u));
 }
 
-void Renderer::recordPass(scene::Pass pass, const char* name, scene::Scene& scene, const scene::RecordContext& rc,
+void Renderer::recordPass(scene::Pass pass, const char* name, scene::Scene& scene, const RecordContext& rc,
                           bool clear, const glm::dvec3& background) {
     VkCommandBuffer cmd = rc.cmd;
     const gpu::ImageTransition uses[] = {{&target_->color(), gpu::ImageUse::ColorAttachment},
@@ -218,9 +217,11 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw, cons
     const double height = eye.height;
     const double ground = scene.heightAt(eye.lonDeg, eye.latDeg).value_or(0.0);
     double clearance = height - std::min(ground, height);
-    for (auto& r : scene.resources())
-        if (r.visible && r.layer->prepared())
-            if (auto d = r.layer->nearestContent(scene.camera().position())) clearance = std::min(clearance, *d);
+    for (auto& r : scene.resources()) {
+        const auto* content = r.layer->asFloatingContent();
+        if (!content || !r.visible || !r.layer->prepared()) continue;
+        if (auto d = content->nearestContent(scene.camera().position())) clearance = std::min(clearance, *d);
+    }
     scene.camera().setNear(scene::Camera::autoNear(clearance));
 
     gpu::FrameRing::Frame& frame = ring_.begin();
@@ -237,12 +238,13 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw, cons
     ctx.groundHeight = [&scene](double lon, double lat) { return scene.heightAt(lon, lat); };
     ctx.annotations = &scene.annotations();
     for (auto& r : scene.resources())
-        if (r.visible && r.layer->prepared()) ctx.groundVersion += r.layer->groundVersion();
+        if (const auto* ground = r.layer->asGroundSource(); ground && r.visible && r.layer->prepared())
+            ctx.groundVersion += ground->groundVersion();
     for (auto& r : scene.resources())
         if (r.visible) r.layer->update(ctx);
     writeFrameUniforms(frame.slot, scene, ctx);
 
-    scene::RecordContext rc;
+    RecordContext rc;
     rc.cmd = frame.cmd;
     rc.frame = &ctx;
     rc.frameSet = frameSets_[frame.slot];
@@ -265,7 +267,7 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw, cons
             if (computes) {
                 // Compute before the pass (ray casting): the depth so far is read, not written.
                 gpu::transition(rc.cmd, target_->depth(), gpu::ImageUse::SampledCompute);
-                scene::RecordContext crc = rc;
+                RecordContext crc = rc;
                 crc.sceneDepth = &target_->depth();
                 const int scope = timer_.begin(rc.cmd, computeName(pass));
                 for (auto& r : scene.resources())

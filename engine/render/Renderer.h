@@ -9,6 +9,7 @@
 #include "engine/gpu/Handle.h"
 #include "engine/gpu/RenderTarget.h"
 #include "engine/gpu/Uploader.h"
+#include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/Scene.h"
 
@@ -79,7 +80,7 @@ private:
     FrameResult render(scene::Scene& scene, bool readback, bool draw, const FrameHooks* hooks);
     void prepareLayer(scene::Layer& layer);
     void writeFrameUniforms(uint32_t slot, const scene::Scene& scene, const scene::FrameContext& ctx);
-    void recordPass(scene::Pass pass, const char* name, scene::Scene& scene, const scene::RecordContext& rc,
+    void recordPass(scene::Pass pass, const char* name, scene::Scene& scene, const render::RecordContext& rc,
                     bool clear, const glm::dvec3& background);
 
     gpu::Device& device_;
@@ -92,7 +93,7 @@ private:
     std::vector<gpu::Buffer> frameUniforms_;
     std::vector<VkDescriptorSet> frameSets_;
     std::unique_ptr<jobs::ThreadPool> jobs_;
-    scene::RenderServices services_;
+    RenderServices services_;
 };
 
 }  // namespace orbis::render

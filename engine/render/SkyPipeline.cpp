@@ -5,7 +5,7 @@
 
 namespace orbis::render {
 
-gpu::Pipeline createSkyPipeline(gpu::Device& device, VkPipelineLayout layout, const scene::RenderServices& services,
+gpu::Pipeline createSkyPipeline(gpu::Device& device, VkPipelineLayout layout, const render::RenderServices& services,
                                 const char* name) {
     gpu::GraphicsPipelineDesc sky;
     sky.vertexSpirv = kSpv_common_sky_vert;

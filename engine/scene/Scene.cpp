@@ -16,12 +16,12 @@ class FailedLayer : public Layer {
 public:
     FailedLayer(std::string type, std::string error) : type_(std::move(type)), error_(std::move(error)) {}
     std::string_view type() const override { return type_; }
-    void prepare(const RenderServices&) override {}
     bool drawsIn(Pass) const override { return false; }
-    void record(Pass, const RecordContext&) override {}
+    void record(Pass, const render::RecordContext&) override {}
     std::string status() const override { return "not loaded: " + error_; }
 
 private:
+    void onPrepare(const render::RenderServices&) override {}
     std::string type_, error_;
 };
 
@@ -55,7 +55,8 @@ Result<std::unique_ptr<Scene>> Scene::build(SceneDesc desc, const LayerRegistry&
     if (!t.given) {   // no "time" in the file: the span of the layers' data, from its start
         std::optional<TimeRange> all;
         for (const Resource& r : scene->resources_) {
-            if (auto range = r.layer->timeRange()) {
+            const MovingContent* moving = r.layer->asMovingContent();
+            if (auto range = moving ? moving->timeRange() : std::nullopt) {
                 if (!all) all = range;
                 else all = TimeRange{std::min(all->start, range->start), std::max(all->end, range->end)};
             }
@@ -113,9 +114,11 @@ const Resource* Scene::find(const std::string& name) const {
 void Scene::goHome() { camera_.setPose(globe::poseFromViewpoint(desc_.viewpoint)); }
 
 std::optional<double> Scene::heightAt(double lonDeg, double latDeg) const {
-    for (const auto& r : resources_)
-        if (r.visible && r.layer->prepared())
-            if (auto h = r.layer->groundHeightAt(lonDeg, latDeg)) return h;
+    for (const auto& r : resources_) {
+        const GroundSource* ground = r.layer->asGroundSource();
+        if (!ground || !r.visible || !r.layer->prepared()) continue;
+        if (auto h = ground->groundHeightAt(lonDeg, latDeg)) return h;
+    }
     return std::nullopt;
 }
 
@@ -140,21 +143,22 @@ void Scene::setCameraMode(const CameraModeSettings& settings, double flySeconds)
 std::optional<globe::Pose> Scene::cameraModePose(double aspect) const {
     if (cameraMode_.mode == CameraMode::Free) return std::nullopt;
     const Resource* target = find(cameraMode_.target);
-    if (!target) return std::nullopt;
+    const MovingContent* moving = target ? target->layer->asMovingContent() : nullptr;
+    if (!moving) return std::nullopt;
     const GroundHeightFn ground = [this](double lon, double lat) { return heightAt(lon, lat); };
     const TimeNs now = time_.now();
     if (cameraMode_.mode == CameraMode::Overview) {
-        const auto bounds = target->layer->contentBounds();
+        const auto bounds = moving->contentBounds();
         if (!bounds) return std::nullopt;
         return cameraForOverview(*bounds, camera_.verticalFovRad(), aspect);
     }
-    const auto pose = target->layer->trackedPose(now, ground);
+    const auto pose = moving->trackedPose(now, ground);
     if (!pose) return std::nullopt;
     glm::dvec3 travel(0.0);
     if (cameraMode_.mode == CameraMode::Follow) {
         // The direction of travel over the smoothing window: a function of the time alone.
         const TimeNs before = now - fromSeconds(std::max(cameraMode_.smoothingSeconds, 1e-3));
-        if (const auto earlier = target->layer->trackedPose(before, ground)) travel = pose->position - earlier->position;
+        if (const auto earlier = moving->trackedPose(before, ground)) travel = pose->position - earlier->position;
         if (glm::dot(travel, travel) < 1e-6) travel = pose->velocity;
     }
     return cameraForTarget(cameraMode_, *pose, travel);

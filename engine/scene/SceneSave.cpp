@@ -183,7 +183,7 @@ nlohmann::json sceneToJson(const Scene& scene, const fs::path& saveTo) {
         layer["name"] = resources[i].name;
         // A layer that could not be built keeps what its file said.
         layer["visible"] = resources[i].error.empty() ? resources[i].visible : desc.layers[i].visible;
-        writeLiveSettings(layer, resources[i].layer->liveSettings());
+        if (const LiveSettings* live = resources[i].layer->asLiveSettings()) writeLiveSettings(layer, live->liveSettings());
         rebaseLayerPaths(layer, desc.folder, toFolder);
         layers.push_back(std::move(layer));
     }

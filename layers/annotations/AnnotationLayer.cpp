@@ -3,6 +3,7 @@
 #include "base/Log.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
+#include "engine/render/RenderContext.h"
 #include "engine/scene/JsonReader.h"
 #include "shared/PolylineTypes.h"
 
@@ -36,7 +37,7 @@ Result<std::unique_ptr<scene::Layer>> AnnotationLayer::create(const scene::Layer
     return std::unique_ptr<scene::Layer>(new AnnotationLayer(s));
 }
 
-void AnnotationLayer::prepare(const scene::RenderServices& services) {
+void AnnotationLayer::onPrepare(const render::RenderServices& services) {
     gpu::Device& device = *services.device;
     for (uint32_t i = 0; i < services.framesInFlight; ++i)
         vertices_.emplace_back(device, kMaxQuads * 6 * sizeof(shader::PolylineVertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
@@ -94,11 +95,11 @@ void AnnotationLayer::update(const scene::FrameContext& frame) {
     vertexCount_ = uint32_t(quads.size() * 6);
 }
 
-void AnnotationLayer::recordTransfers(const scene::RecordContext& rc) {
+void AnnotationLayer::recordTransfers(const render::RecordContext& rc) {
     if (vertexCount_ > 0) vertices_[rc.slot].write(data_.data(), data_.size());
 }
 
-void AnnotationLayer::record(scene::Pass pass, const scene::RecordContext& rc) {
+void AnnotationLayer::record(scene::Pass pass, const render::RecordContext& rc) {
     if (pass != scene::Pass::Overlay || vertexCount_ == 0) return;
     const VkDeviceSize zero = 0;
     vkCmdBindPipeline(rc.cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.vk());

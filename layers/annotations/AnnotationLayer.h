@@ -21,18 +21,19 @@
 
 namespace orbis::layers {
 
-class AnnotationLayer : public scene::Layer {
+class AnnotationLayer : public scene::Layer, public scene::LiveSettings, public scene::LayerStats {
 public:
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
     explicit AnnotationLayer(const PinStyle& style) : style_(style) {}
 
     std::string_view type() const override { return scene::kAnnotationLayerType; }
-    void prepare(const scene::RenderServices& services) override;
+    scene::LiveSettings* asLiveSettings() override { return this; }
+    const scene::LayerStats* asStats() const override { return this; }
     bool drawsIn(scene::Pass pass) const override { return pass == scene::Pass::Overlay; }
     void update(const scene::FrameContext& frame) override;
-    void recordTransfers(const scene::RecordContext& context) override;
-    void record(scene::Pass pass, const scene::RecordContext& context) override;
+    void recordTransfers(const render::RecordContext& context) override;
+    void record(scene::Pass pass, const render::RecordContext& context) override;
     uint64_t gpuBytes() const override;
     uint64_t itemsDrawn() const override { return pinsDrawn_; }
     bool setParameter(std::string_view name, double value) override;
@@ -40,6 +41,7 @@ public:
     std::string status() const override;
 
 private:
+    void onPrepare(const render::RenderServices& services) override;
     PinStyle style_;
     std::vector<gpu::Buffer> vertices_;   ///< per frame in flight
     gpu::PipelineLayout layout_;

@@ -4,8 +4,9 @@
 #include "engine/gpu/Barriers.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
-#include "engine/render/SkyPipeline.h"
 #include "engine/gpu/Uploader.h"
+#include "engine/render/RenderContext.h"
+#include "engine/render/SkyPipeline.h"
 #include "engine/scene/JsonReader.h"
 #include "globe/Culling.h"
 #include "shared/EarthTypes.h"
@@ -40,7 +41,7 @@ Result<std::unique_ptr<scene::Layer>> EarthLayer::create(const scene::LayerDesc&
     return std::unique_ptr<scene::Layer>(new EarthLayer(s));
 }
 
-void EarthLayer::prepare(const scene::RenderServices& services) {
+void EarthLayer::onPrepare(const render::RenderServices& services) {
     gpu::Device& device = *services.device;
     mesh_ = EarthMesh::build(settings_.patchDeg, settings_.segments);
     const VkDeviceSize vbytes = mesh_.vertices.size() * sizeof(EarthVertex);
@@ -80,7 +81,7 @@ void EarthLayer::prepare(const scene::RenderServices& services) {
     if (settings_.sky) sky_ = render::createSkyPipeline(device, layout_.vk(), services, "globe sky");
 }
 
-void EarthLayer::record(scene::Pass, const scene::RecordContext& rc) {
+void EarthLayer::record(scene::Pass, const render::RecordContext& rc) {
     VkCommandBuffer cmd = rc.cmd;
     const scene::Camera& camera = *rc.frame->camera;
     const double aspect = rc.frame->aspect();

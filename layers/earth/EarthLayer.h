@@ -25,16 +25,16 @@ struct EarthSettings {
     int segments = 16;
 };
 
-class EarthLayer : public scene::Layer {
+class EarthLayer : public scene::Layer, public scene::LayerStats {
 public:
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
     explicit EarthLayer(const EarthSettings& settings) : settings_(settings) {}
 
     std::string_view type() const override { return "globe"; }
-    void prepare(const scene::RenderServices& services) override;
+    const scene::LayerStats* asStats() const override { return this; }
     bool drawsIn(scene::Pass pass) const override { return pass == scene::Pass::Opaque; }
-    void record(scene::Pass pass, const scene::RecordContext& context) override;
+    void record(scene::Pass pass, const render::RecordContext& context) override;
     uint64_t gpuBytes() const override;
 
     const EarthSettings& settings() const { return settings_; }
@@ -42,6 +42,7 @@ public:
     int patchesDrawn() const { return patchesDrawn_; }
 
 private:
+    void onPrepare(const render::RenderServices& services) override;
     EarthSettings settings_;
     EarthMesh mesh_;
     gpu::Buffer vertices_;

@@ -2,10 +2,11 @@
 
 #include "base/Color.h"
 #include "base/Log.h"
+#include "base/ThreadPool.h"
 #include "engine/gpu/Barriers.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Uploader.h"
-#include "base/ThreadPool.h"
+#include "engine/render/RenderContext.h"
 #include "globe/Ellipsoid.h"
 #include "shared/FmvTypes.h"
 #include "spv/fmv/composite.frag.h"
@@ -45,7 +46,7 @@ FmvLayer::~FmvLayer() = default;
 
 // ---------------------------------------------------------------------------------------------
 // GPU objects
-void FmvLayer::prepare(const scene::RenderServices& services) {
+void FmvLayer::onPrepare(const render::RenderServices& services) {
     services_ = services;
     gpu::Device& device = *services.device;
     linearSampler_ = gpu::createClampSampler(device, VK_FILTER_LINEAR);
@@ -247,7 +248,7 @@ void FmvLayer::updateHeightfield(const scene::FrameContext& frame) {
     heightfieldDirty_ = true;
 }
 
-void FmvLayer::recordTransfers(const scene::RecordContext& rc) {
+void FmvLayer::recordTransfers(const render::RecordContext& rc) {
     if (!active_) return;
     VkCommandBuffer cmd = rc.cmd;
     if (pendingFrame_) {
@@ -467,7 +468,7 @@ void FmvLayer::renderDistanceMap(VkCommandBuffer cmd) {
     gpu::transition(cmd, distanceImage_, gpu::ImageUse::SampledCompute);
 }
 
-void FmvLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
+void FmvLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
     const scene::FrameContext& frame = *rc.frame;
     VkCommandBuffer cmd = rc.cmd;
     if (!decalImage_ || decalImage_.extent().width != frame.width || decalImage_.extent().height != frame.height) {
@@ -511,7 +512,7 @@ void FmvLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
     gpu::transition(cmd, decalImage_, gpu::ImageUse::SampledFragment);
 }
 
-void FmvLayer::record(scene::Pass, const scene::RecordContext& rc) {
+void FmvLayer::record(scene::Pass, const render::RecordContext& rc) {
     if (!active_ || !decalImage_ || !boundDepth_) return;
     VkCommandBuffer cmd = rc.cmd;
     const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};

@@ -24,6 +24,7 @@
 #include "engine/gpu/Handle.h"
 #include "engine/gpu/Image.h"
 #include "engine/gpu/Pipeline.h"
+#include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/fmv/FmvTimeline.h"
@@ -48,20 +49,21 @@ struct FmvSettings {
     std::optional<double> startUtc;              ///< seconds since 1970 of the video's first frame
 };
 
-class FmvLayer final : public scene::Layer {
+class FmvLayer final : public scene::Layer, public scene::LiveSettings, public scene::LayerStats {
 public:
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
     FmvLayer(std::shared_ptr<fmv::VideoFile> video, fmv::FmvTimeline timeline, FmvSettings settings);
     ~FmvLayer() override;
 
     std::string_view type() const override { return "fmv"; }
-    void prepare(const scene::RenderServices& services) override;
+    scene::LiveSettings* asLiveSettings() override { return this; }
+    const scene::LayerStats* asStats() const override { return this; }
     void update(const scene::FrameContext& frame) override;
     bool drawsIn(scene::Pass pass) const override { return pass == scene::Pass::Fmv; }
-    void recordTransfers(const scene::RecordContext& context) override;
+    void recordTransfers(const render::RecordContext& context) override;
     bool computesBefore(scene::Pass pass) const override { return pass == scene::Pass::Fmv && active_; }
-    void recordCompute(scene::Pass pass, const scene::RecordContext& context) override;
-    void record(scene::Pass pass, const scene::RecordContext& context) override;
+    void recordCompute(scene::Pass pass, const render::RecordContext& context) override;
+    void record(scene::Pass pass, const render::RecordContext& context) override;
     uint64_t gpuBytes() const override;
     uint64_t itemsDrawn() const override { return active_ ? 1 : 0; }
     bool busy() const override;
@@ -87,6 +89,7 @@ public:
     uint64_t heightfieldBuilds() const { return heightfieldBuilds_; }
 
 private:
+    void onPrepare(const render::RenderServices& services) override;
     void updateHeightfield(const scene::FrameContext& frame);
     void writeDescriptors(uint32_t slot);
     void renderDistanceMap(VkCommandBuffer cmd);
@@ -104,7 +107,7 @@ private:
     fmv::FmvTimeline timeline_;
     FmvSettings settings_;
     double startUtc_ = 0.0;
-    scene::RenderServices services_;
+    render::RenderServices services_;
     std::unique_ptr<fmv::FramePrefetcher> frames_;
 
     // This frame.

@@ -7,17 +7,18 @@
 #include "engine/gpu/Pipeline.h"
 #include "engine/gpu/Uploader.h"
 #include "engine/gpu/VkCheck.h"
+#include "engine/render/RenderContext.h"
+#include "formats/motion/Attitude.h"
 #include "globe/Culling.h"
 #include "globe/Ellipsoid.h"
-#include "formats/motion/Attitude.h"
 #include "shared/ModelTypes.h"
 #include "shared/PolylineTypes.h"
 
 #include "spv/common/polyline.frag.h"
 #include "spv/common/polyline.vert.h"
 #include "spv/models/model.frag.h"
-#include "spv/models/model_animated.vert.h"
 #include "spv/models/model.vert.h"
+#include "spv/models/model_animated.vert.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -66,12 +67,12 @@ bool ModelLayer::drawsIn(scene::Pass pass) const {
     return pass == scene::Pass::Opaque || (pass == scene::Pass::Overlay && settings_.label);
 }
 
-void ModelLayer::prepare(const scene::RenderServices& services) {
+void ModelLayer::onPrepare(const render::RenderServices& services) {
     uploadModel(services);
     buildPipelines(services);
 }
 
-void ModelLayer::uploadModel(const scene::RenderServices& services) {
+void ModelLayer::uploadModel(const render::RenderServices& services) {
     gpu::Device& device = *services.device;
     const VkDeviceSize vbytes = model_.vertices.size() * sizeof(models::ModelVertex);
     const VkDeviceSize ibytes = model_.indices.size() * sizeof(uint32_t);
@@ -165,7 +166,7 @@ void ModelLayer::uploadModel(const scene::RenderServices& services) {
     for (auto& t : model_.textures) t.mips = {};
 }
 
-void ModelLayer::buildPipelines(const scene::RenderServices& services) {
+void ModelLayer::buildPipelines(const render::RenderServices& services) {
     gpu::Device& device = *services.device;
     // Samplers: repeat (glTF's default) and clamp, trilinear.
     for (bool repeat : {true, false}) {
@@ -477,14 +478,14 @@ void ModelLayer::buildLabel(const scene::FrameContext& frame) {
     labelVertices_ = uint32_t(labelData_.size() / sizeof(shader::PolylineVertex));
 }
 
-void ModelLayer::recordTransfers(const scene::RecordContext& rc) {
+void ModelLayer::recordTransfers(const render::RecordContext& rc) {
     if (!instanceData_.empty()) instanceBuffers_[rc.slot].write(instanceData_.data(), instanceData_.size());
     if (poseCount_ > 0) poseBuffers_[rc.slot].write(poseData_.data(), poseData_.size() * sizeof(glm::vec4));
     if (pathVertices_ > 0) pathBuffers_[rc.slot].write(pathData_.data(), pathData_.size());
     if (labelVertices_ > 0) labelBuffers_[rc.slot].write(labelData_.data(), labelData_.size());
 }
 
-void ModelLayer::record(scene::Pass pass, const scene::RecordContext& rc) {
+void ModelLayer::record(scene::Pass pass, const render::RecordContext& rc) {
     VkCommandBuffer cmd = rc.cmd;
     const VkDeviceSize zero = 0;
     if (pass == scene::Pass::Overlay) {

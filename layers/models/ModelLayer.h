@@ -104,7 +104,7 @@ struct ModelSettings {
     models::AnimationPlayback animation;      ///< animation -1: the rest pose
 };
 
-class ModelLayer : public scene::Layer {
+class ModelLayer : public scene::Layer, public scene::LiveSettings, public scene::MovingContent, public scene::FloatingContent, public scene::LayerStats {
 public:
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
@@ -112,12 +112,15 @@ public:
     ~ModelLayer() override;
 
     std::string_view type() const override { return "model"; }
-    void prepare(const scene::RenderServices& services) override;
+    scene::LiveSettings* asLiveSettings() override { return this; }
+    const scene::MovingContent* asMovingContent() const override { return this; }
+    const scene::FloatingContent* asFloatingContent() const override { return this; }
+    const scene::LayerStats* asStats() const override { return this; }
     void poll() override;
     void update(const scene::FrameContext& frame) override;
     bool drawsIn(scene::Pass pass) const override;
-    void recordTransfers(const scene::RecordContext& context) override;
-    void record(scene::Pass pass, const scene::RecordContext& context) override;
+    void recordTransfers(const render::RecordContext& context) override;
+    void record(scene::Pass pass, const render::RecordContext& context) override;
     uint64_t gpuBytes() const override;
     uint64_t itemsDrawn() const override { return drawnCopies_; }
     std::optional<double> nearestContent(const glm::dvec3& eye) const override;
@@ -139,12 +142,13 @@ public:
     uint32_t posesThisFrame() const { return poseCount_; }
 
 private:
+    void onPrepare(const render::RenderServices& services) override;
     struct Texture {
         gpu::Image image;
         VkDescriptorSet set = VK_NULL_HANDLE;
     };
-    void buildPipelines(const scene::RenderServices& services);
-    void uploadModel(const scene::RenderServices& services);
+    void buildPipelines(const render::RenderServices& services);
+    void uploadModel(const render::RenderServices& services);
     /// Half the model's extent along the body's x and y axes at the layer's scale: the
     /// footprint on which a vehicle on the ground follows the terrain's slope.
     motion::Footprint footprint() const;

@@ -7,6 +7,7 @@
 #include "engine/gpu/Image.h"
 #include "engine/gpu/Pipeline.h"
 #include "engine/gpu/Uploader.h"
+#include "engine/render/RenderContext.h"
 #include "globe/Culling.h"
 #include "shared/PointTypes.h"
 #include "spv/points/pointlist.frag.h"
@@ -110,7 +111,7 @@ void PointsLayer::finishLoading() {
     ++buffersVersion_;
 }
 
-void PointsLayer::recordTransfers(const scene::RecordContext& rc) {
+void PointsLayer::recordTransfers(const render::RecordContext& rc) {
     if (!gpuReady_ || !residency_ || !data_) return;
     const uint64_t bytes = residency_->upload(kUploadBytesPerFrame, [&](int32_t, std::span<const uint8_t> d, uint64_t offset) {
         rc.uploader->toBuffer(rc.cmd, data_, d.data(), d.size(), offset);
@@ -198,7 +199,7 @@ void PointsLayer::update(const scene::FrameContext& frame) {
 
 // ---------------------------------------------------------------------------------------------
 // GPU objects
-void PointsLayer::prepare(const scene::RenderServices& services) {
+void PointsLayer::onPrepare(const render::RenderServices& services) {
     services_ = services;
     gpu::Device& device = *services.device;
     if (settings_.renderer == PointsSettings::Renderer::Compute && !device.features().bufferInt64Atomics) {
@@ -345,7 +346,7 @@ void PointsLayer::writeDescriptors(uint32_t s) {
 
 // ---------------------------------------------------------------------------------------------
 // Frames
-void PointsLayer::writeUniforms(const scene::RecordContext& rc) {
+void PointsLayer::writeUniforms(const render::RecordContext& rc) {
     const scene::FrameContext& frame = *rc.frame;
     if (drawList_.empty()) return;
     const auto& nodes = store_->nodes();
@@ -398,7 +399,7 @@ void PointsLayer::writeUniforms(const scene::RecordContext& rc) {
     if (!computePath() && slot.version != buffersVersion_) writeDescriptors(rc.slot);
 }
 
-void PointsLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
+void PointsLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
     if (drawList_.empty()) return;
     VkCommandBuffer cmd = rc.cmd;
     ensureScreen(rc.frame->width, rc.frame->height);
@@ -431,7 +432,7 @@ void PointsLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
                        VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
 }
 
-void PointsLayer::record(scene::Pass, const scene::RecordContext& rc) {
+void PointsLayer::record(scene::Pass, const render::RecordContext& rc) {
     if (drawList_.empty()) return;
     VkCommandBuffer cmd = rc.cmd;
     const VkDescriptorSet sets[] = {rc.frameSet, slots_[rc.slot].set};

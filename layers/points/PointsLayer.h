@@ -32,6 +32,7 @@
 #include "engine/gpu/Handle.h"
 #include "engine/gpu/Pipeline.h"
 #include "base/ThreadPool.h"
+#include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/points/NodeResidency.h"
@@ -64,20 +65,22 @@ struct PointsSettings {
     enum class Renderer { Compute, PointList } renderer = Renderer::Compute;
 };
 
-class PointsLayer final : public scene::Layer {
+class PointsLayer final : public scene::Layer, public scene::LiveSettings, public scene::FloatingContent, public scene::LayerStats {
 public:
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
     PointsLayer(std::unique_ptr<points::LasFile> file, points::PointGeoreference georef, PointsSettings settings);
     ~PointsLayer() override;
 
     std::string_view type() const override { return "points"; }
-    void prepare(const scene::RenderServices& services) override;
+    scene::LiveSettings* asLiveSettings() override { return this; }
+    const scene::FloatingContent* asFloatingContent() const override { return this; }
+    const scene::LayerStats* asStats() const override { return this; }
     void update(const scene::FrameContext& frame) override;
     bool drawsIn(scene::Pass pass) const override { return pass == scene::Pass::Points; }
-    void recordTransfers(const scene::RecordContext& context) override;
+    void recordTransfers(const render::RecordContext& context) override;
     bool computesBefore(scene::Pass pass) const override;
-    void recordCompute(scene::Pass pass, const scene::RecordContext& context) override;
-    void record(scene::Pass pass, const scene::RecordContext& context) override;
+    void recordCompute(scene::Pass pass, const render::RecordContext& context) override;
+    void record(scene::Pass pass, const render::RecordContext& context) override;
     uint64_t gpuBytes() const override;
     uint64_t cacheBytes() const override;
     uint64_t itemsDrawn() const override { return drawnPoints_; }
@@ -104,6 +107,7 @@ public:
     size_t nodesDrawn() const { return drawList_.size(); }
 
 private:
+    void onPrepare(const render::RenderServices& services) override;
     void startLoading();
     void finishLoading();
     gpu::Pipeline& splatPipeline(int radius, bool quantised);
@@ -115,7 +119,7 @@ private:
     void ensureScreen(uint32_t width, uint32_t height);
     void ensureFrameBuffers(uint32_t slot, size_t nodes, size_t batches);
     void writeDescriptors(uint32_t slot);
-    void writeUniforms(const scene::RecordContext& rc);
+    void writeUniforms(const render::RecordContext& rc);
     bool computePath() const;
     /// False on a device (once prepared) without 64-bit buffer atomics.
     bool computeAvailable() const;
@@ -124,7 +128,7 @@ private:
     std::shared_ptr<points::LasFile> file_;   // shared with the loading job
     points::PointGeoreference georef_;
     PointsSettings settings_;
-    scene::RenderServices services_;
+    render::RenderServices services_;
 
     // Loading on a worker; the cloud once done.
     jobs::Job<Result<std::shared_ptr<points::PointStore>>> loadJob_;

@@ -2,14 +2,15 @@
 
 #include "base/Color.h"
 #include "base/Log.h"
+#include "base/ThreadPool.h"
 #include "engine/gpu/Barriers.h"
 #include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
-#include "engine/render/SkyPipeline.h"
 #include "engine/gpu/Uploader.h"
 #include "engine/gpu/VkCheck.h"
-#include "base/ThreadPool.h"
+#include "engine/render/RenderContext.h"
+#include "engine/render/SkyPipeline.h"
 #include "engine/scene/JsonReader.h"
 #include "globe/Ellipsoid.h"
 #include "globe/TileMesh.h"
@@ -142,7 +143,7 @@ TerrainLayer::TerrainLayer(TerrainSettings settings) : settings_(std::move(setti
 
 TerrainLayer::~TerrainLayer() = default;
 
-void TerrainLayer::prepare(const scene::RenderServices& services) {
+void TerrainLayer::onPrepare(const render::RenderServices& services) {
     services_ = services;
     gpu::Device& device = *services.device;
 
@@ -513,7 +514,7 @@ void TerrainLayer::writeDescriptors(uint32_t f) {
     vkUpdateDescriptorSets(services_.device->vk(), 3, w, 0, nullptr);
 }
 
-void TerrainLayer::recordTransfers(const scene::RecordContext& rc) {
+void TerrainLayer::recordTransfers(const render::RecordContext& rc) {
     VkCommandBuffer cmd = rc.cmd;
     if (!drawData_.empty()) drawBuffers_[rc.slot].write(drawData_.data(), drawData_.size());
     if (!uploads_.empty()) {
@@ -581,7 +582,7 @@ void TerrainLayer::recordTransfers(const scene::RecordContext& rc) {
     writeDescriptors(rc.slot);
 }
 
-void TerrainLayer::record(scene::Pass, const scene::RecordContext& rc) {
+void TerrainLayer::record(scene::Pass, const render::RecordContext& rc) {
     VkCommandBuffer cmd = rc.cmd;
     const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);

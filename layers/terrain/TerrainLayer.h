@@ -18,6 +18,7 @@
 #include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Handle.h"
 #include "engine/gpu/Image.h"
+#include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/SceneDesc.h"
 #include "globe/RasterSource.h"
@@ -65,7 +66,7 @@ struct TerrainStats {
     globe::SelectionStats selection;
 };
 
-class TerrainLayer : public scene::Layer {
+class TerrainLayer : public scene::Layer, public scene::LiveSettings, public scene::GroundSource, public scene::LayerStats {
 public:
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
@@ -73,11 +74,13 @@ public:
     ~TerrainLayer() override;
 
     std::string_view type() const override { return "terrain"; }
-    void prepare(const scene::RenderServices& services) override;
+    scene::LiveSettings* asLiveSettings() override { return this; }
+    const scene::GroundSource* asGroundSource() const override { return this; }
+    const scene::LayerStats* asStats() const override { return this; }
     void update(const scene::FrameContext& frame) override;
     bool drawsIn(scene::Pass pass) const override { return pass == scene::Pass::Opaque; }
-    void recordTransfers(const scene::RecordContext& context) override;
-    void record(scene::Pass pass, const scene::RecordContext& context) override;
+    void recordTransfers(const render::RecordContext& context) override;
+    void record(scene::Pass pass, const render::RecordContext& context) override;
     uint64_t gpuBytes() const override;
     uint64_t cacheBytes() const override { return model_ ? model_->cpuBytes() : 0; }
     bool busy() const override;
@@ -108,6 +111,7 @@ public:
     const std::vector<std::string>& errors() const { return errors_; }
 
 private:
+    void onPrepare(const render::RenderServices& services) override;
     struct Slot {
         globe::DataKey owner;
         uint64_t lastUsed = 0;
@@ -142,7 +146,7 @@ private:
     std::unique_ptr<TerrainGround> ground_;   ///< heightAt's own DEM reads
     uint64_t groundChanges_ = 0;
     std::unique_ptr<globe::TileSelector> selector_;
-    scene::RenderServices services_;
+    render::RenderServices services_;
     uint64_t frame_ = 0;
 
     // GPU residency.

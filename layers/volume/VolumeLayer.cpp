@@ -6,6 +6,7 @@
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
 #include "engine/gpu/Uploader.h"
+#include "engine/render/RenderContext.h"
 #include "globe/Ellipsoid.h"
 #include "shared/FrameUniforms.h"
 #include "shared/VolumeTypes.h"
@@ -55,7 +56,7 @@ VolumeLayer::~VolumeLayer() = default;
 // ---------------------------------------------------------------------------------------------
 // GPU resources
 
-void VolumeLayer::prepare(const scene::RenderServices& services) {
+void VolumeLayer::onPrepare(const render::RenderServices& services) {
     servicesCopy_ = services;
     services_ = &servicesCopy_;
     gpu::Device& device = *services.device;
@@ -328,7 +329,7 @@ void VolumeLayer::update(const scene::FrameContext& frame) {
     }
 }
 
-void VolumeLayer::recordCompute(scene::Pass, const scene::RecordContext& rc) {
+void VolumeLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
     const scene::FrameContext& frame = *rc.frame;
     ensureCastImage(frame.width, frame.height);
     if (boundDepth_ != rc.sceneDepth) {
@@ -469,7 +470,7 @@ glm::dvec3 VolumeLayer::voxelAt(const glm::dvec3& ecef) const {
     return v;
 }
 
-void VolumeLayer::record(scene::Pass, const scene::RecordContext& rc) {
+void VolumeLayer::record(scene::Pass, const render::RecordContext& rc) {
     if (!castImage_ || !boundDepth_) return;
     VkCommandBuffer cmd = rc.cmd;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, compositePipeline_.vk());

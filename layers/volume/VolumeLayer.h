@@ -28,6 +28,7 @@
 #include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Handle.h"
 #include "engine/gpu/Image.h"
+#include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/volume/VolumeData.h"
@@ -88,7 +89,7 @@ struct SyntheticVolume {
 };
 VolumeField makeSyntheticVolume(const SyntheticVolume& s);
 
-class VolumeLayer final : public scene::Layer {
+class VolumeLayer final : public scene::Layer, public scene::LiveSettings, public scene::LayerStats {
 public:
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
     VolumeLayer(VolumeField field, VolumeSettings settings, std::vector<std::vector<float>> moreSteps = {},
@@ -96,12 +97,13 @@ public:
     ~VolumeLayer() override;
 
     std::string_view type() const override { return "volume"; }
-    void prepare(const scene::RenderServices& services) override;
+    scene::LiveSettings* asLiveSettings() override { return this; }
+    const scene::LayerStats* asStats() const override { return this; }
     void update(const scene::FrameContext& frame) override;
     bool drawsIn(scene::Pass pass) const override { return pass == scene::Pass::Volume; }
     bool computesBefore(scene::Pass pass) const override { return pass == scene::Pass::Volume; }
-    void recordCompute(scene::Pass pass, const scene::RecordContext& context) override;
-    void record(scene::Pass pass, const scene::RecordContext& context) override;
+    void recordCompute(scene::Pass pass, const render::RecordContext& context) override;
+    void record(scene::Pass pass, const render::RecordContext& context) override;
     uint64_t gpuBytes() const override;
     /// Live edits; the field is never re-uploaded. Uniforms only: "steps", "isovalue" /
     /// "isovalue0".."isovalue7" (also refreshes the brick bits, 1 bit per brick), "slice0"..
@@ -139,6 +141,7 @@ public:
     bool skipsEmptyBricks() const { return skipEmpty_; }
 
 private:
+    void onPrepare(const render::RenderServices& services) override;
     void computeFrame();
     void ensureCastImage(uint32_t width, uint32_t height);
     void writeDescriptors(uint32_t frameSlot);
@@ -148,8 +151,8 @@ private:
     std::vector<TimeNs> stepTimes_;              // one per uploaded step (empty: no time)
     float stepA_ = 0.0f, stepB_ = 0.0f, stepWeight_ = 0.0f;
     VolumeSettings settings_;
-    const scene::RenderServices* services_ = nullptr;
-    scene::RenderServices servicesCopy_;
+    const render::RenderServices* services_ = nullptr;
+    render::RenderServices servicesCopy_;
 
     // The curved box in its frame (double on the CPU).
     glm::dvec3 origin_{0.0};

@@ -117,7 +117,7 @@ TEST_F(AnnotationRender, PinsMatchGolden) {
     render::Renderer renderer(device(), 480, 270);
     const ImageRgba8 img = renderOnce(renderer, *scene);
     EXPECT_TRUE(matchesGolden(img, "annotations_pins"));
-    EXPECT_EQ(scene->resources().back().layer->itemsDrawn(), 2u) << "the far side's pin is hidden";
+    EXPECT_EQ(scene->resources().back().layer->asStats()->itemsDrawn(), 2u) << "the far side's pin is hidden";
 
     // Hidden, the pins leave the globe alone.
     scene->resources().back().visible = false;

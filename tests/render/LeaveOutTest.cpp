@@ -2,6 +2,7 @@
 // constructed, and a scene with only the globe builds the globe's pipelines and nothing else:
 // no worker thread, no other pipeline.
 #include "engine/gpu/Device.h"
+#include "engine/render/RenderContext.h"
 #include "base/ThreadPool.h"
 #include "tests/render/RenderHelpers.h"
 #include "tests/support/GpuTest.h"
@@ -17,14 +18,15 @@ class ProbeLayer : public scene::Layer {
 public:
     explicit ProbeLayer(int& prepared) : prepared_(prepared) {}
     std::string_view type() const override { return "probe"; }
-    void prepare(const scene::RenderServices& s) override {
+    bool drawsIn(scene::Pass) const override { return false; }
+    void record(scene::Pass, const render::RecordContext&) override {}
+
+private:
+    void onPrepare(const render::RenderServices& s) override {
         ++prepared_;
         s.jobs();
     }
-    bool drawsIn(scene::Pass) const override { return false; }
-    void record(scene::Pass, const scene::RecordContext&) override {}
 
-private:
     int& prepared_;
 };
 

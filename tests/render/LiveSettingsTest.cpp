@@ -29,13 +29,13 @@ const fs::path kSource = ORBIS_SOURCE_DIR;
 
 std::string jsonString(const fs::path& p) { return nlohmann::json(p.string()).dump(); }
 
-std::optional<scene::LayerSetting> current(const scene::Layer& layer, const std::string& name) {
+std::optional<scene::LayerSetting> current(const scene::LiveSettings& layer, const std::string& name) {
     for (const auto& s : layer.liveSettings())
         if (s.name == name) return s;
     return std::nullopt;
 }
 
-std::vector<std::string> names(const scene::Layer& layer) {
+std::vector<std::string> names(const scene::LiveSettings& layer) {
     std::vector<std::string> out;
     for (const auto& s : layer.liveSettings()) out.push_back(s.name);
     return out;
@@ -44,7 +44,7 @@ std::vector<std::string> names(const scene::Layer& layer) {
 /// Every listed setting, set to values within its range (a quarter and three quarters of the
 /// way, whole numbers for Integer; both states of a Toggle; every choice), reads back exactly,
 /// then is put back. "rangeMax" goes high and "rangeMin" low first, so that low < high holds.
-void expectEverySettingRoundTrips(scene::Layer& layer) {
+void expectEverySettingRoundTrips(scene::LiveSettings& layer) {
     for (const scene::LayerSetting& s : layer.liveSettings()) {
         SCOPED_TRACE("setting \"" + s.name + "\"");
         EXPECT_FALSE(s.label.empty());
@@ -115,12 +115,14 @@ protected:
     void SetUp() override { layers::registerBuiltinLayers(registry_); }
 
     /// The first layer of a scene made of `layer`.
-    scene::Layer& load(const std::string& layer) {
+    scene::LiveSettings& load(const std::string& layer) {
         scene_ = buildScene(R"({"time": {"start": "2026-06-21T09:00:00Z", "end": "2026-06-21T10:00:00Z"}, "layers": [)" +
                                 layer + "]}",
                             registry_);
         if (!scene_) throw std::runtime_error("the scene did not build");
-        return *scene_->resources().front().layer;
+        scene::LiveSettings* live = scene_->resources().front().layer->asLiveSettings();
+        if (!live) throw std::runtime_error("the layer has no live settings");
+        return *live;
     }
 
     scene::LayerRegistry registry_;

@@ -105,11 +105,11 @@ TEST_F(SceneSaveRender, SavedSceneRendersWhatTheChangedSceneShowed) {
     scene::Resource* plume = changed->find("Plume");
     scene::Resource* cloud = changed->find("Cloud");
     ASSERT_TRUE(terrain && plume && cloud);
-    ASSERT_TRUE(terrain->layer->setParameter("maxScreenSpaceError", 6.0));
-    ASSERT_TRUE(plume->layer->setOption("colorMap", "magma"));
-    ASSERT_TRUE(plume->layer->setParameter("opacityScale", 3.0));
-    ASSERT_TRUE(plume->layer->setParameter("isovalue0", 7.0));
-    ASSERT_TRUE(plume->layer->setCurve("opacity", {{1.0, 0.0}, {6.0, 0.9}, {12.0, 0.2}}));   // the editor's points
+    ASSERT_TRUE(terrain->layer->asLiveSettings()->setParameter("maxScreenSpaceError", 6.0));
+    ASSERT_TRUE(plume->layer->asLiveSettings()->setOption("colorMap", "magma"));
+    ASSERT_TRUE(plume->layer->asLiveSettings()->setParameter("opacityScale", 3.0));
+    ASSERT_TRUE(plume->layer->asLiveSettings()->setParameter("isovalue0", 7.0));
+    ASSERT_TRUE(plume->layer->asLiveSettings()->setCurve("opacity", {{1.0, 0.0}, {6.0, 0.9}, {12.0, 0.2}}));   // the editor's points
     cloud->visible = false;
     settle(*changed);
 

@@ -496,7 +496,7 @@ TEST_F(TerrainRender, ImageryLayersBlendInOrderWithOpacityAndVisibility) {
                                       R"(}, {"path": )" + blue + "}]}",
                                   kDark));
     ASSERT_TRUE(live);
-    scene::Layer& terrain = *live->find("Blend")->layer;
+    scene::LiveSettings& terrain = *live->find("Blend")->layer->asLiveSettings();
     ASSERT_TRUE(terrain.setParameter("imageryOpacity1", 0.5));
     EXPECT_LE(maxDifference(render(*live), reference), 2);
     ASSERT_TRUE(terrain.setParameter("imageryVisible1", 0.0));

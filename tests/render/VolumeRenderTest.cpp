@@ -243,7 +243,7 @@ TEST_F(VolumeRender, HalfFloatFieldsMatchFloatFields) {
         for (size_t i = 0; i < a.pixels.size(); ++i) sum += std::pow(double(a.pixels[i]) - double(b.pixels[i]), 2.0);
         EXPECT_LT(std::sqrt(sum / double(a.pixels.size())), maxRmse) << extra;
         EXPECT_LT(differing(a, b, 6), a.pixels.size() / 4 / 1000) << extra;
-        const auto bytes = [](scene::Scene& s) { return s.resources().back().layer->gpuBytes(); };
+        const auto bytes = [](scene::Scene& s) { return s.resources().back().layer->asStats()->gpuBytes(); };
         EXPECT_EQ(bytes(*full) - bytes(*half), uint64_t(48 * 48 * 48 * 2)) << extra;   // 2 of 4 bytes a voxel
     };
     compare("", 0.5);

@@ -122,9 +122,11 @@ TEST(SceneDesc, RelativePathsResolveAgainstTheSceneFolder) {
 class CountingLayer : public Layer {
 public:
     std::string_view type() const override { return "count"; }
-    void prepare(const RenderServices&) override {}
     bool drawsIn(Pass) const override { return false; }
-    void record(Pass, const RecordContext&) override {}
+    void record(Pass, const render::RecordContext&) override {}
+
+private:
+    void onPrepare(const render::RenderServices&) override {}
 };
 
 TEST(LayerRegistry, UnknownTypeListsKnownTypes) {

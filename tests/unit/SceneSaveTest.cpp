@@ -131,12 +131,12 @@ TEST(SceneLiveSettings, VolumeArrayElementsAreMapped) {
 }
 
 /// A layer with one setting of each kind, live, and no GPU.
-class KnobLayer final : public Layer {
+class KnobLayer final : public Layer, public LiveSettings {
 public:
     std::string_view type() const override { return "knobs"; }
-    void prepare(const RenderServices&) override {}
+    LiveSettings* asLiveSettings() override { return this; }
     bool drawsIn(Pass) const override { return false; }
-    void record(Pass, const RecordContext&) override {}
+    void record(Pass, const render::RecordContext&) override {}
     bool setParameter(std::string_view name, double value) override {
         if (name == "quality") quality_ = value;
         else if (name == "count") count_ = value;
@@ -157,6 +157,8 @@ public:
     }
 
 private:
+    void onPrepare(const render::RenderServices&) override {}
+
     double quality_ = 1.0, count_ = 4.0;
     bool outline_ = false;
     std::string palette_ = "grey";
@@ -198,7 +200,7 @@ protected:
 };
 
 TEST_F(SceneSave, CurrentStateIsWrittenOverTheLoadedScene) {
-    Layer& a = *scene_->resources()[0].layer;
+    LiveSettings& a = *scene_->resources()[0].layer->asLiveSettings();
     ASSERT_TRUE(a.setParameter("quality", 7.5));
     ASSERT_TRUE(a.setParameter("count", 12));
     ASSERT_TRUE(a.setParameter("outline", 1));
@@ -310,7 +312,7 @@ TEST_F(SceneSave, CameraModeAndFieldOfViewAreWritten) {
 }
 
 TEST_F(SceneSave, SavedFileLoadsBackAndNoTemporaryIsLeft) {
-    ASSERT_TRUE(scene_->resources()[0].layer->setParameter("quality", 3.0));
+    ASSERT_TRUE(scene_->resources()[0].layer->asLiveSettings()->setParameter("quality", 3.0));
     const fs::path file = dir_ / "out.json";
     std::ofstream(file) << "old contents";
     auto saved = saveScene(*scene_, file);

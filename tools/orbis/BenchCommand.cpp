@@ -90,13 +90,14 @@ double psnr(double rmseValue) { return rmseValue > 0.0 ? 20.0 * std::log10(255.0
 uint64_t layerGpuBytes(const scene::Scene& scene) {
     uint64_t n = 0;
     for (const auto& r : scene.resources())
-        if (r.layer->prepared()) n += r.layer->gpuBytes();
+        if (const scene::LayerStats* stats = r.layer->asStats(); stats && r.layer->prepared()) n += stats->gpuBytes();
     return n;
 }
 
 uint64_t layerCacheBytes(const scene::Scene& scene) {
     uint64_t n = 0;
-    for (const auto& r : scene.resources()) n += r.layer->cacheBytes();
+    for (const auto& r : scene.resources())
+        if (const scene::LayerStats* stats = r.layer->asStats()) n += stats->cacheBytes();
     return n;
 }
 
@@ -125,7 +126,7 @@ struct MemorySample {
 uint64_t itemsDrawn(const scene::Scene& scene) {
     uint64_t n = 0;
     for (const auto& r : scene.resources())
-        if (r.visible) n += r.layer->itemsDrawn();
+        if (const scene::LayerStats* stats = r.layer->asStats(); stats && r.visible) n += stats->itemsDrawn();
     return n;
 }
 
@@ -162,7 +163,8 @@ int sweep(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Render
     for (double v : values) {
         bool known = false;
         for (auto& r : scene.resources())
-            if (r.visible) known = r.layer->setParameter(name, v) || known;
+            if (scene::LiveSettings* live = r.layer->asLiveSettings(); live && r.visible)
+                known = live->setParameter(name, v) || known;
         if (!known) {
             std::fprintf(stderr, "orbis: no visible layer of %s has a parameter '%s'\n", args.positional()[0].c_str(),
                          name.c_str());
