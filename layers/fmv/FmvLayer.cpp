@@ -49,8 +49,8 @@ FmvLayer::~FmvLayer() = default;
 void FmvLayer::onPrepare(const render::RenderServices& services) {
     services_ = services;
     gpu::Device& device = *services.device;
-    linearSampler_ = gpu::createClampSampler(device, VK_FILTER_LINEAR);
-    nearestSampler_ = gpu::createClampSampler(device, VK_FILTER_NEAREST);
+    linearSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_LINEAR});
+    nearestSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_NEAREST});
 
     const VkShaderStageFlags all = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     const VkDescriptorSetLayoutBinding bindings[kBindings] = {

@@ -169,17 +169,8 @@ void ModelLayer::uploadModel(const render::RenderServices& services) {
 void ModelLayer::buildPipelines(const render::RenderServices& services) {
     gpu::Device& device = *services.device;
     // Samplers: repeat (glTF's default) and clamp, trilinear.
-    for (bool repeat : {true, false}) {
-        VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-        si.magFilter = si.minFilter = VK_FILTER_LINEAR;
-        si.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
-        si.addressModeU = si.addressModeV = si.addressModeW =
-            repeat ? VK_SAMPLER_ADDRESS_MODE_REPEAT : VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-        si.maxLod = VK_LOD_CLAMP_NONE;
-        VkSampler s = VK_NULL_HANDLE;
-        VK_CHECK(vkCreateSampler(device.vk(), &si, nullptr, &s));
-        (repeat ? repeatSampler_ : clampSampler_) = gpu::Sampler(device, s);
-    }
+    repeatSampler_ = gpu::createSampler(device, {.address = VK_SAMPLER_ADDRESS_MODE_REPEAT, .mipmaps = true});
+    clampSampler_ = gpu::createSampler(device, {.mipmaps = true});
 
     const uint32_t frames = services.framesInFlight;
     // Static models: instances and node matrices; animated ones: instances, poses, morph deltas.

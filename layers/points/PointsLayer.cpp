@@ -228,7 +228,7 @@ void PointsLayer::onPrepare(const render::RenderServices& services) {
     const VkPushConstantRange push{kPushStages, 0, 2 * sizeof(uint32_t)};
     const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, descriptors_.layout.vk()};
     layout_ = gpu::createPipelineLayout(device, setLayouts, {&push, 1});
-    depthSampler_ = gpu::createClampSampler(device, VK_FILTER_NEAREST);
+    depthSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_NEAREST});
     gpuReady_ = true;
     startLoading();
 }

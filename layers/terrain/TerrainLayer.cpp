@@ -223,23 +223,9 @@ void TerrainLayer::onPrepare(const render::RenderServices& services) {
         gpu::transition(cmd, dummyImagery_, gpu::ImageUse::SampledGraphics);
     });
 
-    VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-    si.magFilter = si.minFilter = VK_FILTER_LINEAR;
-    si.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-    si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-    si.maxLod = 0.0f;
-    VkSampler vs = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateSampler(device.vk(), &si, nullptr, &vs));
-    heightSampler_ = gpu::Sampler(device, vs);
-    si.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
-    si.maxLod = VK_LOD_CLAMP_NONE;
-    // Anisotropic filtering only on real GPUs: lavapipe's (Mesa 22) speckles the image.
-    if (device.features().samplerAnisotropy && device.info().type != "cpu") {
-        si.anisotropyEnable = VK_TRUE;
-        si.maxAnisotropy = 4.0f;
-    }
-    VK_CHECK(vkCreateSampler(device.vk(), &si, nullptr, &vs));
-    imagerySampler_ = gpu::Sampler(device, vs);
+    heightSampler_ = gpu::createSampler(device, {});
+    // Anisotropic filtering where it helps (createSampler leaves it off on CPU devices).
+    imagerySampler_ = gpu::createSampler(device, {.mipmaps = true, .maxAnisotropy = 4.0f});
 
     const VkDescriptorSetLayoutBinding bindings[] = {
         {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},

@@ -194,8 +194,8 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
                            VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     });
 
-    linearSampler_ = gpu::createClampSampler(device, VK_FILTER_LINEAR);
-    nearestSampler_ = gpu::createClampSampler(device, VK_FILTER_NEAREST);
+    linearSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_LINEAR});
+    nearestSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_NEAREST});
 
     const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
     const VkDescriptorSetLayoutBinding bindings[] = {

@@ -16,6 +16,28 @@ using uvec4 = glm::uvec4;
 using mat4 = glm::mat4;
 using uint = std::uint32_t;
 }  // namespace orbis::shader
+namespace orbis::shader {
+/// The kinds of descriptor a set layout declared in a shared header holds (engine/gpu maps them
+/// to VkDescriptorType).
+enum class DescriptorKind : uint32_t {
+    UniformBuffer,
+    StorageBuffer,
+    StorageBufferDynamic,   ///< a storage buffer bound at an offset given when binding the set
+    CombinedImageSampler,
+    StorageImage,
+};
+/// Shader stages as bits: the values of VkShaderStageFlagBits (engine/gpu static_asserts them).
+enum : uint32_t { kStageVertex = 0x1, kStageFragment = 0x10, kStageCompute = 0x20 };
+/// One binding of a descriptor set as the C++ side creates it. A shared header lists a set's
+/// bindings in a table next to the binding numbers the GLSL uses: that table is the set layout
+/// (gpu::createDescriptorSets) and the build checks it against the compiled SPIR-V.
+struct DescriptorBinding {
+    uint32_t binding = 0;
+    DescriptorKind kind = DescriptorKind::UniformBuffer;
+    uint32_t count = 1;
+    uint32_t stages = 0;
+};
+}  // namespace orbis::shader
 #define ORBIS_NAMESPACE_BEGIN namespace orbis::shader {
 #define ORBIS_NAMESPACE_END }
 #define ORBIS_CONST(type, name, value) constexpr type name = value;
