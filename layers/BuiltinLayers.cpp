@@ -11,14 +11,10 @@
 namespace orbis::layers {
 
 void registerBuiltinLayers(scene::LayerRegistry& registry) {
-    registry.add("globe", "WGS84 ellipsoid with graticule, sun lighting and sky", &EarthLayer::create);
-    registry.add("terrain", "WGS84 quadtree terrain streaming DEMs and imagery through GDAL", &TerrainLayer::create);
-    registry.add("volume", "netCDF scalar field in a curved geo-box, ray cast on the GPU", &VolumeLayer::create);
-    registry.add("points", "LAS point cloud, splatted by compute shaders with eye-dome lighting", &PointsLayer::create);
-    registry.add("model", "glTF 2.0 model, fixed or moving along a trajectory or a live position feed", &ModelLayer::create);
-    registry.add(scene::kAnnotationLayerType, "the scene's labelled pins (added by itself when the scene has any)",
-                 &AnnotationLayer::create);
-    registry.add("fmv", "full-motion video (MISB ST 0601 KLV) draped on the terrain from its sensor", &FmvLayer::create);
+    for (scene::LayerType type : {EarthLayer::layerType(), TerrainLayer::layerType(), VolumeLayer::layerType(),
+                                  PointsLayer::layerType(), ModelLayer::layerType(), AnnotationLayer::layerType(),
+                                  FmvLayer::layerType()})
+        registry.add(std::move(type));
 }
 
 }  // namespace orbis::layers

@@ -2,8 +2,13 @@
 
 namespace orbis::scene {
 
+void LayerRegistry::add(LayerType type) {
+    std::string name = type.name;
+    entries_[std::move(name)] = Entry{std::move(type), 0};
+}
+
 void LayerRegistry::add(std::string type, std::string description, LayerFactory factory) {
-    entries_[std::move(type)] = Entry{std::move(description), std::move(factory), 0};
+    add(LayerType{std::move(type), std::move(description), std::move(factory), {}});
 }
 
 std::vector<std::string> LayerRegistry::types() const {
@@ -14,7 +19,13 @@ std::vector<std::string> LayerRegistry::types() const {
 
 std::string LayerRegistry::description(const std::string& type) const {
     auto it = entries_.find(type);
-    return it == entries_.end() ? std::string() : it->second.description;
+    return it == entries_.end() ? std::string() : it->second.type.description;
+}
+
+const std::vector<std::string>& LayerRegistry::filePaths(const std::string& type) const {
+    static const std::vector<std::string> kNone;
+    auto it = entries_.find(type);
+    return it == entries_.end() ? kNone : it->second.type.filePaths;
 }
 
 Result<std::unique_ptr<Layer>> LayerRegistry::create(const LayerDesc& layer, const SceneDesc& scene) const {
@@ -25,7 +36,7 @@ Result<std::unique_ptr<Layer>> LayerRegistry::create(const LayerDesc& layer, con
         return Error{scene.file.string() + ": " + layer.jsonPath + "/type: unknown layer type '" + layer.type +
                      "' (known: " + (known.empty() ? "none" : known) + ")"};
     }
-    auto result = it->second.factory(layer, scene);
+    auto result = it->second.type.factory(layer, scene);
     if (result) ++it->second.constructed;
     return result;
 }

@@ -36,6 +36,7 @@ Result<std::unique_ptr<Scene>> Scene::build(SceneDesc desc, const LayerRegistry&
         r.type = layer.type;
         r.visible = layer.visible;
         r.viewpoint = layer.viewpoint;
+        r.filePaths = registry.filePaths(layer.type);
         if (made) {
             r.layer = std::move(made).value();
         } else if (options.keepGoing) {

@@ -25,6 +25,8 @@ struct Resource {
     std::optional<globe::Viewpoint> viewpoint;
     std::unique_ptr<Layer> layer;   ///< never null: a layer that failed to build draws nothing
     std::string error;              ///< why the layer could not be built (SceneBuildOptions::keepGoing)
+    /// Where its scene object names files (LayerType::filePaths), for saving the scene elsewhere.
+    std::vector<std::string> filePaths;
 };
 
 struct SceneBuildOptions {

@@ -47,23 +47,6 @@ nlohmann::json cameraModeToJson(const CameraModeSettings& m) {
             {"eye", {m.eye.x, m.eye.y, m.eye.z}}};
 }
 
-/// i when `name` is `prefix` followed by the digits of i ("isovalue3" -> 3).
-std::optional<size_t> indexAfter(std::string_view name, std::string_view prefix) {
-    if (name.size() <= prefix.size() || name.substr(0, prefix.size()) != prefix) return std::nullopt;
-    size_t i = 0;
-    for (char c : name.substr(prefix.size())) {
-        if (c < '0' || c > '9') return std::nullopt;
-        i = i * 10 + size_t(c - '0');
-    }
-    return i;
-}
-
-/// The imagery layer an "imageryOpacity<i>" or "imageryVisible<i>" setting is about.
-std::optional<size_t> imageryIndex(std::string_view name) {
-    if (auto i = indexAfter(name, "imageryOpacity")) return i;
-    return indexAfter(name, "imageryVisible");
-}
-
 nlohmann::json settingValue(const LayerSetting& s) {
     switch (s.kind) {
         case LayerSetting::Kind::Integer: return static_cast<long long>(std::llround(s.value));
@@ -89,40 +72,83 @@ fs::path normalAbsolute(const fs::path& path) {
     return folder;
 }
 
-bool isPathKey(std::string_view key) {
-    return key == "path" || key == "file" || key == "poses" || key == "cacheFolder" || key == "trajectory";
+/// The array index a token names (digits only, no leading zero but "0"), if it is one.
+std::optional<size_t> arrayIndex(std::string_view token) {
+    if (token.empty() || token.size() > 9 || (token.size() > 1 && token[0] == '0')) return std::nullopt;
+    size_t i = 0;
+    for (char c : token) {
+        if (c < '0' || c > '9') return std::nullopt;
+        i = i * 10 + size_t(c - '0');
+    }
+    return i;
 }
 
-bool isPathListKey(std::string_view key) { return key == "elevation" || key == "imagery"; }
+/// The value at `tokens` under `node`, made on the way (writeLiveSettings' rules); null when
+/// the pointer runs past the end of an array.
+nlohmann::json* makePath(nlohmann::json& node, const std::vector<std::string>& tokens) {
+    nlohmann::json* at = &node;
+    for (const std::string& token : tokens) {
+        if (at->is_array()) {
+            const auto i = arrayIndex(token);
+            if (!i || *i > at->size()) return nullptr;
+            if (*i == at->size()) at->push_back(nullptr);
+            at = &(*at)[*i];
+            continue;
+        }
+        if (at->is_string()) *at = nlohmann::json{{"path", *at}};   // a file entry's long form
+        else if (!at->is_object()) *at = arrayIndex(token) ? nlohmann::json::array() : nlohmann::json::object();
+        if (at->is_array()) {   // made just now: the token is an index
+            if (*arrayIndex(token) != 0) return nullptr;
+            at->push_back(nullptr);
+            at = &(*at)[0];
+        } else {
+            at = &(*at)[token];
+        }
+    }
+    return at;
+}
+
+void rebaseAt(nlohmann::json& node, const std::vector<std::string>& tokens, size_t k, const fs::path& fromFolder,
+              const fs::path& toFolder) {
+    if (k == tokens.size()) {
+        if (node.is_string()) node = rebasePath(node.get<std::string>(), fromFolder, toFolder);
+        return;
+    }
+    const std::string& token = tokens[k];
+    if (token == "*") {
+        if (node.is_array())
+            for (nlohmann::json& item : node) rebaseAt(item, tokens, k + 1, fromFolder, toFolder);
+    } else if (node.is_object()) {
+        if (const auto it = node.find(token); it != node.end()) rebaseAt(*it, tokens, k + 1, fromFolder, toFolder);
+    } else if (node.is_array()) {
+        if (const auto i = arrayIndex(token); i && *i < node.size()) rebaseAt(node[*i], tokens, k + 1, fromFolder, toFolder);
+    }
+}
 
 }  // namespace
 
+std::vector<std::string> jsonPointerTokens(std::string_view pointer) {
+    std::vector<std::string> tokens;
+    if (pointer.empty()) return tokens;
+    size_t at = pointer[0] == '/' ? 1 : 0;
+    for (;;) {
+        const size_t slash = pointer.find('/', at);
+        std::string token(pointer.substr(at, slash == std::string_view::npos ? std::string_view::npos : slash - at));
+        for (size_t i = 0; (i = token.find('~', i)) != std::string::npos; ++i)   // ~1 is "/", ~0 is "~"
+            if (i + 1 < token.size() && (token[i + 1] == '1' || token[i + 1] == '0'))
+                token.replace(i, 2, token[i + 1] == '1' ? "/" : "~");
+        tokens.push_back(std::move(token));
+        if (slash == std::string_view::npos) break;
+        at = slash + 1;
+    }
+    return tokens;
+}
+
 void writeLiveSettings(nlohmann::json& layer, const std::vector<LayerSetting>& settings) {
     for (const LayerSetting& s : settings) {
-        const nlohmann::json value = settingValue(s);
-        if (s.name == "rangeMin" || s.name == "rangeMax") {
-            nlohmann::json& range = layer["range"];
-            if (!range.is_array() || range.size() != 2) range = nlohmann::json::array({value, value});
-            range[s.name == "rangeMin" ? 0 : 1] = value;
-        } else if (const auto i = imageryIndex(s.name)) {
-            // "imagery"[i]: a file name becomes {"path": name} to take the key.
-            const auto list = layer.find("imagery");
-            if (list != layer.end() && list->is_array() && *i < list->size()) {
-                nlohmann::json& entry = (*list)[*i];
-                if (entry.is_string()) entry = nlohmann::json{{"path", entry}};
-                if (entry.is_object()) entry[s.name.starts_with("imageryOpacity") ? "opacity" : "visible"] = value;
-            }
-        } else if (const auto i = indexAfter(s.name, "isovalue")) {
-            // The layer lists one setting per element the scene gave: the element exists.
-            const auto list = layer.find("isovalues");
-            if (list != layer.end() && list->is_array() && *i < list->size()) (*list)[*i] = value;
-        } else if (const auto i = indexAfter(s.name, "slice")) {
-            const auto list = layer.find("slices");
-            if (list != layer.end() && list->is_array() && *i < list->size() && (*list)[*i].size() == 1)
-                (*list)[*i].begin().value() = value;   // {"lon" | "lat" | "height": value}
-        } else {
-            layer[s.name] = value;
-        }
+        const std::vector<std::string> tokens = jsonPointerTokens(s.jsonPointer());
+        if (tokens.empty()) continue;   // the whole object is no setting's place
+        if (nlohmann::json* at = makePath(layer, tokens)) *at = settingValue(s);
     }
 }
 
@@ -138,21 +164,9 @@ std::string rebasePath(const std::string& path, const fs::path& fromFolder, cons
     return relative.empty() ? target.generic_string() : relative.generic_string();
 }
 
-void rebaseLayerPaths(nlohmann::json& layer, const fs::path& fromFolder, const fs::path& toFolder) {
-    if (!layer.is_object()) return;
-    for (auto it = layer.begin(); it != layer.end(); ++it) {
-        nlohmann::json& value = it.value();
-        if (value.is_string() && isPathKey(it.key())) {
-            value = rebasePath(value.get<std::string>(), fromFolder, toFolder);
-        } else if (value.is_array()) {
-            for (nlohmann::json& item : value) {
-                if (item.is_string() && isPathListKey(it.key())) item = rebasePath(item.get<std::string>(), fromFolder, toFolder);
-                else rebaseLayerPaths(item, fromFolder, toFolder);
-            }
-        } else if (value.is_object()) {
-            rebaseLayerPaths(value, fromFolder, toFolder);
-        }
-    }
+void rebaseLayerPaths(nlohmann::json& layer, const fs::path& fromFolder, const fs::path& toFolder,
+                      std::span<const std::string> filePaths) {
+    for (const std::string& pointer : filePaths) rebaseAt(layer, jsonPointerTokens(pointer), 0, fromFolder, toFolder);
 }
 
 nlohmann::json sceneToJson(const Scene& scene, const fs::path& saveTo) {
@@ -184,7 +198,7 @@ nlohmann::json sceneToJson(const Scene& scene, const fs::path& saveTo) {
         // A layer that could not be built keeps what its file said.
         layer["visible"] = resources[i].error.empty() ? resources[i].visible : desc.layers[i].visible;
         if (const LiveSettings* live = resources[i].layer->asLiveSettings()) writeLiveSettings(layer, live->liveSettings());
-        rebaseLayerPaths(layer, desc.folder, toFolder);
+        rebaseLayerPaths(layer, desc.folder, toFolder, resources[i].filePaths);
         layers.push_back(std::move(layer));
     }
     root["layers"] = std::move(layers);

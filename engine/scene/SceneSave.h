@@ -8,18 +8,20 @@
 //     (EarthManipulator::viewpoint), "fovDeg", "background";
 //   - "time": start, end, current, rate, loop, playing, from the TimeServer;
 //   - "camera": the camera mode and its settings, when not free;
-//   - each layer's "name", "visible" and every Layer::liveSettings() value under its key
-//     (writeLiveSettings: three volume settings are elements of arrays);
+//   - each layer's "name", "visible" and every live setting (LiveSettings::liveSettings) at the
+//     JSON pointer the setting names (writeLiveSettings);
 //   - "annotations", when the scene has any.
 // Relative file paths in the layers resolve against the scene's folder, so they are rewritten
-// for the folder the file is saved into (rebasePath).
+// for the folder the file is saved into (rebasePath), at the pointers the layer's type names
+// (LayerType::filePaths). Nothing here knows a layer's keys.
 
 #include "base/Result.h"
-#include "engine/scene/Layer.h"
+#include "engine/scene/LayerSetting.h"
 
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -36,15 +38,13 @@ nlohmann::json sceneToJson(const Scene& scene, const std::filesystem::path& save
 /// names the file and the problem (no such folder, not writable, disk full). Main thread only.
 Result<void> saveScene(const Scene& scene, const std::filesystem::path& file);
 
-/// Writes each setting into `layer` (a layer's object in a scene file) in the form the layer's
-/// scene keys take: a setting's name is its key (Layer.h; Toggle as true/false, Integer as a
-/// whole number, Choice as its text, Curve as [[x, y], ...]), except these, which are
-/// elements of a key's array:
-///   "rangeMin", "rangeMax"  ->  "range": [rangeMin, rangeMax]
-///   "isovalue<i>"           ->  "isovalues"[i]
-///   "slice<i>"              ->  "slices"[i]'s one value ({"lon" | "lat" | "height": value})
-///   "imageryOpacity<i>"     ->  "imagery"[i]'s "opacity" (a file name becomes {"path": ...})
-///   "imageryVisible<i>"     ->  "imagery"[i]'s "visible"
+/// Writes each setting into `layer` (a layer's object in a scene file) at its JSON pointer
+/// (LayerSetting::jsonPointer), in the form scene files take it: Toggle as true/false, Integer
+/// as a whole number, Choice as its text, Curve as [[x, y], ...], Number as a number. On the
+/// way to the value, missing objects and arrays are made; a file name given as a string where
+/// the pointer goes into an object ("imagery": ["a.tif"] for "/imagery/0/opacity") becomes the
+/// long form of a file entry, {"path": "a.tif"}; an array grows by at most one element (a
+/// pointer past its end writes nothing: a setting never invents a list entry).
 void writeLiveSettings(nlohmann::json& layer, const std::vector<LayerSetting>& settings);
 
 /// `path` as written in a scene file in `fromFolder`, rewritten so that it names the same file
@@ -54,10 +54,13 @@ void writeLiveSettings(nlohmann::json& layer, const std::vector<LayerSetting>& s
 std::string rebasePath(const std::string& path, const std::filesystem::path& fromFolder,
                        const std::filesystem::path& toFolder);
 
-/// Rebases every file path in a layer's object (rebasePath). Paths are the string values of the
-/// keys "path", "file", "poses", "cacheFolder" and "trajectory", at any depth, and the strings
-/// listed under "elevation" and "imagery" (the layers' scene keys for files and folders).
+/// Rebases the file paths in a layer's object (rebasePath): the string values at `filePaths`,
+/// JSON pointers in which "*" stands for every element of an array (LayerType::filePaths).
+/// Pointers that lead nowhere, or to something other than a string, are skipped.
 void rebaseLayerPaths(nlohmann::json& layer, const std::filesystem::path& fromFolder,
-                      const std::filesystem::path& toFolder);
+                      const std::filesystem::path& toFolder, std::span<const std::string> filePaths);
+
+/// The reference tokens of a JSON pointer (RFC 6901: "/a~1b/0" -> "a/b", "0"); "" has none.
+std::vector<std::string> jsonPointerTokens(std::string_view pointer);
 
 }  // namespace orbis::scene

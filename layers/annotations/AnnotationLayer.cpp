@@ -136,4 +136,8 @@ std::string AnnotationLayer::status() const {
     return s;
 }
 
+scene::LayerType AnnotationLayer::layerType() {
+    return {scene::kAnnotationLayerType, "the scene's labelled pins (added by itself when the scene has any)", &AnnotationLayer::create, {}};
+}
+
 }  // namespace orbis::layers

@@ -12,6 +12,7 @@
 #include "engine/gpu/Buffer.h"
 #include "engine/gpu/Handle.h"
 #include "engine/scene/Layer.h"
+#include "engine/scene/LayerRegistry.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/annotations/PinOverlay.h"
 
@@ -23,6 +24,8 @@ namespace orbis::layers {
 
 class AnnotationLayer : public scene::Layer, public scene::LiveSettings, public scene::LayerStats {
 public:
+    /// The scene type: its name, description, factory (create) and the files its object names.
+    static scene::LayerType layerType();
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
     explicit AnnotationLayer(const PinStyle& style) : style_(style) {}

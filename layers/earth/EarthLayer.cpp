@@ -124,4 +124,8 @@ void EarthLayer::record(scene::Pass, const render::RecordContext& rc) {
 
 uint64_t EarthLayer::gpuBytes() const { return vertices_.size() + indices_.size(); }
 
+scene::LayerType EarthLayer::layerType() {
+    return {"globe", "WGS84 ellipsoid with graticule, sun lighting and sky", &EarthLayer::create, {}};
+}
+
 }  // namespace orbis::layers

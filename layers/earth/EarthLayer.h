@@ -9,6 +9,7 @@
 #include "engine/gpu/Buffer.h"
 #include "engine/gpu/Handle.h"
 #include "engine/scene/Layer.h"
+#include "engine/scene/LayerRegistry.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/earth/EarthMesh.h"
 
@@ -27,6 +28,8 @@ struct EarthSettings {
 
 class EarthLayer : public scene::Layer, public scene::LayerStats {
 public:
+    /// The scene type: its name, description, factory (create) and the files its object names.
+    static scene::LayerType layerType();
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
     explicit EarthLayer(const EarthSettings& settings) : settings_(settings) {}

@@ -26,6 +26,7 @@
 #include "engine/gpu/Pipeline.h"
 #include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
+#include "engine/scene/LayerRegistry.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/fmv/FmvTimeline.h"
 #include "layers/fmv/FramePrefetcher.h"
@@ -51,6 +52,8 @@ struct FmvSettings {
 
 class FmvLayer final : public scene::Layer, public scene::LiveSettings, public scene::LayerStats {
 public:
+    /// The scene type: its name, description, factory (create) and the files its object names.
+    static scene::LayerType layerType();
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
     FmvLayer(std::shared_ptr<fmv::VideoFile> video, fmv::FmvTimeline timeline, FmvSettings settings);
     ~FmvLayer() override;

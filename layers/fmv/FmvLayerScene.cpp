@@ -86,4 +86,8 @@ Result<std::unique_ptr<scene::Layer>> FmvLayer::create(const scene::LayerDesc& d
         std::make_unique<FmvLayer>(std::shared_ptr<fmv::VideoFile>(std::move(*video)), std::move(*timeline), s));
 }
 
+scene::LayerType FmvLayer::layerType() {
+    return {"fmv", "full-motion video (MISB ST 0601 KLV) draped on the terrain from its sensor", &FmvLayer::create, {"/path", "/poses"}};
+}
+
 }  // namespace orbis::layers

@@ -61,6 +61,7 @@
 #include "engine/gpu/Pipeline.h"
 #include "engine/gpu/Image.h"
 #include "engine/scene/Layer.h"
+#include "engine/scene/LayerRegistry.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/models/GltfAnimation.h"
 #include "layers/models/GltfModel.h"
@@ -106,6 +107,8 @@ struct ModelSettings {
 
 class ModelLayer : public scene::Layer, public scene::LiveSettings, public scene::MovingContent, public scene::FloatingContent, public scene::LayerStats {
 public:
+    /// The scene type: its name, description, factory (create) and the files its object names.
+    static scene::LayerType layerType();
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
     ModelLayer(ModelSettings settings, models::ModelData model, std::unique_ptr<models::ModelMotion> motion);

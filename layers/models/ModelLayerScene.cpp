@@ -252,4 +252,8 @@ Result<std::unique_ptr<scene::Layer>> ModelLayer::create(const scene::LayerDesc&
     return std::unique_ptr<scene::Layer>(std::make_unique<ModelLayer>(std::move(s), std::move(*model), std::move(motion)));
 }
 
+scene::LayerType ModelLayer::layerType() {
+    return {"model", "glTF 2.0 model, fixed or moving along a trajectory or a live position feed", &ModelLayer::create, {"/file", "/trajectory", "/trajectory/file"}};
+}
+
 }  // namespace orbis::layers

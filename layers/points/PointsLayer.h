@@ -34,6 +34,7 @@
 #include "base/ThreadPool.h"
 #include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
+#include "engine/scene/LayerRegistry.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/points/NodeResidency.h"
 #include "layers/points/PointCloud.h"
@@ -67,6 +68,8 @@ struct PointsSettings {
 
 class PointsLayer final : public scene::Layer, public scene::LiveSettings, public scene::FloatingContent, public scene::LayerStats {
 public:
+    /// The scene type: its name, description, factory (create) and the files its object names.
+    static scene::LayerType layerType();
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
     PointsLayer(std::unique_ptr<points::LasFile> file, points::PointGeoreference georef, PointsSettings settings);
     ~PointsLayer() override;

@@ -67,4 +67,8 @@ Result<std::unique_ptr<scene::Layer>> PointsLayer::create(const scene::LayerDesc
     return std::unique_ptr<scene::Layer>(std::make_unique<PointsLayer>(std::move(*file), std::move(*georef), s));
 }
 
+scene::LayerType PointsLayer::layerType() {
+    return {"points", "LAS point cloud, splatted by compute shaders with eye-dome lighting", &PointsLayer::create, {"/path", "/cacheFolder"}};
+}
+
 }  // namespace orbis::layers

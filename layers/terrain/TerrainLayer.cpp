@@ -664,10 +664,12 @@ std::vector<scene::LayerSetting> TerrainLayer::liveSettings() const {
     for (size_t i = 0; i < settings_.imagery.size(); ++i) {
         const ImageryLayerSettings& l = settings_.imagery[i];
         const std::string name = l.name.empty() ? "Imagery " + std::to_string(i + 1) : l.name;
+        // In the scene file: "imagery"[i]'s "visible" and "opacity".
+        const std::string entry = "/imagery/" + std::to_string(i);
         out.push_back({.name = "imageryVisible" + std::to_string(i), .label = name, .kind = Kind::Toggle,
-                       .value = l.visible ? 1.0 : 0.0});
+                       .value = l.visible ? 1.0 : 0.0, .pointer = entry + "/visible"});
         out.push_back({.name = "imageryOpacity" + std::to_string(i), .label = name + " opacity", .kind = Kind::Number,
-                       .value = l.opacity, .min = 0.0, .max = 1.0});
+                       .value = l.opacity, .min = 0.0, .max = 1.0, .pointer = entry + "/opacity"});
     }
     return out;
 }
@@ -690,6 +692,10 @@ std::optional<double> TerrainLayer::heightAt(double lonDeg, double latDeg) const
     auto h = ground_->heightAt(lonDeg, latDeg);
     if (h) *h *= settings_.verticalExaggeration;
     return h;
+}
+
+scene::LayerType TerrainLayer::layerType() {
+    return {"terrain", "WGS84 quadtree terrain streaming DEMs and imagery through GDAL", &TerrainLayer::create, {"/elevation/*", "/elevation/*/path", "/imagery/*", "/imagery/*/path"}};
 }
 
 }  // namespace orbis::layers

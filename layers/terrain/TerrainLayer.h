@@ -20,6 +20,7 @@
 #include "engine/gpu/Image.h"
 #include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
+#include "engine/scene/LayerRegistry.h"
 #include "engine/scene/SceneDesc.h"
 #include "globe/RasterSource.h"
 #include "globe/TerrainModel.h"
@@ -68,6 +69,8 @@ struct TerrainStats {
 
 class TerrainLayer : public scene::Layer, public scene::LiveSettings, public scene::GroundSource, public scene::LayerStats {
 public:
+    /// The scene type: its name, description, factory (create) and the files its object names.
+    static scene::LayerType layerType();
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
     explicit TerrainLayer(TerrainSettings settings);

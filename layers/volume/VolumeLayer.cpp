@@ -560,8 +560,10 @@ std::vector<scene::LayerSetting> VolumeLayer::liveSettings() const {
          .max = 1000.0, .logarithmic = true},
         {.name = "opacityUnit", .label = "Opacity unit distance (box diagonals)", .kind = Kind::Number,
          .value = settings_.opacityUnit, .min = 1e-6, .max = 10.0, .logarithmic = true},
-        {.name = "rangeMin", .label = "Colour range low", .kind = Kind::Number, .value = t.rangeMin, .min = lo, .max = hi},
-        {.name = "rangeMax", .label = "Colour range high", .kind = Kind::Number, .value = t.rangeMax, .min = lo, .max = hi},
+        {.name = "rangeMin", .label = "Colour range low", .kind = Kind::Number, .value = t.rangeMin, .min = lo, .max = hi,
+         .pointer = "/range/0"},
+        {.name = "rangeMax", .label = "Colour range high", .kind = Kind::Number, .value = t.rangeMax, .min = lo, .max = hi,
+         .pointer = "/range/1"},
         {.name = "colorMap", .label = "Colour map", .kind = Kind::Choice, .choice = t.colorMap, .choices = colorMapNames()},
         {.name = "emptySkipping", .label = "Skip empty bricks", .kind = Kind::Toggle,
          .value = settings_.emptySkipping ? 1.0 : 0.0},
@@ -569,7 +571,8 @@ std::vector<scene::LayerSetting> VolumeLayer::liveSettings() const {
     for (size_t i = 0; i < settings_.isovalues.size(); ++i) {
         const auto [a, b] = span(dataMin, dataMax, settings_.isovalues[i]);
         out.push_back({.name = "isovalue" + std::to_string(i), .label = "Isovalue " + std::to_string(i + 1),
-                       .kind = Kind::Number, .value = settings_.isovalues[i], .min = a, .max = b});
+                       .kind = Kind::Number, .value = settings_.isovalues[i], .min = a, .max = b,
+                       .pointer = "/isovalues/" + std::to_string(i)});
     }
     if (!settings_.isovalues.empty())
         out.push_back({.name = "isoOpacity", .label = "Isosurface opacity", .kind = Kind::Number,
@@ -582,8 +585,10 @@ std::vector<scene::LayerSetting> VolumeLayer::liveSettings() const {
                                    : span(std::min(axis.front(), axis.back()), std::max(axis.front(), axis.back()), sl.value);
         if (sl.axis == Axis::Lat) a = std::max(a, -89.0), b = std::min(b, 89.0);
         const char* what = sl.axis == Axis::Lon ? " longitude (deg)" : sl.axis == Axis::Lat ? " latitude (deg)" : " height (m)";
+        const char* key = sl.axis == Axis::Lon ? "lon" : sl.axis == Axis::Lat ? "lat" : "height";   // {"lat": 45}
         out.push_back({.name = "slice" + std::to_string(i), .label = "Slice " + std::to_string(i + 1) + what,
-                       .kind = Kind::Number, .value = sl.value, .min = a, .max = b});
+                       .kind = Kind::Number, .value = sl.value, .min = a, .max = b,
+                       .pointer = "/slices/" + std::to_string(i) + "/" + key});
     }
     // The opacity curve over the colour range, drawn on the colour map (the transfer table's
     // colours; an empty list is the default ramp).

@@ -30,6 +30,7 @@
 #include "engine/gpu/Image.h"
 #include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
+#include "engine/scene/LayerRegistry.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/volume/VolumeData.h"
 #include "layers/volume/VolumeReader.h"
@@ -91,6 +92,8 @@ VolumeField makeSyntheticVolume(const SyntheticVolume& s);
 
 class VolumeLayer final : public scene::Layer, public scene::LiveSettings, public scene::LayerStats {
 public:
+    /// The scene type: its name, description, factory (create) and the files its object names.
+    static scene::LayerType layerType();
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
     VolumeLayer(VolumeField field, VolumeSettings settings, std::vector<std::vector<float>> moreSteps = {},
                 std::vector<TimeNs> stepTimes = {});

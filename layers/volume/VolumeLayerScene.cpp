@@ -265,4 +265,8 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
         new VolumeLayer(std::move(*field), std::move(s), std::move(moreSteps), std::move(stepTimes)));
 }
 
+scene::LayerType VolumeLayer::layerType() {
+    return {"volume", "netCDF scalar field in a curved geo-box, ray cast on the GPU", &VolumeLayer::create, {"/path"}};
+}
+
 }  // namespace orbis::layers

@@ -1,7 +1,9 @@
 // The layers' live settings (Layer::liveSettings) as the viewer's panels show them: each layer
 // lists the settings it has, with labels, ranges that hold the current value and the full list
 // of choices; every one can be set through setParameter/setOption to values in its range and
-// reads back. Built from scene text; no frame is drawn (the layers are not prepared).
+// reads back; and every one, moved off its value, is saved at its JSON pointer and loads back.
+// Built from scene text; no frame is drawn (the layers are not prepared).
+#include "engine/scene/SceneSave.h"
 #include "layers/fmv/FmvLayer.h"
 #include "layers/models/ModelLayer.h"
 #include "layers/points/LasReader.h"
@@ -110,6 +112,53 @@ void expectEverySettingRoundTrips(scene::LiveSettings& layer) {
     }
 }
 
+/// 16 points in a row near (7, 46), made once.
+fs::path tinyLas() {
+    const fs::path las = fs::path(testOutputDir()) / "live-settings" / "tiny.las";
+    fs::create_directories(las.parent_path());
+    const bool made = makeFixture(las.string(), [](const std::string& tmp) {
+        points::LasWriteOptions o;
+        o.scale = glm::dvec3(1e-7, 1e-7, 1e-3);
+        auto writer = points::LasWriter::create(tmp, o);
+        if (!writer) return false;
+        std::vector<points::LasPoint> pts(16);
+        for (size_t i = 0; i < pts.size(); ++i) pts[i].position = {7.0 + 1e-4 * double(i), 46.0, 500.0};
+        (*writer)->write(pts);
+        return (*writer)->close().ok();
+    });
+    return made ? las : fs::path();
+}
+
+/// Moves every setting off its value (a quarter or three quarters of its range, the other state
+/// of a toggle, another choice, a tent-shaped curve) and returns them as set.
+std::vector<scene::LayerSetting> moveEverySetting(scene::LiveSettings& layer) {
+    for (const scene::LayerSetting& s : layer.liveSettings()) {
+        switch (s.kind) {
+            case Kind::Choice:
+                for (const std::string& c : s.choices)
+                    if (c != s.choice) {
+                        EXPECT_TRUE(layer.setOption(s.name, c)) << s.name << " = " << c;
+                        break;
+                    }
+                break;
+            case Kind::Toggle: EXPECT_TRUE(layer.setParameter(s.name, 1.0 - s.value)) << s.name; break;
+            case Kind::Number:
+            case Kind::Integer: {
+                double v = s.min + (s.name.ends_with("Max") ? 0.75 : 0.25) * (s.max - s.min);
+                if (s.kind == Kind::Integer) v = std::round(v);
+                EXPECT_TRUE(layer.setParameter(s.name, v)) << s.name << " = " << v;
+                break;
+            }
+            case Kind::Curve: {
+                const double mid = 0.5 * (s.min + s.max);
+                EXPECT_TRUE(layer.setCurve(s.name, {{s.min, 0.0}, {mid, 0.8}, {s.max, 0.1}})) << s.name;
+                break;
+            }
+        }
+    }
+    return layer.liveSettings();
+}
+
 class LiveSettings : public ::testing::Test {
 protected:
     void SetUp() override { layers::registerBuiltinLayers(registry_); }
@@ -125,9 +174,70 @@ protected:
         return *live;
     }
 
+    /// Moves every setting of the loaded layer (moveEverySetting), saves the scene, and expects
+    /// each setting's value at its JSON pointer in the saved file and, once the file is loaded
+    /// again, the same settings with the same values.
+    void expectEverySettingSavedAndLoadedBack(const std::string& name) {
+        scene::LiveSettings* live = scene_->resources().front().layer->asLiveSettings();
+        ASSERT_NE(live, nullptr);
+        const std::vector<scene::LayerSetting> moved = moveEverySetting(*live);
+        const fs::path file = fs::path(testOutputDir()) / "live-settings" / (name + "-saved.json");
+        fs::create_directories(file.parent_path());
+        ASSERT_TRUE(scene::saveScene(*scene_, file).ok());
+
+        const nlohmann::json saved = scene::sceneToJson(*scene_, file)["layers"][0];
+        for (const scene::LayerSetting& s : moved) {
+            SCOPED_TRACE("setting \"" + s.name + "\" at " + s.jsonPointer());
+            EXPECT_TRUE(saved.contains(nlohmann::json::json_pointer(s.jsonPointer()))) << saved.dump();
+        }
+        auto desc = scene::parseSceneFile(file);
+        ASSERT_TRUE(desc.ok()) << desc.message();
+        auto again = scene::Scene::build(std::move(desc).value(), registry_);
+        ASSERT_TRUE(again.ok()) << again.message();
+        const scene::LiveSettings* back = (*again)->resources().front().layer->asLiveSettings();
+        ASSERT_NE(back, nullptr);
+        const std::vector<scene::LayerSetting> loaded = back->liveSettings();
+        ASSERT_EQ(loaded.size(), moved.size());
+        for (size_t i = 0; i < moved.size(); ++i) {
+            SCOPED_TRACE("setting \"" + moved[i].name + "\"");
+            EXPECT_EQ(loaded[i].name, moved[i].name);
+            EXPECT_EQ(loaded[i].jsonPointer(), moved[i].jsonPointer());
+            // Integers and toggles are written as such; numbers as doubles: exact.
+            EXPECT_EQ(loaded[i].value, moved[i].value);
+            EXPECT_EQ(loaded[i].choice, moved[i].choice);
+            EXPECT_EQ(loaded[i].points, moved[i].points);
+        }
+    }
+
     scene::LayerRegistry registry_;
     std::unique_ptr<scene::Scene> scene_;
 };
+
+TEST_F(LiveSettings, EverySettingOfEveryLayerIsSavedAtItsPointerAndLoadsBack) {
+    const std::string dem = jsonString(terrainFixtures().dem), image = jsonString(terrainFixtures().image);
+    const fs::path las = tinyLas();
+    ASSERT_FALSE(las.empty());
+    const fs::path video = kSource / "assets/generated/fmv/flight.ts";
+    ASSERT_TRUE(fs::exists(video)) << video << " is made by the build (orbis_fmv_showcase)";
+    const std::vector<std::pair<std::string, std::string>> layers = {
+        {"terrain", R"({"type": "terrain", "elevation": [)" + dem + R"(], "imagery": [)" + image + R"(, {"path": )" +
+                        image + R"(, "opacity": 0.4}]})"},
+        {"volume", R"({"type": "volume", "synthetic": {"field": "sphere", "size": [16, 16, 16], "lon": [-10, 10],
+            "lat": [40, 60], "height": [0, 800000]}, "mode": ["dvr", "iso", "slice"], "isovalues": [3, 6],
+            "slices": [{"lon": 5}, {"lat": 45}, {"height": 1000}]})"},
+        {"volume-no-range", R"({"type": "volume", "synthetic": {"field": "waves", "size": [8, 8, 8]}})"},
+        {"points", R"({"type": "points", "path": )" + jsonString(las) + R"(, "crs": "EPSG:4979"})"},
+        {"fmv", R"({"type": "fmv", "path": )" + jsonString(video) + "}"},
+        {"model", R"({"type": "model", "file": )" + jsonString(kSource / "assets/models/wagon.gltf") +
+                      R"(, "position": [7, 46, 0]})"},
+        {"annotations", R"({"type": "annotations", "labels": true})"},
+    };
+    for (const auto& [name, layer] : layers) {
+        SCOPED_TRACE(name);
+        load(layer);
+        expectEverySettingSavedAndLoadedBack(name);
+    }
+}
 
 TEST_F(LiveSettings, TerrainListsEachImageryLayersVisibilityAndOpacity) {
     auto& layer = load(R"({"type": "terrain", "elevation": [)" + jsonString(terrainFixtures().dem) +
@@ -188,18 +298,8 @@ TEST_F(LiveSettings, VolumeWithoutIsoOrSlicesListsNeither) {
 }
 
 TEST_F(LiveSettings, PointsListColourRendererAndLighting) {
-    const fs::path las = fs::path(testOutputDir()) / "live-settings" / "tiny.las";
-    fs::create_directories(las.parent_path());
-    ASSERT_TRUE(makeFixture(las.string(), [](const std::string& tmp) {
-        points::LasWriteOptions o;
-        o.scale = glm::dvec3(1e-7, 1e-7, 1e-3);
-        auto writer = points::LasWriter::create(tmp, o);
-        if (!writer) return false;
-        std::vector<points::LasPoint> pts(16);
-        for (size_t i = 0; i < pts.size(); ++i) pts[i].position = {7.0 + 1e-4 * double(i), 46.0, 500.0};
-        (*writer)->write(pts);
-        return (*writer)->close().ok();
-    }));
+    const fs::path las = tinyLas();
+    ASSERT_FALSE(las.empty());
     auto& layer = load(R"({"type": "points", "path": )" + jsonString(las) +
                        R"(, "crs": "EPSG:4979", "color": "classification", "pointSize": 3, "edl": true})");
     EXPECT_EQ(names(layer), (std::vector<std::string>{"color", "pointBudget", "pointSize", "opacity", "edl", "edlStrength",

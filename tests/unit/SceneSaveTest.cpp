@@ -1,10 +1,11 @@
 // Saving a scene (SceneSave.h) without a GPU: relative paths rebased for the new folder, live
-// settings written under their scene keys, the camera, time and camera mode as they are now,
+// settings written at their JSON pointers, the camera, time and camera mode as they are now,
 // unknown keys kept, and clear errors for folders that cannot take the file.
 #include "engine/scene/SceneSave.h"
 
 #include "engine/scene/LayerRegistry.h"
 #include "engine/scene/Scene.h"
+#include "layers/BuiltinLayers.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -17,6 +18,17 @@ namespace {
 
 namespace fs = std::filesystem;
 using Kind = LayerSetting::Kind;
+
+/// The file paths the built-in layer types declare (LayerType::filePaths): `type`'s, or every
+/// type's together.
+std::vector<std::string> builtinFilePaths(const std::string& type = {}) {
+    LayerRegistry registry;
+    layers::registerBuiltinLayers(registry);
+    std::vector<std::string> out;
+    for (const std::string& t : registry.types())
+        if (type.empty() || t == type) out.insert(out.end(), registry.filePaths(t).begin(), registry.filePaths(t).end());
+    return out;
+}
 
 TEST(ScenePaths, RelativePathsFollowTheNewFolder) {
     EXPECT_EQ(rebasePath("dem.tif", "/data/a", "/data/b"), "../a/dem.tif");
@@ -52,7 +64,10 @@ TEST(ScenePaths, EveryFileKeyOfEveryLayerIsRebased) {
         "trajectory": {"file": "track.csv", "interpolation": "linear"},
         "nested": {"deeper": [{"path": "d.nc"}]},
         "opacity": [[0, 0], [1, 0.5]], "colorMap": "viridis", "label": "img.tif"})");
-    rebaseLayerPaths(layer, "/data/a", "/data/b");
+    // The file paths every built-in layer type declares, and a pointer through an array deeper down.
+    std::vector<std::string> filePaths = builtinFilePaths();
+    filePaths.push_back("/nested/deeper/*/path");
+    rebaseLayerPaths(layer, "/data/a", "/data/b", filePaths);
     EXPECT_EQ(layer["elevation"][0], "../a/dem.tif");
     EXPECT_EQ(layer["elevation"][1]["path"], "../a/more/dem2.tif");
     EXPECT_EQ(layer["imagery"][0]["path"], "../a/img.tif");
@@ -72,7 +87,7 @@ TEST(ScenePaths, EveryFileKeyOfEveryLayerIsRebased) {
     EXPECT_EQ(layer["opacity"], nlohmann::json::parse("[[0, 0], [1, 0.5]]"));
 
     auto model = nlohmann::json::parse(R"({"trajectory": "track.gpx", "path": {"show": true, "trail": 10}})");
-    rebaseLayerPaths(model, "/data/a", "/data/b");
+    rebaseLayerPaths(model, "/data/a", "/data/b", builtinFilePaths("model"));
     EXPECT_EQ(model["trajectory"], "../a/track.gpx");
     EXPECT_EQ(model["path"], nlohmann::json::parse(R"({"show": true, "trail": 10})")) << "the model's path line is no file";
 }
@@ -97,11 +112,11 @@ TEST(SceneLiveSettings, EachKindIsWrittenAsTheSceneReadsIt) {
 
 TEST(SceneLiveSettings, ImageryLayersTakeTheirOpacityAndVisibility) {
     nlohmann::json layer = {{"imagery", {"a.tif", {{"path", "b.tif"}, {"opacity", 1.0}}}}};
-    writeLiveSettings(layer, {{.name = "imageryOpacity0", .kind = Kind::Number, .value = 0.25},
-                              {.name = "imageryVisible0", .kind = Kind::Toggle, .value = 1.0},
-                              {.name = "imageryOpacity1", .kind = Kind::Number, .value = 0.5},
-                              {.name = "imageryVisible1", .kind = Kind::Toggle, .value = 0.0},
-                              {.name = "imageryOpacity7", .kind = Kind::Number, .value = 0.5}});
+    writeLiveSettings(layer, {{.name = "imageryOpacity0", .kind = Kind::Number, .value = 0.25, .pointer = "/imagery/0/opacity"},
+                              {.name = "imageryVisible0", .kind = Kind::Toggle, .value = 1.0, .pointer = "/imagery/0/visible"},
+                              {.name = "imageryOpacity1", .kind = Kind::Number, .value = 0.5, .pointer = "/imagery/1/opacity"},
+                              {.name = "imageryVisible1", .kind = Kind::Toggle, .value = 0.0, .pointer = "/imagery/1/visible"},
+                              {.name = "imageryOpacity7", .kind = Kind::Number, .value = 0.5, .pointer = "/imagery/7/opacity"}});
     EXPECT_EQ(layer["imagery"], nlohmann::json::parse(R"([{"path": "a.tif", "opacity": 0.25, "visible": true},
                                                          {"path": "b.tif", "opacity": 0.5, "visible": false}])"));
 }
@@ -109,11 +124,11 @@ TEST(SceneLiveSettings, ImageryLayersTakeTheirOpacityAndVisibility) {
 TEST(SceneLiveSettings, VolumeArrayElementsAreMapped) {
     auto layer = nlohmann::json::parse(R"({"isovalues": [1, 2, 3], "slices": [{"lon": 5}, {"height": 1000}],
                                            "sliceOpacity": 1, "isoOpacity": 1})");
-    writeLiveSettings(layer, {{.name = "rangeMin", .value = -2.0},
-                              {.name = "rangeMax", .value = 7.5},
-                              {.name = "isovalue1", .value = 2.5},
-                              {.name = "slice1", .value = 2000.0},
-                              {.name = "slice0", .value = 6.0},
+    writeLiveSettings(layer, {{.name = "rangeMin", .value = -2.0, .pointer = "/range/0"},
+                              {.name = "rangeMax", .value = 7.5, .pointer = "/range/1"},
+                              {.name = "isovalue1", .value = 2.5, .pointer = "/isovalues/1"},
+                              {.name = "slice1", .value = 2000.0, .pointer = "/slices/1/height"},
+                              {.name = "slice0", .value = 6.0, .pointer = "/slices/0/lon"},
                               {.name = "sliceOpacity", .value = 0.5},
                               {.name = "isoOpacity", .value = 0.75}});
     EXPECT_EQ(layer["range"], nlohmann::json::parse("[-2.0, 7.5]"));
@@ -126,7 +141,7 @@ TEST(SceneLiveSettings, VolumeArrayElementsAreMapped) {
     EXPECT_FALSE(layer.contains("slice0"));
 
     auto given = nlohmann::json::parse(R"({"range": [0, 1]})");
-    writeLiveSettings(given, {{.name = "rangeMax", .value = 3.0}});
+    writeLiveSettings(given, {{.name = "rangeMax", .value = 3.0, .pointer = "/range/1"}});
     EXPECT_EQ(given["range"], nlohmann::json::parse("[0, 3.0]")) << "the other end is kept";
 }
 
@@ -175,9 +190,10 @@ constexpr const char* kScene = R"({"name": "Knobs",
 class SceneSave : public ::testing::Test {
 protected:
     void SetUp() override {
-        registry_.add("knobs", "test", [](const LayerDesc&, const SceneDesc&) -> Result<std::unique_ptr<Layer>> {
+        // A type whose objects name one file, at "path".
+        registry_.add(LayerType{"knobs", "test", [](const LayerDesc&, const SceneDesc&) -> Result<std::unique_ptr<Layer>> {
             return std::unique_ptr<Layer>(new KnobLayer);
-        });
+        }, {"/path"}});
         auto desc = parseSceneText(kScene, "/data/scenes/knobs.json", "/data/scenes");
         ASSERT_TRUE(desc.ok()) << desc.message();
         auto built = Scene::build(std::move(desc).value(), registry_);
