@@ -1,11 +1,11 @@
 #include "ui/InputScript.h"
 
+#include "base/FileText.h"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 namespace orbis::ui {
 namespace {
@@ -34,14 +34,9 @@ std::optional<Key> navigationKey(const std::string& name) {
 
 Result<std::vector<ScriptStep>> readInputScript(const std::filesystem::path& file) {
     const std::string name = file.string();
-    std::error_code ec;
-    const auto size = std::filesystem::file_size(file, ec);
-    if (ec) return Error{name + ": cannot read the input script (" + ec.message() + ")"};
-    if (size > kMaxScriptBytes) return Error{name + ": the input script is larger than 4 MB"};
-    std::ifstream in(file, std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
-    nlohmann::json doc = nlohmann::json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
+    auto text = readTextFile(file, kMaxScriptBytes, "input script");
+    if (!text) return text.error();
+    nlohmann::json doc = nlohmann::json::parse(*text, nullptr, /*allow_exceptions=*/false);
     if (doc.is_discarded()) return Error{name + ": not valid JSON"};
     if (!doc.is_array()) return Error{name + ": expected a list of steps ([{\"do\": ...}, ...])"};
     if (doc.size() > kMaxSteps) return Error{name + ": more than 100000 steps"};
