@@ -382,15 +382,9 @@ int benchCommand(const std::vector<std::string>& argv) {
     auto loaded = loadSceneForCommand(args);
     if (!loaded) return kBadInput;
     GpuSession gpu = openGpu(args);
-    std::optional<scene::CameraPath> path;
-    if (auto file = args.value("--camera-path")) {
-        auto parsed = scene::CameraPath::parseFile(*file);
-        if (!parsed) {
-            std::fprintf(stderr, "orbis: %s\n", parsed.message().c_str());
-            return kBadInput;
-        }
-        path = std::move(parsed).value();
-    }
+    auto loadedPath = loadCameraPathOption(args);
+    if (!loadedPath) return kBadInput;
+    const std::optional<scene::CameraPath> path = std::move(loadedPath).value();
     std::unique_ptr<scene::Scene> scene = std::move(loaded).value();
     if (auto level = args.integer("--tiles", 0, 22)) {
         const unsigned threads = unsigned(args.integer("--threads", 1, 256).value_or(

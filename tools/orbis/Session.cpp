@@ -54,6 +54,17 @@ Result<std::unique_ptr<scene::Scene>> loadSceneForCommand(const Args& args) {
     return loaded;
 }
 
+Result<std::optional<scene::CameraPath>> loadCameraPathOption(const Args& args) {
+    const auto file = args.value("--camera-path");
+    if (!file) return std::optional<scene::CameraPath>();
+    auto parsed = scene::CameraPath::parseFile(*file);
+    if (!parsed) {
+        std::fprintf(stderr, "orbis: %s\n", parsed.message().c_str());
+        return parsed.error();
+    }
+    return std::optional<scene::CameraPath>(std::move(parsed).value());
+}
+
 int validationExitCode(const GpuSession& gpu) {
     if (gpu.instance->validationMessages() == 0) return kOk;
     std::fprintf(stderr, "orbis: validation reported %d message(s); first: %s\n", gpu.instance->validationMessages(),

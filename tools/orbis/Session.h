@@ -6,6 +6,7 @@
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Instance.h"
 #include "engine/render/Renderer.h"
+#include "engine/scene/CameraPath.h"
 #include "engine/scene/LayerRegistry.h"
 #include "engine/scene/Scene.h"
 #include "tools/orbis/Args.h"
@@ -38,6 +39,10 @@ Result<std::unique_ptr<scene::Scene>> loadScene(const std::string& file, const s
 /// Loads the scene named by the command's one positional argument with every built-in layer
 /// type, applying --time; prints the problem and returns it on failure. Throws UsageError.
 Result<std::unique_ptr<scene::Scene>> loadSceneForCommand(const Args& args);
+
+/// "--camera-path FILE" (render, bench): the parsed path, or nothing without the option; prints
+/// the problem and returns it when the file is missing or invalid (exit with kBadInput then).
+Result<std::optional<scene::CameraPath>> loadCameraPathOption(const Args& args);
 
 /// kBadInput (after printing the first message) when validation reported anything, else kOk.
 int validationExitCode(const GpuSession& gpu);
