@@ -220,10 +220,7 @@ int sweep(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Render
     // The curve runs from the fastest setting to the slowest, whatever order they were given in.
     std::stable_sort(points.begin(), points.end(), [](const PlotPoint& a, const PlotPoint& b) { return a.x < b.x; });
     const std::string plotFile = args.value("--plot").value_or("orbis-sweep.png");
-    if (auto ok = writePng(plotFile, plotPoints(points)); !ok) {
-        std::fprintf(stderr, "orbis: %s\n", ok.message().c_str());
-        return kBadInput;
-    }
+    if (auto ok = writePng(plotFile, plotPoints(points)); !ok) return badInput(ok.message());
     log::info("wrote the plot ", plotFile, " (x: ms per frame, y: RMSE against ", name, "=", values.front(), ")");
     return validationExitCode(gpu);
 }

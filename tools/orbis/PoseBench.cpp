@@ -28,10 +28,7 @@ double percentile(std::vector<double> v, double p) {
 
 int poseBench(const std::string& file) {
     auto model = models::loadGltf(file);
-    if (!model) {
-        std::fprintf(stderr, "orbis: %s\n", model.message().c_str());
-        return kBadInput;
-    }
+    if (!model) return badInput(model.message());
     size_t joints = 0;
     for (const auto& s : model->rig.skins) joints += s.joints.size();
     std::printf("orbis bench --poses %s  (CPU only, one thread)\n", file.c_str());

@@ -98,10 +98,7 @@ int renderCommand(const std::vector<std::string>& argv) {
             if (r.visible && !r.layer->status().empty()) log::info(r.name, ": ", r.layer->status());
         ImageRgba8 image{width, height, renderer.readPixels(frame)};
         const std::string file = sequence ? frameFileName(*output, i) : *output;
-        if (auto ok = writePng(file, image); !ok) {
-            std::fprintf(stderr, "orbis: %s\n", ok.message().c_str());
-            return kBadInput;
-        }
+        if (auto ok = writePng(file, image); !ok) return badInput(ok.message());
         if (sequence) std::printf("wrote %s\n", file.c_str());
     }
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -9,6 +9,11 @@
 
 namespace orbis::cli {
 
+int badInput(const std::string& message) {
+    std::fprintf(stderr, "orbis: %s\n", message.c_str());
+    return kBadInput;
+}
+
 const std::set<std::string>& gpuValuedOptions() {
     static const std::set<std::string> s{"--device"};
     return s;

@@ -20,6 +20,9 @@ namespace orbis::cli {
 /// Exit codes shared by every command.
 enum ExitCode { kOk = 0, kBadInput = 1, kUsage = 2 };
 
+/// Prints "orbis: MESSAGE" on stderr, as every command reports bad input; returns kBadInput.
+int badInput(const std::string& message);
+
 /// Options every GPU command accepts.
 const std::set<std::string>& gpuValuedOptions();
 const std::set<std::string>& gpuFlagOptions();
