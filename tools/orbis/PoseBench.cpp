@@ -53,7 +53,7 @@ int poseBench(const std::string& file) {
             batches.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / kBatch);
         }
         const std::string name = a < 0 ? "(rest pose)" : model->rig.animations[size_t(a)].name.empty()
-                                                             ? "#" + std::to_string(a)
+                                                             ? std::string("#").append(std::to_string(a))
                                                              : model->rig.animations[size_t(a)].name;
         const size_t channels = a < 0 ? 0 : model->rig.animations[size_t(a)].channels.size();
         std::printf("%-24s %9zu %8zu %12.3f %12.3f%s\n", name.c_str(), channels, pose.size() * sizeof(glm::vec4),
