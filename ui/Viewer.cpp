@@ -13,6 +13,7 @@
 #include "layers/BuiltinLayers.h"
 #include "ui/Gui.h"
 #include "ui/InputScript.h"
+#include "ui/InputSink.h"
 #include "ui/Panels.h"
 #include "ui/Swapchain.h"
 #include "ui/Window.h"
@@ -35,86 +36,12 @@ namespace orbis::ui {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using Event = std::variant<MouseButtonEvent, MouseMoveEvent, ScrollEvent, KeyEvent>;
 
 /// A fixed frame time while a script plays: the same script gives the same pictures.
 constexpr double kScriptFrameSeconds = 1.0 / 30.0;
 /// Longest sleep in the event wait while idle (loads finishing on workers are noticed by then).
 constexpr double kIdleWaitSeconds = 0.25;
 constexpr double kSettleTimeoutSeconds = 300.0;
-
-/// What the GLFW callbacks collect between frames.
-struct InputSink {
-    std::vector<Event> events;
-    bool screenshot = false, saveScene = false, togglePanels = false, escape = false;
-    bool resized = false;
-    bool focusLost = false;   ///< no key releases come while unfocused: forget held keys
-};
-
-std::optional<Key> keyFromGlfw(int key) {
-    switch (key) {
-        case GLFW_KEY_W: return Key::W;
-        case GLFW_KEY_A: return Key::A;
-        case GLFW_KEY_S: return Key::S;
-        case GLFW_KEY_D: return Key::D;
-        case GLFW_KEY_Q: return Key::Q;
-        case GLFW_KEY_E: return Key::E;
-        case GLFW_KEY_R: return Key::R;
-        case GLFW_KEY_F: return Key::F;
-        case GLFW_KEY_UP: return Key::Up;
-        case GLFW_KEY_DOWN: return Key::Down;
-        case GLFW_KEY_LEFT: return Key::Left;
-        case GLFW_KEY_RIGHT: return Key::Right;
-        case GLFW_KEY_PAGE_UP: return Key::PageUp;
-        case GLFW_KEY_PAGE_DOWN: return Key::PageDown;
-        case GLFW_KEY_HOME: return Key::Home;
-        default: return std::nullopt;
-    }
-}
-
-Modifiers modifiersFromGlfw(int mods) {
-    return {bool(mods & GLFW_MOD_SHIFT), bool(mods & GLFW_MOD_CONTROL), bool(mods & GLFW_MOD_ALT)};
-}
-
-InputSink& sinkOf(GLFWwindow* w) { return *static_cast<InputSink*>(glfwGetWindowUserPointer(w)); }
-
-void installCallbacks(GLFWwindow* window, InputSink& sink) {
-    glfwSetWindowUserPointer(window, &sink);
-    glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
-        if (button > GLFW_MOUSE_BUTTON_MIDDLE || action == GLFW_REPEAT) return;
-        double x = 0, y = 0;
-        glfwGetCursorPos(w, &x, &y);
-        MouseButtonEvent e;
-        e.button = button == GLFW_MOUSE_BUTTON_LEFT    ? MouseButton::Left
-                   : button == GLFW_MOUSE_BUTTON_RIGHT ? MouseButton::Right
-                                                       : MouseButton::Middle;
-        e.pressed = action == GLFW_PRESS;
-        e.position = {x, y};
-        e.modifiers = modifiersFromGlfw(mods);
-        e.timeSeconds = glfwGetTime();
-        sinkOf(w).events.push_back(e);
-    });
-    glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
-        sinkOf(w).events.push_back(MouseMoveEvent{{x, y}});
-    });
-    glfwSetScrollCallback(window, [](GLFWwindow* w, double x, double y) { sinkOf(w).events.push_back(ScrollEvent{x, y}); });
-    glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int mods) {
-        InputSink& s = sinkOf(w);
-        if (action == GLFW_PRESS) {
-            if (key == GLFW_KEY_F12) s.screenshot = true;
-            if (key == GLFW_KEY_S && (mods & GLFW_MOD_CONTROL)) s.saveScene = true;
-            if (key == GLFW_KEY_F1) s.togglePanels = true;
-            if (key == GLFW_KEY_ESCAPE) s.escape = true;   // cancels placing a pin, else quits
-        }
-        if (action == GLFW_REPEAT) return;
-        if (auto k = keyFromGlfw(key)) s.events.push_back(KeyEvent{*k, action == GLFW_PRESS, modifiersFromGlfw(mods)});
-    });
-    glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int, int) { sinkOf(w).resized = true; });
-    glfwSetWindowFocusCallback(window, [](GLFWwindow* w, int focused) {
-        if (!focused) sinkOf(w).focusLost = true;
-    });
-    glfwSetWindowRefreshCallback(window, [](GLFWwindow* w) { sinkOf(w).resized = true; });
-}
 
 /// Set by SIGINT / SIGTERM: the viewer closes as if its window had been closed (the panel
 /// layout is written, the device is idle before it goes), within one idle wait.
@@ -194,7 +121,7 @@ int runViewer(const ViewerOptions& options) {
         Window window("Orbis - " + (desc->name.empty() ? options.scene.filename().string() : desc->name),
                       int(options.width), int(options.height));
         InputSink sink;
-        installCallbacks(window.glfw(), sink);   // before ImGui's, which chain to them
+        installInputCallbacks(window.glfw(), sink);   // before ImGui's, which chain to them
         gpu::DeviceOptions dopt;
         dopt.select = options.device;
         dopt.surface = window.createSurface(instance.vk());
@@ -285,8 +212,8 @@ int runViewer(const ViewerOptions& options) {
             Window::pollEvents(!wantFrame, kIdleWaitSeconds);
 
             // Input: the window's events, or the script's (one step's worth per frame).
-            std::vector<Event> events = std::move(sink.events);
-            sink.events.clear();
+            std::vector<InputEvent> events = std::move(sink.input.events);
+            sink.input.events.clear();
             if (sink.resized) {
                 sink.resized = false;
                 dirty = true;
@@ -294,9 +221,9 @@ int runViewer(const ViewerOptions& options) {
                 nav.handle(ViewportSize{double(ww), double(wh)});
             }
             if (std::exchange(sink.focusLost, false)) nav.releaseAll();
-            bool wantScreenshot = std::exchange(sink.screenshot, false);
-            bool wantSave = std::exchange(sink.saveScene, false);
-            if (std::exchange(sink.escape, false)) {
+            bool wantScreenshot = std::exchange(sink.input.screenshot, false);
+            bool wantSave = std::exchange(sink.input.saveScene, false);
+            if (std::exchange(sink.input.escape, false)) {
                 if (panels.placingPin()) {
                     panels.stopPlacingPin(false);
                     dirty = true;
@@ -304,7 +231,7 @@ int runViewer(const ViewerOptions& options) {
                     quit = true;
                 }
             }
-            if (std::exchange(sink.togglePanels, false)) {
+            if (std::exchange(sink.input.togglePanels, false)) {
                 panels.toggleVisible();
                 dirty = true;
             }
@@ -444,7 +371,7 @@ int runViewer(const ViewerOptions& options) {
 
             // Events to the navigation, unless ImGui has them (releases always pass: drags end).
             // While a pin is being placed, a left click on the globe places it instead.
-            for (const Event& e : events) {
+            for (const InputEvent& e : events) {
                 dirty = true;
                 uiFrames = 2;
                 std::visit(
