@@ -19,36 +19,37 @@ void checkVk(VkResult r) {
     if (r != VK_SUCCESS) throw std::runtime_error("Dear ImGui's Vulkan backend: VkResult " + std::to_string(int(r)));
 }
 
-}  // namespace
-
-Gui::Gui(gpu::Device& device, GLFWwindow* window, float contentScale, std::filesystem::path layoutFile)
-    : device_(device), layoutFile_(layoutFile.string()) {
-    IMGUI_CHECKVERSION();
-    ImGui::CreateContext();
-    ImGuiIO& io = ImGui::GetIO();
-    // Never a file next to the binary (ImGui's default): the one given, or the code's layout.
-    io.IniFilename = layoutFile_.empty() ? nullptr : layoutFile_.c_str();
+/// The dark style, scaled for HiDPI screens, with its colours in linear light.
+void applyStyle(float contentScale) {
     ImGui::StyleColorsDark();
     ImGuiStyle& style = ImGui::GetStyle();
     style.WindowRounding = 4.0f;
     style.FrameRounding = 3.0f;
     style.ScaleAllSizes(contentScale);
-    io.FontGlobalScale = contentScale;
+    ImGui::GetIO().FontGlobalScale = contentScale;
     // The colours are meant as sRGB; the target blends in linear light.
     for (ImVec4& c : style.Colors) {
         c.x = float(srgbToLinear(c.x));
         c.y = float(srgbToLinear(c.y));
         c.z = float(srgbToLinear(c.z));
     }
+}
 
+/// The descriptor sets of ImGui's Vulkan backend (its font texture, with room to spare).
+VkDescriptorPool makeDescriptorPool(VkDevice device) {
     const VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 16}};
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
     poolInfo.maxSets = 16;
     poolInfo.poolSizeCount = 1;
     poolInfo.pPoolSizes = sizes;
-    VK_CHECK(vkCreateDescriptorPool(device.vk(), &poolInfo, nullptr, &pool_));
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool));
+    return pool;
+}
 
+/// One subpass over the render target's colour: loaded and stored, so the UI lands on the picture.
+VkRenderPass makeOverlayPass(VkDevice device) {
     VkAttachmentDescription color{};
     color.format = gpu::RenderTarget::kColorFormat;
     color.samples = VK_SAMPLE_COUNT_1_BIT;
@@ -68,7 +69,22 @@ Gui::Gui(gpu::Device& device, GLFWwindow* window, float contentScale, std::files
     rp.pAttachments = &color;
     rp.subpassCount = 1;
     rp.pSubpasses = &subpass;
-    VK_CHECK(vkCreateRenderPass(device.vk(), &rp, nullptr, &renderPass_));
+    VkRenderPass pass = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateRenderPass(device, &rp, nullptr, &pass));
+    return pass;
+}
+
+}  // namespace
+
+Gui::Gui(gpu::Device& device, GLFWwindow* window, float contentScale, std::filesystem::path layoutFile)
+    : device_(device), layoutFile_(layoutFile.string()) {
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    // Never a file next to the binary (ImGui's default): the one given, or the code's layout.
+    ImGui::GetIO().IniFilename = layoutFile_.empty() ? nullptr : layoutFile_.c_str();
+    applyStyle(contentScale);
+    pool_ = makeDescriptorPool(device.vk());
+    renderPass_ = makeOverlayPass(device.vk());
 
     ImGui_ImplGlfw_InitForVulkan(window, true);
     ImGui_ImplVulkan_InitInfo init{};

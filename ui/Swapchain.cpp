@@ -19,6 +19,41 @@ VkSemaphore makeSemaphore(VkDevice device) {
     return s;
 }
 
+/// An sRGB format when the surface has one (the picture is blitted from an sRGB target), else
+/// its first with a warning.
+VkSurfaceFormatKHR chooseFormat(VkPhysicalDevice pd, VkSurfaceKHR surface) {
+    uint32_t n = 0;
+    vkGetPhysicalDeviceSurfaceFormatsKHR(pd, surface, &n, nullptr);
+    std::vector<VkSurfaceFormatKHR> formats(n);
+    vkGetPhysicalDeviceSurfaceFormatsKHR(pd, surface, &n, formats.data());
+    if (formats.empty()) throw std::runtime_error("the window's surface offers no image format");
+    VkSurfaceFormatKHR chosen = formats[0];
+    for (VkFormat want : {VK_FORMAT_B8G8R8A8_SRGB, VK_FORMAT_R8G8B8A8_SRGB}) {
+        auto it = std::find_if(formats.begin(), formats.end(), [&](const VkSurfaceFormatKHR& f) {
+            return f.format == want && f.colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR;
+        });
+        if (it != formats.end()) {
+            chosen = *it;
+            break;
+        }
+    }
+    if (chosen.format != VK_FORMAT_B8G8R8A8_SRGB && chosen.format != VK_FORMAT_R8G8B8A8_SRGB)
+        log::warn("the window offers no sRGB format; colours will look darker (format ", int(chosen.format), ")");
+    return chosen;
+}
+
+/// FIFO with vsync (always there); without, MAILBOX or IMMEDIATE where the surface has them.
+VkPresentModeKHR choosePresentMode(VkPhysicalDevice pd, VkSurfaceKHR surface, bool vsync) {
+    uint32_t n = 0;
+    vkGetPhysicalDeviceSurfacePresentModesKHR(pd, surface, &n, nullptr);
+    std::vector<VkPresentModeKHR> modes(n);
+    vkGetPhysicalDeviceSurfacePresentModesKHR(pd, surface, &n, modes.data());
+    if (!vsync)
+        for (VkPresentModeKHR want : {VK_PRESENT_MODE_MAILBOX_KHR, VK_PRESENT_MODE_IMMEDIATE_KHR})
+            if (std::find(modes.begin(), modes.end(), want) != modes.end()) return want;
+    return VK_PRESENT_MODE_FIFO_KHR;
+}
+
 }  // namespace
 
 Swapchain::Swapchain(gpu::Device& device, VkSurfaceKHR surface, bool vsync)
@@ -56,34 +91,8 @@ bool Swapchain::rebuild(uint32_t width, uint32_t height) {
     }
     if (extent.width == 0 || extent.height == 0) return false;   // minimised
 
-    uint32_t n = 0;
-    vkGetPhysicalDeviceSurfaceFormatsKHR(pd, surface_, &n, nullptr);
-    std::vector<VkSurfaceFormatKHR> formats(n);
-    vkGetPhysicalDeviceSurfaceFormatsKHR(pd, surface_, &n, formats.data());
-    if (formats.empty()) throw std::runtime_error("the window's surface offers no image format");
-    VkSurfaceFormatKHR chosen = formats[0];
-    for (VkFormat want : {VK_FORMAT_B8G8R8A8_SRGB, VK_FORMAT_R8G8B8A8_SRGB}) {
-        auto it = std::find_if(formats.begin(), formats.end(), [&](const VkSurfaceFormatKHR& f) {
-            return f.format == want && f.colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR;
-        });
-        if (it != formats.end()) {
-            chosen = *it;
-            break;
-        }
-    }
-    if (chosen.format != VK_FORMAT_B8G8R8A8_SRGB && chosen.format != VK_FORMAT_R8G8B8A8_SRGB)
-        log::warn("the window offers no sRGB format; colours will look darker (format ", int(chosen.format), ")");
-
-    vkGetPhysicalDeviceSurfacePresentModesKHR(pd, surface_, &n, nullptr);
-    std::vector<VkPresentModeKHR> modes(n);
-    vkGetPhysicalDeviceSurfacePresentModesKHR(pd, surface_, &n, modes.data());
-    VkPresentModeKHR mode = VK_PRESENT_MODE_FIFO_KHR;   // always there
-    if (!vsync_)
-        for (VkPresentModeKHR want : {VK_PRESENT_MODE_MAILBOX_KHR, VK_PRESENT_MODE_IMMEDIATE_KHR})
-            if (std::find(modes.begin(), modes.end(), want) != modes.end()) {
-                mode = want;
-                break;
-            }
+    const VkSurfaceFormatKHR chosen = chooseFormat(pd, surface_);
+    const VkPresentModeKHR mode = choosePresentMode(pd, surface_, vsync_);
 
     uint32_t count = std::max(caps.minImageCount + 1, 3u);
     if (caps.maxImageCount > 0) count = std::min(count, caps.maxImageCount);
@@ -116,21 +125,29 @@ bool Swapchain::rebuild(uint32_t width, uint32_t height) {
     extent_ = extent;
     presentMode_ = mode;
 
+    const uint32_t n = adoptImages(info.imageUsage);
+    log::debug("swapchain ", extent.width, "x", extent.height, ", ", n, " images, present mode ", int(mode));
+    stale_ = false;
+    return true;
+}
+
+/// Wraps the new swapchain's images (borrowed: the swapchain owns them), each with the
+/// semaphore its presentation waits on. Returns how many there are.
+uint32_t Swapchain::adoptImages(VkImageUsageFlags usage) {
+    uint32_t n = 0;
     vkGetSwapchainImagesKHR(device_.vk(), swapchain_, &n, nullptr);
     std::vector<VkImage> images(n);
     vkGetSwapchainImagesKHR(device_.vk(), swapchain_, &n, images.data());
     gpu::ImageDesc desc;
     desc.format = format_;
-    desc.extent = {extent.width, extent.height, 1};
-    desc.usage = info.imageUsage;
+    desc.extent = {extent_.width, extent_.height, 1};
+    desc.usage = usage;
     desc.name = "swapchain";
     for (VkImage image : images) {
         images_.push_back(gpu::Image::borrowed(image, desc));
         rendered_.push_back(makeSemaphore(device_.vk()));
     }
-    log::debug("swapchain ", extent.width, "x", extent.height, ", ", n, " images, present mode ", int(mode));
-    stale_ = false;
-    return true;
+    return n;
 }
 
 std::optional<Swapchain::Acquired> Swapchain::acquire(uint32_t width, uint32_t height) {

@@ -49,6 +49,7 @@ public:
 
 private:
     bool rebuild(uint32_t width, uint32_t height);
+    uint32_t adoptImages(VkImageUsageFlags usage);
     void destroyImages();
 
     gpu::Device& device_;

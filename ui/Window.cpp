@@ -81,6 +81,8 @@ VkSurfaceKHR Window::createSurface(VkInstance instance) {
 bool Window::shouldClose() const { return glfwWindowShouldClose(window_); }
 void Window::requestClose() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
 
+void Window::size(int& width, int& height) const { glfwGetWindowSize(window_, &width, &height); }
+
 void Window::framebufferSize(uint32_t& width, uint32_t& height) const {
     int w = 0, h = 0;
     glfwGetFramebufferSize(window_, &w, &h);

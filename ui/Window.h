@@ -30,6 +30,8 @@ public:
     GLFWwindow* glfw() const { return window_; }
     bool shouldClose() const;
     void requestClose();
+    /// Window size in screen coordinates (the units of input positions).
+    void size(int& width, int& height) const;
     /// Framebuffer size in pixels (0 x 0 while minimised).
     void framebufferSize(uint32_t& width, uint32_t& height) const;
     /// HiDPI content scale (1 on a classic screen).

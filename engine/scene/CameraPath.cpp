@@ -1,5 +1,6 @@
 #include "engine/scene/CameraPath.h"
 
+#include "base/FileText.h"
 #include "engine/scene/JsonReader.h"
 #include "engine/scene/SceneDesc.h"
 #include "globe/EarthManipulator.h"
@@ -8,9 +9,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
-#include <system_error>
 
 namespace orbis::scene {
 namespace {
@@ -34,20 +32,9 @@ std::string formatNumber(double v) {
 }  // namespace
 
 Result<CameraPath> CameraPath::parseFile(const std::filesystem::path& file) {
-    const std::string name = file.string();
-    std::error_code ec;
-    if (!std::filesystem::exists(file, ec)) return Error{name + ": no such file"};
-    if (std::filesystem::is_directory(file, ec)) return Error{name + ": is a folder, not a camera path file"};
-    const auto size = std::filesystem::file_size(file, ec);
-    if (ec) return Error{name + ": cannot read (" + ec.message() + ")"};
-    if (size > kMaxCameraPathFileBytes)
-        return Error{name + ": " + std::to_string(size) + " bytes is too large for a camera path (limit " +
-                     std::to_string(kMaxCameraPathFileBytes) + ")"};
-    std::ifstream in(file, std::ios::binary);
-    if (!in) return Error{name + ": cannot open for reading"};
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    return parseText(buffer.str(), name);
+    auto text = readTextFile(file, kMaxCameraPathFileBytes, "camera path file");
+    if (!text) return text.error();
+    return parseText(std::move(text).value(), file.string());
 }
 
 Result<CameraPath> CameraPath::parseText(std::string text, std::string fileNameForErrors) {

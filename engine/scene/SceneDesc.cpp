@@ -1,10 +1,9 @@
 #include "engine/scene/SceneDesc.h"
 
+#include "base/FileText.h"
 #include "engine/scene/JsonReader.h"
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <system_error>
 
 namespace orbis::scene {
@@ -53,21 +52,11 @@ nlohmann::json viewpointToJson(const globe::Viewpoint& vp) {
 }
 
 Result<SceneDesc> parseSceneFile(const std::filesystem::path& file) {
-    const std::string name = file.string();
+    auto text = readTextFile(file, kMaxSceneFileBytes, "scene file");
+    if (!text) return text.error();
     std::error_code ec;
-    if (!std::filesystem::exists(file, ec)) return Error{name + ": no such file"};
-    if (std::filesystem::is_directory(file, ec)) return Error{name + ": is a folder, not a scene file"};
-    const auto size = std::filesystem::file_size(file, ec);
-    if (ec) return Error{name + ": cannot read (" + ec.message() + ")"};
-    if (size > kMaxSceneFileBytes)
-        return Error{name + ": " + std::to_string(size) + " bytes is too large for a scene file (limit " +
-                     std::to_string(kMaxSceneFileBytes) + ")"};
-    std::ifstream in(file, std::ios::binary);
-    if (!in) return Error{name + ": cannot open for reading"};
-    std::stringstream buffer;
-    buffer << in.rdbuf();
     const auto absolute = std::filesystem::absolute(file, ec);
-    return parseSceneText(buffer.str(), file, (ec ? file : absolute).parent_path());
+    return parseSceneText(*text, file, (ec ? file : absolute).parent_path());
 }
 
 Result<SceneDesc> parseSceneText(std::string_view text, const std::filesystem::path& file,

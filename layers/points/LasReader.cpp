@@ -1,5 +1,7 @@
 #include "layers/points/LasReader.h"
 
+#include "base/FileText.h"
+
 #include <cpl_conv.h>
 #include <cpl_error.h>
 #include <ogr_spatialref.h>
@@ -12,7 +14,6 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -38,13 +39,6 @@ std::string fixedString(const uint8_t* p, size_t n) {
 }
 
 Error fail(const std::string& path, const std::string& what) { return makeError(std::string(path).append(": ").append(what)); }
-
-std::string readText(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 struct Unit {
     double metres = 0.0;   ///< 0: a code we do not know
@@ -277,6 +271,9 @@ Result<void> readVlrs(const std::string& path, const uint8_t* d, uint64_t bytes,
     return {};
 }
 
+/// A CRS in WKT is a few KB; a larger "sidecar" is some other file that shares the name.
+constexpr std::uintmax_t kMaxSidecarBytes = 1u << 20;
+
 /// The first sidecar that exists and holds text: `cloud.las.wkt`, `cloud.wkt`, `cloud.prj`.
 LasCrs sidecarCrs(const std::string& path) {
     const std::filesystem::path p(path);
@@ -284,11 +281,12 @@ LasCrs sidecarCrs(const std::string& path) {
                                                 std::filesystem::path(p).replace_extension(".wkt"),
                                                 std::filesystem::path(p).replace_extension(".prj")};
     for (const auto& c : candidates) {
-        std::error_code ec;
-        if (!std::filesystem::is_regular_file(c, ec) || std::filesystem::file_size(c, ec) > (1u << 20)) continue;
-        std::string text = readText(c);
+        auto read = readTextFile(c, kMaxSidecarBytes, "CRS sidecar");
+        if (!read) continue;   // absent (the usual case), a folder, or too large for a CRS: the next one
+        std::string text = std::move(read).value();
         while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
         if (text.empty()) continue;
+        std::error_code ec;
         return {text, std::string("sidecar ").append(std::filesystem::weakly_canonical(c, ec).string())};
     }
     return {};

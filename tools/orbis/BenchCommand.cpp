@@ -222,10 +222,7 @@ int sweep(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Render
     // The curve runs from the fastest setting to the slowest, whatever order they were given in.
     std::stable_sort(points.begin(), points.end(), [](const PlotPoint& a, const PlotPoint& b) { return a.x < b.x; });
     const std::string plotFile = args.value("--plot").value_or("orbis-sweep.png");
-    if (auto ok = writePng(plotFile, plotPoints(points)); !ok) {
-        std::fprintf(stderr, "orbis: %s\n", ok.message().c_str());
-        return kBadInput;
-    }
+    if (auto ok = writePng(plotFile, plotPoints(points)); !ok) return badInput(ok.message());
     log::info("wrote the plot ", plotFile, " (x: ms per frame, y: RMSE against ", name, "=", values.front(), ")");
     return validationExitCode(gpu);
 }
@@ -384,15 +381,9 @@ int benchCommand(const std::vector<std::string>& argv) {
     auto loaded = loadSceneForCommand(args);
     if (!loaded) return kBadInput;
     GpuSession gpu = openGpu(args);
-    std::optional<scene::CameraPath> path;
-    if (auto file = args.value("--camera-path")) {
-        auto parsed = scene::CameraPath::parseFile(*file);
-        if (!parsed) {
-            std::fprintf(stderr, "orbis: %s\n", parsed.message().c_str());
-            return kBadInput;
-        }
-        path = std::move(parsed).value();
-    }
+    auto loadedPath = loadCameraPathOption(args);
+    if (!loadedPath) return kBadInput;
+    const std::optional<scene::CameraPath> path = std::move(loadedPath).value();
     std::unique_ptr<scene::Scene> scene = std::move(loaded).value();
     if (auto level = args.integer("--tiles", 0, 22)) {
         const unsigned threads = unsigned(args.integer("--threads", 1, 256).value_or(

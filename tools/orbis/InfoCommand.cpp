@@ -116,10 +116,7 @@ bool looksLikeVideo(const std::string& ext) {
 /// (the packet's time on the video's clock first).
 int videoInfo(const std::string& file) {
     auto opened = fmv::VideoFile::open(file);
-    if (!opened) {
-        std::fprintf(stderr, "orbis: %s\n", opened.message().c_str());
-        return kBadInput;
-    }
+    if (!opened) return badInput(opened.message());
     const fmv::VideoFile& video = **opened;
     const fmv::VideoInfo& info = video.info();
     std::printf("%s\n", nlohmann::ordered_json{{"video",
@@ -169,12 +166,16 @@ int poseCsvInfo(const fmv::PoseCsv& csv) {
     return kOk;
 }
 
+/// A reader's description (JSON) on stdout, or its problem on stderr.
+int printDescription(const Result<std::string>& json) {
+    if (!json) return badInput(json.message());
+    std::printf("%s\n", json->c_str());
+    return kOk;
+}
+
 int sceneInfo(const std::string& file) {
     auto desc = scene::parseSceneFile(file);
-    if (!desc) {
-        std::fprintf(stderr, "orbis: %s\n", desc.message().c_str());
-        return kBadInput;
-    }
+    if (!desc) return badInput(desc.message());
     scene::LayerRegistry registry;
     layers::registerBuiltinLayers(registry);
     nlohmann::json out;
@@ -207,22 +208,11 @@ int infoCommand(const std::vector<std::string>& argv) {
     if (args.positional().empty()) return deviceInfo(args);
     const std::string file = args.positional()[0];
     std::error_code ec;
-    if (!std::filesystem::exists(file, ec)) {
-        std::fprintf(stderr, "orbis: %s: no such file\n", file.c_str());
-        return kBadInput;
-    }
+    if (!std::filesystem::exists(file, ec)) return badInput(file + ": no such file");
     const std::string ext = std::filesystem::path(file).extension().string();
     if (ext == ".json") return sceneInfo(file);
     // LAS point clouds (by extension or the "LASF" signature).
-    if (points::looksLikeLas(file)) {
-        auto cloud = points::describeLasJson(file);
-        if (cloud) {
-            std::printf("%s\n", cloud->c_str());
-            return kOk;
-        }
-        std::fprintf(stderr, "orbis: %s\n", cloud.message().c_str());
-        return kBadInput;
-    }
+    if (points::looksLikeLas(file)) return printDescription(points::describeLasJson(file));
     // MISB ST 0601 KLV streams (.bin/.klv or the key at the start). A .bin without the key
     // anywhere may be something else (an ENVI raster): the other readers get their turn.
     std::string klvProblem;
@@ -231,10 +221,7 @@ int infoCommand(const std::vector<std::string>& argv) {
         if (stream) return klvInfo(file, *stream);
         std::string lowerExt = ext;
         for (char& c : lowerExt) c = char(std::tolower(static_cast<unsigned char>(c)));
-        if (lowerExt != ".bin") {
-            std::fprintf(stderr, "orbis: %s\n", stream.message().c_str());
-            return kBadInput;
-        }
+        if (lowerExt != ".bin") return badInput(stream.message());
         klvProblem = stream.message();
     }
     if (looksLikeVideo(ext)) return videoInfo(file);
@@ -242,19 +229,10 @@ int infoCommand(const std::vector<std::string>& argv) {
     if ((ext == ".csv" || ext == ".CSV") && fmv::looksLikePoseCsv(file)) {
         auto csv = fmv::readPoseCsv(file);
         if (csv) return poseCsvInfo(*csv);
-        std::fprintf(stderr, "orbis: %s\n", csv.message().c_str());
-        return kBadInput;
+        return badInput(csv.message());
     }
     // Files with variables of three or more dimensions (netCDF, HDF5, Zarr): the volume reader.
-    if (layers::looksLikeVolumeFile(file)) {
-        auto volume = layers::describeVolumeJson(file);
-        if (volume) {
-            std::printf("%s\n", volume->c_str());
-            return kOk;
-        }
-        std::fprintf(stderr, "orbis: %s\n", volume.message().c_str());
-        return kBadInput;
-    }
+    if (layers::looksLikeVolumeFile(file)) return printDescription(layers::describeVolumeJson(file));
     // Everything else is tried as a raster (GeoTIFF, DTED, VRT, JP2, netCDF 2-D, ...).
     auto raster = globe::describeRasterJson(file);
     if (raster) {

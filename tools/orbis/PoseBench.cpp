@@ -28,10 +28,7 @@ double percentile(std::vector<double> v, double p) {
 
 int poseBench(const std::string& file) {
     auto model = models::loadGltf(file);
-    if (!model) {
-        std::fprintf(stderr, "orbis: %s\n", model.message().c_str());
-        return kBadInput;
-    }
+    if (!model) return badInput(model.message());
     size_t joints = 0;
     for (const auto& s : model->rig.skins) joints += s.joints.size();
     std::printf("orbis bench --poses %s  (CPU only, one thread)\n", file.c_str());
@@ -56,7 +53,7 @@ int poseBench(const std::string& file) {
             batches.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / kBatch);
         }
         const std::string name = a < 0 ? "(rest pose)" : model->rig.animations[size_t(a)].name.empty()
-                                                             ? "#" + std::to_string(a)
+                                                             ? std::string("#").append(std::to_string(a))
                                                              : model->rig.animations[size_t(a)].name;
         const size_t channels = a < 0 ? 0 : model->rig.animations[size_t(a)].channels.size();
         std::printf("%-24s %9zu %8zu %12.3f %12.3f%s\n", name.c_str(), channels, pose.size() * sizeof(glm::vec4),

@@ -69,15 +69,9 @@ int renderCommand(const std::vector<std::string>& argv) {
     // Declared after the device so that its layers are destroyed first.
     std::unique_ptr<scene::Scene> scene = std::move(loaded).value();
     render::Renderer renderer(*gpu.device, width, height);
-    std::optional<scene::CameraPath> path;
-    if (auto file = args.value("--camera-path")) {
-        auto parsed = scene::CameraPath::parseFile(*file);
-        if (!parsed) {
-            std::fprintf(stderr, "orbis: %s\n", parsed.message().c_str());
-            return kBadInput;
-        }
-        path = std::move(parsed).value();
-    }
+    auto loadedPath = loadCameraPathOption(args);
+    if (!loadedPath) return kBadInput;
+    const std::optional<scene::CameraPath> path = std::move(loadedPath).value();
     const bool sequence = path && output->find('%') != std::string::npos;
     if (sequence) (void)frameFileName(*output, 0);   // a bad pattern is a usage error before any work
     const long count = sequence ? args.integer("--frames", 1, 100000).value_or(30) : 1;
@@ -104,10 +98,7 @@ int renderCommand(const std::vector<std::string>& argv) {
             if (r.visible && !r.layer->status().empty()) log::info(r.name, ": ", r.layer->status());
         ImageRgba8 image{width, height, renderer.readPixels(frame)};
         const std::string file = sequence ? frameFileName(*output, i) : *output;
-        if (auto ok = writePng(file, image); !ok) {
-            std::fprintf(stderr, "orbis: %s\n", ok.message().c_str());
-            return kBadInput;
-        }
+        if (auto ok = writePng(file, image); !ok) return badInput(ok.message());
         if (sequence) std::printf("wrote %s\n", file.c_str());
     }
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

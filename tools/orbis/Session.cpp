@@ -9,6 +9,11 @@
 
 namespace orbis::cli {
 
+int badInput(const std::string& message) {
+    std::fprintf(stderr, "orbis: %s\n", message.c_str());
+    return kBadInput;
+}
+
 const std::set<std::string>& gpuValuedOptions() {
     static const std::set<std::string> s{"--device"};
     return s;
@@ -52,6 +57,17 @@ Result<std::unique_ptr<scene::Scene>> loadSceneForCommand(const Args& args) {
     }
     applyTimeOption(args, **loaded);
     return loaded;
+}
+
+Result<std::optional<scene::CameraPath>> loadCameraPathOption(const Args& args) {
+    const auto file = args.value("--camera-path");
+    if (!file) return std::optional<scene::CameraPath>();
+    auto parsed = scene::CameraPath::parseFile(*file);
+    if (!parsed) {
+        std::fprintf(stderr, "orbis: %s\n", parsed.message().c_str());
+        return parsed.error();
+    }
+    return std::optional<scene::CameraPath>(std::move(parsed).value());
 }
 
 int validationExitCode(const GpuSession& gpu) {

@@ -6,6 +6,7 @@
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Instance.h"
 #include "engine/render/Renderer.h"
+#include "engine/scene/CameraPath.h"
 #include "engine/scene/LayerRegistry.h"
 #include "engine/scene/Scene.h"
 #include "tools/orbis/Args.h"
@@ -18,6 +19,9 @@ namespace orbis::cli {
 
 /// Exit codes shared by every command.
 enum ExitCode { kOk = 0, kBadInput = 1, kUsage = 2 };
+
+/// Prints "orbis: MESSAGE" on stderr, as every command reports bad input; returns kBadInput.
+int badInput(const std::string& message);
 
 /// Options every GPU command accepts.
 const std::set<std::string>& gpuValuedOptions();
@@ -38,6 +42,10 @@ Result<std::unique_ptr<scene::Scene>> loadScene(const std::string& file, const s
 /// Loads the scene named by the command's one positional argument with every built-in layer
 /// type, applying --time; prints the problem and returns it on failure. Throws UsageError.
 Result<std::unique_ptr<scene::Scene>> loadSceneForCommand(const Args& args);
+
+/// "--camera-path FILE" (render, bench): the parsed path, or nothing without the option; prints
+/// the problem and returns it when the file is missing or invalid (exit with kBadInput then).
+Result<std::optional<scene::CameraPath>> loadCameraPathOption(const Args& args);
 
 /// kBadInput (after printing the first message) when validation reported anything, else kOk.
 int validationExitCode(const GpuSession& gpu);

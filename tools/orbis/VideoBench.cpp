@@ -34,10 +34,7 @@ double percentile(std::vector<double> v, double p) {
 int videoBench(const std::string& file, long seeks) {
     const auto t0 = Clock::now();
     auto opened = fmv::VideoFile::open(file);
-    if (!opened) {
-        std::fprintf(stderr, "orbis: %s\n", opened.message().c_str());
-        return kBadInput;
-    }
+    if (!opened) return badInput(opened.message());
     const auto t1 = Clock::now();
     fmv::VideoFile& video = **opened;
     const fmv::VideoInfo& info = video.info();
@@ -68,10 +65,7 @@ int videoBench(const std::string& file, long seeks) {
     for (size_t i = 0; i < video.frameCount(); ++i) {
         const auto a = Clock::now();
         auto f = video.decode(i);
-        if (!f) {
-            std::fprintf(stderr, "orbis: %s\n", f.message().c_str());
-            return kBadInput;
-        }
+        if (!f) return badInput(f.message());
         frameMs.push_back(ms(a, Clock::now()));
     }
     std::printf("playback: %.2f ms/frame median, %.2f p95 (decode + RGBA; %zu frames)\n", percentile(frameMs, 0.5),
@@ -86,10 +80,7 @@ int videoBench(const std::string& file, long seeks) {
         const size_t i = pick(rng);
         const auto a = Clock::now();
         auto f = video.decode(i);
-        if (!f) {
-            std::fprintf(stderr, "orbis: %s\n", f.message().c_str());
-            return kBadInput;
-        }
+        if (!f) return badInput(f.message());
         seekMs.push_back(ms(a, Clock::now()));
     }
     std::printf("seek (exact frame, random order): %.2f ms median, %.2f p95, %.1f frames decoded a seek (%ld seeks)\n",
