@@ -208,38 +208,13 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw, cons
         if (r.visible && !r.layer->prepared()) prepareLayer(*r.layer);
     for (auto& r : scene.resources())
         if (r.visible && r.layer->prepared()) r.layer->poll();
-    // A camera mode that watches a moving layer puts the camera first (at the scene's time).
-    scene.updateCamera(double(target_->width()) / double(std::max(1u, target_->height())));
-
-    // The near plane follows the camera's height above the ground (reversed-Z keeps precision
-    // at any range).
-    const globe::Geodetic eye = globe::Ellipsoid::wgs84().toGeodetic(scene.camera().position());
-    const double height = eye.height;
-    const double ground = scene.heightAt(eye.lonDeg, eye.latDeg).value_or(0.0);
-    double clearance = height - std::min(ground, height);
-    for (auto& r : scene.resources()) {
-        const auto* content = r.layer->asFloatingContent();
-        if (!content || !r.visible || !r.layer->prepared()) continue;
-        if (auto d = content->nearestContent(scene.camera().position())) clearance = std::min(clearance, *d);
-    }
-    scene.camera().setNear(scene::Camera::autoNear(clearance));
+    const double eyeHeight = placeCamera(scene);
 
     gpu::FrameRing::Frame& frame = ring_.begin();
     timer_.beginFrame(frame.cmd, frame.slot);
     uploader_.resetCounter();
 
-    scene::FrameContext ctx;
-    ctx.camera = &scene.camera();
-    ctx.time = scene.time().now();
-    ctx.width = target_->width();
-    ctx.height = target_->height();
-    ctx.frameNumber = frame.number;
-    ctx.cameraHeight = height;
-    ctx.groundHeight = [&scene](double lon, double lat) { return scene.heightAt(lon, lat); };
-    ctx.annotations = &scene.annotations();
-    for (auto& r : scene.resources())
-        if (const auto* ground = r.layer->asGroundSource(); ground && r.visible && r.layer->prepared())
-            ctx.groundVersion += ground->groundVersion();
+    const scene::FrameContext ctx = frameContext(scene, frame.number, eyeHeight);
     for (auto& r : scene.resources())
         if (r.visible) r.layer->update(ctx);
     writeFrameUniforms(frame.slot, scene, ctx);
@@ -250,34 +225,9 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw, cons
     rc.frameSet = frameSets_[frame.slot];
     rc.uploader = &uploader_;
     rc.slot = frame.slot;
-
     for (auto& r : scene.resources())
         if (r.visible) r.layer->recordTransfers(rc);
-    // The opaque pass always runs (it clears); later passes only when a visible layer uses them.
-    if (draw) {
-        recordPass(scene::Pass::Opaque, passName(scene::Pass::Opaque), scene, rc, true, scene.desc().background);
-        for (scene::Pass pass : {scene::Pass::Points, scene::Pass::Fmv, scene::Pass::Volume, scene::Pass::Overlay}) {
-            const bool used = std::any_of(scene.resources().begin(), scene.resources().end(),
-                                          [&](const scene::Resource& r) { return r.visible && r.layer->drawsIn(pass); });
-            if (!used) continue;
-            const bool computes = std::any_of(scene.resources().begin(), scene.resources().end(),
-                                              [&](const scene::Resource& r) {
-                                                  return r.visible && r.layer->drawsIn(pass) && r.layer->computesBefore(pass);
-                                              });
-            if (computes) {
-                // Compute before the pass (ray casting): the depth so far is read, not written.
-                gpu::transition(rc.cmd, target_->depth(), gpu::ImageUse::SampledCompute);
-                RecordContext crc = rc;
-                crc.sceneDepth = &target_->depth();
-                const int scope = timer_.begin(rc.cmd, computeName(pass));
-                for (auto& r : scene.resources())
-                    if (r.visible && r.layer->drawsIn(pass) && r.layer->computesBefore(pass))
-                        r.layer->recordCompute(pass, crc);
-                timer_.end(rc.cmd, scope);
-            }
-            recordPass(pass, passName(pass), scene, rc, false, scene.desc().background);
-        }
-    }
+    if (draw) recordPasses(scene, rc);
     if (hooks && hooks->overlay) {
         gpu::transition(frame.cmd, target_->color(), gpu::ImageUse::ColorAttachment);
         const int scope = timer_.begin(frame.cmd, "ui");
@@ -296,6 +246,64 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw, cons
     result.timelineValue = hooks ? ring_.submit(frame, hooks->waits, hooks->signals) : ring_.submit(frame);
     result.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return result;
+}
+
+double Renderer::placeCamera(scene::Scene& scene) {
+    // A camera mode that watches a moving layer puts the camera first (at the scene's time).
+    scene.updateCamera(double(target_->width()) / double(std::max(1u, target_->height())));
+    // The near plane follows the camera's height above the ground and the nearest content that
+    // floats above it (reversed-Z keeps precision at any range).
+    const globe::Geodetic eye = globe::Ellipsoid::wgs84().toGeodetic(scene.camera().position());
+    const double ground = scene.heightAt(eye.lonDeg, eye.latDeg).value_or(0.0);
+    double clearance = eye.height - std::min(ground, eye.height);
+    for (auto& r : scene.resources()) {
+        const auto* content = r.layer->asFloatingContent();
+        if (!content || !r.visible || !r.layer->prepared()) continue;
+        if (auto d = content->nearestContent(scene.camera().position())) clearance = std::min(clearance, *d);
+    }
+    scene.camera().setNear(scene::Camera::autoNear(clearance));
+    return eye.height;
+}
+
+scene::FrameContext Renderer::frameContext(scene::Scene& scene, uint64_t frameNumber, double eyeHeight) const {
+    scene::FrameContext ctx;
+    ctx.camera = &scene.camera();
+    ctx.time = scene.time().now();
+    ctx.width = target_->width();
+    ctx.height = target_->height();
+    ctx.frameNumber = frameNumber;
+    ctx.cameraHeight = eyeHeight;
+    ctx.groundHeight = [&scene](double lon, double lat) { return scene.heightAt(lon, lat); };
+    ctx.annotations = &scene.annotations();
+    for (auto& r : scene.resources())
+        if (const auto* ground = r.layer->asGroundSource(); ground && r.visible && r.layer->prepared())
+            ctx.groundVersion += ground->groundVersion();
+    return ctx;
+}
+
+void Renderer::recordPasses(scene::Scene& scene, const RecordContext& rc) {
+    const auto visible = [&](scene::Pass pass, bool computing) {
+        return [pass, computing](const scene::Resource& r) {
+            return r.visible && r.layer->drawsIn(pass) && (!computing || r.layer->computesBefore(pass));
+        };
+    };
+    // The opaque pass always runs (it clears); later passes only when a visible layer uses them.
+    recordPass(scene::Pass::Opaque, passName(scene::Pass::Opaque), scene, rc, true, scene.desc().background);
+    for (scene::Pass pass : {scene::Pass::Points, scene::Pass::Fmv, scene::Pass::Volume, scene::Pass::Overlay}) {
+        const auto& resources = scene.resources();
+        if (std::none_of(resources.begin(), resources.end(), visible(pass, false))) continue;
+        if (std::any_of(resources.begin(), resources.end(), visible(pass, true))) {
+            // Compute before the pass (ray casting): the depth so far is read, not written.
+            gpu::transition(rc.cmd, target_->depth(), gpu::ImageUse::SampledCompute);
+            RecordContext crc = rc;
+            crc.sceneDepth = &target_->depth();
+            const int scope = timer_.begin(rc.cmd, computeName(pass));
+            for (auto& r : scene.resources())
+                if (visible(pass, true)(r)) r.layer->recordCompute(pass, crc);
+            timer_.end(rc.cmd, scope);
+        }
+        recordPass(pass, passName(pass), scene, rc, false, scene.desc().background);
+    }
 }
 
 std::vector<uint8_t> Renderer::readPixels(const FrameResult& frame) {

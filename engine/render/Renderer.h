@@ -79,6 +79,11 @@ public:
 private:
     FrameResult render(scene::Scene& scene, bool readback, bool draw, const FrameHooks* hooks);
     void prepareLayer(scene::Layer& layer);
+    /// Puts the camera where its mode wants it and its near plane; returns the eye's height.
+    double placeCamera(scene::Scene& scene);
+    scene::FrameContext frameContext(scene::Scene& scene, uint64_t frameNumber, double eyeHeight) const;
+    /// The passes in order, each only when a visible layer draws in it.
+    void recordPasses(scene::Scene& scene, const RecordContext& rc);
     void writeFrameUniforms(uint32_t slot, const scene::Scene& scene, const scene::FrameContext& ctx);
     void recordPass(scene::Pass pass, const char* name, scene::Scene& scene, const render::RecordContext& rc,
                     bool clear, const glm::dvec3& background);

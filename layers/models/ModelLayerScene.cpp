@@ -131,7 +131,7 @@ Result<models::AnimationPlayback> resolveAnimation(const AnimationChoice& c, con
         if (p.animation < 0) {
             std::string names;
             for (size_t i = 0; i < anims.size(); ++i)
-                names += (i ? ", " : "") + (anims[i].name.empty() ? "#" + std::to_string(i) : "\"" + anims[i].name + "\"");
+                names.append(i ? ", " : "").append(anims[i].name.empty() ? '#' + std::to_string(i) : '"' + anims[i].name + '"');
             return makeError(where + "/animation/name: " + model.file + " has no animation \"" + *c.name + "\" (it has " + names + ")");
         }
     } else if (c.index) {

@@ -27,7 +27,7 @@ enum class DescriptorKind : uint32_t {
     StorageImage,
 };
 /// Shader stages as bits: the values of VkShaderStageFlagBits (engine/gpu static_asserts them).
-enum : uint32_t { kStageVertex = 0x1, kStageFragment = 0x10, kStageCompute = 0x20 };
+inline constexpr uint32_t kStageVertex = 0x1, kStageFragment = 0x10, kStageCompute = 0x20;
 /// One binding of a descriptor set as the C++ side creates it. A shared header lists a set's
 /// bindings in a table next to the binding numbers the GLSL uses: that table is the set layout
 /// (gpu::createDescriptorSets) and the build checks it against the compiled SPIR-V.
