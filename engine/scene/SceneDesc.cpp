@@ -9,16 +9,6 @@
 namespace orbis::scene {
 namespace {
 
-// nlohmann reports a byte offset; users want line and column.
-std::string lineColumn(std::string_view text, size_t byte) {
-    size_t line = 1, column = 1;
-    for (size_t i = 0; i < byte && i < text.size(); ++i) {
-        if (text[i] == '\n') ++line, column = 1;
-        else ++column;
-    }
-    return "line " + std::to_string(line) + ", column " + std::to_string(column);
-}
-
 constexpr const char* kDefaultTime = "2026-03-20T08:00:00Z";
 
 }  // namespace
@@ -62,16 +52,9 @@ Result<SceneDesc> parseSceneFile(const std::filesystem::path& file) {
 Result<SceneDesc> parseSceneText(std::string_view text, const std::filesystem::path& file,
                                  const std::filesystem::path& folder) {
     const std::string name = file.empty() ? std::string("<memory>") : file.string();
-    nlohmann::json root;
-    try {
-        root = nlohmann::json::parse(text.begin(), text.end());
-    } catch (const nlohmann::json::parse_error& e) {
-        std::string what = e.what();
-        // "[json.exception.parse_error.101] parse error at line 1, column 2: syntax error ..." -> keep the tail
-        const auto colon = what.find("syntax error");
-        what = colon != std::string::npos ? what.substr(colon) : "invalid JSON";
-        return Error{name + ": " + lineColumn(text, e.byte ? e.byte - 1 : 0) + ": " + what};
-    }
+    auto parsed = parseJsonText(text, name);
+    if (!parsed) return parsed.error();
+    const nlohmann::json& root = *parsed;
 
     SceneDesc scene;
     scene.file = file;
