@@ -1,10 +1,10 @@
 // orbis bench SCENE: frame time statistics, CPU and GPU per pass.
 #include "tools/orbis/Commands.h"
 
-#include "base/Log.h"
 #include "engine/scene/CameraPath.h"
 #include "layers/volume/VolumeLayer.h"
-#include "tools/orbis/Plot.h"
+#include "tools/orbis/BenchModes.h"
+#include "tools/orbis/BenchStats.h"
 #include "tools/orbis/Session.h"
 
 #include <nlohmann/json.hpp>
@@ -17,7 +17,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -52,40 +51,6 @@ const char* kHelp =
     "                     mode \"iso\": for each step count, with and without the secant/bisection\n"
     "                     refinement, ms/frame and the distance in voxels between each pixel's first\n"
     "                     hit and the reference's (refined, 4 x the largest count)\n";
-
-struct Stats {
-    double min = 0, median = 0, p95 = 0, mean = 0;
-};
-
-Stats summarize(std::vector<double> v) {
-    Stats s;
-    if (v.empty()) return s;
-    std::sort(v.begin(), v.end());
-    s.min = v.front();
-    s.median = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-    s.p95 = v[std::min(v.size() - 1, static_cast<size_t>(0.95 * double(v.size() - 1) + 0.5))];
-    for (double x : v) s.mean += x;
-    s.mean /= double(v.size());
-    return s;
-}
-
-nlohmann::json toJson(const Stats& s) {
-    return {{"min", s.min}, {"median", s.median}, {"p95", s.p95}, {"mean", s.mean}};
-}
-
-/// Root-mean-square difference over the RGB channels, in 0..255 units.
-double rmse(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
-    double sum = 0.0;
-    size_t n = 0;
-    for (size_t i = 0; i + 3 < a.size() && i + 3 < b.size(); i += 4)
-        for (size_t c = 0; c < 3; ++c, ++n) {
-            const double d = double(a[i + c]) - double(b[i + c]);
-            sum += d * d;
-        }
-    return n ? std::sqrt(sum / double(n)) : 0.0;
-}
-
-double psnr(double rmseValue) { return rmseValue > 0.0 ? 20.0 * std::log10(255.0 / rmseValue) : INFINITY; }
 
 uint64_t layerGpuBytes(const scene::Scene& scene) {
     uint64_t n = 0;
@@ -122,110 +87,6 @@ struct MemorySample {
     uint64_t rss = 0, layersGpu = 0, layersCache = 0;
     uint64_t deviceReserved = 0;   // every vkAllocateMemory block of the process
 };
-
-uint64_t itemsDrawn(const scene::Scene& scene) {
-    uint64_t n = 0;
-    for (const auto& r : scene.resources())
-        if (const scene::LayerStats* stats = r.layer->asStats(); stats && r.visible) n += stats->itemsDrawn();
-    return n;
-}
-
-/// The comma-separated numbers of `option`'s value ("1,2.5,4").
-std::vector<double> numberList(const std::string& option, const std::string& text) {
-    std::vector<double> values;
-    for (size_t start = 0; start <= text.size();) {
-        const size_t end = std::min(text.find(',', start), text.size());
-        const std::string item = text.substr(start, end - start);
-        char* stop = nullptr;
-        const double v = std::strtod(item.c_str(), &stop);
-        if (item.empty() || *stop != '\0' || !std::isfinite(v)) throw UsageError{option + ": '" + item + "' is not a number"};
-        values.push_back(v);
-        start = end + 1;
-    }
-    return values;
-}
-
-/// `orbis bench --sweep K=v1,v2,...`: one row per value.
-int sweep(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer, long frames, long warmup) {
-    const std::string spec = *args.value("--sweep");
-    const auto eq = spec.find('=');
-    if (eq == std::string::npos || eq == 0) throw UsageError{"--sweep expects NAME=v1,v2,... got '" + spec + "'"};
-    const std::string name = spec.substr(0, eq);
-    const std::vector<double> values = numberList("--sweep", spec.substr(eq + 1));
-    if (values.size() < 2) throw UsageError{"--sweep needs at least two values (the first is the reference)"};
-
-    struct Row {
-        double value, frameMs, gpuMs, cpuMs, rmse, psnr;
-        uint64_t items;
-    };
-    std::vector<Row> rows;
-    std::vector<uint8_t> reference;
-    for (double v : values) {
-        bool known = false;
-        for (auto& r : scene.resources())
-            if (scene::LiveSettings* live = r.layer->asLiveSettings(); live && r.visible)
-                known = live->setParameter(name, v) || known;
-        if (!known) {
-            std::fprintf(stderr, "orbis: no visible layer of %s has a parameter '%s'\n", args.positional()[0].c_str(),
-                         name.c_str());
-            return kBadInput;
-        }
-        scene.time().advance(0.0);
-        renderer.settle(scene, 600.0);
-        std::vector<double> wall, gpuTotal, cpu;
-        for (long i = 0; i < warmup + frames; ++i) {
-            const auto t0 = std::chrono::steady_clock::now();
-            const auto frame = renderer.render(scene, false);
-            const auto times = renderer.gpuTimes(frame);
-            if (i < warmup) continue;
-            wall.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-            cpu.push_back(frame.cpuMs);
-            double total = 0.0;
-            for (const auto& p : times) total += p.ms;
-            gpuTotal.push_back(total);
-        }
-        const auto frame = renderer.render(scene, true);
-        const std::vector<uint8_t> pixels = renderer.readPixels(frame);
-        if (reference.empty()) reference = pixels;
-        const double e = rmse(reference, pixels);
-        rows.push_back({v, summarize(wall).median, summarize(gpuTotal).median, summarize(cpu).median, e, psnr(e),
-                        itemsDrawn(scene)});
-    }
-
-    const auto& info = gpu.device->info();
-    if (args.flag("--json")) {
-        nlohmann::json out;
-        out["scene"] = args.positional()[0];
-        out["device"] = {{"name", info.name}, {"type", info.type}};
-        out["size"] = {renderer.width(), renderer.height()};
-        out["parameter"] = name;
-        for (const auto& r : rows)
-            out["rows"].push_back({{"value", r.value}, {"frame_ms", r.frameMs}, {"gpu_ms", r.gpuMs}, {"cpu_ms", r.cpuMs},
-                                   {"items", r.items}, {"rmse", r.rmse}, {"psnr", std::isfinite(r.psnr) ? r.psnr : 999.0}});
-        std::printf("%s\n", out.dump(2).c_str());
-    } else {
-        std::printf("orbis bench %s --sweep %s  %ux%u  %ld frames each  device: %s (%s)\n", args.positional()[0].c_str(),
-                    name.c_str(), renderer.width(), renderer.height(), frames, info.name.c_str(), info.type.c_str());
-        std::printf("%-12s %12s %10s %10s %8s %10s %10s\n", name.substr(0, 12).c_str(), "frame ms", "gpu ms", "cpu ms",
-                    "items", "RMSE", "PSNR dB");
-        for (const auto& r : rows)
-            std::printf("%-12g %12.2f %10.2f %10.2f %8llu %10.3f %10.2f\n", r.value, r.frameMs, r.gpuMs, r.cpuMs,
-                        static_cast<unsigned long long>(r.items), r.rmse, r.psnr);
-        std::printf("(medians; error against the first value's image, in 0..255 units)\n");
-    }
-    std::vector<PlotPoint> points;
-    for (const auto& r : rows) {
-        char label[32];
-        std::snprintf(label, sizeof label, "%g", r.value);
-        points.push_back({r.frameMs, r.rmse, label});
-    }
-    // The curve runs from the fastest setting to the slowest, whatever order they were given in.
-    std::stable_sort(points.begin(), points.end(), [](const PlotPoint& a, const PlotPoint& b) { return a.x < b.x; });
-    const std::string plotFile = args.value("--plot").value_or("orbis-sweep.png");
-    if (auto ok = writePng(plotFile, plotPoints(points)); !ok) return badInput(ok.message());
-    log::info("wrote the plot ", plotFile, " (x: ms per frame, y: RMSE against ", name, "=", values.front(), ")");
-    return validationExitCode(gpu);
-}
 
 /// `orbis bench --iso-error N1,N2,...`: isosurface position error against the step count.
 int isoError(const Args& args, GpuSession& gpu, uint32_t width, uint32_t height, long frames, long warmup) {
@@ -347,13 +208,6 @@ int isoError(const Args& args, GpuSession& gpu, uint32_t width, uint32_t height,
 }
 }  // namespace
 
-/// `orbis bench --tiles LEVEL` (TileBench.cpp).
-int tileBench(const Args& args, scene::Scene& scene, long level, unsigned threads);
-/// `orbis bench --video FILE` (VideoBench.cpp).
-int videoBench(const std::string& file, long seeks);
-/// `orbis bench --poses FILE` (PoseBench.cpp).
-int poseBench(const std::string& file);
-
 int benchCommand(const std::vector<std::string>& argv) {
     std::set<std::string> valued = gpuValuedOptions();
     valued.insert({"--frames", "--warmup", "--size", "--time", "--camera-path", "--sweep", "--plot", "--tiles", "--threads",
@@ -392,7 +246,7 @@ int benchCommand(const std::vector<std::string>& argv) {
     }
     if (args.value("--iso-error")) return isoError(args, gpu, width, height, frames, warmup);
     render::Renderer renderer(*gpu.device, width, height);
-    if (args.value("--sweep")) return sweep(args, gpu, *scene, renderer, frames, warmup);
+    if (args.value("--sweep")) return sweepBench(args, gpu, *scene, renderer, frames, warmup);
     std::vector<double> items;
     uint64_t maxGpuBytes = 0, maxCacheBytes = 0;
     std::vector<MemorySample> memory;   // at the first measured frame and every tenth of them
