@@ -15,6 +15,9 @@ namespace orbis::cli {
 /// `orbis bench SCENE --sweep K=v1,v2,...`: one row per value (BenchSweep.cpp).
 int sweepBench(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer, long frames,
                long warmup);
+/// `orbis bench SCENE --iso-error N1,N2,...`: isosurface position error against the step
+/// count (BenchIsoError.cpp).
+int isoErrorBench(const Args& args, GpuSession& gpu, uint32_t width, uint32_t height, long frames, long warmup);
 /// `orbis bench SCENE --tiles LEVEL` (TileBench.cpp).
 int tileBench(const Args& args, scene::Scene& scene, long level, unsigned threads);
 /// `orbis bench --video FILE` (VideoBench.cpp).
