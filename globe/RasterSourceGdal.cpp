@@ -431,22 +431,26 @@ Result<bool> RasterSource::Impl::inspect(GDALDatasetH ds) {
     return true;
 }
 
-Result<bool> RasterSource::Impl::planBands(GDALDatasetH ds) {
-    auto bandError = [&](int b) {
-        return error("band " + std::to_string(b) + " out of range: the file has " + std::to_string(bandCount) +
-                     (bandCount == 1 ? " band" : " bands"));
-    };
-    for (int b : options.bands)
-        if (b < 1 || b > bandCount) return bandError(b);
-    auto interp = [&](int b) { return GDALGetRasterColorInterpretation(GDALGetRasterBand(ds, b)); };
+namespace {
 
+GDALColorInterp interpretationOf(GDALDatasetH ds, int band) {
+    return GDALGetRasterColorInterpretation(GDALGetRasterBand(ds, band));
+}
+
+}  // namespace
+
+Result<bool> RasterSource::Impl::chooseBands(GDALDatasetH ds) {
+    for (int b : options.bands)
+        if (b < 1 || b > bandCount)
+            return error("band " + std::to_string(b) + " out of range: the file has " + std::to_string(bandCount) +
+                         (bandCount == 1 ? " band" : " bands"));
     if (role == RasterRole::Elevation) {
         if (options.bands.size() > 1) return error("an elevation source reads exactly one band");
         bands = {options.bands.empty() ? 1 : options.bands[0]};
-    } else if (options.bands.empty()) {
+        return true;
+    }
+    if (options.bands.empty()) {
         bands = bandCount >= 3 ? std::vector<int>{1, 2, 3} : std::vector<int>{1};
-        for (int b = 1; b <= bandCount && !srcAlpha; ++b)
-            if (interp(b) == GCI_AlphaBand && std::find(bands.begin(), bands.end(), b) == bands.end()) srcAlpha = b;
     } else {
         const size_t n = options.bands.size();
         if (n != 1 && n != 2 && n != 3 && n != 4)
@@ -454,10 +458,14 @@ Result<bool> RasterSource::Impl::planBands(GDALDatasetH ds) {
                          std::to_string(n));
         bands.assign(options.bands.begin(), options.bands.begin() + (n == 2 || n == 4 ? long(n) - 1 : long(n)));
         if (n == 2 || n == 4) srcAlpha = options.bands.back();
-        for (int b = 1; b <= bandCount && !srcAlpha; ++b)
-            if (interp(b) == GCI_AlphaBand && std::find(bands.begin(), bands.end(), b) == bands.end()) srcAlpha = b;
     }
+    // Without an alpha band named, the file's own (one it does not read as colour).
+    for (int b = 1; b <= bandCount && !srcAlpha; ++b)
+        if (interpretationOf(ds, b) == GCI_AlphaBand && std::find(bands.begin(), bands.end(), b) == bands.end()) srcAlpha = b;
+    return true;
+}
 
+Result<bool> RasterSource::Impl::chooseWorkType(GDALDatasetH ds) {
     workType = role == RasterRole::Elevation ? GDT_Float32 : GDT_Byte;
     for (int b : bands) {
         GDALRasterBandH band = GDALGetRasterBand(ds, b);
@@ -466,9 +474,12 @@ Result<bool> RasterSource::Impl::planBands(GDALDatasetH ds) {
             return error("band " + std::to_string(b) + " has complex values (" + typeName(t) + "): not supported");
         if (t != GDT_Byte) workType = GDT_Float32;
     }
+    return true;
+}
 
+void RasterSource::Impl::readPalette(GDALDatasetH ds) {
     GDALRasterBandH first = GDALGetRasterBand(ds, bands[0]);
-    if (role == RasterRole::Imagery && bands.size() == 1 && interp(bands[0]) == GCI_PaletteIndex &&
+    if (role == RasterRole::Imagery && bands.size() == 1 && interpretationOf(ds, bands[0]) == GCI_PaletteIndex &&
         GDALGetRasterColorTable(first) && workType == GDT_Byte) {
         palette = true;
         GDALColorTableH table = GDALGetRasterColorTable(first);
@@ -479,14 +490,19 @@ Result<bool> RasterSource::Impl::planBands(GDALDatasetH ds) {
             paletteRgba[size_t(i)] = {uint8_t(c.c1), uint8_t(c.c2), uint8_t(c.c3), uint8_t(c.c4)};
         }
     }
+}
 
+Result<bool> RasterSource::Impl::chooseResampling() {
     std::string alg = options.resampling;
     if (alg.empty()) alg = role == RasterRole::Elevation ? "bilinear" : "cubic";
     if (palette) alg = "near";  // interpolated colour indices are meaningless
     bool known = false;
     resample = resampleAlg(alg, &known);
     if (!known) return error("unknown resampling \"" + alg + "\" (near, bilinear, cubic, lanczos, average, ...)");
+    return true;
+}
 
+void RasterSource::Impl::readNoData(GDALDatasetH ds) {
     bool anyNoData = options.noData.has_value();
     for (int b : bands) {
         int has = 0;
@@ -495,34 +511,48 @@ Result<bool> RasterSource::Impl::planBands(GDALDatasetH ds) {
         anyNoData = anyNoData || has;
     }
     if (!anyNoData) noData.clear();
+}
 
+Result<bool> RasterSource::Impl::readValueScaling(GDALDatasetH ds) {
     if (role == RasterRole::Elevation) {
+        GDALRasterBandH first = GDALGetRasterBand(ds, bands[0]);
         int hasScale = 0, hasOffset = 0;
         const double scale = GDALGetRasterScale(first, &hasScale), offset = GDALGetRasterOffset(first, &hasOffset);
         if (hasScale && scale != 0.0) valueScale = scale;
         if (hasOffset) valueOffset = offset;
-    } else if (workType != GDT_Byte) {
-        for (int b : bands) {
-            std::pair<double, double> range;
-            if (options.scaleRange) {
-                range = *options.scaleRange;
-            } else {
-                GDALRasterBandH band = GDALGetRasterBand(ds, b);
-                int hasMin = 0, hasMax = 0;
-                range = {GDALGetRasterMinimum(band, &hasMin), GDALGetRasterMaximum(band, &hasMax)};
-                if (!hasMin || !hasMax) {
-                    double mm[2] = {0.0, 255.0};
-                    GdalErrors errors;
-                    if (GDALComputeRasterMinMax(band, TRUE, mm) != CE_None)
-                        return error("cannot compute the value range of band " + std::to_string(b) + ": " +
-                                     errors.text() + " (give scaleRange)");
-                    range = {mm[0], mm[1]};
-                }
-            }
-            valueRange.push_back(range);
-        }
+        return true;
     }
+    if (workType == GDT_Byte) return true;
+    for (int b : bands) {
+        std::pair<double, double> range;
+        if (options.scaleRange) {
+            range = *options.scaleRange;
+        } else {
+            GDALRasterBandH band = GDALGetRasterBand(ds, b);
+            int hasMin = 0, hasMax = 0;
+            range = {GDALGetRasterMinimum(band, &hasMin), GDALGetRasterMaximum(band, &hasMax)};
+            if (!hasMin || !hasMax) {
+                double mm[2] = {0.0, 255.0};
+                GdalErrors errors;
+                if (GDALComputeRasterMinMax(band, TRUE, mm) != CE_None)
+                    return error("cannot compute the value range of band " + std::to_string(b) + ": " +
+                                 errors.text() + " (give scaleRange)");
+                range = {mm[0], mm[1]};
+            }
+        }
+        valueRange.push_back(range);
+    }
+    return true;
+}
 
+Result<bool> RasterSource::Impl::planBands(GDALDatasetH ds) {
+    if (auto r = chooseBands(ds); !r) return r;
+    if (auto r = chooseWorkType(ds); !r) return r;
+    readPalette(ds);
+    if (auto r = chooseResampling(); !r) return r;
+    readNoData(ds);
+    if (auto r = readValueScaling(ds); !r) return r;
+    GDALRasterBandH first = GDALGetRasterBand(ds, bands[0]);
     for (int i = 0, n = GDALGetOverviewCount(first); i < n; ++i) {
         GDALRasterBandH o = GDALGetOverview(first, i);
         if (o) overviews.emplace_back(GDALGetRasterBandXSize(o), GDALGetRasterBandYSize(o));

@@ -206,6 +206,13 @@ struct RasterSource::Impl {
     // Opening, in this order.
     Result<bool> inspect(GDALDatasetH ds);
     Result<bool> planBands(GDALDatasetH ds);
+    // planBands' steps, in this order.
+    Result<bool> chooseBands(GDALDatasetH ds);   // bands, srcAlpha
+    Result<bool> chooseWorkType(GDALDatasetH ds);
+    void readPalette(GDALDatasetH ds);
+    Result<bool> chooseResampling();
+    void readNoData(GDALDatasetH ds);
+    Result<bool> readValueScaling(GDALDatasetH ds);   // valueScale/valueOffset, or valueRange
     Result<bool> computeCoverage(Level& full);
     void computeLevels();
     Result<bool> probe(GDALDatasetH ds) const;
