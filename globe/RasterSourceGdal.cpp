@@ -280,6 +280,65 @@ Result<WarpOp*> RasterSource::Impl::warpOp(Handle& h, Level& level, int size) co
     return &level.ops.back();
 }
 
+std::optional<raster_detail::PixelBox> RasterSource::Impl::tileInSource(Handle& h, const double gt[6], int size) const {
+    GDALSetGenImgProjTransformerDstGeoTransform(h.levels[0].genImg, gt);
+    constexpr int kGrid = 9;
+    std::array<double, kGrid * kGrid> xs, ys, zs;
+    std::array<int, kGrid * kGrid> ok;
+    for (int j = 0; j < kGrid; ++j)
+        for (int i = 0; i < kGrid; ++i) {
+            xs[size_t(j * kGrid + i)] = double(size) * i / (kGrid - 1);
+            ys[size_t(j * kGrid + i)] = double(size) * j / (kGrid - 1);
+            zs[size_t(j * kGrid + i)] = 0.0;
+        }
+    {
+        GdalErrors quiet;  // points outside the projection's domain fail: expected
+        GDALGenImgProjTransform(h.levels[0].genImg, TRUE, kGrid * kGrid, xs.data(), ys.data(), zs.data(), ok.data());
+    }
+    raster_detail::PixelBox box{1e300, 1e300, -1e300, -1e300};
+    for (size_t k = 0; k < xs.size(); ++k) {
+        if (!ok[k] || !std::isfinite(xs[k]) || !std::isfinite(ys[k])) continue;
+        box.x0 = std::min(box.x0, xs[k]), box.x1 = std::max(box.x1, xs[k]);
+        box.y0 = std::min(box.y0, ys[k]), box.y1 = std::max(box.y1, ys[k]);
+    }
+    if (box.x0 > box.x1) return std::nullopt;
+    return box;
+}
+
+bool RasterSource::Impl::overTileBudget(const raster_detail::PixelBox& clipped, int level, const GeoExtent& extent) const {
+    const double fx = level ? double(width) / overviews[size_t(level - 1)].first : 1.0;
+    const double fy = level ? double(height) / overviews[size_t(level - 1)].second : 1.0;
+    const double pixels = ((clipped.x1 - clipped.x0) / fx + 2.0) * ((clipped.y1 - clipped.y0) / fy + 2.0);
+    if (pixels <= double(RasterSource::kMaxSourcePixelsPerTile)) return false;
+    log::trace(name, ": ", fmtExtent(extent), " would read ", uint64_t(pixels), " source pixels: left empty");
+    return true;
+}
+
+Result<bool> RasterSource::Impl::warpLevel(Handle& h, int level, const double gt[6], int size, const GeoExtent& extent,
+                                           const jobs::CancelToken* cancel, void* bandsOut, uint8_t* alphaOut) const {
+    if (auto r = ensureLevel(h, level); !r) return r.error();
+    Level& lv = h.levels[size_t(level)];
+    GDALSetGenImgProjTransformerDstGeoTransform(lv.genImg, gt);
+    auto op = warpOp(h, lv, size);
+    if (!op) return op.error();
+    const int nb = int(bands.size());
+    GDALRasterBandH alphaBand = alphaOut ? GDALGetRasterBand((*op)->alphaDst, nb + 1) : nullptr;
+    GdalErrors errors;
+    if (alphaBand) {
+        std::memset(alphaOut, 0, size_t(size) * size_t(size));
+        if (GDALRasterIO(alphaBand, GF_Write, 0, 0, size, size, alphaOut, size, size, GDT_Byte, 0, 0) != CE_None)
+            return error("cannot reset the alpha buffer: " + errors.text());
+    }
+    if (isCancelled(cancel)) return error("cancelled");
+    const CPLErr e = (*op)->op->WarpRegionToBuffer(0, 0, size, size, bandsOut, workType);
+    if (isCancelled(cancel)) return error("cancelled");
+    if (e != CE_None) return error("reading " + fmtExtent(extent) + ": " + errors.text());
+    if (alphaBand &&
+        GDALRasterIO(alphaBand, GF_Read, 0, 0, size, size, alphaOut, size, size, GDT_Byte, 0, 0) != CE_None)
+        return error("cannot read the alpha buffer: " + errors.text());
+    return true;
+}
+
 /// Warps the source into planar `bandsOut` (bands.size() planes of workType, pre-filled by the
 /// caller) and, for imagery, the coverage into `alphaOut`. False: nothing to read (outside the
 /// coverage or over the per-tile budget), outputs untouched.
@@ -303,62 +362,14 @@ Result<bool> RasterSource::Impl::warp(const GeoExtent& extent, int size, bool co
     const double half = cornerAligned ? 0.5 : 0.0;
     const double gt[6] = {extent.west - half * dx, dx, 0.0, extent.north + half * dy, 0.0, -dy};
 
-    // Where the tile lies in full-resolution source pixels: a grid over it, exactly transformed.
-    GDALSetGenImgProjTransformerDstGeoTransform(h.levels[0].genImg, gt);
-    constexpr int kGrid = 9;
-    std::array<double, kGrid * kGrid> xs, ys, zs;
-    std::array<int, kGrid * kGrid> ok;
-    for (int j = 0; j < kGrid; ++j)
-        for (int i = 0; i < kGrid; ++i) {
-            xs[size_t(j * kGrid + i)] = double(size) * i / (kGrid - 1);
-            ys[size_t(j * kGrid + i)] = double(size) * j / (kGrid - 1);
-            zs[size_t(j * kGrid + i)] = 0.0;
-        }
-    {
-        GdalErrors quiet;  // points outside the projection's domain fail: expected
-        GDALGenImgProjTransform(h.levels[0].genImg, TRUE, kGrid * kGrid, xs.data(), ys.data(), zs.data(), ok.data());
-    }
-    double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
-    for (size_t k = 0; k < xs.size(); ++k) {
-        if (!ok[k] || !std::isfinite(xs[k]) || !std::isfinite(ys[k])) continue;
-        x0 = std::min(x0, xs[k]), x1 = std::max(x1, xs[k]);
-        y0 = std::min(y0, ys[k]), y1 = std::max(y1, ys[k]);
-    }
-    if (x0 > x1) return false;
-    const double cx0 = std::max(0.0, x0), cx1 = std::min(double(width), x1);
-    const double cy0 = std::max(0.0, y0), cy1 = std::min(double(height), y1);
-    if (cx1 <= cx0 || cy1 <= cy0) return false;
-
-    const int level = overviewFor(std::min(x1 - x0, y1 - y0) / size);
-    const double fx = level ? double(width) / overviews[size_t(level - 1)].first : 1.0;
-    const double fy = level ? double(height) / overviews[size_t(level - 1)].second : 1.0;
-    const double pixels = ((cx1 - cx0) / fx + 2.0) * ((cy1 - cy0) / fy + 2.0);
-    if (pixels > double(RasterSource::kMaxSourcePixelsPerTile)) {
-        log::trace(name, ": ", fmtExtent(extent), " would read ", uint64_t(pixels), " source pixels: left empty");
-        return false;
-    }
-
-    if (auto r = ensureLevel(h, level); !r) return r.error();
-    Level& lv = h.levels[size_t(level)];
-    GDALSetGenImgProjTransformerDstGeoTransform(lv.genImg, gt);
-    auto op = warpOp(h, lv, size);
-    if (!op) return op.error();
-    const int nb = int(bands.size());
-    GDALRasterBandH alphaBand = alphaOut ? GDALGetRasterBand((*op)->alphaDst, nb + 1) : nullptr;
-    GdalErrors errors;
-    if (alphaBand) {
-        std::memset(alphaOut, 0, size_t(size) * size_t(size));
-        if (GDALRasterIO(alphaBand, GF_Write, 0, 0, size, size, alphaOut, size, size, GDT_Byte, 0, 0) != CE_None)
-            return error("cannot reset the alpha buffer: " + errors.text());
-    }
-    if (isCancelled(cancel)) return error("cancelled");
-    const CPLErr e = (*op)->op->WarpRegionToBuffer(0, 0, size, size, bandsOut, workType);
-    if (isCancelled(cancel)) return error("cancelled");
-    if (e != CE_None) return error("reading " + fmtExtent(extent) + ": " + errors.text());
-    if (alphaBand &&
-        GDALRasterIO(alphaBand, GF_Read, 0, 0, size, size, alphaOut, size, size, GDT_Byte, 0, 0) != CE_None)
-        return error("cannot read the alpha buffer: " + errors.text());
-    return true;
+    const auto box = tileInSource(h, gt, size);
+    if (!box) return false;
+    const raster_detail::PixelBox clipped{std::max(0.0, box->x0), std::max(0.0, box->y0), std::min(double(width), box->x1),
+                                          std::min(double(height), box->y1)};
+    if (clipped.x1 <= clipped.x0 || clipped.y1 <= clipped.y0) return false;
+    const int level = overviewFor(std::min(box->x1 - box->x0, box->y1 - box->y0) / size);
+    if (overTileBudget(clipped, level, extent)) return false;
+    return warpLevel(h, level, gt, size, extent, cancel, bandsOut, alphaOut);
 }
 
 // ---------------------------------------------------------------------------------------------
