@@ -280,6 +280,65 @@ Result<WarpOp*> RasterSource::Impl::warpOp(Handle& h, Level& level, int size) co
     return &level.ops.back();
 }
 
+std::optional<raster_detail::PixelBox> RasterSource::Impl::tileInSource(Handle& h, const double gt[6], int size) const {
+    GDALSetGenImgProjTransformerDstGeoTransform(h.levels[0].genImg, gt);
+    constexpr int kGrid = 9;
+    std::array<double, kGrid * kGrid> xs, ys, zs;
+    std::array<int, kGrid * kGrid> ok;
+    for (int j = 0; j < kGrid; ++j)
+        for (int i = 0; i < kGrid; ++i) {
+            xs[size_t(j * kGrid + i)] = double(size) * i / (kGrid - 1);
+            ys[size_t(j * kGrid + i)] = double(size) * j / (kGrid - 1);
+            zs[size_t(j * kGrid + i)] = 0.0;
+        }
+    {
+        GdalErrors quiet;  // points outside the projection's domain fail: expected
+        GDALGenImgProjTransform(h.levels[0].genImg, TRUE, kGrid * kGrid, xs.data(), ys.data(), zs.data(), ok.data());
+    }
+    raster_detail::PixelBox box{1e300, 1e300, -1e300, -1e300};
+    for (size_t k = 0; k < xs.size(); ++k) {
+        if (!ok[k] || !std::isfinite(xs[k]) || !std::isfinite(ys[k])) continue;
+        box.x0 = std::min(box.x0, xs[k]), box.x1 = std::max(box.x1, xs[k]);
+        box.y0 = std::min(box.y0, ys[k]), box.y1 = std::max(box.y1, ys[k]);
+    }
+    if (box.x0 > box.x1) return std::nullopt;
+    return box;
+}
+
+bool RasterSource::Impl::overTileBudget(const raster_detail::PixelBox& clipped, int level, const GeoExtent& extent) const {
+    const double fx = level ? double(width) / overviews[size_t(level - 1)].first : 1.0;
+    const double fy = level ? double(height) / overviews[size_t(level - 1)].second : 1.0;
+    const double pixels = ((clipped.x1 - clipped.x0) / fx + 2.0) * ((clipped.y1 - clipped.y0) / fy + 2.0);
+    if (pixels <= double(RasterSource::kMaxSourcePixelsPerTile)) return false;
+    log::trace(name, ": ", fmtExtent(extent), " would read ", uint64_t(pixels), " source pixels: left empty");
+    return true;
+}
+
+Result<bool> RasterSource::Impl::warpLevel(Handle& h, int level, const double gt[6], int size, const GeoExtent& extent,
+                                           const jobs::CancelToken* cancel, void* bandsOut, uint8_t* alphaOut) const {
+    if (auto r = ensureLevel(h, level); !r) return r.error();
+    Level& lv = h.levels[size_t(level)];
+    GDALSetGenImgProjTransformerDstGeoTransform(lv.genImg, gt);
+    auto op = warpOp(h, lv, size);
+    if (!op) return op.error();
+    const int nb = int(bands.size());
+    GDALRasterBandH alphaBand = alphaOut ? GDALGetRasterBand((*op)->alphaDst, nb + 1) : nullptr;
+    GdalErrors errors;
+    if (alphaBand) {
+        std::memset(alphaOut, 0, size_t(size) * size_t(size));
+        if (GDALRasterIO(alphaBand, GF_Write, 0, 0, size, size, alphaOut, size, size, GDT_Byte, 0, 0) != CE_None)
+            return error("cannot reset the alpha buffer: " + errors.text());
+    }
+    if (isCancelled(cancel)) return error("cancelled");
+    const CPLErr e = (*op)->op->WarpRegionToBuffer(0, 0, size, size, bandsOut, workType);
+    if (isCancelled(cancel)) return error("cancelled");
+    if (e != CE_None) return error("reading " + fmtExtent(extent) + ": " + errors.text());
+    if (alphaBand &&
+        GDALRasterIO(alphaBand, GF_Read, 0, 0, size, size, alphaOut, size, size, GDT_Byte, 0, 0) != CE_None)
+        return error("cannot read the alpha buffer: " + errors.text());
+    return true;
+}
+
 /// Warps the source into planar `bandsOut` (bands.size() planes of workType, pre-filled by the
 /// caller) and, for imagery, the coverage into `alphaOut`. False: nothing to read (outside the
 /// coverage or over the per-tile budget), outputs untouched.
@@ -303,62 +362,14 @@ Result<bool> RasterSource::Impl::warp(const GeoExtent& extent, int size, bool co
     const double half = cornerAligned ? 0.5 : 0.0;
     const double gt[6] = {extent.west - half * dx, dx, 0.0, extent.north + half * dy, 0.0, -dy};
 
-    // Where the tile lies in full-resolution source pixels: a grid over it, exactly transformed.
-    GDALSetGenImgProjTransformerDstGeoTransform(h.levels[0].genImg, gt);
-    constexpr int kGrid = 9;
-    std::array<double, kGrid * kGrid> xs, ys, zs;
-    std::array<int, kGrid * kGrid> ok;
-    for (int j = 0; j < kGrid; ++j)
-        for (int i = 0; i < kGrid; ++i) {
-            xs[size_t(j * kGrid + i)] = double(size) * i / (kGrid - 1);
-            ys[size_t(j * kGrid + i)] = double(size) * j / (kGrid - 1);
-            zs[size_t(j * kGrid + i)] = 0.0;
-        }
-    {
-        GdalErrors quiet;  // points outside the projection's domain fail: expected
-        GDALGenImgProjTransform(h.levels[0].genImg, TRUE, kGrid * kGrid, xs.data(), ys.data(), zs.data(), ok.data());
-    }
-    double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
-    for (size_t k = 0; k < xs.size(); ++k) {
-        if (!ok[k] || !std::isfinite(xs[k]) || !std::isfinite(ys[k])) continue;
-        x0 = std::min(x0, xs[k]), x1 = std::max(x1, xs[k]);
-        y0 = std::min(y0, ys[k]), y1 = std::max(y1, ys[k]);
-    }
-    if (x0 > x1) return false;
-    const double cx0 = std::max(0.0, x0), cx1 = std::min(double(width), x1);
-    const double cy0 = std::max(0.0, y0), cy1 = std::min(double(height), y1);
-    if (cx1 <= cx0 || cy1 <= cy0) return false;
-
-    const int level = overviewFor(std::min(x1 - x0, y1 - y0) / size);
-    const double fx = level ? double(width) / overviews[size_t(level - 1)].first : 1.0;
-    const double fy = level ? double(height) / overviews[size_t(level - 1)].second : 1.0;
-    const double pixels = ((cx1 - cx0) / fx + 2.0) * ((cy1 - cy0) / fy + 2.0);
-    if (pixels > double(RasterSource::kMaxSourcePixelsPerTile)) {
-        log::trace(name, ": ", fmtExtent(extent), " would read ", uint64_t(pixels), " source pixels: left empty");
-        return false;
-    }
-
-    if (auto r = ensureLevel(h, level); !r) return r.error();
-    Level& lv = h.levels[size_t(level)];
-    GDALSetGenImgProjTransformerDstGeoTransform(lv.genImg, gt);
-    auto op = warpOp(h, lv, size);
-    if (!op) return op.error();
-    const int nb = int(bands.size());
-    GDALRasterBandH alphaBand = alphaOut ? GDALGetRasterBand((*op)->alphaDst, nb + 1) : nullptr;
-    GdalErrors errors;
-    if (alphaBand) {
-        std::memset(alphaOut, 0, size_t(size) * size_t(size));
-        if (GDALRasterIO(alphaBand, GF_Write, 0, 0, size, size, alphaOut, size, size, GDT_Byte, 0, 0) != CE_None)
-            return error("cannot reset the alpha buffer: " + errors.text());
-    }
-    if (isCancelled(cancel)) return error("cancelled");
-    const CPLErr e = (*op)->op->WarpRegionToBuffer(0, 0, size, size, bandsOut, workType);
-    if (isCancelled(cancel)) return error("cancelled");
-    if (e != CE_None) return error("reading " + fmtExtent(extent) + ": " + errors.text());
-    if (alphaBand &&
-        GDALRasterIO(alphaBand, GF_Read, 0, 0, size, size, alphaOut, size, size, GDT_Byte, 0, 0) != CE_None)
-        return error("cannot read the alpha buffer: " + errors.text());
-    return true;
+    const auto box = tileInSource(h, gt, size);
+    if (!box) return false;
+    const raster_detail::PixelBox clipped{std::max(0.0, box->x0), std::max(0.0, box->y0), std::min(double(width), box->x1),
+                                          std::min(double(height), box->y1)};
+    if (clipped.x1 <= clipped.x0 || clipped.y1 <= clipped.y0) return false;
+    const int level = overviewFor(std::min(box->x1 - box->x0, box->y1 - box->y0) / size);
+    if (overTileBudget(clipped, level, extent)) return false;
+    return warpLevel(h, level, gt, size, extent, cancel, bandsOut, alphaOut);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -431,22 +442,26 @@ Result<bool> RasterSource::Impl::inspect(GDALDatasetH ds) {
     return true;
 }
 
-Result<bool> RasterSource::Impl::planBands(GDALDatasetH ds) {
-    auto bandError = [&](int b) {
-        return error("band " + std::to_string(b) + " out of range: the file has " + std::to_string(bandCount) +
-                     (bandCount == 1 ? " band" : " bands"));
-    };
-    for (int b : options.bands)
-        if (b < 1 || b > bandCount) return bandError(b);
-    auto interp = [&](int b) { return GDALGetRasterColorInterpretation(GDALGetRasterBand(ds, b)); };
+namespace {
 
+GDALColorInterp interpretationOf(GDALDatasetH ds, int band) {
+    return GDALGetRasterColorInterpretation(GDALGetRasterBand(ds, band));
+}
+
+}  // namespace
+
+Result<bool> RasterSource::Impl::chooseBands(GDALDatasetH ds) {
+    for (int b : options.bands)
+        if (b < 1 || b > bandCount)
+            return error("band " + std::to_string(b) + " out of range: the file has " + std::to_string(bandCount) +
+                         (bandCount == 1 ? " band" : " bands"));
     if (role == RasterRole::Elevation) {
         if (options.bands.size() > 1) return error("an elevation source reads exactly one band");
         bands = {options.bands.empty() ? 1 : options.bands[0]};
-    } else if (options.bands.empty()) {
+        return true;
+    }
+    if (options.bands.empty()) {
         bands = bandCount >= 3 ? std::vector<int>{1, 2, 3} : std::vector<int>{1};
-        for (int b = 1; b <= bandCount && !srcAlpha; ++b)
-            if (interp(b) == GCI_AlphaBand && std::find(bands.begin(), bands.end(), b) == bands.end()) srcAlpha = b;
     } else {
         const size_t n = options.bands.size();
         if (n != 1 && n != 2 && n != 3 && n != 4)
@@ -454,10 +469,14 @@ Result<bool> RasterSource::Impl::planBands(GDALDatasetH ds) {
                          std::to_string(n));
         bands.assign(options.bands.begin(), options.bands.begin() + (n == 2 || n == 4 ? long(n) - 1 : long(n)));
         if (n == 2 || n == 4) srcAlpha = options.bands.back();
-        for (int b = 1; b <= bandCount && !srcAlpha; ++b)
-            if (interp(b) == GCI_AlphaBand && std::find(bands.begin(), bands.end(), b) == bands.end()) srcAlpha = b;
     }
+    // Without an alpha band named, the file's own (one it does not read as colour).
+    for (int b = 1; b <= bandCount && !srcAlpha; ++b)
+        if (interpretationOf(ds, b) == GCI_AlphaBand && std::find(bands.begin(), bands.end(), b) == bands.end()) srcAlpha = b;
+    return true;
+}
 
+Result<bool> RasterSource::Impl::chooseWorkType(GDALDatasetH ds) {
     workType = role == RasterRole::Elevation ? GDT_Float32 : GDT_Byte;
     for (int b : bands) {
         GDALRasterBandH band = GDALGetRasterBand(ds, b);
@@ -466,9 +485,12 @@ Result<bool> RasterSource::Impl::planBands(GDALDatasetH ds) {
             return error("band " + std::to_string(b) + " has complex values (" + typeName(t) + "): not supported");
         if (t != GDT_Byte) workType = GDT_Float32;
     }
+    return true;
+}
 
+void RasterSource::Impl::readPalette(GDALDatasetH ds) {
     GDALRasterBandH first = GDALGetRasterBand(ds, bands[0]);
-    if (role == RasterRole::Imagery && bands.size() == 1 && interp(bands[0]) == GCI_PaletteIndex &&
+    if (role == RasterRole::Imagery && bands.size() == 1 && interpretationOf(ds, bands[0]) == GCI_PaletteIndex &&
         GDALGetRasterColorTable(first) && workType == GDT_Byte) {
         palette = true;
         GDALColorTableH table = GDALGetRasterColorTable(first);
@@ -479,14 +501,19 @@ Result<bool> RasterSource::Impl::planBands(GDALDatasetH ds) {
             paletteRgba[size_t(i)] = {uint8_t(c.c1), uint8_t(c.c2), uint8_t(c.c3), uint8_t(c.c4)};
         }
     }
+}
 
+Result<bool> RasterSource::Impl::chooseResampling() {
     std::string alg = options.resampling;
     if (alg.empty()) alg = role == RasterRole::Elevation ? "bilinear" : "cubic";
     if (palette) alg = "near";  // interpolated colour indices are meaningless
     bool known = false;
     resample = resampleAlg(alg, &known);
     if (!known) return error("unknown resampling \"" + alg + "\" (near, bilinear, cubic, lanczos, average, ...)");
+    return true;
+}
 
+void RasterSource::Impl::readNoData(GDALDatasetH ds) {
     bool anyNoData = options.noData.has_value();
     for (int b : bands) {
         int has = 0;
@@ -495,34 +522,48 @@ Result<bool> RasterSource::Impl::planBands(GDALDatasetH ds) {
         anyNoData = anyNoData || has;
     }
     if (!anyNoData) noData.clear();
+}
 
+Result<bool> RasterSource::Impl::readValueScaling(GDALDatasetH ds) {
     if (role == RasterRole::Elevation) {
+        GDALRasterBandH first = GDALGetRasterBand(ds, bands[0]);
         int hasScale = 0, hasOffset = 0;
         const double scale = GDALGetRasterScale(first, &hasScale), offset = GDALGetRasterOffset(first, &hasOffset);
         if (hasScale && scale != 0.0) valueScale = scale;
         if (hasOffset) valueOffset = offset;
-    } else if (workType != GDT_Byte) {
-        for (int b : bands) {
-            std::pair<double, double> range;
-            if (options.scaleRange) {
-                range = *options.scaleRange;
-            } else {
-                GDALRasterBandH band = GDALGetRasterBand(ds, b);
-                int hasMin = 0, hasMax = 0;
-                range = {GDALGetRasterMinimum(band, &hasMin), GDALGetRasterMaximum(band, &hasMax)};
-                if (!hasMin || !hasMax) {
-                    double mm[2] = {0.0, 255.0};
-                    GdalErrors errors;
-                    if (GDALComputeRasterMinMax(band, TRUE, mm) != CE_None)
-                        return error("cannot compute the value range of band " + std::to_string(b) + ": " +
-                                     errors.text() + " (give scaleRange)");
-                    range = {mm[0], mm[1]};
-                }
-            }
-            valueRange.push_back(range);
-        }
+        return true;
     }
+    if (workType == GDT_Byte) return true;
+    for (int b : bands) {
+        std::pair<double, double> range;
+        if (options.scaleRange) {
+            range = *options.scaleRange;
+        } else {
+            GDALRasterBandH band = GDALGetRasterBand(ds, b);
+            int hasMin = 0, hasMax = 0;
+            range = {GDALGetRasterMinimum(band, &hasMin), GDALGetRasterMaximum(band, &hasMax)};
+            if (!hasMin || !hasMax) {
+                double mm[2] = {0.0, 255.0};
+                GdalErrors errors;
+                if (GDALComputeRasterMinMax(band, TRUE, mm) != CE_None)
+                    return error("cannot compute the value range of band " + std::to_string(b) + ": " +
+                                 errors.text() + " (give scaleRange)");
+                range = {mm[0], mm[1]};
+            }
+        }
+        valueRange.push_back(range);
+    }
+    return true;
+}
 
+Result<bool> RasterSource::Impl::planBands(GDALDatasetH ds) {
+    if (auto r = chooseBands(ds); !r) return r;
+    if (auto r = chooseWorkType(ds); !r) return r;
+    readPalette(ds);
+    if (auto r = chooseResampling(); !r) return r;
+    readNoData(ds);
+    if (auto r = readValueScaling(ds); !r) return r;
+    GDALRasterBandH first = GDALGetRasterBand(ds, bands[0]);
     for (int i = 0, n = GDALGetOverviewCount(first); i < n; ++i) {
         GDALRasterBandH o = GDALGetOverview(first, i);
         if (o) overviews.emplace_back(GDALGetRasterBandXSize(o), GDALGetRasterBandYSize(o));

@@ -135,6 +135,11 @@ struct Handle {
     const jobs::CancelToken* cancel = nullptr;  // the current call's, for the progress callback
 };
 
+/// A box in a source's full-resolution pixels.
+struct PixelBox {
+    double x0, y0, x1, y1;
+};
+
 /// GDALWarpOperation's progress callback: stops the warp when the handle's call is cancelled.
 int CPL_STDCALL warpProgress(double, const char*, void* arg);
 
@@ -206,6 +211,13 @@ struct RasterSource::Impl {
     // Opening, in this order.
     Result<bool> inspect(GDALDatasetH ds);
     Result<bool> planBands(GDALDatasetH ds);
+    // planBands' steps, in this order.
+    Result<bool> chooseBands(GDALDatasetH ds);   // bands, srcAlpha
+    Result<bool> chooseWorkType(GDALDatasetH ds);
+    void readPalette(GDALDatasetH ds);
+    Result<bool> chooseResampling();
+    void readNoData(GDALDatasetH ds);
+    Result<bool> readValueScaling(GDALDatasetH ds);   // valueScale/valueOffset, or valueRange
     Result<bool> computeCoverage(Level& full);
     void computeLevels();
     Result<bool> probe(GDALDatasetH ds) const;
@@ -221,6 +233,15 @@ struct RasterSource::Impl {
     Result<WarpOp*> warpOp(Handle& h, Level& level, int size) const;
     Result<bool> warp(const GeoExtent& extent, int size, bool cornerAligned, const jobs::CancelToken* cancel,
                       void* bandsOut, uint8_t* alphaOut) const;
+    // warp's steps.
+    /// Where the tile (destination geotransform `gt`, size x size pixels) lies in full-resolution
+    /// source pixels: a grid over it, exactly transformed. Nothing when no point of it maps.
+    std::optional<raster_detail::PixelBox> tileInSource(Handle& h, const double gt[6], int size) const;
+    /// True (and logged) when reading `clipped` at overview `level` is over the per-tile budget.
+    bool overTileBudget(const raster_detail::PixelBox& clipped, int level, const GeoExtent& extent) const;
+    /// Warps at overview `level` (0: full resolution) into the outputs; see warp().
+    Result<bool> warpLevel(Handle& h, int level, const double gt[6], int size, const GeoExtent& extent,
+                           const jobs::CancelToken* cancel, void* bandsOut, uint8_t* alphaOut) const;
 };
 
 }  // namespace orbis::globe

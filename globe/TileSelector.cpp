@@ -271,7 +271,7 @@ bool TileSelector::evaluate(const TileKey& key, const HeightRangeFn& heightRange
     return true;
 }
 
-const std::vector<SelectedTile>& TileSelector::select(const SelectorView& view, const HeightRangeFn& heightRange) {
+void TileSelector::beginSelect(const SelectorView& view) {
     stats_ = {};
     selected_.clear();
     refinedNow_.clear();
@@ -289,59 +289,56 @@ const std::vector<SelectedTile>& TileSelector::select(const SelectorView& view, 
         geometricError_[l] = l < settings_.detailLevel
                                  ? geometricError(TileKey{l, 0, 0}, settings_.gridSize, *ellipsoid_)
                                  : curvatureError(TileKey{l, 0, 0}, settings_.gridSize, *ellipsoid_);
+}
 
-    for (const TileKey& root : TileKey::roots()) {
-        Node n;
-        if (evaluate(root, heightRange, n)) frontier_.push_back(n);
+void TileSelector::markRefinements() {
+    candidates_.clear();
+    size_t forced = 0;
+    for (uint32_t i = 0; i < frontier_.size(); ++i) {
+        Node& n = frontier_[i];
+        n.refine = wantsRefine(n);
+        if (!n.refine) continue;
+        if (n.key.level < settings_.minLevel) ++forced;
+        else candidates_.push_back(i);
     }
-
-    // Breadth-first, so that a tile budget can go to the worst tiles first; the output is
-    // sorted into depth-first order at the end.
-    while (!frontier_.empty()) {
-        candidates_.clear();
-        size_t forced = 0;
-        for (uint32_t i = 0; i < frontier_.size(); ++i) {
-            Node& n = frontier_[i];
-            n.refine = wantsRefine(n);
-            if (!n.refine) continue;
-            if (n.key.level < settings_.minLevel) ++forced;
-            else candidates_.push_back(i);
-        }
-        // Refining one tile replaces it by at most four: three more.
-        const size_t committed = selected_.size() + frontier_.size();
-        const size_t worst = committed + 3 * (forced + candidates_.size());
-        if (worst > settings_.maxTiles && !candidates_.empty()) {
-            stats_.budgetLimited = true;
-            const size_t base = committed + 3 * forced;
-            const size_t allowed = settings_.maxTiles > base ? (settings_.maxTiles - base) / 3 : 0;
-            // Largest error first, in 1 % bins so that tiles of equal error (all pole tiles
-            // seen from the pole) are ordered by how squarely they face the camera, then by key.
-            auto bin = [](double sse) { return std::floor(std::log(std::max(sse, 1e-300)) * 100.0); };
-            std::sort(candidates_.begin(), candidates_.end(), [&](uint32_t ia, uint32_t ib) {
-                const Node &a = frontier_[ia], &b = frontier_[ib];
-                const double ba = bin(a.sse), bb = bin(b.sse);
-                if (ba != bb) return ba > bb;
-                if (a.facing != b.facing) return a.facing > b.facing;
-                return a.key < b.key;
-            });
-            for (size_t i = allowed; i < candidates_.size(); ++i) frontier_[candidates_[i]].refine = false;
-        }
-
-        next_.clear();
-        for (const Node& n : frontier_) {
-            if (!n.refine) {
-                selected_.push_back({n.key, n.sse, n.distance});
-                continue;
-            }
-            refinedNow_.push_back(n.key);
-            for (const TileKey& child : n.key.children()) {
-                Node c;
-                if (evaluate(child, heightRange, c)) next_.push_back(c);
-            }
-        }
-        std::swap(frontier_, next_);
+    // Refining one tile replaces it by at most four: three more.
+    const size_t committed = selected_.size() + frontier_.size();
+    const size_t worst = committed + 3 * (forced + candidates_.size());
+    if (worst > settings_.maxTiles && !candidates_.empty()) {
+        stats_.budgetLimited = true;
+        const size_t base = committed + 3 * forced;
+        const size_t allowed = settings_.maxTiles > base ? (settings_.maxTiles - base) / 3 : 0;
+        // Largest error first, in 1 % bins so that tiles of equal error (all pole tiles
+        // seen from the pole) are ordered by how squarely they face the camera, then by key.
+        auto bin = [](double sse) { return std::floor(std::log(std::max(sse, 1e-300)) * 100.0); };
+        std::sort(candidates_.begin(), candidates_.end(), [&](uint32_t ia, uint32_t ib) {
+            const Node &a = frontier_[ia], &b = frontier_[ib];
+            const double ba = bin(a.sse), bb = bin(b.sse);
+            if (ba != bb) return ba > bb;
+            if (a.facing != b.facing) return a.facing > b.facing;
+            return a.key < b.key;
+        });
+        for (size_t i = allowed; i < candidates_.size(); ++i) frontier_[candidates_[i]].refine = false;
     }
+}
 
+void TileSelector::expandFrontier(const HeightRangeFn& heightRange) {
+    next_.clear();
+    for (const Node& n : frontier_) {
+        if (!n.refine) {
+            selected_.push_back({n.key, n.sse, n.distance});
+            continue;
+        }
+        refinedNow_.push_back(n.key);
+        for (const TileKey& child : n.key.children()) {
+            Node c;
+            if (evaluate(child, heightRange, c)) next_.push_back(c);
+        }
+    }
+    std::swap(frontier_, next_);
+}
+
+void TileSelector::finishSelect() {
     std::sort(selected_.begin(), selected_.end(), [](const SelectedTile& a, const SelectedTile& b) {
         const uint64_t ca = depthFirstCode(a.key), cb = depthFirstCode(b.key);
         return ca != cb ? ca < cb : a.key.level < b.key.level;
@@ -351,6 +348,21 @@ const std::vector<SelectedTile>& TileSelector::select(const SelectorView& view, 
 
     stats_.selected = uint32_t(selected_.size());
     for (const auto& t : selected_) stats_.maxLevelReached = std::max(stats_.maxLevelReached, t.key.level);
+}
+
+const std::vector<SelectedTile>& TileSelector::select(const SelectorView& view, const HeightRangeFn& heightRange) {
+    beginSelect(view);
+    for (const TileKey& root : TileKey::roots()) {
+        Node n;
+        if (evaluate(root, heightRange, n)) frontier_.push_back(n);
+    }
+    // Breadth-first, so that a tile budget can go to the worst tiles first; the output is
+    // sorted into depth-first order at the end.
+    while (!frontier_.empty()) {
+        markRefinements();
+        expandFrontier(heightRange);
+    }
+    finishSelect();
     return selected_;
 }
 

@@ -122,6 +122,16 @@ private:
         double facing;   // cosine between the view axis and the direction to the tile
         bool refine;
     };
+    // select()'s steps.
+    /// Clears the per-select state and derives what the view fixes.
+    void beginSelect(const SelectorView& view);
+    /// Which frontier tiles refine: those that want to, as many as the tile budget allows.
+    void markRefinements();
+    /// Selects the frontier tiles that do not refine; their visible children are the next frontier.
+    void expandFrontier(const HeightRangeFn& heightRange);
+    /// Sorts the selection depth-first, keeps this frame's refined tiles, fills the stats.
+    void finishSelect();
+
     bool evaluate(const TileKey& key, const HeightRangeFn& heightRange, Node& out);
     bool wantsRefine(const Node& node) const;
     bool wasRefined(const TileKey& key) const;

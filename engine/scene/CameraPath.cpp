@@ -13,16 +13,6 @@
 namespace orbis::scene {
 namespace {
 
-// nlohmann reports a byte offset; users want line and column.
-std::string lineColumn(std::string_view text, size_t byte) {
-    size_t line = 1, column = 1;
-    for (size_t i = 0; i < byte && i < text.size(); ++i) {
-        if (text[i] == '\n') ++line, column = 1;
-        else ++column;
-    }
-    return "line " + std::to_string(line) + ", column " + std::to_string(column);
-}
-
 // Shortest form of a number for messages: 12 rather than 12.000000.
 std::string formatNumber(double v) {
     if (std::floor(v) == v && std::abs(v) < 1e15) return std::to_string(static_cast<long long>(v));
@@ -39,15 +29,9 @@ Result<CameraPath> CameraPath::parseFile(const std::filesystem::path& file) {
 
 Result<CameraPath> CameraPath::parseText(std::string text, std::string fileNameForErrors) {
     const std::string name = fileNameForErrors.empty() ? std::string("<memory>") : std::move(fileNameForErrors);
-    nlohmann::json root;
-    try {
-        root = nlohmann::json::parse(text.begin(), text.end());
-    } catch (const nlohmann::json::parse_error& e) {
-        std::string what = e.what();
-        const auto pos = what.find("syntax error");
-        what = pos != std::string::npos ? what.substr(pos) : "invalid JSON";
-        return Error{name + ": " + lineColumn(text, e.byte ? e.byte - 1 : 0) + ": " + what};
-    }
+    auto parsed = parseJsonText(text, name);
+    if (!parsed) return parsed.error();
+    const nlohmann::json& root = *parsed;
 
     JsonReader r(root, name, "");
     if (!r.isObject()) return r.finish().error();

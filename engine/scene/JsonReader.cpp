@@ -3,6 +3,31 @@
 #include <cmath>
 
 namespace orbis::scene {
+namespace {
+
+// nlohmann reports a byte offset; users want line and column.
+std::string lineColumn(std::string_view text, size_t byte) {
+    size_t line = 1, column = 1;
+    for (size_t i = 0; i < byte && i < text.size(); ++i) {
+        if (text[i] == '\n') ++line, column = 1;
+        else ++column;
+    }
+    return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+}  // namespace
+
+Result<nlohmann::json> parseJsonText(std::string_view text, const std::string& file) {
+    try {
+        return nlohmann::json::parse(text.begin(), text.end());
+    } catch (const nlohmann::json::parse_error& e) {
+        std::string what = e.what();
+        // "[json.exception.parse_error.101] parse error at line 1, column 2: syntax error ..." -> keep the tail
+        const auto pos = what.find("syntax error");
+        what = pos != std::string::npos ? what.substr(pos) : "invalid JSON";
+        return Error{file + ": " + lineColumn(text, e.byte ? e.byte - 1 : 0) + ": " + what};
+    }
+}
 
 std::string describeJsonType(const nlohmann::json& v) {
     switch (v.type()) {

@@ -10,6 +10,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace orbis::scene {
@@ -55,5 +56,9 @@ private:
 
 /// The JSON type as a user reads it: "a number", "a string", ...
 std::string describeJsonType(const nlohmann::json& value);
+
+/// Parses a whole JSON document (scene files, camera paths). A syntax error reads
+/// "<file>: line L, column C: syntax error ...", the position counted from 1.
+Result<nlohmann::json> parseJsonText(std::string_view text, const std::string& file);
 
 }  // namespace orbis::scene

@@ -227,25 +227,33 @@ const char* fieldName(Field f) {
     }
 }
 
-}  // namespace
+void setField(TrajectorySample& s, Field field, double v) {
+    switch (field) {
+        case Field::Lat: s.latDeg = v; break;
+        case Field::Lon: s.lonDeg = v; break;
+        case Field::Alt: s.alt = v; break;
+        case Field::Heading: s.headingDeg = v; break;
+        case Field::Pitch: s.pitchDeg = v; break;
+        case Field::Roll: s.rollDeg = v; break;
+        case Field::Time: break;
+    }
+}
 
-Result<TrajectoryCsv> parseTrajectoryCsv(std::string_view text, const std::string& name, const CsvOptions& options) {
-    if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);   // UTF-8 byte order mark
-    std::size_t pos = 0, lineNo = 0;
+/// The first line that is not blank or a comment (empty when there is none); `pos` and
+/// `lineNo` move past it.
+std::string_view headerLineOf(std::string_view text, std::size_t& pos, std::size_t& lineNo) {
     std::string_view headerLine;
     while (pos <= text.size() && headerLine.empty()) {
         const std::string_view line = nextLine(text, pos);
         ++lineNo;
         if (!skipLine(line)) headerLine = line;
     }
-    if (headerLine.empty())
-        return makeError(name + ": no header line (a trajectory CSV starts with column names: time, lon, lat, alt, ...)");
-    const std::size_t headerLineNo = lineNo;
-    auto headerResult = parseHeader(headerLine, name, lineNo);
-    if (!headerResult) return headerResult.error();
-    const Header& header = *headerResult;
+    return headerLine;
+}
 
-    TrajectoryCsv csv;
+/// What the header says about the whole file: the columns nobody reads, what the altitude is
+/// above, and the time unit if the time column names one.
+void describeColumns(const Header& header, const CsvOptions& options, TrajectoryCsv& csv) {
     for (std::size_t i = 0; i < header.columns.size(); ++i)
         if (std::find(header.index.begin(), header.index.end(), int(i)) == header.index.end()) csv.ignored.push_back(header.names[i]);
     const int altColumn = header.index[std::size_t(Field::Alt)];
@@ -253,57 +261,89 @@ Result<TrajectoryCsv> parseTrajectoryCsv(std::string_view text, const std::strin
         const Alias& a = *header.columns[std::size_t(altColumn)].alias;
         csv.altitudeRef = a.ref.value_or(options.altitudeRef);
     }
-    const int timeColumn = header.index[std::size_t(Field::Time)];
-    double timeScale = header.columns[std::size_t(timeColumn)].scale;
-    csv.timeUnit = header.columns[std::size_t(timeColumn)].unitName;
+    csv.timeUnit = header.columns[std::size_t(header.index[std::size_t(Field::Time)])].unitName;
+}
 
+/// Reads the data rows under a header, one sample each. The time unit, when the header names
+/// none, is fixed by the first time (and kept in `csv.timeUnit`).
+class RowReader {
+public:
+    RowReader(const Header& header, std::size_t headerLineNo, const std::string& name, const CsvOptions& options,
+              TrajectoryCsv& csv)
+        : header_(header), headerLineNo_(headerLineNo), name_(name), options_(options), csv_(csv),
+          timeScale_(header.columns[std::size_t(header.index[std::size_t(Field::Time)])].scale) {}
+
+    Result<TrajectorySample> row(std::string_view line, std::size_t lineNo) {
+        auto cells = splitLine(line, header_.sep);
+        if (cells.size() > header_.columns.size())
+            return makeError(name_ + lineText(lineNo) + ": " + std::to_string(cells.size()) + " cells, the header (line " +
+                             std::to_string(headerLineNo_) + ") has " + std::to_string(header_.columns.size()));
+        cells.resize(header_.columns.size());   // missing trailing cells: no value
+        TrajectorySample s;
+        s.line = lineNo;
+        s.altRef = csv_.altitudeRef.value_or(AltitudeRef::Ground);
+        for (std::size_t f = 0; f < header_.index.size(); ++f) {
+            const int col = header_.index[f];
+            if (col < 0) continue;
+            if (auto r = cell(Field(f), std::size_t(col), cells[std::size_t(col)], lineNo, s); !r) return r.error();
+        }
+        return s;
+    }
+
+private:
+    /// Column `c`'s cell into the sample's `field`.
+    Result<void> cell(Field field, std::size_t c, std::string& cell, std::size_t lineNo, TrajectorySample& s) {
+        const bool required = field == Field::Time || field == Field::Lat || field == Field::Lon || field == Field::Alt;
+        if (isNoValue(cell)) {
+            if (required)
+                return makeError(where(name_, lineNo, c, header_.names[c]) + ": no " + fieldName(field) + " ('" + cell +
+                                 "'): every sample needs a time and a position");
+            return {};
+        }
+        if (header_.sep == ';' && cell.find(',') != std::string::npos && cell.find('.') == std::string::npos)
+            std::replace(cell.begin(), cell.end(), ',', '.');   // decimal comma
+        if (field == Field::Time) {
+            auto t = parseTime(cell, timeScale_, csv_.timeUnit, options_.timeOffset);
+            if (!t) return makeError(where(name_, lineNo, c, header_.names[c]) + ": " + t.message());
+            s.t = *t;
+            return {};
+        }
+        double v = 0.0;
+        if (!parseNumber(cell, v)) return makeError(where(name_, lineNo, c, header_.names[c]) + ": '" + cell + "' is not a number");
+        setField(s, field, v * header_.columns[c].scale);
+        return {};
+    }
+
+    const Header& header_;
+    const std::size_t headerLineNo_;
+    const std::string& name_;
+    const CsvOptions& options_;
+    TrajectoryCsv& csv_;
+    double timeScale_;   // ns per unit of the time column; 0 until the first time fixes it
+};
+
+}  // namespace
+
+Result<TrajectoryCsv> parseTrajectoryCsv(std::string_view text, const std::string& name, const CsvOptions& options) {
+    if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);   // UTF-8 byte order mark
+    std::size_t pos = 0, lineNo = 0;
+    const std::string_view headerLine = headerLineOf(text, pos, lineNo);
+    if (headerLine.empty())
+        return makeError(name + ": no header line (a trajectory CSV starts with column names: time, lon, lat, alt, ...)");
+    const std::size_t headerLineNo = lineNo;
+    auto header = parseHeader(headerLine, name, lineNo);
+    if (!header) return header.error();
+
+    TrajectoryCsv csv;
+    describeColumns(*header, options, csv);
+    RowReader rows(*header, headerLineNo, name, options, csv);
     while (pos <= text.size()) {
         const std::string_view line = nextLine(text, pos);
         ++lineNo;
         if (skipLine(line)) continue;
-        auto cells = splitLine(line, header.sep);
-        if (cells.size() > header.columns.size())
-            return makeError(name + lineText(lineNo) + ": " + std::to_string(cells.size()) + " cells, the header (line " +
-                             std::to_string(headerLineNo) + ") has " + std::to_string(header.columns.size()));
-        cells.resize(header.columns.size());   // missing trailing cells: no value
-        TrajectorySample s;
-        s.line = lineNo;
-        s.altRef = csv.altitudeRef.value_or(AltitudeRef::Ground);
-        for (std::size_t f = 0; f < header.index.size(); ++f) {
-            const int col = header.index[f];
-            if (col < 0) continue;
-            const std::size_t c = std::size_t(col);
-            const Field field = Field(f);
-            std::string& cell = cells[c];
-            const bool required = field == Field::Time || field == Field::Lat || field == Field::Lon || field == Field::Alt;
-            if (isNoValue(cell)) {
-                if (required)
-                    return makeError(where(name, lineNo, c, header.names[c]) + ": no " + fieldName(field) + " ('" + cell +
-                                     "'): every sample needs a time and a position");
-                continue;
-            }
-            if (header.sep == ';' && cell.find(',') != std::string::npos && cell.find('.') == std::string::npos)
-                std::replace(cell.begin(), cell.end(), ',', '.');   // decimal comma
-            if (field == Field::Time) {
-                auto t = parseTime(cell, timeScale, csv.timeUnit, options.timeOffset);
-                if (!t) return makeError(where(name, lineNo, c, header.names[c]) + ": " + t.message());
-                s.t = *t;
-                continue;
-            }
-            double v = 0.0;
-            if (!parseNumber(cell, v)) return makeError(where(name, lineNo, c, header.names[c]) + ": '" + cell + "' is not a number");
-            v *= header.columns[c].scale;
-            switch (field) {
-                case Field::Lat: s.latDeg = v; break;
-                case Field::Lon: s.lonDeg = v; break;
-                case Field::Alt: s.alt = v; break;
-                case Field::Heading: s.headingDeg = v; break;
-                case Field::Pitch: s.pitchDeg = v; break;
-                case Field::Roll: s.rollDeg = v; break;
-                case Field::Time: break;
-            }
-        }
-        csv.samples.push_back(s);
+        auto sample = rows.row(line, lineNo);
+        if (!sample) return sample.error();
+        csv.samples.push_back(*sample);
     }
     if (csv.samples.empty()) return makeError(name + ": no data rows after the header (line " + std::to_string(headerLineNo) + ")");
     if (csv.timeUnit.empty()) csv.timeUnit.push_back('s');   // (not = "s": GCC 12 warns falsely, bug 105329)

@@ -203,132 +203,176 @@ private:
     std::string text_;
 };
 
+/// Scans the XML of one document and hands its elements, attributes and character data to the
+/// builder as they come: comments, processing instructions, CDATA and a DOCTYPE are understood,
+/// namespaces reduced to local names. Errors name the line they are on.
+class XmlScanner {
+public:
+    XmlScanner(std::string_view text, const std::string& name, GpxBuilder& gpx) : text_(text), name_(name), gpx_(gpx) {}
+
+    /// The whole document, which must hold exactly one root element.
+    Result<void> run() {
+        while (pos_ < text_.size()) {
+            auto r = text_[pos_] == '<' ? markup() : characterData();
+            if (!r) return r;
+        }
+        if (!stack_.empty())
+            return makeError(name_ + std::string(": XML: the file ends inside <").append(stack_.back().qname) +
+                             "> (opened at line " + std::to_string(stack_.back().line) + ")");
+        if (!sawRoot_) return makeError(name_ + ": not a GPX file: no XML element in it");
+        return {};
+    }
+
+private:
+    /// The line of byte `at`, counted lazily: the scanner only moves forward.
+    std::size_t lineAt(std::size_t at) {
+        if (at > lineCountedTo_) {
+            line_ += std::size_t(std::count(text_.begin() + std::ptrdiff_t(lineCountedTo_), text_.begin() + std::ptrdiff_t(at), '\n'));
+            lineCountedTo_ = at;
+        }
+        return line_;
+    }
+
+    Error fail(std::size_t at, const std::string& what) {
+        return makeError(name_ + ": line " + std::to_string(lineAt(at)) + ": XML: " + what);
+    }
+
+    /// Moves past the first `end` at or after `from`.
+    Result<void> skipPast(std::size_t from, std::string_view end, const char* what) {
+        const auto e = text_.find(end, from);
+        if (e == std::string_view::npos) return fail(from, std::string("unterminated ") + what);
+        pos_ = e + end.size();
+        return {};
+    }
+
+    /// Text up to the next '<': only whitespace outside the root element.
+    Result<void> characterData() {
+        const std::size_t end = std::min(text_.find('<', pos_), text_.size());
+        const std::string_view raw = text_.substr(pos_, end - pos_);
+        if (stack_.empty()) {
+            if (const auto at = raw.find_first_not_of(" \t\r\n"); at != std::string_view::npos)
+                return fail(pos_ + at, sawRoot_ ? "text after the root element" : "text before the root element");
+        } else {
+            std::string decoded, bad;
+            if (!decodeText(raw, decoded, bad)) return fail(pos_, "unknown entity '" + bad + "'");
+            gpx_.text(decoded);
+        }
+        pos_ = end;
+        return {};
+    }
+
+    /// Whatever starts with '<'.
+    Result<void> markup() {
+        const std::string_view rest = text_.substr(pos_);
+        if (rest.starts_with("<!--")) return skipPast(pos_ + 4, "-->", "comment");
+        if (rest.starts_with("<![CDATA[")) return cdata();
+        if (rest.starts_with("<?")) return skipPast(pos_ + 2, "?>", "processing instruction");
+        if (rest.starts_with("<!")) {   // <!DOCTYPE ...>, with an internal subset in [ ]
+            const auto bracket = text_.find('[', pos_), close = text_.find('>', pos_);
+            return bracket < close ? skipPast(bracket, "]>", "DOCTYPE") : skipPast(pos_, ">", "declaration");
+        }
+        if (rest.starts_with("</")) return endTag();
+        return startTag();
+    }
+
+    Result<void> cdata() {
+        const std::size_t start = pos_;
+        if (auto e = skipPast(start + 9, "]]>", "CDATA section"); !e) return e;
+        if (stack_.empty()) return fail(start, "CDATA outside the root element");
+        gpx_.text(std::string(text_.substr(start + 9, pos_ - 3 - (start + 9))));
+        return {};
+    }
+
+    Result<void> endTag() {
+        std::size_t i = pos_ + 2;
+        while (i < text_.size() && isNameChar(text_[i])) ++i;
+        const std::string_view qname = text_.substr(pos_ + 2, i - pos_ - 2);
+        while (i < text_.size() && isSpace(text_[i])) ++i;
+        if (i >= text_.size() || text_[i] != '>') return fail(pos_, std::string("malformed end tag </").append(qname) + ">");
+        if (stack_.empty()) return fail(pos_, std::string("end tag </").append(qname) + "> without a start tag");
+        if (stack_.back().qname != qname)
+            return fail(pos_, std::string("</").append(qname) + std::string("> closes <").append(stack_.back().qname) + "> (opened at line " +
+                                  std::to_string(stack_.back().line) + ")");
+        lineAt(pos_);
+        if (auto r = gpx_.end(stack_); !r) return r;
+        stack_.pop_back();
+        pos_ = i + 1;
+        return {};
+    }
+
+    Result<void> startTag() {
+        const std::size_t tagLine = lineAt(pos_);
+        std::size_t i = pos_ + 1;
+        while (i < text_.size() && isNameChar(text_[i])) ++i;
+        const std::string_view qname = text_.substr(pos_ + 1, i - pos_ - 1);
+        if (qname.empty()) return fail(pos_, "'<' not followed by a tag name");
+        if (stack_.empty() && sawRoot_) return fail(pos_, std::string("a second root element <").append(qname) + ">");
+        bool selfClosing = false;
+        auto end = attributes(i, qname, selfClosing);
+        if (!end) return end.error();
+        stack_.push_back({localName(qname), qname, tagLine});
+        sawRoot_ = true;
+        if (auto r = gpx_.start(stack_, attrs_, tagLine); !r) return r;
+        if (selfClosing) {
+            if (auto r = gpx_.end(stack_); !r) return r;
+            stack_.pop_back();
+        }
+        pos_ = *end;
+        return {};
+    }
+
+    /// The attributes of the tag <qname ...> from `i` into attrs_; the position after the tag.
+    Result<std::size_t> attributes(std::size_t i, std::string_view qname, bool& selfClosing) {
+        attrs_.clear();
+        for (;;) {
+            while (i < text_.size() && isSpace(text_[i])) ++i;
+            if (i >= text_.size()) return fail(pos_, std::string("the file ends inside the tag <").append(qname) + ">");
+            if (text_[i] == '>') return i + 1;
+            if (text_[i] == '/' && i + 1 < text_.size() && text_[i + 1] == '>') {
+                selfClosing = true;
+                return i + 2;
+            }
+            auto next = attribute(i, qname);
+            if (!next) return next.error();
+            i = *next;
+        }
+    }
+
+    /// One name="value" from `i`; the position after it.
+    Result<std::size_t> attribute(std::size_t i, std::string_view qname) {
+        const std::size_t a = i;
+        while (i < text_.size() && isNameChar(text_[i])) ++i;
+        const std::string_view attrName = text_.substr(a, i - a);
+        while (i < text_.size() && isSpace(text_[i])) ++i;
+        if (i >= text_.size()) return fail(pos_, std::string("the file ends inside the tag <").append(qname) + ">");
+        if (attrName.empty() || text_[i] != '=') return fail(i, std::string("malformed attribute in <").append(qname) + ">");
+        ++i;
+        while (i < text_.size() && isSpace(text_[i])) ++i;
+        const char quote = i < text_.size() ? text_[i] : '\0';
+        if (quote != '"' && quote != '\'') return fail(i, std::string("attribute ").append(attrName) + " without quotes");
+        const auto close = text_.find(quote, i + 1);
+        if (close == std::string_view::npos) return fail(i, std::string("unterminated value of attribute ").append(attrName));
+        std::string value, bad;
+        if (!decodeText(text_.substr(i + 1, close - i - 1), value, bad)) return fail(i, "unknown entity '" + bad + "'");
+        attrs_.push_back({localName(attrName), std::move(value)});
+        return close + 1;
+    }
+
+    std::string_view text_;
+    const std::string& name_;
+    GpxBuilder& gpx_;
+    std::vector<Open> stack_;         // the elements open at pos_
+    std::vector<Attribute> attrs_;    // of the last start tag
+    std::size_t pos_ = 0, line_ = 1, lineCountedTo_ = 0;
+    bool sawRoot_ = false;
+};
+
 }  // namespace
 
 Result<Gpx> parseGpx(std::string_view text, const std::string& name) {
     if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);   // UTF-8 byte order mark
     GpxBuilder gpx(name);
-    std::vector<Open> stack;
-    std::vector<Attribute> attrs;
-    std::size_t pos = 0, line = 1, lineCountedTo = 0;
-    bool sawRoot = false;
-    auto lineAt = [&](std::size_t at) {   // the scanner only moves forward
-        if (at > lineCountedTo) {
-            line += std::size_t(std::count(text.begin() + std::ptrdiff_t(lineCountedTo), text.begin() + std::ptrdiff_t(at), '\n'));
-            lineCountedTo = at;
-        }
-        return line;
-    };
-    auto fail = [&](std::size_t at, const std::string& what) {
-        return makeError(name + ": line " + std::to_string(lineAt(at)) + ": XML: " + what);
-    };
-    auto skipPast = [&](std::size_t from, std::string_view end, const char* what) -> Result<std::size_t> {
-        const auto e = text.find(end, from);
-        if (e == std::string_view::npos) return fail(from, std::string("unterminated ") + what);
-        return e + end.size();
-    };
-    while (pos < text.size()) {
-        if (text[pos] != '<') {
-            const std::size_t end = std::min(text.find('<', pos), text.size());
-            const std::string_view raw = text.substr(pos, end - pos);
-            if (stack.empty()) {
-                if (const auto at = raw.find_first_not_of(" \t\r\n"); at != std::string_view::npos)
-                    return fail(pos + at, sawRoot ? "text after the root element" : "text before the root element");
-            } else {
-                std::string decoded, bad;
-                if (!decodeText(raw, decoded, bad)) return fail(pos, "unknown entity '" + bad + "'");
-                gpx.text(decoded);
-            }
-            pos = end;
-            continue;
-        }
-        const std::string_view rest = text.substr(pos);
-        if (rest.starts_with("<!--")) {
-            auto e = skipPast(pos + 4, "-->", "comment");
-            if (!e) return e.error();
-            pos = *e;
-        } else if (rest.starts_with("<![CDATA[")) {
-            auto e = skipPast(pos + 9, "]]>", "CDATA section");
-            if (!e) return e.error();
-            if (stack.empty()) return fail(pos, "CDATA outside the root element");
-            gpx.text(std::string(text.substr(pos + 9, *e - 3 - (pos + 9))));
-            pos = *e;
-        } else if (rest.starts_with("<?")) {
-            auto e = skipPast(pos + 2, "?>", "processing instruction");
-            if (!e) return e.error();
-            pos = *e;
-        } else if (rest.starts_with("<!")) {   // <!DOCTYPE ...>, with an internal subset in [ ]
-            const auto bracket = text.find('[', pos), close = text.find('>', pos);
-            auto e = bracket < close ? skipPast(bracket, "]>", "DOCTYPE") : skipPast(pos, ">", "declaration");
-            if (!e) return e.error();
-            pos = *e;
-        } else if (rest.starts_with("</")) {
-            std::size_t i = pos + 2;
-            while (i < text.size() && isNameChar(text[i])) ++i;
-            const std::string_view qname = text.substr(pos + 2, i - pos - 2);
-            while (i < text.size() && isSpace(text[i])) ++i;
-            if (i >= text.size() || text[i] != '>') return fail(pos, std::string("malformed end tag </").append(qname) + ">");
-            if (stack.empty()) return fail(pos, std::string("end tag </").append(qname) + "> without a start tag");
-            if (stack.back().qname != qname)
-                return fail(pos, std::string("</").append(qname) + std::string("> closes <").append(stack.back().qname) + "> (opened at line " +
-                                     std::to_string(stack.back().line) + ")");
-            lineAt(pos);
-            if (auto r = gpx.end(stack); !r) return r.error();
-            stack.pop_back();
-            pos = i + 1;
-        } else {
-            const std::size_t tagLine = lineAt(pos);
-            std::size_t i = pos + 1;
-            while (i < text.size() && isNameChar(text[i])) ++i;
-            const std::string_view qname = text.substr(pos + 1, i - pos - 1);
-            if (qname.empty()) return fail(pos, "'<' not followed by a tag name");
-            if (stack.empty() && sawRoot) return fail(pos, std::string("a second root element <").append(qname) + ">");
-            attrs.clear();
-            bool selfClosing = false;
-            for (;;) {
-                while (i < text.size() && isSpace(text[i])) ++i;
-                if (i >= text.size()) return fail(pos, std::string("the file ends inside the tag <").append(qname) + ">");
-                if (text[i] == '>') {
-                    ++i;
-                    break;
-                }
-                if (text[i] == '/' && i + 1 < text.size() && text[i + 1] == '>') {
-                    selfClosing = true;
-                    i += 2;
-                    break;
-                }
-                const std::size_t a = i;
-                while (i < text.size() && isNameChar(text[i])) ++i;
-                const std::string_view attrName = text.substr(a, i - a);
-                while (i < text.size() && isSpace(text[i])) ++i;
-                if (i >= text.size()) return fail(pos, std::string("the file ends inside the tag <").append(qname) + ">");
-                if (attrName.empty() || text[i] != '=')
-                    return fail(i, std::string("malformed attribute in <").append(qname) + ">");
-                ++i;
-                while (i < text.size() && isSpace(text[i])) ++i;
-                const char quote = i < text.size() ? text[i] : '\0';
-                if (quote != '"' && quote != '\'') return fail(i, std::string("attribute ").append(attrName) + " without quotes");
-                const auto close = text.find(quote, i + 1);
-                if (close == std::string_view::npos) return fail(i, std::string("unterminated value of attribute ").append(attrName));
-                std::string value, bad;
-                if (!decodeText(text.substr(i + 1, close - i - 1), value, bad)) return fail(i, "unknown entity '" + bad + "'");
-                attrs.push_back({localName(attrName), std::move(value)});
-                i = close + 1;
-            }
-            stack.push_back({localName(qname), qname, tagLine});
-            sawRoot = true;
-            if (auto r = gpx.start(stack, attrs, tagLine); !r) return r.error();
-            if (selfClosing) {
-                if (auto r = gpx.end(stack); !r) return r.error();
-                stack.pop_back();
-            }
-            pos = i;
-        }
-    }
-    if (!stack.empty())
-        return makeError(name + std::string(": XML: the file ends inside <").append(stack.back().qname) + "> (opened at line " +
-                         std::to_string(stack.back().line) + ")");
-    if (!sawRoot) return makeError(name + ": not a GPX file: no XML element in it");
+    if (auto r = XmlScanner(text, name, gpx).run(); !r) return r.error();
     return gpx.take();
 }
 

@@ -393,174 +393,268 @@ struct BuildContext {
     bool cancelled() const { return options.cancel && options.cancel->load(); }
 };
 
-Result<void> buildCacheFile(const BuildContext& ctx, const std::string& out, const std::string& key, double tolerance) {
-    const PointOctree::Options& tree = ctx.options.octree;
-    const uint32_t capacity = std::max(1u, tree.capacity);
-    // Temporary files carry the process id: two processes building one cache do not collide
-    // (the last rename wins, and both results are the same).
-    const std::string tmp = (fs::path(ctx.folder) / ctx.stem).string().append(".").append(std::to_string(::getpid()));
+/// The header's copy of `info`, field by field over zeroed bytes. CloudInfo has padding (after
+/// intensityGain) that a plain copy carries over as the compiler finds it; zeroed, the cache
+/// file's bytes depend on the cloud alone (as the node table's, which has its `reserved`).
+void storeInfo(store::FileHeader& header, const CloudInfo& info) {
+    static_assert(sizeof(CloudInfo) == 64, "CloudInfo changed: copy its new fields here");
+    std::memset(static_cast<void*>(&header.info), 0, sizeof header.info);
+    header.info.heightMin = info.heightMin, header.info.heightMax = info.heightMax;
+    header.info.intensityGain = info.intensityGain;
+    header.info.read = info.read, header.info.dropped = info.dropped, header.info.points = info.points;
+    header.info.depth = info.depth, header.info.rgb = info.rgb, header.info.rgb16 = info.rgb16;
+    header.info.tolerance = info.tolerance;
+}
 
-    // 1. Records to the spill file, statistics.
-    File spill;
-    if (auto r = spill.create(tmp + ".spill.tmp"); !r) return r;
-    RecordWriter spillWriter(spill);
-    auto stats = readRecords(ctx.file, ctx.georef, ctx.options, 0.3,
-                             [&](std::span<const PointRecord> r) { return spillWriter.add(r); });
-    if (!stats) return stats.error();
-    if (auto r = spillWriter.flush(); !r) return r;
-    const Packing packing = packingFor(*stats, tolerance);
-    const uint64_t n = stats->kept;
-    const Cube root = n ? Cube::around(stats->lo, stats->hi) : Cube{};
-    const uint32_t levels = std::min(kGridLevels, tree.maxLevel);
+/// The out-of-core build, pass by pass (see the top of this file); each pass leaves in the
+/// members what the next one reads. Temporary files are removed when it is destroyed.
+class CacheBuilder {
+public:
+    CacheBuilder(const BuildContext& ctx, double tolerance)
+        : ctx_(ctx), tree_(ctx.options.octree), capacity_(std::max(1u, tree_.capacity)), tolerance_(tolerance),
+          // Temporary files carry the process id: two processes building one cache do not
+          // collide (the last rename wins, and both results are the same).
+          tmp_((fs::path(ctx.folder) / ctx.stem).string().append(".").append(std::to_string(::getpid()))) {}
 
-    // 2. Counts per grid cell.
-    const uint32_t side = 1u << levels;
-    std::vector<uint32_t> counts(size_t(side) * side * side, 0);
-    if (auto r = forEachBlock(spill, n, ctx.options.cancel, [&](std::span<const PointRecord> block) {
-            for (const PointRecord& p : block) ++counts[cellOf(p.ecef, root, levels).index()];
-        });
-        !r)
-        return r;
-    ctx.progress(0.35);
-
-    // 3. Chunks, and each record copied into its chunk's range.
-    const uint64_t chunkPoints = std::max<uint64_t>(ctx.options.chunkPoints, uint64_t(8) * capacity);
-    std::vector<Chunk> chunks = makeChunks(counts, levels, chunkPoints);
-    std::vector<uint32_t> chunkOf(counts.size(), 0);
-    for (uint32_t c = 0; c < chunks.size(); ++c) {
-        const Cell& cell = chunks[c].cell;
-        const uint32_t shift = levels - cell.level, span = 1u << shift;
-        for (uint32_t z = 0; z < span; ++z)
-            for (uint32_t y = 0; y < span; ++y)
-                for (uint32_t x = 0; x < span; ++x)
-                    chunkOf[Cell{levels, cell.x << shift | x, cell.y << shift | y, cell.z << shift | z}.index()] = c;
+    /// Builds the cache file `out`, which starts with `key`.
+    Result<void> build(const std::string& out, const std::string& key) {
+        if (auto r = spillRecords(); !r) return r;
+        auto counts = countCells();
+        if (!counts) return counts.error();
+        ctx_.progress(0.35);
+        if (auto r = distributeToChunks(std::move(counts).value()); !r) return r;
+        ctx_.progress(0.45);
+        if (auto r = gatherCandidates(); !r) return r;
+        fillUpperTree();
+        ctx_.progress(0.5);
+        return writeCache(out, key);
     }
-    std::vector<uint32_t>().swap(counts);
-    File chunkFile;
-    if (auto r = chunkFile.create(tmp + ".chunks.tmp"); !r) return r;
-    if (auto r = distribute(spill, n, ctx.options.cancel, [&](const glm::dvec3& p) { return chunkOf[cellOf(p, root, levels).index()]; },
-                            chunks, chunkFile);
-        !r)
-        return r;
-    spill.close(true);
-    ctx.progress(0.45);
 
-    // 4. The candidates for the nodes above the chunks, then those nodes.
-    UpperTree upper;
-    for (uint32_t c = 0; c < chunks.size(); ++c) upper.chunkOfCell[chunks[c].cell.packed()] = int32_t(c);
-    upper.nodes.push_back({});
-    upper.nodes[0].cube = root;
-    upper.nodes[0].chunk = chunks.size() == 1 && chunks[0].cell.level == 0 ? 0 : -1;
-    std::vector<PointRecord> candidates, records;
-    const auto byKey = [&](const PointRecord& a, const PointRecord& b) {
-        const uint64_t ka = pointKey(a.id, tree.seed), kb = pointKey(b.id, tree.seed);
+private:
+    /// 1. Records to the spill file, statistics.
+    Result<void> spillRecords() {
+        if (auto r = spill_.create(tmp_ + ".spill.tmp"); !r) return r;
+        RecordWriter spillWriter(spill_);
+        auto stats = readRecords(ctx_.file, ctx_.georef, ctx_.options, 0.3,
+                                 [&](std::span<const PointRecord> r) { return spillWriter.add(r); });
+        if (!stats) return stats.error();
+        if (auto r = spillWriter.flush(); !r) return r;
+        stats_ = std::move(stats).value();
+        packing_ = packingFor(stats_, tolerance_);
+        n_ = stats_.kept;
+        root_ = n_ ? Cube::around(stats_.lo, stats_.hi) : Cube{};
+        levels_ = std::min(kGridLevels, tree_.maxLevel);
+        return {};
+    }
+
+    /// 2. Counts per grid cell.
+    Result<std::vector<uint32_t>> countCells() const {
+        const uint32_t side = 1u << levels_;
+        std::vector<uint32_t> counts(size_t(side) * side * side, 0);
+        if (auto r = forEachBlock(spill_, n_, ctx_.options.cancel, [&](std::span<const PointRecord> block) {
+                for (const PointRecord& p : block) ++counts[cellOf(p.ecef, root_, levels_).index()];
+            });
+            !r)
+            return r.error();
+        return counts;
+    }
+
+    /// 3. Chunks, and each record copied into its chunk's range of the chunk file.
+    Result<void> distributeToChunks(std::vector<uint32_t> counts) {
+        const uint64_t chunkPoints = std::max<uint64_t>(ctx_.options.chunkPoints, uint64_t(8) * capacity_);
+        chunks_ = makeChunks(counts, levels_, chunkPoints);
+        std::vector<uint32_t> chunkOf(counts.size(), 0);
+        for (uint32_t c = 0; c < chunks_.size(); ++c) {
+            const Cell& cell = chunks_[c].cell;
+            const uint32_t shift = levels_ - cell.level, span = 1u << shift;
+            for (uint32_t z = 0; z < span; ++z)
+                for (uint32_t y = 0; y < span; ++y)
+                    for (uint32_t x = 0; x < span; ++x)
+                        chunkOf[Cell{levels_, cell.x << shift | x, cell.y << shift | y, cell.z << shift | z}.index()] = c;
+        }
+        std::vector<uint32_t>().swap(counts);
+        if (auto r = chunkFile_.create(tmp_ + ".chunks.tmp"); !r) return r;
+        if (auto r = distribute(spill_, n_, ctx_.options.cancel,
+                                [&](const glm::dvec3& p) { return chunkOf[cellOf(p, root_, levels_).index()]; }, chunks_,
+                                chunkFile_);
+            !r)
+            return r;
+        spill_.close(true);
+        return {};
+    }
+
+    bool byKey(const PointRecord& a, const PointRecord& b) const {
+        const uint64_t ka = pointKey(a.id, tree_.seed), kb = pointKey(b.id, tree_.seed);
         return ka != kb ? ka < kb : a.id < b.id;
-    };
-    for (const Chunk& c : chunks) {
-        if (ctx.cancelled()) return cancelled(ctx.file);
-        const uint64_t m = std::min<uint64_t>(c.count, uint64_t(capacity) * c.cell.level);
-        if (m == 0) continue;
-        records.resize(c.count);
-        if (auto r = chunkFile.read(records.data(), c.count * sizeof(PointRecord), c.first * sizeof(PointRecord)); !r) return r;
-        std::nth_element(records.begin(), records.begin() + int64_t(m - 1), records.end(), byKey);
-        candidates.insert(candidates.end(), records.begin(), records.begin() + int64_t(m));
     }
-    std::sort(candidates.begin(), candidates.end(), byKey);
-    std::unordered_set<uint64_t> taken;
-    for (uint32_t k = 0; k < candidates.size(); ++k) {
-        int32_t i = 0;
-        while (upper.nodes[size_t(i)].chunk < 0) {
-            UpperTree::Node& nd = upper.nodes[size_t(i)];
-            if (nd.taken.size() < capacity || nd.cube.level >= tree.maxLevel) {
-                nd.taken.push_back(k);
-                taken.insert(candidates[k].id);
-                break;
+
+    /// 4a. The candidates for the nodes above the chunks, in key order: each chunk's first
+    /// capacity x depth records.
+    Result<void> gatherCandidates() {
+        const auto byKey = [this](const PointRecord& a, const PointRecord& b) { return this->byKey(a, b); };
+        for (const Chunk& c : chunks_) {
+            if (ctx_.cancelled()) return cancelled(ctx_.file);
+            const uint64_t m = std::min<uint64_t>(c.count, uint64_t(capacity_) * c.cell.level);
+            if (m == 0) continue;
+            records_.resize(c.count);
+            if (auto r = chunkFile_.read(records_.data(), c.count * sizeof(PointRecord), c.first * sizeof(PointRecord)); !r) return r;
+            std::nth_element(records_.begin(), records_.begin() + int64_t(m - 1), records_.end(), byKey);
+            candidates_.insert(candidates_.end(), records_.begin(), records_.begin() + int64_t(m));
+        }
+        std::sort(candidates_.begin(), candidates_.end(), byKey);
+        return {};
+    }
+
+    /// 4b. The nodes above the chunks, filled with the candidates as PointOctree would.
+    void fillUpperTree() {
+        for (uint32_t c = 0; c < chunks_.size(); ++c) upper_.chunkOfCell[chunks_[c].cell.packed()] = int32_t(c);
+        upper_.nodes.push_back({});
+        upper_.nodes[0].cube = root_;
+        upper_.nodes[0].chunk = chunks_.size() == 1 && chunks_[0].cell.level == 0 ? 0 : -1;
+        for (uint32_t k = 0; k < candidates_.size(); ++k) {
+            int32_t i = 0;
+            while (upper_.nodes[size_t(i)].chunk < 0) {
+                UpperTree::Node& nd = upper_.nodes[size_t(i)];
+                if (nd.taken.size() < capacity_ || nd.cube.level >= tree_.maxLevel) {
+                    nd.taken.push_back(k);
+                    taken_.insert(candidates_[k].id);
+                    break;
+                }
+                i = upper_.child(i, nd.cube.octant(candidates_[k].ecef));
             }
-            i = upper.child(i, nd.cube.octant(candidates[k].ecef));
         }
     }
-    ctx.progress(0.5);
 
-    // 5. The cache file: the nodes above the chunks, then each chunk's subtree.
-    File cache;
-    if (auto r = cache.create(tmp + ".tmp"); !r) return r;
-    store::FileHeader header{};
-    std::memcpy(header.magic, store::kMagic, sizeof header.magic);
-    header.version = store::kVersion;
-    header.headerBytes = sizeof header;
-    header.keyBytes = key.size();
-    header.dataOffset = sizeof header + key.size();
-    if (auto r = cache.write(key.data(), key.size(), sizeof header); !r) return r;
-    std::vector<StoredNode> nodes;
-    std::vector<uint8_t> data;
-    uint64_t dataBytes = 0;
-    const auto writeData = [&]() -> Result<void> {
-        auto r = cache.write(data.data(), data.size(), header.dataOffset + dataBytes);
-        dataBytes += data.size();
-        data.clear();
-        return r;
-    };
-    // Upper nodes first (their indices in creation order), the chunks' roots patched in later.
-    std::vector<int32_t> storedIndex(upper.nodes.size(), -1);
-    for (size_t i = 0; i < upper.nodes.size(); ++i)
-        if (upper.nodes[i].chunk < 0) storedIndex[i] = int32_t(nodes.size()), nodes.emplace_back();
-    for (size_t i = 0; i < upper.nodes.size(); ++i) {
-        const UpperTree::Node& u = upper.nodes[i];
-        if (u.chunk >= 0) continue;
-        StoredNode& s = nodes[size_t(storedIndex[i])];
-        s.centre = u.cube.centre, s.halfSize = u.cube.halfSize, s.level = u.cube.level;
-        s.count = uint32_t(u.taken.size());
-        s.parent = u.parent >= 0 ? storedIndex[size_t(u.parent)] : -1;
-        s.offset = dataBytes + data.size();
-        s.step = store::encodeNode(candidates, u.taken, u.cube, packing, data);
+    /// 5. The cache file: the header and key, the nodes above the chunks, each chunk's subtree,
+    /// the node table; then renamed to `out`.
+    Result<void> writeCache(const std::string& out, const std::string& key) {
+        File cache;
+        if (auto r = cache.create(tmp_ + ".tmp"); !r) return r;
+        store::FileHeader header{};
+        std::memcpy(header.magic, store::kMagic, sizeof header.magic);
+        header.version = store::kVersion;
+        header.headerBytes = sizeof header;
+        header.keyBytes = key.size();
+        header.dataOffset = sizeof header + key.size();
+        if (auto r = cache.write(key.data(), key.size(), sizeof header); !r) return r;
+        NodeWriter nodes{cache, header.dataOffset};
+        if (auto r = writeUpperNodes(nodes); !r) return r;
+        if (auto r = writeChunkTrees(nodes); !r) return r;
+        chunkFile_.close(true);
+        stats_.info.depth = 0;
+        for (const StoredNode& s : nodes.nodes) stats_.info.depth = std::max(stats_.info.depth, s.level);
+        stats_.info.tolerance = float(tolerance_);
+        storeInfo(header, stats_.info);
+        header.dataBytes = nodes.dataBytes;
+        header.nodeTableOffset = header.dataOffset + nodes.dataBytes;
+        header.nodeCount = nodes.nodes.size();
+        if (auto r = cache.write(nodes.nodes.data(), nodes.nodes.size() * sizeof(StoredNode), header.nodeTableOffset); !r) return r;
+        if (auto r = cache.write(&header, sizeof header, 0); !r) return r;
+        return moveInPlace(cache, out);
     }
-    if (auto r = writeData(); !r) return r;
-    std::vector<PointRecord>().swap(candidates);
-    const auto linkChild = [&](int32_t upperIndex, int32_t stored) {
-        const UpperTree::Node& u = upper.nodes[size_t(upperIndex)];
-        if (u.parent < 0) return;
-        const UpperTree::Node& p = upper.nodes[size_t(u.parent)];
-        for (int o = 0; o < 8; ++o)
-            if (p.children[o] == upperIndex) nodes[size_t(storedIndex[size_t(u.parent)])].children[o] = stored;
-    };
-    for (size_t i = 0; i < upper.nodes.size(); ++i)
-        if (upper.nodes[i].chunk < 0) linkChild(int32_t(i), storedIndex[i]);
-    for (size_t c = 0; c < chunks.size(); ++c) {
-        if (ctx.cancelled()) return cancelled(ctx.file);
-        records.resize(chunks[c].count);
-        if (auto r = chunkFile.read(records.data(), records.size() * sizeof(PointRecord), chunks[c].first * sizeof(PointRecord)); !r)
+
+    /// The node table as it grows, and the node data written through a buffer.
+    struct NodeWriter {
+        File& cache;
+        uint64_t dataOffset;
+        std::vector<StoredNode> nodes;
+        std::vector<uint8_t> data;   // not written yet
+        uint64_t dataBytes = 0;      // written
+
+        Result<void> writeData() {
+            auto r = cache.write(data.data(), data.size(), dataOffset + dataBytes);
+            dataBytes += data.size();
+            data.clear();
             return r;
-        if (!taken.empty())
-            std::erase_if(records, [&](const PointRecord& p) { return taken.count(p.id) != 0; });
-        if (records.empty()) continue;
-        const int32_t at = upper.chunkRoot(chunks[c]);
-        storedIndex.resize(upper.nodes.size(), -1);
-        const int32_t parent = upper.nodes[size_t(at)].parent >= 0 ? storedIndex[size_t(upper.nodes[size_t(at)].parent)] : -1;
-        const PointOctree sub = PointOctree::build(records, tree, cubeOf(chunks[c].cell, root));
-        storedIndex[size_t(at)] = appendTree(sub, records, packing, parent, dataBytes, nodes, data);
-        linkChild(at, storedIndex[size_t(at)]);
-        if (auto r = writeData(); !r) return r;
-        ctx.progress(0.5 + 0.5 * double(c + 1) / double(chunks.size()));
+        }
+    };
+
+    /// Upper nodes first (their indices in creation order), the chunks' roots patched in later.
+    Result<void> writeUpperNodes(NodeWriter& w) {
+        storedIndex_.assign(upper_.nodes.size(), -1);
+        for (size_t i = 0; i < upper_.nodes.size(); ++i)
+            if (upper_.nodes[i].chunk < 0) storedIndex_[i] = int32_t(w.nodes.size()), w.nodes.emplace_back();
+        for (size_t i = 0; i < upper_.nodes.size(); ++i) {
+            const UpperTree::Node& u = upper_.nodes[i];
+            if (u.chunk >= 0) continue;
+            StoredNode& s = w.nodes[size_t(storedIndex_[i])];
+            s.centre = u.cube.centre, s.halfSize = u.cube.halfSize, s.level = u.cube.level;
+            s.count = uint32_t(u.taken.size());
+            s.parent = u.parent >= 0 ? storedIndex_[size_t(u.parent)] : -1;
+            s.offset = w.dataBytes + w.data.size();
+            s.step = store::encodeNode(candidates_, u.taken, u.cube, packing_, w.data);
+        }
+        if (auto r = w.writeData(); !r) return r;
+        std::vector<PointRecord>().swap(candidates_);
+        for (size_t i = 0; i < upper_.nodes.size(); ++i)
+            if (upper_.nodes[i].chunk < 0) linkChild(w, int32_t(i), storedIndex_[i]);
+        return {};
     }
-    chunkFile.close(true);
-    stats->info.depth = 0;
-    for (const StoredNode& s : nodes) stats->info.depth = std::max(stats->info.depth, s.level);
-    stats->info.tolerance = float(tolerance);
-    header.info = stats->info;
-    header.dataBytes = dataBytes;
-    header.nodeTableOffset = header.dataOffset + dataBytes;
-    header.nodeCount = nodes.size();
-    if (auto r = cache.write(nodes.data(), nodes.size() * sizeof(StoredNode), header.nodeTableOffset); !r) return r;
-    if (auto r = cache.write(&header, sizeof header, 0); !r) return r;
-    const std::string written = cache.path();
-    cache.close(false);
-    std::error_code ec;
-    fs::rename(written, out, ec);
-    if (ec) {
-        ::unlink(written.c_str());
-        return makeError(std::string(out).append(": cannot write the point cache: ").append(ec.message()));
+
+    /// Each chunk's subtree, built in memory from its records less those taken above.
+    Result<void> writeChunkTrees(NodeWriter& w) {
+        for (size_t c = 0; c < chunks_.size(); ++c) {
+            if (ctx_.cancelled()) return cancelled(ctx_.file);
+            records_.resize(chunks_[c].count);
+            if (auto r = chunkFile_.read(records_.data(), records_.size() * sizeof(PointRecord), chunks_[c].first * sizeof(PointRecord)); !r)
+                return r;
+            if (!taken_.empty())
+                std::erase_if(records_, [&](const PointRecord& p) { return taken_.count(p.id) != 0; });
+            if (records_.empty()) continue;
+            const int32_t at = upper_.chunkRoot(chunks_[c]);
+            storedIndex_.resize(upper_.nodes.size(), -1);
+            const int32_t parent = upper_.nodes[size_t(at)].parent >= 0 ? storedIndex_[size_t(upper_.nodes[size_t(at)].parent)] : -1;
+            const PointOctree sub = PointOctree::build(records_, tree_, cubeOf(chunks_[c].cell, root_));
+            storedIndex_[size_t(at)] = appendTree(sub, records_, packing_, parent, w.dataBytes, w.nodes, w.data);
+            linkChild(w, at, storedIndex_[size_t(at)]);
+            if (auto r = w.writeData(); !r) return r;
+            ctx_.progress(0.5 + 0.5 * double(c + 1) / double(chunks_.size()));
+        }
+        return {};
     }
-    return {};
+
+    /// Points the stored parent of upper node `upperIndex` at its stored node.
+    void linkChild(NodeWriter& w, int32_t upperIndex, int32_t stored) {
+        const UpperTree::Node& u = upper_.nodes[size_t(upperIndex)];
+        if (u.parent < 0) return;
+        const UpperTree::Node& p = upper_.nodes[size_t(u.parent)];
+        for (int o = 0; o < 8; ++o)
+            if (p.children[o] == upperIndex) w.nodes[size_t(storedIndex_[size_t(u.parent)])].children[o] = stored;
+    }
+
+    /// Renames the finished temporary file to `out`.
+    static Result<void> moveInPlace(File& cache, const std::string& out) {
+        const std::string written = cache.path();
+        cache.close(false);
+        std::error_code ec;
+        fs::rename(written, out, ec);
+        if (ec) {
+            ::unlink(written.c_str());
+            return makeError(std::string(out).append(": cannot write the point cache: ").append(ec.message()));
+        }
+        return {};
+    }
+
+    const BuildContext& ctx_;
+    const PointOctree::Options& tree_;
+    const uint32_t capacity_;
+    const double tolerance_;
+    const std::string tmp_;   // temporary files: tmp_.*.tmp
+    File spill_, chunkFile_;
+    Statistics stats_;
+    Packing packing_;
+    uint64_t n_ = 0;          // points kept
+    Cube root_;
+    uint32_t levels_ = 0;     // of the counting grid
+    std::vector<Chunk> chunks_;
+    UpperTree upper_;
+    std::vector<PointRecord> candidates_, records_;
+    std::unordered_set<uint64_t> taken_;   // ids of the candidates the upper nodes took
+    std::vector<int32_t> storedIndex_;     // per upper node: its index in the node table, -1 none yet
+};
+
+Result<void> buildCacheFile(const BuildContext& ctx, const std::string& out, const std::string& key, double tolerance) {
+    return CacheBuilder(ctx, tolerance).build(out, key);
 }
 
 /// Everything in memory (small clouds).

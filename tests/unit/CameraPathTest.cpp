@@ -103,6 +103,11 @@ TEST(CameraPath, RejectsBadJsonVersionAndInterpolation) {
                           R"(/interpolation: expected "smooth" or "linear", got "cubic")"));
 }
 
+TEST(CameraPath, SyntaxErrorNamesFileLineAndColumn) {
+    EXPECT_EQ(CameraPath::parseText("{\n  \"keys\": [,]\n}", "p.json").message(),
+              "p.json: line 2, column 12: syntax error while parsing value - unexpected ','; expected '[', '{', or a literal");
+}
+
 TEST(CameraPath, AtKeyTimesGivesTheKeysExactly) {
     auto r = parse(kThreeKeys);
     ASSERT_TRUE(r.ok()) << r.message();

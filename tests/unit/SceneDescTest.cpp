@@ -62,6 +62,13 @@ TEST(SceneDesc, MalformedJsonNamesLineAndColumn) {
     EXPECT_TRUE(failsWith("{\"layers\": [] ", "syntax error"));
 }
 
+TEST(SceneDesc, SyntaxErrorReadsFileLineColumnAndTheParsersWords) {
+    // The position is counted from 1; the parser's own "[json.exception...] parse error at ..."
+    // prefix is dropped.
+    EXPECT_EQ(parse("{\n  \"layers\": [,]\n}").message(),
+              "s.json: line 2, column 14: syntax error while parsing value - unexpected ','; expected '[', '{', or a literal");
+}
+
 TEST(SceneDesc, WrongTypesNameThePath) {
     EXPECT_TRUE(failsWith(R"({"layers": {}})", "/layers: expected an array, got an object"));
     EXPECT_TRUE(failsWith(R"({"layers": [{"type": 3}]})", "/layers/0/type: expected a string, got a number"));

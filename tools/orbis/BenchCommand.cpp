@@ -1,25 +1,15 @@
 // orbis bench SCENE: frame time statistics, CPU and GPU per pass.
 #include "tools/orbis/Commands.h"
 
-#include "base/Log.h"
-#include "engine/scene/CameraPath.h"
-#include "layers/volume/VolumeLayer.h"
-#include "tools/orbis/Plot.h"
+#include "tools/orbis/BenchFrames.h"
+#include "tools/orbis/BenchModes.h"
+#include "tools/orbis/BenchStats.h"
 #include "tools/orbis/Session.h"
 
 #include <nlohmann/json.hpp>
 
-#include <malloc.h>
-#include <sys/resource.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <fstream>
-#include <map>
 #include <optional>
 #include <thread>
 
@@ -53,318 +43,64 @@ const char* kHelp =
     "                     refinement, ms/frame and the distance in voxels between each pixel's first\n"
     "                     hit and the reference's (refined, 4 x the largest count)\n";
 
-struct Stats {
-    double min = 0, median = 0, p95 = 0, mean = 0;
+/// What a plain run measured, for its report.
+struct FrameReport {
+    uint32_t width, height;
+    long frames, warmup;
+    const FrameSeries& series;
+    LoadTimes load;
 };
 
-Stats summarize(std::vector<double> v) {
-    Stats s;
-    if (v.empty()) return s;
-    std::sort(v.begin(), v.end());
-    s.min = v.front();
-    s.median = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-    s.p95 = v[std::min(v.size() - 1, static_cast<size_t>(0.95 * double(v.size() - 1) + 0.5))];
-    for (double x : v) s.mean += x;
-    s.mean /= double(v.size());
-    return s;
+void printJson(const Args& args, const gpu::PhysicalDeviceInfo& info, const FrameReport& r) {
+    const FrameSeries& s = r.series;
+    nlohmann::json out;
+    out["scene"] = args.positional()[0];
+    out["device"] = {{"name", info.name}, {"type", info.type}, {"driver", info.driverInfo}};
+    out["size"] = {r.width, r.height};
+    out["frames"] = r.frames;
+    out["warmup"] = r.warmup;
+    out["cpu_ms"] = toJson(summarize(s.cpu));
+    out["frame_ms"] = toJson(summarize(s.wall));
+    out["gpu_ms"]["total"] = toJson(summarize(s.gpuTotal));
+    out["items_drawn"] = toJson(summarize(s.items));
+    out["memory_mb"] = s.memory.toJson();
+    if (auto path = args.value("--camera-path")) out["camera_path"] = *path;
+    if (r.load.settledS >= 0.0) out["load_s"] = {{"first_content", r.load.firstContentS}, {"settled", r.load.settledS}};
+    for (const auto& name : s.passOrder) out["gpu_ms"]["passes"][name] = toJson(summarize(s.passes.at(name)));
+    std::printf("%s\n", out.dump(2).c_str());
 }
 
-nlohmann::json toJson(const Stats& s) {
-    return {{"min", s.min}, {"median", s.median}, {"p95", s.p95}, {"mean", s.mean}};
-}
-
-/// Root-mean-square difference over the RGB channels, in 0..255 units.
-double rmse(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
-    double sum = 0.0;
-    size_t n = 0;
-    for (size_t i = 0; i + 3 < a.size() && i + 3 < b.size(); i += 4)
-        for (size_t c = 0; c < 3; ++c, ++n) {
-            const double d = double(a[i + c]) - double(b[i + c]);
-            sum += d * d;
-        }
-    return n ? std::sqrt(sum / double(n)) : 0.0;
-}
-
-double psnr(double rmseValue) { return rmseValue > 0.0 ? 20.0 * std::log10(255.0 / rmseValue) : INFINITY; }
-
-uint64_t layerGpuBytes(const scene::Scene& scene) {
-    uint64_t n = 0;
-    for (const auto& r : scene.resources())
-        if (const scene::LayerStats* stats = r.layer->asStats(); stats && r.layer->prepared()) n += stats->gpuBytes();
-    return n;
-}
-
-uint64_t layerCacheBytes(const scene::Scene& scene) {
-    uint64_t n = 0;
-    for (const auto& r : scene.resources())
-        if (const scene::LayerStats* stats = r.layer->asStats()) n += stats->cacheBytes();
-    return n;
-}
-
-/// Peak resident set size of this process, bytes.
-uint64_t peakRssBytes() {
-    struct rusage usage {};
-    getrusage(RUSAGE_SELF, &usage);
-    return uint64_t(usage.ru_maxrss) * 1024;
-}
-
-/// Resident set size of this process now, bytes (0 where /proc is not there).
-uint64_t currentRssBytes() {
-    std::ifstream statm("/proc/self/statm");
-    uint64_t size = 0, resident = 0;
-    if (!(statm >> size >> resident)) return 0;
-    return resident * uint64_t(sysconf(_SC_PAGESIZE));
-}
-
-/// Memory at one point of a run, for the "no growth once the caches are full" check.
-struct MemorySample {
-    double at = 0.0;   // fraction of the measured frames
-    uint64_t rss = 0, layersGpu = 0, layersCache = 0;
-    uint64_t deviceReserved = 0;   // every vkAllocateMemory block of the process
-};
-
-uint64_t itemsDrawn(const scene::Scene& scene) {
-    uint64_t n = 0;
-    for (const auto& r : scene.resources())
-        if (const scene::LayerStats* stats = r.layer->asStats(); stats && r.visible) n += stats->itemsDrawn();
-    return n;
-}
-
-/// The comma-separated numbers of `option`'s value ("1,2.5,4").
-std::vector<double> numberList(const std::string& option, const std::string& text) {
-    std::vector<double> values;
-    for (size_t start = 0; start <= text.size();) {
-        const size_t end = std::min(text.find(',', start), text.size());
-        const std::string item = text.substr(start, end - start);
-        char* stop = nullptr;
-        const double v = std::strtod(item.c_str(), &stop);
-        if (item.empty() || *stop != '\0' || !std::isfinite(v)) throw UsageError{option + ": '" + item + "' is not a number"};
-        values.push_back(v);
-        start = end + 1;
-    }
-    return values;
-}
-
-/// `orbis bench --sweep K=v1,v2,...`: one row per value.
-int sweep(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer, long frames, long warmup) {
-    const std::string spec = *args.value("--sweep");
-    const auto eq = spec.find('=');
-    if (eq == std::string::npos || eq == 0) throw UsageError{"--sweep expects NAME=v1,v2,... got '" + spec + "'"};
-    const std::string name = spec.substr(0, eq);
-    const std::vector<double> values = numberList("--sweep", spec.substr(eq + 1));
-    if (values.size() < 2) throw UsageError{"--sweep needs at least two values (the first is the reference)"};
-
-    struct Row {
-        double value, frameMs, gpuMs, cpuMs, rmse, psnr;
-        uint64_t items;
+void printTable(const Args& args, const gpu::PhysicalDeviceInfo& info, const FrameReport& r) {
+    const FrameSeries& s = r.series;
+    std::printf("orbis bench %s  %ux%u  %ld frames (+%ld warm-up)  device: %s (%s)\n", args.positional()[0].c_str(),
+                r.width, r.height, r.frames, r.warmup, info.name.c_str(), info.type.c_str());
+    std::printf("%-22s %10s %10s %10s\n", "ms", "min", "median", "p95");
+    auto row = [](const std::string& name, const Stats& st) {
+        std::printf("%-22s %10.3f %10.3f %10.3f\n", name.c_str(), st.min, st.median, st.p95);
     };
-    std::vector<Row> rows;
-    std::vector<uint8_t> reference;
-    for (double v : values) {
-        bool known = false;
-        for (auto& r : scene.resources())
-            if (scene::LiveSettings* live = r.layer->asLiveSettings(); live && r.visible)
-                known = live->setParameter(name, v) || known;
-        if (!known) {
-            std::fprintf(stderr, "orbis: no visible layer of %s has a parameter '%s'\n", args.positional()[0].c_str(),
-                         name.c_str());
-            return kBadInput;
-        }
-        scene.time().advance(0.0);
-        renderer.settle(scene, 600.0);
-        std::vector<double> wall, gpuTotal, cpu;
-        for (long i = 0; i < warmup + frames; ++i) {
-            const auto t0 = std::chrono::steady_clock::now();
-            const auto frame = renderer.render(scene, false);
-            const auto times = renderer.gpuTimes(frame);
-            if (i < warmup) continue;
-            wall.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-            cpu.push_back(frame.cpuMs);
-            double total = 0.0;
-            for (const auto& p : times) total += p.ms;
-            gpuTotal.push_back(total);
-        }
-        const auto frame = renderer.render(scene, true);
-        const std::vector<uint8_t> pixels = renderer.readPixels(frame);
-        if (reference.empty()) reference = pixels;
-        const double e = rmse(reference, pixels);
-        rows.push_back({v, summarize(wall).median, summarize(gpuTotal).median, summarize(cpu).median, e, psnr(e),
-                        itemsDrawn(scene)});
-    }
-
-    const auto& info = gpu.device->info();
-    if (args.flag("--json")) {
-        nlohmann::json out;
-        out["scene"] = args.positional()[0];
-        out["device"] = {{"name", info.name}, {"type", info.type}};
-        out["size"] = {renderer.width(), renderer.height()};
-        out["parameter"] = name;
-        for (const auto& r : rows)
-            out["rows"].push_back({{"value", r.value}, {"frame_ms", r.frameMs}, {"gpu_ms", r.gpuMs}, {"cpu_ms", r.cpuMs},
-                                   {"items", r.items}, {"rmse", r.rmse}, {"psnr", std::isfinite(r.psnr) ? r.psnr : 999.0}});
-        std::printf("%s\n", out.dump(2).c_str());
-    } else {
-        std::printf("orbis bench %s --sweep %s  %ux%u  %ld frames each  device: %s (%s)\n", args.positional()[0].c_str(),
-                    name.c_str(), renderer.width(), renderer.height(), frames, info.name.c_str(), info.type.c_str());
-        std::printf("%-12s %12s %10s %10s %8s %10s %10s\n", name.substr(0, 12).c_str(), "frame ms", "gpu ms", "cpu ms",
-                    "items", "RMSE", "PSNR dB");
-        for (const auto& r : rows)
-            std::printf("%-12g %12.2f %10.2f %10.2f %8llu %10.3f %10.2f\n", r.value, r.frameMs, r.gpuMs, r.cpuMs,
-                        static_cast<unsigned long long>(r.items), r.rmse, r.psnr);
-        std::printf("(medians; error against the first value's image, in 0..255 units)\n");
-    }
-    std::vector<PlotPoint> points;
-    for (const auto& r : rows) {
-        char label[32];
-        std::snprintf(label, sizeof label, "%g", r.value);
-        points.push_back({r.frameMs, r.rmse, label});
-    }
-    // The curve runs from the fastest setting to the slowest, whatever order they were given in.
-    std::stable_sort(points.begin(), points.end(), [](const PlotPoint& a, const PlotPoint& b) { return a.x < b.x; });
-    const std::string plotFile = args.value("--plot").value_or("orbis-sweep.png");
-    if (auto ok = writePng(plotFile, plotPoints(points)); !ok) return badInput(ok.message());
-    log::info("wrote the plot ", plotFile, " (x: ms per frame, y: RMSE against ", name, "=", values.front(), ")");
-    return validationExitCode(gpu);
+    row("frame (wall)", summarize(s.wall));
+    row("cpu", summarize(s.cpu));
+    row("gpu total", summarize(s.gpuTotal));
+    row("items drawn", summarize(s.items));
+    if (r.load.settledS >= 0.0)
+        std::printf("loading: first frame with content after %.2f s, everything in view after %.2f s\n",
+                    r.load.firstContentS, r.load.settledS);
+    s.memory.print();
+    for (const auto& name : s.passOrder) row("gpu " + name, summarize(s.passes.at(name)));
 }
 
-/// `orbis bench --iso-error N1,N2,...`: isosurface position error against the step count.
-int isoError(const Args& args, GpuSession& gpu, uint32_t width, uint32_t height, long frames, long warmup) {
-    std::vector<int> counts;
-    for (double v : numberList("--iso-error", *args.value("--iso-error"))) {
-        if (v != std::floor(v) || v < 1 || v > 4096) {
-            char text[64];
-            std::snprintf(text, sizeof text, "--iso-error: %g is not a step count (1 .. 4096)", v);
-            throw UsageError{text};
-        }
-        counts.push_back(int(v));
-    }
-    struct Hits {
-        std::vector<float> t;
-        std::vector<glm::dvec3> voxel;   // where t >= 0
-        double frameMs = 0.0;
-    };
-    // One scene per configuration: the measurement is compiled into the ray caster.
-    const auto run = [&](int steps, bool refine, long timed) -> std::optional<Hits> {
-        auto loaded = loadSceneForCommand(args);
-        if (!loaded) return std::nullopt;
-        std::unique_ptr<scene::Scene> scene = std::move(loaded).value();
-        layers::VolumeLayer* volume = nullptr;
-        for (auto& r : scene->resources())
-            if (auto* v = dynamic_cast<layers::VolumeLayer*>(r.layer.get()); v && !volume && !v->settings().isovalues.empty())
-                volume = v;
-        if (!volume) {
-            std::fprintf(stderr, "orbis: %s has no volume layer in mode \"iso\" (--iso-error)\n", args.positional()[0].c_str());
-            return std::nullopt;
-        }
-        volume->setMeasurement(true, refine);
-        volume->setParameter("steps", steps);
-        render::Renderer renderer(*gpu.device, width, height);
-        renderer.settle(*scene, 600.0);
-        std::vector<double> wall;
-        for (long i = 0; i < warmup + timed; ++i) {
-            const auto t0 = std::chrono::steady_clock::now();
-            const auto frame = renderer.render(*scene, false);
-            (void)renderer.gpuTimes(frame);
-            if (i >= warmup) wall.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-        }
-        const auto frame = renderer.render(*scene, true);
-        (void)renderer.readPixels(frame);   // waits for the frame
-        Hits h;
-        h.t = volume->hitDistances();
-        h.voxel.resize(h.t.size());
-        const auto& cam = scene->camera();
-        const double aspect = double(width) / double(height);
-        for (uint32_t y = 0; y < height; ++y)
-            for (uint32_t x = 0; x < width; ++x) {
-                const size_t i = size_t(y) * width + x;
-                if (i >= h.t.size() || h.t[i] < 0.0f) continue;
-                const glm::dvec3 dir = cam.rayDirection(2.0 * (x + 0.5) / width - 1.0, 2.0 * (y + 0.5) / height - 1.0, aspect);
-                h.voxel[i] = volume->voxelAt(cam.position() + double(h.t[i]) * dir);
-            }
-        h.frameMs = wall.empty() ? 0.0 : summarize(wall).median;
-        return h;
-    };
-    const int referenceSteps = std::min(4096, 4 * *std::max_element(counts.begin(), counts.end()));
-    const auto reference = run(referenceSteps, true, 0);
-    if (!reference) return kBadInput;
-
-    struct Row {
-        int steps;
-        bool refine;
-        double frameMs, median, p95, mean, far, disagree;
-    };
-    std::vector<Row> rows;
-    for (int steps : counts)
-        for (bool refine : {false, true}) {
-            const auto hits = run(steps, refine, frames);
-            if (!hits) return kBadInput;
-            std::vector<double> err;
-            size_t disagree = 0, any = 0;
-            for (size_t i = 0; i < hits->t.size() && i < reference->t.size(); ++i) {
-                const bool a = hits->t[i] >= 0.0f, b = reference->t[i] >= 0.0f;
-                any += a || b ? 1 : 0;
-                if (a != b) ++disagree;
-                if (a && b) err.push_back(glm::length(hits->voxel[i] - reference->voxel[i]));
-            }
-            std::sort(err.begin(), err.end());
-            double sum = 0.0;
-            size_t far = 0;
-            for (double e : err) sum += e, far += e > 2.0 ? 1 : 0;
-            const auto quantile = [&](double q) { return err.empty() ? 0.0 : err[std::min(err.size() - 1, size_t(q * double(err.size())))]; };
-            rows.push_back({steps, refine, hits->frameMs, quantile(0.5), quantile(0.95),
-                            err.empty() ? 0.0 : sum / double(err.size()),
-                            err.empty() ? 0.0 : 100.0 * double(far) / double(err.size()),
-                            any ? 100.0 * double(disagree) / double(any) : 0.0});
-        }
-
-    const auto& info = gpu.device->info();
-    if (args.flag("--json")) {
-        nlohmann::json out;
-        out["scene"] = args.positional()[0];
-        out["device"] = {{"name", info.name}, {"type", info.type}};
-        out["size"] = {width, height};
-        out["reference_steps"] = referenceSteps;
-        for (const auto& r : rows)
-            out["rows"].push_back({{"steps", r.steps}, {"refine", r.refine}, {"frame_ms", r.frameMs},
-                                   {"median_voxels", r.median}, {"p95_voxels", r.p95}, {"mean_voxels", r.mean},
-                                   {"other_surface_percent", r.far},
-                                   {"hit_disagree_percent", r.disagree}});
-        std::printf("%s\n", out.dump(2).c_str());
-    } else {
-        std::printf("orbis bench %s --iso-error  %ux%u  %ld frames each  reference: %d steps, refined  device: %s (%s)\n",
-                    args.positional()[0].c_str(), width, height, frames, referenceSteps, info.name.c_str(), info.type.c_str());
-        std::printf("%6s %7s %9s %11s %11s %11s %9s %9s\n", "steps", "refine", "frame ms", "median vox", "p95 vox",
-                    "mean vox", "> 2 vox %", "hit/miss %");
-        for (const auto& r : rows)
-            std::printf("%6d %7s %9.2f %11.4f %11.4f %11.4f %9.3f %9.3f\n", r.steps, r.refine ? "yes" : "no", r.frameMs,
-                        r.median, r.p95, r.mean, r.far, r.disagree);
-        std::printf("(distance from each pixel's first hit to the reference's, in voxels, over the pixels where both hit;\n"
-                    " > 2 vox: share of hits more than 2 voxels off (refined: on another part of the surface, a thin\n"
-                    " part stepped over); hit/miss: pixels where only one of them hits, of those where either\n"
-                    " does; frames timed with the measurement on)\n");
-    }
-    return validationExitCode(gpu);
-}
-}  // namespace
-
-/// `orbis bench --tiles LEVEL` (TileBench.cpp).
-int tileBench(const Args& args, scene::Scene& scene, long level, unsigned threads);
-/// `orbis bench --video FILE` (VideoBench.cpp).
-int videoBench(const std::string& file, long seeks);
-/// `orbis bench --poses FILE` (PoseBench.cpp).
-int poseBench(const std::string& file);
-
-int benchCommand(const std::vector<std::string>& argv) {
+/// The options of every mode; --help prints kHelp.
+Args parseBenchArgs(const std::vector<std::string>& argv) {
     std::set<std::string> valued = gpuValuedOptions();
     valued.insert({"--frames", "--warmup", "--size", "--time", "--camera-path", "--sweep", "--plot", "--tiles", "--threads",
                    "--iso-error", "--video", "--seeks", "--poses"});
     std::set<std::string> flags = gpuFlagOptions();
     flags.insert({"--help", "--json"});
-    Args args(argv, valued, flags, {{"-h", "--help"}});
-    if (args.flag("--help")) {
-        std::printf("%s%s", kHelp, gpuOptionsHelp().c_str());
-        return kOk;
-    }
+    return Args(argv, valued, flags, {{"-h", "--help"}});
+}
+
+/// The modes that need no scene: --video, --poses.
+std::optional<int> sceneFreeBench(const Args& args) {
     if (auto video = args.value("--video")) {
         if (!args.positional().empty()) throw UsageError{"bench --video takes no SCENE"};
         return videoBench(*video, args.integer("--seeks", 1, 100000).value_or(50));
@@ -373,6 +109,18 @@ int benchCommand(const std::vector<std::string>& argv) {
         if (!args.positional().empty()) throw UsageError{"bench --poses takes no SCENE"};
         return poseBench(*poses);
     }
+    return std::nullopt;
+}
+
+}  // namespace
+
+int benchCommand(const std::vector<std::string>& argv) {
+    const Args args = parseBenchArgs(argv);
+    if (args.flag("--help")) {
+        std::printf("%s%s", kHelp, gpuOptionsHelp().c_str());
+        return kOk;
+    }
+    if (auto exitCode = sceneFreeBench(args)) return *exitCode;
     if (args.positional().size() != 1) throw UsageError{"bench expects exactly one SCENE file"};
     const long frames = args.integer("--frames", 1, 1000000).value_or(100);
     const long warmup = args.integer("--warmup", 0, 1000000).value_or(5);
@@ -390,114 +138,17 @@ int benchCommand(const std::vector<std::string>& argv) {
             std::max(1u, std::thread::hardware_concurrency())));
         return tileBench(args, *scene, *level, threads);
     }
-    if (args.value("--iso-error")) return isoError(args, gpu, width, height, frames, warmup);
+    if (args.value("--iso-error")) return isoErrorBench(args, gpu, width, height, frames, warmup);
     render::Renderer renderer(*gpu.device, width, height);
-    if (args.value("--sweep")) return sweep(args, gpu, *scene, renderer, frames, warmup);
-    std::vector<double> items;
-    uint64_t maxGpuBytes = 0, maxCacheBytes = 0;
-    std::vector<MemorySample> memory;   // at the first measured frame and every tenth of them
+    if (args.value("--sweep")) return sweepBench(args, gpu, *scene, renderer, frames, warmup);
 
-    std::vector<double> cpu, wall, gpuTotal;
-    std::map<std::string, std::vector<double>> passes;
-    std::vector<std::string> passOrder;
-    // Virtual time moves by a fixed 1/60 s per frame, so runs are repeatable.
-    constexpr double kFrameSeconds = 1.0 / 60.0;
-    // A fixed view is measured once everything it shows has loaded (point clouds load on a
-    // worker); a camera path measures the streaming as it flies.
-    // The loading's times: to the first frame that draws anything, and until nothing loads.
-    double firstContentS = -1.0, settledS = -1.0;
-    if (!path) {
-        const auto start = std::chrono::steady_clock::now();
-        const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-        renderer.settle(*scene, 600.0, [&] {
-            if (firstContentS < 0.0 && itemsDrawn(*scene) > 0) firstContentS = seconds();
-        });
-        settledS = seconds();
-    }
-    for (long i = 0; i < warmup + frames; ++i) {
-        const auto t0 = std::chrono::steady_clock::now();
-        scene->time().advance(i == 0 ? 0.0 : kFrameSeconds);
-        if (path) {
-            // The measured frames sweep the whole path; warm-up frames stay at its start.
-            const double f = i < warmup || frames < 2 ? 0.0 : double(i - warmup) / double(frames - 1);
-            scene->camera().setPose(
-                scene->keptAboveGround(globe::poseFromViewpoint(path->at(path->startTime() + f * path->duration()))));
-        }
-        const auto frame = renderer.render(*scene, /*readback=*/false);
-        const auto times = renderer.gpuTimes(frame);
-        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        if (i < warmup) continue;
-        cpu.push_back(frame.cpuMs);
-        wall.push_back(ms);
-        items.push_back(double(itemsDrawn(*scene)));
-        maxGpuBytes = std::max(maxGpuBytes, layerGpuBytes(*scene));
-        maxCacheBytes = std::max(maxCacheBytes, layerCacheBytes(*scene));
-        const long done = i - warmup + 1;
-        if (done == 1 || done * 10 / frames != (done - 1) * 10 / frames)
-            memory.push_back({double(done) / double(frames), currentRssBytes(), layerGpuBytes(*scene),
-                              layerCacheBytes(*scene), gpu.device->allocator().stats().bytesReserved});
-        double total = 0.0;
-        for (const auto& p : times) {
-            if (!passes.count(p.name)) passOrder.push_back(p.name);
-            passes[p.name].push_back(p.ms);
-            total += p.ms;
-        }
-        gpuTotal.push_back(total);
-    }
-
-    const auto& info = gpu.device->info();
-    if (args.flag("--json")) {
-        nlohmann::json out;
-        out["scene"] = args.positional()[0];
-        out["device"] = {{"name", info.name}, {"type", info.type}, {"driver", info.driverInfo}};
-        out["size"] = {width, height};
-        out["frames"] = frames;
-        out["warmup"] = warmup;
-        out["cpu_ms"] = toJson(summarize(cpu));
-        out["frame_ms"] = toJson(summarize(wall));
-        out["gpu_ms"]["total"] = toJson(summarize(gpuTotal));
-        out["items_drawn"] = toJson(summarize(items));
-        out["memory_mb"] = {{"layers_gpu_max", double(maxGpuBytes) / 1048576.0},
-                            {"layers_cache_max", double(maxCacheBytes) / 1048576.0},
-                            {"process_rss_peak", double(peakRssBytes()) / 1048576.0}};
-        for (const auto& m : memory)
-            out["memory_mb"]["timeline"].push_back({{"at", m.at},
-                                                    {"rss", double(m.rss) / 1048576.0},
-                                                    {"layers_gpu", double(m.layersGpu) / 1048576.0},
-                                                    {"layers_cache", double(m.layersCache) / 1048576.0},
-                                                    {"device_reserved", double(m.deviceReserved) / 1048576.0}});
-        if (path) out["camera_path"] = *args.value("--camera-path");
-        if (settledS >= 0.0) out["load_s"] = {{"first_content", firstContentS}, {"settled", settledS}};
-        for (const auto& name : passOrder) out["gpu_ms"]["passes"][name] = toJson(summarize(passes[name]));
-        std::printf("%s\n", out.dump(2).c_str());
-    } else {
-        std::printf("orbis bench %s  %ux%u  %ld frames (+%ld warm-up)  device: %s (%s)\n", args.positional()[0].c_str(),
-                    width, height, frames, warmup, info.name.c_str(), info.type.c_str());
-        std::printf("%-22s %10s %10s %10s\n", "ms", "min", "median", "p95");
-        auto row = [](const std::string& name, const Stats& s) {
-            std::printf("%-22s %10.3f %10.3f %10.3f\n", name.c_str(), s.min, s.median, s.p95);
-        };
-        row("frame (wall)", summarize(wall));
-        row("cpu", summarize(cpu));
-        row("gpu total", summarize(gpuTotal));
-        row("items drawn", summarize(items));
-        if (settledS >= 0.0)
-            std::printf("loading: first frame with content after %.2f s, everything in view after %.2f s\n", firstContentS,
-                        settledS);
-        std::printf("memory: layers' GPU %.1f MB max, layers' caches %.1f MB max, process RSS peak %.1f MB\n",
-                    double(maxGpuBytes) / 1048576.0, double(maxCacheBytes) / 1048576.0, double(peakRssBytes()) / 1048576.0);
-        const struct mallinfo2 heap = mallinfo2();   // where RSS beyond the budgets goes
-        std::printf("heap (glibc): %.1f MB in use, %.1f MB freed but kept in its arenas, %.1f MB mapped blocks\n",
-                    double(heap.uordblks) / 1048576.0, double(heap.fordblks) / 1048576.0,
-                    double(heap.hblkhd) / 1048576.0);
-        std::printf("memory over the run (MB: RSS / layers' GPU / layers' caches / device memory reserved):");
-        for (const auto& m : memory)
-            std::printf(" %.0f%%: %.0f/%.0f/%.0f/%.0f", m.at * 100.0, double(m.rss) / 1048576.0,
-                        double(m.layersGpu) / 1048576.0, double(m.layersCache) / 1048576.0,
-                        double(m.deviceReserved) / 1048576.0);
-        std::printf("\n");
-        for (const auto& name : passOrder) row("gpu " + name, summarize(passes[name]));
-    }
+    // A fixed view is measured once everything it shows has loaded; a camera path measures the
+    // streaming as it flies.
+    const LoadTimes load = path ? LoadTimes{} : settleTimed(renderer, *scene);
+    const FrameSeries series = measureFrames(renderer, *scene, *gpu.device, path, frames, warmup);
+    const FrameReport report{width, height, frames, warmup, series, load};
+    if (args.flag("--json")) printJson(args, gpu.device->info(), report);
+    else printTable(args, gpu.device->info(), report);
     return validationExitCode(gpu);
 }
 

@@ -6,7 +6,7 @@
 // tile) list with RasterSource (GDAL's warper with the transformer kept per handle) on as many
 // plain threads, nothing else. Both runs are repeated and the second of each is reported, so
 // GDAL's block cache is equally warm for both.
-#include "tools/orbis/Commands.h"
+#include "tools/orbis/BenchModes.h"
 
 #include "base/Log.h"
 #include "base/ThreadPool.h"
@@ -19,43 +19,52 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <thread>
 
 namespace orbis::cli {
+namespace {
 
-int tileBench(const Args& args, scene::Scene& scene, long level, unsigned threads) {
-    const layers::TerrainLayer* terrain = nullptr;
-    for (const auto& r : scene.resources())
-        if (auto* t = dynamic_cast<const layers::TerrainLayer*>(r.layer.get())) terrain = t;
-    if (!terrain) {
-        std::fprintf(stderr, "orbis: %s: --tiles needs a terrain layer\n", args.positional()[0].c_str());
-        return kBadInput;
-    }
-    const auto& settings = terrain->settings();
+/// The terrain's sources, opened as the pager opens them, and the extent they cover together.
+struct TileSources {
     std::vector<std::shared_ptr<globe::RasterSource>> dems, images;
     globe::GeoExtent coverage{180, 90, -180, -90};
-    const auto grow = [&](const globe::RasterSource& s) {
+
+    void grow(const globe::RasterSource& s) {
         const auto c = s.coverage();
         coverage = {std::min(coverage.west, c.west), std::min(coverage.south, c.south),
                     std::max(coverage.east, c.east), std::max(coverage.north, c.north)};
-    };
+    }
+};
+
+/// The last terrain layer of the scene, or null.
+const layers::TerrainLayer* findTerrain(const scene::Scene& scene) {
+    const layers::TerrainLayer* terrain = nullptr;
+    for (const auto& r : scene.resources())
+        if (auto* t = dynamic_cast<const layers::TerrainLayer*>(r.layer.get())) terrain = t;
+    return terrain;
+}
+
+/// Every source that opens; the others are reported on stderr.
+TileSources openSources(const layers::TerrainSettings& settings) {
+    TileSources out;
     for (const auto& o : settings.elevation)
-        if (auto s = globe::RasterSource::open(o)) dems.push_back(*s), grow(**s);
+        if (auto s = globe::RasterSource::open(o)) out.dems.push_back(*s), out.grow(**s);
         else std::fprintf(stderr, "orbis: %s\n", s.message().c_str());
     for (const auto& l : settings.imagery)
-        if (auto s = globe::RasterSource::open(l.source)) images.push_back(*s), grow(**s);
+        if (auto s = globe::RasterSource::open(l.source)) out.images.push_back(*s), out.grow(**s);
         else std::fprintf(stderr, "orbis: %s\n", s.message().c_str());
-    if (dems.empty() && images.empty()) {
-        std::fprintf(stderr, "orbis: %s: the terrain has no readable source\n", args.positional()[0].c_str());
-        return kBadInput;
-    }
-    // The tiles of LEVEL over the sources, nearest the middle first, at most 256.
+    return out;
+}
+
+/// The tiles of `level` over `coverage`, nearest the middle first, at most 256.
+std::vector<globe::TileKey> tilesOver(const globe::GeoExtent& coverage, uint32_t level) {
     std::vector<globe::TileKey> tiles;
-    const auto first = globe::TileKey::containing(coverage.west, coverage.north, uint32_t(level));
-    const auto last = globe::TileKey::containing(coverage.east, coverage.south, uint32_t(level));
+    const auto first = globe::TileKey::containing(coverage.west, coverage.north, level);
+    const auto last = globe::TileKey::containing(coverage.east, coverage.south, level);
     for (uint32_t y = first.y; y <= last.y; ++y)
-        for (uint32_t x = first.x; x <= last.x && tiles.size() < 65536; ++x) tiles.push_back({uint32_t(level), x, y});
+        for (uint32_t x = first.x; x <= last.x && tiles.size() < 65536; ++x) tiles.push_back({level, x, y});
     const double cx = coverage.centerLon(), cy = coverage.centerLat();
     std::sort(tiles.begin(), tiles.end(), [&](const globe::TileKey& a, const globe::TileKey& b) {
         const auto da = std::hypot(a.extent().centerLon() - cx, a.extent().centerLat() - cy);
@@ -63,72 +72,110 @@ int tileBench(const Args& args, scene::Scene& scene, long level, unsigned thread
         return da < db;
     });
     if (tiles.size() > 256) tiles.resize(256);
+    return tiles;
+}
 
+globe::TerrainModelSettings modelSettings(const layers::TerrainSettings& settings) {
     globe::TerrainModelSettings ms;
     ms.gridSize = settings.gridSize;
     ms.imageSize = settings.imageSize;
     ms.maxLevel = settings.maxLevel;
     ms.cpuBudgetBytes = uint64_t(8) << 30;   // keep everything: the list of loaded tiles is the workload
+    return ms;
+}
 
-    const auto runPager = [&](std::vector<globe::DataKey>* loaded) {
-        jobs::ThreadPool pool(threads, "orbis-tiles");
-        globe::TerrainModel model(ms, dems, images, &pool);
-        const auto t0 = std::chrono::steady_clock::now();
-        for (uint64_t frame = 1;; ++frame) {
-            model.beginFrame(frame);
-            for (const auto& t : tiles)
-                for (uint32_t layer = 0; layer < model.layerCount(); ++layer) model.request(layer, t, 0.0);
-            if (!model.loading()) break;
-            model.waitIdle();
-        }
-        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        if (loaded) *loaded = model.loadedKeys();
-        return std::make_pair(s, model.stats().completed);
-    };
-    const auto runBare = [&](const std::vector<globe::DataKey>& keys) {
-        std::atomic<size_t> next{0};
-        const auto t0 = std::chrono::steady_clock::now();
-        std::vector<std::thread> pool;
-        for (unsigned i = 0; i < threads; ++i)
-            pool.emplace_back([&] {
-                for (size_t k; (k = next.fetch_add(1)) < keys.size();) {
-                    const auto& key = keys[k];
-                    const auto extent = key.tile.extent();
-                    if (key.layer == 0) {
-                        // The pager's read: the tile's grid with a one-sample border.
-                        const double dx = extent.width() / (ms.gridSize - 1), dy = extent.height() / (ms.gridSize - 1);
-                        const globe::GeoExtent grown{extent.west - dx, extent.south - dy, extent.east + dx,
-                                                     extent.north + dy};
-                        for (const auto& s : dems)
-                            if (s->covers(extent)) (void)s->readElevation(grown, ms.gridSize + 2);
-                    } else if (images[key.layer - 1]->covers(extent)) {
-                        (void)images[key.layer - 1]->readImagery(extent, ms.imageSize);
-                    }
-                }
-            });
-        for (auto& t : pool) t.join();
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    };
+struct PagerRun {
+    double seconds = 0.0;
+    uint64_t produced = 0;   // loads completed
+};
 
-    std::vector<globe::DataKey> keys;
-    runPager(&keys);
-    runBare(keys);
-    const auto [pagerSeconds, produced] = runPager(nullptr);
-    const double bareSeconds = runBare(keys);
-    const double pagerRate = double(produced) / pagerSeconds, bareRate = double(keys.size()) / bareSeconds;
+/// The pager loads `tiles` with their ancestors on a pool of `threads`; `loaded`, if given,
+/// receives what it loaded.
+PagerRun runPager(const globe::TerrainModelSettings& ms, const TileSources& sources,
+                  const std::vector<globe::TileKey>& tiles, unsigned threads, std::vector<globe::DataKey>* loaded) {
+    jobs::ThreadPool pool(threads, "orbis-tiles");
+    globe::TerrainModel model(ms, sources.dems, sources.images, &pool);
+    const auto t0 = std::chrono::steady_clock::now();
+    for (uint64_t frame = 1;; ++frame) {
+        model.beginFrame(frame);
+        for (const auto& t : tiles)
+            for (uint32_t layer = 0; layer < model.layerCount(); ++layer) model.request(layer, t, 0.0);
+        if (!model.loading()) break;
+        model.waitIdle();
+    }
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (loaded) *loaded = model.loadedKeys();
+    return {s, model.stats().completed};
+}
+
+/// The pager's read of one key, and nothing else.
+void readBare(const globe::TerrainModelSettings& ms, const TileSources& sources, const globe::DataKey& key) {
+    const auto extent = key.tile.extent();
+    if (key.layer == 0) {
+        // The pager's read: the tile's grid with a one-sample border.
+        const double dx = extent.width() / (ms.gridSize - 1), dy = extent.height() / (ms.gridSize - 1);
+        const globe::GeoExtent grown{extent.west - dx, extent.south - dy, extent.east + dx, extent.north + dy};
+        for (const auto& s : sources.dems)
+            if (s->covers(extent)) (void)s->readElevation(grown, ms.gridSize + 2);
+    } else if (sources.images[key.layer - 1]->covers(extent)) {
+        (void)sources.images[key.layer - 1]->readImagery(extent, ms.imageSize);
+    }
+}
+
+/// Reads `keys` on `threads` plain threads; the seconds it took.
+double runBare(const globe::TerrainModelSettings& ms, const TileSources& sources,
+               const std::vector<globe::DataKey>& keys, unsigned threads) {
+    std::atomic<size_t> next{0};
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<std::thread> pool;
+    for (unsigned i = 0; i < threads; ++i)
+        pool.emplace_back([&] {
+            for (size_t k; (k = next.fetch_add(1)) < keys.size();) readBare(ms, sources, keys[k]);
+        });
+    for (auto& t : pool) t.join();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void printReport(const Args& args, long level, unsigned threads, size_t tiles, size_t loads, const PagerRun& pager,
+                 double bareSeconds) {
+    const double pagerRate = double(pager.produced) / pager.seconds, bareRate = double(loads) / bareSeconds;
     if (args.flag("--json")) {
         nlohmann::json out{{"scene", args.positional()[0]}, {"level", level}, {"threads", threads},
-                           {"tiles", keys.size()}, {"pager_tiles_per_s", pagerRate}, {"bare_tiles_per_s", bareRate},
+                           {"tiles", loads}, {"pager_tiles_per_s", pagerRate}, {"bare_tiles_per_s", bareRate},
                            {"ratio", pagerRate / bareRate}};
         std::printf("%s\n", out.dump(2).c_str());
     } else {
         std::printf("orbis bench %s --tiles %ld: %zu tiles of level %ld over the sources, their ancestors and layers "
                     "= %zu loads, %u threads\n",
-                    args.positional()[0].c_str(), level, tiles.size(), level, keys.size(), threads);
-        std::printf("pager      %8.1f tiles/s  (%.3f s)\n", pagerRate, pagerSeconds);
+                    args.positional()[0].c_str(), level, tiles, level, loads, threads);
+        std::printf("pager      %8.1f tiles/s  (%.3f s)\n", pagerRate, pager.seconds);
         std::printf("bare loop  %8.1f tiles/s  (%.3f s)\n", bareRate, bareSeconds);
         std::printf("pager / bare = %.2f\n", pagerRate / bareRate);
     }
+}
+
+}  // namespace
+
+int tileBench(const Args& args, scene::Scene& scene, long level, unsigned threads) {
+    const layers::TerrainLayer* terrain = findTerrain(scene);
+    if (!terrain) {
+        std::fprintf(stderr, "orbis: %s: --tiles needs a terrain layer\n", args.positional()[0].c_str());
+        return kBadInput;
+    }
+    const TileSources sources = openSources(terrain->settings());
+    if (sources.dems.empty() && sources.images.empty()) {
+        std::fprintf(stderr, "orbis: %s: the terrain has no readable source\n", args.positional()[0].c_str());
+        return kBadInput;
+    }
+    const std::vector<globe::TileKey> tiles = tilesOver(sources.coverage, uint32_t(level));
+    const globe::TerrainModelSettings ms = modelSettings(terrain->settings());
+    // Each run twice, the second reported, so that GDAL's block cache is equally warm for both.
+    std::vector<globe::DataKey> keys;
+    runPager(ms, sources, tiles, threads, &keys);
+    runBare(ms, sources, keys, threads);
+    const PagerRun pager = runPager(ms, sources, tiles, threads, nullptr);
+    const double bareSeconds = runBare(ms, sources, keys, threads);
+    printReport(args, level, threads, tiles.size(), keys.size(), pager, bareSeconds);
     return kOk;
 }
 

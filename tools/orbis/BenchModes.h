@@ -1,0 +1,28 @@
+#pragma once
+// The modes of `orbis bench` besides the plain frame timing (BenchCommand.cpp), each in its
+// own file. They return the command's exit code and throw UsageError on bad options.
+
+#include "engine/render/Renderer.h"
+#include "engine/scene/Scene.h"
+#include "tools/orbis/Args.h"
+#include "tools/orbis/Session.h"
+
+#include <cstdint>
+#include <string>
+
+namespace orbis::cli {
+
+/// `orbis bench SCENE --sweep K=v1,v2,...`: one row per value (BenchSweep.cpp).
+int sweepBench(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer, long frames,
+               long warmup);
+/// `orbis bench SCENE --iso-error N1,N2,...`: isosurface position error against the step
+/// count (BenchIsoError.cpp).
+int isoErrorBench(const Args& args, GpuSession& gpu, uint32_t width, uint32_t height, long frames, long warmup);
+/// `orbis bench SCENE --tiles LEVEL` (TileBench.cpp).
+int tileBench(const Args& args, scene::Scene& scene, long level, unsigned threads);
+/// `orbis bench --video FILE` (VideoBench.cpp).
+int videoBench(const std::string& file, long seeks);
+/// `orbis bench --poses FILE` (PoseBench.cpp).
+int poseBench(const std::string& file);
+
+}  // namespace orbis::cli
