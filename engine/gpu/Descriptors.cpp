@@ -8,9 +8,9 @@
 
 namespace orbis::gpu {
 
-static_assert(shader::kStageVertex == VK_SHADER_STAGE_VERTEX_BIT);
-static_assert(shader::kStageFragment == VK_SHADER_STAGE_FRAGMENT_BIT);
-static_assert(shader::kStageCompute == VK_SHADER_STAGE_COMPUTE_BIT);
+static_assert(uint32_t(shader::kStageVertex) == uint32_t(VK_SHADER_STAGE_VERTEX_BIT));
+static_assert(uint32_t(shader::kStageFragment) == uint32_t(VK_SHADER_STAGE_FRAGMENT_BIT));
+static_assert(uint32_t(shader::kStageCompute) == uint32_t(VK_SHADER_STAGE_COMPUTE_BIT));
 
 VkDescriptorType toVulkan(shader::DescriptorKind kind) {
     switch (kind) {

@@ -4,6 +4,7 @@
 // benchmark and (blitted to a swapchain) the viewer.
 
 #include "engine/gpu/Buffer.h"
+#include "engine/gpu/Descriptors.h"
 #include "engine/gpu/FrameRing.h"
 #include "engine/gpu/GpuTimer.h"
 #include "engine/gpu/Handle.h"
@@ -88,10 +89,8 @@ private:
     gpu::FrameRing ring_;
     gpu::GpuTimer timer_;
     gpu::Uploader uploader_;
-    gpu::DescriptorSetLayout frameSetLayout_;
-    gpu::DescriptorPool descriptorPool_;
+    gpu::DescriptorSets frameSets_;   // set 0 (shader::kFrameBindings), one per frame in flight
     std::vector<gpu::Buffer> frameUniforms_;
-    std::vector<VkDescriptorSet> frameSets_;
     std::unique_ptr<jobs::ThreadPool> jobs_;
     RenderServices services_;
 };

@@ -8,7 +8,7 @@
 
 layout(constant_id = 0) const bool kScreen = false;
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 
 layout(location = 0) in vec4 inPosition;
 layout(location = 1) in vec4 inColor;

@@ -3,7 +3,7 @@
 #include "shared/FrameUniforms.h"
 #include "shared/EarthTypes.h"
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 layout(push_constant) uniform PushBlock { EarthPush pc; };
 
 layout(location = 0) in vec3 vNormal;

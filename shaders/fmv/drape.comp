@@ -12,7 +12,7 @@
 
 layout(local_size_x = kFmvGroupSize, local_size_y = kFmvGroupSize) in;
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 layout(set = 1, binding = 0) uniform FmvBlock { FmvUniforms fu; };
 layout(set = 1, binding = 1) uniform sampler2D sceneDepth;
 layout(set = 1, binding = 2) uniform sampler2D videoFrame;

@@ -9,7 +9,7 @@
 
 layout(constant_id = 0) const bool kFrustum = false;
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 layout(set = 1, binding = 0) uniform FmvBlock { FmvUniforms fu; };
 layout(set = 1, binding = 7, std430) readonly buffer Footprint { vec4 points[]; };
 

@@ -7,7 +7,7 @@
 // lighting: the sun (or a headlight) as a diffuse light with a sky ambient term; both faces are
 // lit (double-sided materials and mirrored nodes show their back faces).
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 layout(set = 2, binding = 0) uniform sampler2D baseColorTexture;
 layout(push_constant) uniform PushBlock { ModelPush pc; };
 

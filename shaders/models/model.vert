@@ -6,7 +6,7 @@
 // A glTF vertex through its node's transform and its instance's model-to-eye transform (both
 // small numbers: the instance's ECEF origin minus the eye was taken in double on the CPU).
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 layout(set = 1, binding = 0, std430) readonly buffer Instances { ModelInstance instances[]; };
 layout(set = 1, binding = 1, std430) readonly buffer Nodes { ModelNode nodes[]; };
 layout(push_constant) uniform PushBlock { ModelPush pc; };

@@ -8,7 +8,7 @@
 // pose block of its instance; then the instance's model-to-eye transform as in model.vert.
 // Static models use model.vert (no pose, no second vertex stream).
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 layout(set = 1, binding = 0, std430) readonly buffer Instances { ModelInstance instances[]; };
 layout(set = 1, binding = 2, std430) readonly buffer Poses { vec4 poses[]; };
 layout(set = 1, binding = 3, std430) readonly buffer Morphs { float morphDeltas[]; };

@@ -3,7 +3,7 @@
 #include "shared/FrameUniforms.h"
 #include "shared/TerrainTypes.h"
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 layout(set = 1, binding = 0, std430) readonly buffer DrawBlock { TileDraw draws[]; };
 layout(set = 1, binding = 2) uniform sampler2DArray imageryPages[kImageryPages];
 layout(push_constant) uniform PushBlock { TerrainPush pc; };

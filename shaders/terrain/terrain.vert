@@ -7,7 +7,7 @@
 // numbers only), raised along the geodetic normal by the height sampled from the elevation
 // tile (the tile's own, or an ancestor's through scale/bias while it loads).
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 layout(set = 1, binding = 0, std430) readonly buffer DrawBlock { TileDraw draws[]; };
 layout(set = 1, binding = 1) uniform sampler2DArray elevationPages[kElevationPages];
 layout(push_constant) uniform PushBlock { TerrainPush pc; };
