@@ -28,7 +28,12 @@ static_assert(sizeof(orbis::shader::PointNode) == 32);
 namespace orbis::layers {
 namespace {
 
-constexpr uint32_t kBindings = 7;
+// The colour modes are the shader's kPointSpecColorMode values.
+using Color = PointsSettings::Color;
+static_assert(uint32_t(Color::Rgb) == shader::kPointColorRgb && uint32_t(Color::Intensity) == shader::kPointColorIntensity &&
+              uint32_t(Color::Classification) == shader::kPointColorClassification &&
+              uint32_t(Color::Height) == shader::kPointColorHeight && uint32_t(Color::Constant) == shader::kPointColorConstant);
+
 constexpr VkShaderStageFlags kPushStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_COMPUTE_BIT;
 constexpr uint64_t kUploadBytesPerFrame = uint64_t(48) << 20;
 
@@ -206,18 +211,8 @@ void PointsLayer::onPrepare(const render::RenderServices& services) {
         log::warn("points: the device has no 64-bit buffer atomics; drawing point lists instead of compute rasterisation");
         settings_.renderer = PointsSettings::Renderer::PointList;
     }
-    const VkShaderStageFlags all = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    const VkDescriptorSetLayoutBinding bindings[kBindings] = {
-        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, all, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC, 1, all, nullptr},   // a page of the nodes' data
-        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC, 1, all, nullptr},
-        {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
-        {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
-        {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
-        {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-    };
     const uint32_t frames = services.framesInFlight;
-    descriptors_ = gpu::createDescriptorSets(device, bindings, frames);
+    descriptors_ = gpu::createDescriptorSets(device, shader::kPointBindings, frames);
     slots_.resize(frames);
     for (uint32_t f = 0; f < frames; ++f) {
         Slot& slot = slots_[f];
@@ -225,7 +220,7 @@ void PointsLayer::onPrepare(const render::RenderServices& services) {
         slot.uniforms = gpu::Buffer(device, sizeof(shader::PointUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                     gpu::MemoryUsage::Upload, "point uniforms");
     }
-    const VkPushConstantRange push{kPushStages, 0, 2 * sizeof(uint32_t)};
+    const VkPushConstantRange push{kPushStages, 0, sizeof(shader::PointPush)};
     const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, descriptors_.layout.vk()};
     layout_ = gpu::createPipelineLayout(device, setLayouts, {&push, 1});
     depthSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_NEAREST});
@@ -237,9 +232,9 @@ gpu::Pipeline& PointsLayer::splatPipeline(int radius, bool quantised) {
     gpu::Pipeline& p = splatPipelines_[(int(settings_.color) * 16 + radius) * 2 + (quantised ? 1 : 0)];
     if (!p) {
         gpu::Specialization spec;
-        spec.set<int32_t>(0, radius);
-        spec.set<uint32_t>(1, uint32_t(settings_.color));
-        spec.set<VkBool32>(3, quantised ? VK_TRUE : VK_FALSE);
+        spec.set<int32_t>(shader::kPointSpecRadius, radius);
+        spec.set<uint32_t>(shader::kPointSpecColorMode, uint32_t(settings_.color));
+        spec.set<VkBool32>(shader::kPointSpecQuantised, quantised ? VK_TRUE : VK_FALSE);
         p = gpu::createComputePipeline(*services_.device, layout_.vk(), kSpv_points_splat_comp, &spec, "points splat");
     }
     return p;
@@ -270,14 +265,14 @@ gpu::Pipeline& PointsLayer::graphicsPipeline(std::map<int, gpu::Pipeline>& cache
 
 gpu::Pipeline& PointsLayer::pointListPipeline(bool quantised) {
     gpu::Specialization spec;
-    spec.set<uint32_t>(1, uint32_t(settings_.color));
-    spec.set<VkBool32>(3, quantised ? VK_TRUE : VK_FALSE);
+    spec.set<uint32_t>(shader::kPointSpecColorMode, uint32_t(settings_.color));
+    spec.set<VkBool32>(shader::kPointSpecQuantised, quantised ? VK_TRUE : VK_FALSE);
     return graphicsPipeline(pointListPipelines_, int(settings_.color) * 2 + (quantised ? 1 : 0), true, spec);
 }
 
 gpu::Pipeline& PointsLayer::resolvePipeline() {
     gpu::Specialization spec;
-    spec.set<VkBool32>(2, settings_.edl ? VK_TRUE : VK_FALSE);
+    spec.set<VkBool32>(shader::kPointSpecEdl, settings_.edl ? VK_TRUE : VK_FALSE);
     return graphicsPipeline(resolvePipelines_, settings_.edl ? 1 : 0, false, spec);
 }
 
@@ -311,36 +306,18 @@ void PointsLayer::ensureFrameBuffers(uint32_t s, size_t nodes, size_t batches) {
 void PointsLayer::writeDescriptors(uint32_t s) {
     Slot& slot = slots_[s];
     const VkDeviceSize page = residency_ ? residency_->pageBytes() : VK_WHOLE_SIZE;   // at dynamic offsets
-    const VkDescriptorBufferInfo infos[6] = {
-        {slot.uniforms.vk(), 0, sizeof(shader::PointUniforms)}, {data_.vk(), 0, page},
-        {data_.vk(), 0, page},                                  {slot.batches.vk(), 0, VK_WHOLE_SIZE},
-        {slot.nodes.vk(), 0, VK_WHOLE_SIZE},                    {screen_.vk(), 0, VK_WHOLE_SIZE}};
-    VkWriteDescriptorSet w[kBindings] = {};
-    uint32_t count = 0;
-    for (uint32_t b = 0; b < 6; ++b) {
-        if (infos[b].buffer == VK_NULL_HANDLE) continue;   // not made yet: the pipelines in use do not read it
-        w[count].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        w[count].dstSet = slot.set;
-        w[count].dstBinding = b;
-        w[count].descriptorCount = 1;
-        w[count].descriptorType = b == 0                ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
-                                  : b == 1 || b == 2 ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC
-                                                     : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        w[count].pBufferInfo = &infos[b];
-        ++count;
+    gpu::DescriptorWriter w(slot.set);
+    w.uniformBuffer(shader::kPointBindingUniforms, slot.uniforms, 0, sizeof(shader::PointUniforms));
+    // What is not made yet is left out: the pipelines in use do not read it.
+    if (data_) {
+        w.storageBufferDynamic(shader::kPointBindingWords, data_, page);
+        w.storageBufferDynamic(shader::kPointBindingAttributes, data_, page);
     }
-    const VkDescriptorImageInfo depth{depthSampler_.vk(), boundDepth_ ? boundDepth_->view() : VK_NULL_HANDLE,
-                                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    if (boundDepth_) {
-        w[count].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        w[count].dstSet = slot.set;
-        w[count].dstBinding = 6;
-        w[count].descriptorCount = 1;
-        w[count].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-        w[count].pImageInfo = &depth;
-        ++count;
-    }
-    vkUpdateDescriptorSets(services_.device->vk(), count, w, 0, nullptr);
+    if (slot.batches) w.storageBuffer(shader::kPointBindingBatches, slot.batches);
+    if (slot.nodes) w.storageBuffer(shader::kPointBindingNodes, slot.nodes);
+    if (screen_) w.storageBuffer(shader::kPointBindingScreen, screen_);
+    if (boundDepth_) w.sampledImage(shader::kPointBindingSceneDepth, depthSampler_.vk(), boundDepth_->view());
+    w.update(*services_.device);
     slot.version = buffersVersion_;
 }
 
@@ -389,12 +366,15 @@ void PointsLayer::writeUniforms(const render::RecordContext& rc) {
 
     shader::PointUniforms u{};
     u.viewProj = glm::mat4(viewProj_);
-    u.colorInfo = glm::vec4(float(settings_.opacity), store_->info().intensityGain, float(settings_.heightRange.x),
-                            float(1.0 / std::max(settings_.heightRange.y - settings_.heightRange.x, 1e-6)));
+    u.opacity = float(settings_.opacity);
+    u.intensityGain = store_->info().intensityGain;
+    u.heightLow = float(settings_.heightRange.x);
+    u.heightScale = float(1.0 / std::max(settings_.heightRange.y - settings_.heightRange.x, 1e-6));
     u.constantColor = glm::vec4(glm::vec3(settings_.constantColor), 1.0f);
-    u.edl = glm::vec4(0.0f, float(settings_.edlStrength), float(settings_.edlRadius),
-                      float(settings_.pointSize));
-    u.screen = glm::vec4(float(frame.width), float(frame.height), 0.0f, 0.0f);
+    u.edlStrength = float(settings_.edlStrength);
+    u.edlRadiusPx = float(settings_.edlRadius);
+    u.pointSizePx = float(settings_.pointSize);
+    u.screenSize = glm::vec2(float(frame.width), float(frame.height));
     slot.uniforms.write(&u, sizeof(u));
     if (!computePath() && slot.version != buffersVersion_) writeDescriptors(rc.slot);
 }
@@ -424,8 +404,8 @@ void PointsLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
         gpu::Pipeline& p = splatPipeline(splatRadius(settings_.pointSize), d.quantised);
         if (&p != bound) vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.vk());
         bound = &p;
-        const uint32_t push[2] = {0, d.firstBatch};
-        vkCmdPushConstants(cmd, layout_.vk(), kPushStages, 0, sizeof push, push);
+        const shader::PointPush push{0, d.firstBatch};
+        vkCmdPushConstants(cmd, layout_.vk(), kPushStages, 0, sizeof push, &push);
         vkCmdDispatch(cmd, d.batches, 1, 1);
     }
     gpu::bufferBarrier(cmd, screen_, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
@@ -457,8 +437,8 @@ void PointsLayer::record(scene::Pass, const render::RecordContext& rc) {
             bound = int(n.step > 0.0);
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pointListPipeline(bound != 0).vk());
         }
-        const uint32_t push[2] = {k, 0};
-        vkCmdPushConstants(cmd, layout_.vk(), kPushStages, 0, sizeof push, push);
+        const shader::PointPush push{k, 0};
+        vkCmdPushConstants(cmd, layout_.vk(), kPushStages, 0, sizeof push, &push);
         vkCmdDraw(cmd, n.count, 1, 0, 0);
     }
 }

@@ -1,10 +1,10 @@
 // A point's position relative to the eye, from its node's data (layers/points/PointStore.h):
 // quantised (3 x 21 bits in two words, offset 2^20, times the node's step) or 3 floats, both
-// relative to the node's centre. Needs `words` (binding 1) in scope. Which of the two is a
+// relative to the node's centre. Needs `words` (kPointBindingWords) in scope. Which of the two is a
 // specialisation constant: the layer draws quantised and float nodes with separate pipelines,
 // as a CPU device would run both paths under a mask.
 
-layout(constant_id = 3) const bool kQuantised = true;
+layout(constant_id = kPointSpecQuantised) const bool kQuantised = true;
 
 vec3 pointPosition(PointNode node, uint local) {
     float step = node.centreStep.w;
