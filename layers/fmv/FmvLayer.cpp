@@ -25,15 +25,9 @@
 namespace orbis::layers {
 namespace {
 
-constexpr uint32_t kBindings = 8;
 constexpr double kMapFovPad = 1.05;        // the distance map sees a little more than the video
 constexpr double kMaxHalfSize = 30000.0;   // the heightfield covers at most 60 km a side
 constexpr double kSensorNear = 1.0;        // metres: the distance map's near plane
-
-struct DistancePush {
-    glm::mat4 sensorClip;
-    glm::vec4 sensor, axisX;
-};
 
 const globe::Ellipsoid& wgs84() { return globe::Ellipsoid::wgs84(); }
 
@@ -52,24 +46,13 @@ void FmvLayer::onPrepare(const render::RenderServices& services) {
     linearSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_LINEAR});
     nearestSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_NEAREST});
 
-    const VkShaderStageFlags all = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    const VkDescriptorSetLayoutBinding bindings[kBindings] = {
-        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, all, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {5, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-        {7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT, nullptr},
-    };
     const uint32_t frames = services.framesInFlight;
-    descriptors_ = gpu::createDescriptorSets(device, bindings, frames);
+    descriptors_ = gpu::createDescriptorSets(device, shader::kFmvBindings, frames);
     setVersion_.assign(frames, 0);
     for (uint32_t f = 0; f < frames; ++f)
         uniforms_.emplace_back(device, sizeof(shader::FmvUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::Upload,
                                "fmv uniforms");
-    const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(DistancePush)};
+    const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(shader::FmvDistancePush)};
     const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, descriptors_.layout.vk()};
     layout_ = gpu::createPipelineLayout(device, setLayouts, {&push, 1});
 
@@ -119,7 +102,7 @@ void FmvLayer::onPrepare(const render::RenderServices& services) {
     dist.fragmentSpirv = kSpv_fmv_sensordepth_frag;
     dist.layout = layout_.vk();
     dist.bindings = {{0, sizeof(glm::vec3), VK_VERTEX_INPUT_RATE_VERTEX}};
-    dist.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+    dist.attributes = {{shader::kFmvInputPosition, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
     dist.cullMode = VK_CULL_MODE_NONE;
     dist.colorFormat = VK_FORMAT_R32_SFLOAT;
     dist.depthFormat = VK_FORMAT_D32_SFLOAT;
@@ -138,7 +121,7 @@ void FmvLayer::onPrepare(const render::RenderServices& services) {
     compositePipeline_ = gpu::createGraphicsPipeline(device, composite);
     for (bool frustum : {false, true}) {
         gpu::Specialization spec;
-        spec.set<VkBool32>(0, frustum ? VK_TRUE : VK_FALSE);
+        spec.set<VkBool32>(shader::kFmvSpecFrustum, frustum ? VK_TRUE : VK_FALSE);
         gpu::GraphicsPipelineDesc lines;
         lines.vertexSpirv = kSpv_fmv_lines_vert;
         lines.fragmentSpirv = kSpv_fmv_lines_frag;
@@ -274,26 +257,39 @@ void FmvLayer::recordTransfers(const render::RecordContext& rc) {
     const double tanH = camera.tanHalfFov().x, tanV = camera.tanHalfFov().y;
     const double n = double(settings_.heightfieldSize), cell = 2.0 * halfSize_ / (n - 1.0);
     shader::FmvUniforms u{};
-    u.originFromEye = glm::vec4(glm::vec3(origin_ - eye_), float(settings_.opacity));
-    u.sensor = glm::vec4(glm::vec3(s), float(0.5 * cell));
-    u.axisX = glm::vec4(glm::vec3(axes[0]), float(tanH));
-    u.axisY = glm::vec4(glm::vec3(axes[1]), float(tanV));
-    u.axisZ = glm::vec4(glm::vec3(axes[2]), float(kMapFovPad));
+    u.originFromEye = glm::vec3(origin_ - eye_);
+    u.opacity = float(settings_.opacity);
+    u.sensor = glm::vec3(s);
+    u.occlusionBias = float(0.5 * cell);
+    u.boresight = glm::vec3(axes[0]);
+    u.tanHalfFovX = float(tanH);
+    u.imageRight = glm::vec3(axes[1]);
+    u.tanHalfFovY = float(tanV);
+    u.imageDown = glm::vec3(axes[2]);
+    u.mapFovScale = float(kMapFovPad);
     const globe::Geodetic og = wgs84().toGeodetic(origin_);
     const double lat = glm::radians(og.latDeg), a = wgs84().equatorialRadius(), e2 = wgs84().flattening() * (2.0 - wgs84().flattening());
     const double w = std::sqrt(1.0 - e2 * std::sin(lat) * std::sin(lat));
     const double radius = std::sqrt((a / w) * (a * (1.0 - e2) / (w * w * w)));   // Gaussian mean radius at O
-    u.east = glm::vec4(glm::vec3(enu_[0]), float(halfSize_));
-    u.north = glm::vec4(glm::vec3(enu_[1]), float(radius));
-    u.up = glm::vec4(glm::vec3(enu_[2]), float(n));
-    u.heights = glm::vec4(float(minHeight_), float(maxHeight_), float(std::max(0.5 * cell, 1.0)), shownIndex_ ? 1.0f : 0.0f);
+    u.east = glm::vec3(enu_[0]);
+    u.halfSize = float(halfSize_);
+    u.north = glm::vec3(enu_[1]);
+    u.sphereRadius = float(radius);
+    u.up = glm::vec3(enu_[2]);
+    u.heightfieldSamples = float(n);
+    u.lowestHeight = float(minHeight_);
+    u.highestHeight = float(maxHeight_);
+    u.marchStep = float(std::max(0.5 * cell, 1.0));
+    u.frameShown = shownIndex_ ? 1u : 0u;
     const glm::dvec3 c = settings_.footprintColor;
-    u.outline = glm::vec4(float(srgbToLinear(c.r)), float(srgbToLinear(c.g)), float(srgbToLinear(c.b)), 0.01f);
+    u.outlineColor = glm::vec3(float(srgbToLinear(c.r)), float(srgbToLinear(c.g)), float(srgbToLinear(c.b)));
+    u.occlusionBiasPerMetre = 0.01f;
     u.sensorClip = glm::mat4(sensorClip());
     const ScreenBounds bounds = screenBounds(*rc.frame);
     rect_ = bounds.rect;
-    u.rect = glm::vec4(rect_);
-    u.hullCount = glm::vec4(float(bounds.edges.size()), 0.0f, 0.0f, 0.0f);
+    u.rectOrigin = glm::vec2(rect_.x, rect_.y);
+    u.rectSize = glm::vec2(rect_.z, rect_.w);
+    u.hullEdges = uint32_t(bounds.edges.size());
     for (size_t i = 0; i < bounds.edges.size(); ++i) u.hull[i] = glm::vec4(bounds.edges[i], 0.0f);
     uniforms_[rc.slot].write(&u, sizeof(u));
 }
@@ -392,35 +388,16 @@ glm::dmat4 FmvLayer::sensorClip() const {
 }
 
 void FmvLayer::writeDescriptors(uint32_t slot) {
-    VkDescriptorSet set = descriptors_.sets[slot];
-    const VkDescriptorBufferInfo ubo{uniforms_[slot].vk(), 0, sizeof(shader::FmvUniforms)};
-    const VkDescriptorBufferInfo foot{footprintBuffer_.vk(), 0, VK_WHOLE_SIZE};
-    const VkDescriptorImageInfo images[6] = {
-        {nearestSampler_.vk(), boundDepth_->view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
-        {linearSampler_.vk(), frameImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
-        {linearSampler_.vk(), distanceImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
-        {linearSampler_.vk(), heightImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
-        {VK_NULL_HANDLE, decalImage_.view(), VK_IMAGE_LAYOUT_GENERAL},
-        {nearestSampler_.vk(), decalImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
-    };
-    VkWriteDescriptorSet w[kBindings] = {};
-    for (uint32_t b = 0; b < kBindings; ++b) {
-        w[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        w[b].dstSet = set;
-        w[b].dstBinding = b;
-        w[b].descriptorCount = 1;
-        if (b == 0) {
-            w[b].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-            w[b].pBufferInfo = &ubo;
-        } else if (b == 7) {
-            w[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-            w[b].pBufferInfo = &foot;
-        } else {
-            w[b].descriptorType = b == 5 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-            w[b].pImageInfo = &images[b - 1];
-        }
-    }
-    vkUpdateDescriptorSets(services_.device->vk(), kBindings, w, 0, nullptr);
+    gpu::DescriptorWriter(descriptors_.sets[slot])
+        .uniformBuffer(shader::kFmvBindingUniforms, uniforms_[slot], 0, sizeof(shader::FmvUniforms))
+        .sampledImage(shader::kFmvBindingSceneDepth, nearestSampler_.vk(), boundDepth_->view())
+        .sampledImage(shader::kFmvBindingVideoFrame, linearSampler_.vk(), frameImage_.view())
+        .sampledImage(shader::kFmvBindingDistanceMap, linearSampler_.vk(), distanceImage_.view())
+        .sampledImage(shader::kFmvBindingHeightfield, linearSampler_.vk(), heightImage_.view())
+        .storageImage(shader::kFmvBindingDecal, decalImage_.view())
+        .sampledImage(shader::kFmvBindingDecalSampled, nearestSampler_.vk(), decalImage_.view())
+        .storageBuffer(shader::kFmvBindingFootprint, footprintBuffer_)
+        .update(*services_.device);
     setVersion_[slot] = imagesVersion_;
 }
 
@@ -454,10 +431,10 @@ void FmvLayer::renderDistanceMap(VkCommandBuffer cmd) {
     vkCmdSetScissor(cmd, 0, 1, &scissor);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, distancePipeline_.vk());
     const fmv::SensorCamera camera(pose_);
-    DistancePush push;
+    shader::FmvDistancePush push{};
     push.sensorClip = glm::mat4(sensorClip());
-    push.sensor = glm::vec4(glm::vec3(camera.position() - origin_), 0.0f);
-    push.axisX = glm::vec4(glm::vec3(camera.axes()[0]), 0.0f);
+    push.sensor = glm::vec3(camera.position() - origin_);
+    push.boresight = glm::vec3(camera.axes()[0]);
     vkCmdPushConstants(cmd, layout_.vk(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof push, &push);
     const VkDeviceSize offset = 0;
     VkBuffer vertices = gridVertices_.vk();
