@@ -227,13 +227,8 @@ void TerrainLayer::onPrepare(const render::RenderServices& services) {
     // Anisotropic filtering where it helps (createSampler leaves it off on CPU devices).
     imagerySampler_ = gpu::createSampler(device, {.mipmaps = true, .maxAnisotropy = 4.0f});
 
-    const VkDescriptorSetLayoutBinding bindings[] = {
-        {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shader::kElevationPages, VK_SHADER_STAGE_VERTEX_BIT, nullptr},
-        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shader::kImageryPages, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-    };
     const uint32_t frames = services.framesInFlight;
-    descriptors_ = gpu::createDescriptorSets(device, bindings, frames);
+    descriptors_ = gpu::createDescriptorSets(device, shader::kTerrainBindings, frames);
     setVersion_.assign(frames, 0);
     for (uint32_t f = 0; f < frames; ++f) {
         drawBuffers_.emplace_back(device, uint64_t(maxDraws_) * sizeof(shader::TileDraw),
@@ -250,13 +245,14 @@ void TerrainLayer::onPrepare(const render::RenderServices& services) {
     surface.fragmentSpirv = kSpv_terrain_terrain_frag;
     surface.layout = layout_.vk();
     surface.bindings = {{0, sizeof(globe::TileVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-    surface.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(globe::TileVertex, position)},
-                          {1, 0, VK_FORMAT_R16G16B16A16_SNORM, offsetof(globe::TileVertex, normal)},
-                          {2, 0, VK_FORMAT_R16G16_UNORM, offsetof(globe::TileVertex, uv)},
-                          {3, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(globe::TileVertex, cellMetres)}};
+    surface.attributes = {
+        {shader::kTerrainInputPosition, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(globe::TileVertex, position)},
+        {shader::kTerrainInputNormal, 0, VK_FORMAT_R16G16B16A16_SNORM, offsetof(globe::TileVertex, normal)},
+        {shader::kTerrainInputUv, 0, VK_FORMAT_R16G16_UNORM, offsetof(globe::TileVertex, uv)},
+        {shader::kTerrainInputCellMetres, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(globe::TileVertex, cellMetres)}};
     surface.cullMode = VK_CULL_MODE_NONE;   // skirts face both ways; hidden faces lose the depth test
     gpu::Specialization spec;
-    spec.set<int32_t>(0, int32_t(imageryIndex_.size()));
+    spec.set<int32_t>(shader::kTerrainSpecImageryLayers, int32_t(imageryIndex_.size()));
     surface.specialization = &spec;
     surface.colorFormat = services.colorFormat;
     surface.depthFormat = services.depthFormat;
@@ -435,11 +431,13 @@ void TerrainLayer::update(const scene::FrameContext& frame) {
         // fill rate where skirts show at grazing angles.
         const double sag = (2.0 * cell) * (2.0 * cell) / (8.0 * 6371000.0);
         const double skirt = std::min(sag + 0.25 * (hr.maxHeight - hr.minHeight), 5.0e4) + 10.0;
-        d.originFromEye = glm::vec4(glm::vec3(center - camera.position()), float(skirt));
-        d.elevation = glm::ivec4(-1, settings_.gridSize, 0, 0);
+        d.originFromEye = glm::vec3(center - camera.position());
+        d.skirtDepth = float(skirt);
+        d.elevationSlot = -1;
+        d.elevationGridSize = settings_.gridSize;
         d.elevationScaleBias = glm::vec4(1, 1, 0, 0);
         if (auto r = resident(elevation_, kElevation, 0, key, elevBytes)) {
-            d.elevation.x = int(r->second);
+            d.elevationSlot = int(r->second);
             d.elevationScaleBias = glm::vec4(key.scaleBiasWithin(r->first));
             if (r->first == key) ++stats_.tilesWithOwnElevation;
         }
@@ -472,32 +470,16 @@ void TerrainLayer::update(const scene::FrameContext& frame) {
 void TerrainLayer::writeDescriptors(uint32_t f) {
     if (setVersion_[f] == descriptorVersion_) return;
     setVersion_[f] = descriptorVersion_;
-    VkDescriptorBufferInfo buffer{drawBuffers_[f].vk(), 0, VK_WHOLE_SIZE};
-    std::vector<VkDescriptorImageInfo> elev(shader::kElevationPages), img(shader::kImageryPages);
+    // Pages not made yet are bound to a dummy: the shaders index every page.
+    std::vector<VkImageView> elev(shader::kElevationPages), img(shader::kImageryPages);
     for (uint32_t i = 0; i < elev.size(); ++i)
-        elev[i] = {heightSampler_.vk(), i < elevationPages_.size() ? elevationPages_[i].view() : dummyElevation_.view(),
-                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    for (uint32_t i = 0; i < img.size(); ++i)
-        img[i] = {imagerySampler_.vk(), i < imageryPages_.size() ? imageryPages_[i].view() : dummyImagery_.view(),
-                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    VkWriteDescriptorSet w[3]{};
-    for (auto& x : w) {
-        x.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        x.dstSet = descriptors_.sets[f];
-    }
-    w[0].dstBinding = 0;
-    w[0].descriptorCount = 1;
-    w[0].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    w[0].pBufferInfo = &buffer;
-    w[1].dstBinding = 1;
-    w[1].descriptorCount = uint32_t(elev.size());
-    w[1].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-    w[1].pImageInfo = elev.data();
-    w[2].dstBinding = 2;
-    w[2].descriptorCount = uint32_t(img.size());
-    w[2].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-    w[2].pImageInfo = img.data();
-    vkUpdateDescriptorSets(services_.device->vk(), 3, w, 0, nullptr);
+        elev[i] = i < elevationPages_.size() ? elevationPages_[i].view() : dummyElevation_.view();
+    for (uint32_t i = 0; i < img.size(); ++i) img[i] = i < imageryPages_.size() ? imageryPages_[i].view() : dummyImagery_.view();
+    gpu::DescriptorWriter(descriptors_.sets[f])
+        .storageBuffer(shader::kTerrainBindingDraws, drawBuffers_[f])
+        .sampledImages(shader::kTerrainBindingElevation, heightSampler_.vk(), elev)
+        .sampledImages(shader::kTerrainBindingImagery, imagerySampler_.vk(), img)
+        .update(*services_.device);
 }
 
 void TerrainLayer::recordTransfers(const render::RecordContext& rc) {
@@ -573,12 +555,13 @@ void TerrainLayer::record(scene::Pass, const render::RecordContext& rc) {
     const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
     shader::TerrainPush push{};
-    push.baseColor = glm::vec4(srgbToLinear(settings_.color.r), srgbToLinear(settings_.color.g),
-                               srgbToLinear(settings_.color.b), float(settings_.verticalExaggeration));
+    push.baseColor = glm::vec3(srgbToLinear(settings_.color.r), srgbToLinear(settings_.color.g), srgbToLinear(settings_.color.b));
+    push.verticalExaggeration = float(settings_.verticalExaggeration);
     for (uint32_t l = 0; l < imageryIndex_.size(); ++l)
         push.imageryOpacity[int(l)] = float(settings_.imagery[imageryIndex_[l]].opacity);
-    push.params = glm::vec4(settings_.sunLighting ? 1.0f : 0.0f, settings_.tileBorders ? 1.0f : 0.0f,
-                            float(settings_.imageSize), 0);
+    push.sunLighting = settings_.sunLighting ? 1u : 0u;
+    push.tileBorders = settings_.tileBorders ? 1u : 0u;
+    push.imageSizePx = float(settings_.imageSize);
     const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     vkCmdPushConstants(cmd, layout_.vk(), stages, 0, sizeof(push), &push);
 
