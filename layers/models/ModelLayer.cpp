@@ -69,7 +69,10 @@ bool ModelLayer::drawsIn(scene::Pass pass) const {
 
 void ModelLayer::onPrepare(const render::RenderServices& services) {
     uploadModel(services);
+    createFrameSets(services);
+    createMaterialSets(*services.device);
     buildPipelines(services);
+    if (settings_.path.show || settings_.label) buildLinePipelines(services);
 }
 
 void ModelLayer::uploadModel(const render::RenderServices& services) {
@@ -166,43 +169,28 @@ void ModelLayer::uploadModel(const render::RenderServices& services) {
     for (auto& t : model_.textures) t.mips = {};
 }
 
-void ModelLayer::buildPipelines(const render::RenderServices& services) {
+void ModelLayer::createFrameSets(const render::RenderServices& services) {
     gpu::Device& device = *services.device;
-    // Samplers: repeat (glTF's default) and clamp, trilinear.
-    repeatSampler_ = gpu::createSampler(device, {.address = VK_SAMPLER_ADDRESS_MODE_REPEAT, .mipmaps = true});
-    clampSampler_ = gpu::createSampler(device, {.mipmaps = true});
-
     const uint32_t frames = services.framesInFlight;
     // Static models: instances and node matrices; animated ones: instances, poses, morph deltas.
     const bool animated = model_.animated();
-    const std::vector<uint32_t> bindings = animated ? std::vector<uint32_t>{0, 2, 3} : std::vector<uint32_t>{0, 1};
-    std::vector<VkDescriptorSetLayoutBinding> frameBindings;
-    for (uint32_t b : bindings) frameBindings.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr});
-    frameSets_ = gpu::createDescriptorSets(device, frameBindings, frames);
+    frameSets_ = animated ? gpu::createDescriptorSets(device, shader::kModelAnimatedBindings, frames)
+                          : gpu::createDescriptorSets(device, shader::kModelStaticBindings, frames);
     for (uint32_t f = 0; f < frames; ++f) {
         instanceBuffers_.emplace_back(device, uint64_t(maxCopies_) * sizeof(shader::ModelInstance),
                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Upload, "model instances");
         gpuBytes_ += instanceBuffers_.back().size();
+        gpu::DescriptorWriter w(frameSets_.sets[f]);
+        w.storageBuffer(shader::kModelBindingInstances, instanceBuffers_[f]);
         if (animated) {
             poseBuffers_.emplace_back(device, uint64_t(poseCapacity_) * poser_->layout().vec4s * sizeof(glm::vec4),
                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Upload, "model poses");
             gpuBytes_ += poseBuffers_.back().size();
+            w.storageBuffer(shader::kModelBindingPoses, poseBuffers_[f]).storageBuffer(shader::kModelBindingMorphDeltas, morphDeltas_);
+        } else {
+            w.storageBuffer(shader::kModelBindingNodes, nodes_);
         }
-        std::vector<VkDescriptorBufferInfo> infos;
-        for (uint32_t b : bindings) {
-            const gpu::Buffer& buffer = b == 0 ? instanceBuffers_[f] : b == 1 ? nodes_ : b == 2 ? poseBuffers_[f] : morphDeltas_;
-            infos.push_back({buffer.vk(), 0, VK_WHOLE_SIZE});
-        }
-        std::vector<VkWriteDescriptorSet> w(bindings.size());
-        for (size_t b = 0; b < bindings.size(); ++b) {
-            w[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-            w[b].dstSet = frameSets_.sets[f];
-            w[b].dstBinding = bindings[b];
-            w[b].descriptorCount = 1;
-            w[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-            w[b].pBufferInfo = &infos[b];
-        }
-        vkUpdateDescriptorSets(device.vk(), uint32_t(w.size()), w.data(), 0, nullptr);
+        w.update(device);
         if (settings_.path.show) {
             pathBuffers_.emplace_back(device, uint64_t(settings_.path.maxPoints) * sizeof(shader::PolylineVertex),
                                       VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, gpu::MemoryUsage::Upload, "model path");
@@ -214,24 +202,25 @@ void ModelLayer::buildPipelines(const render::RenderServices& services) {
             gpuBytes_ += labelBuffers_.back().size();
         }
     }
+}
 
-    const VkDescriptorSetLayoutBinding materialBinding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1,
-                                                       VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
-    materialSets_ = gpu::createDescriptorSets(device, {&materialBinding, 1}, uint32_t(textures_.size()));
+void ModelLayer::createMaterialSets(gpu::Device& device) {
+    // Samplers: repeat (glTF's default) and clamp, trilinear.
+    repeatSampler_ = gpu::createSampler(device, {.address = VK_SAMPLER_ADDRESS_MODE_REPEAT, .mipmaps = true});
+    clampSampler_ = gpu::createSampler(device, {.mipmaps = true});
+    materialSets_ = gpu::createDescriptorSets(device, shader::kModelMaterialBindings, uint32_t(textures_.size()));
     for (size_t i = 0; i < textures_.size(); ++i) {
         const bool repeat = i < model_.textures.size() ? (model_.textures[i].repeatU || model_.textures[i].repeatV) : false;
         textures_[i].set = materialSets_.sets[i];
-        VkDescriptorImageInfo info{repeat ? repeatSampler_.vk() : clampSampler_.vk(), textures_[i].image.view(),
-                                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-        VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-        w.dstSet = textures_[i].set;
-        w.dstBinding = 0;
-        w.descriptorCount = 1;
-        w.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-        w.pImageInfo = &info;
-        vkUpdateDescriptorSets(device.vk(), 1, &w, 0, nullptr);
+        gpu::DescriptorWriter(textures_[i].set)
+            .sampledImage(shader::kModelBindingBaseColor, repeat ? repeatSampler_.vk() : clampSampler_.vk(), textures_[i].image.view())
+            .update(device);
     }
+}
 
+void ModelLayer::buildPipelines(const render::RenderServices& services) {
+    gpu::Device& device = *services.device;
+    const bool animated = model_.animated();
     const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(shader::ModelPush)};
     const VkDescriptorSetLayout sets[] = {services.frameSetLayout, frameSets_.layout.vk(), materialSets_.layout.vk()};
     layout_ = gpu::createPipelineLayout(device, sets, {&push, 1});
@@ -241,10 +230,10 @@ void ModelLayer::buildPipelines(const render::RenderServices& services) {
     d.fragmentSpirv = kSpv_models_model_frag;
     d.layout = layout_.vk();
     d.bindings = {{0, sizeof(models::ModelVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-    d.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(models::ModelVertex, position)},
-                    {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(models::ModelVertex, normal)},
-                    {2, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(models::ModelVertex, uv)},
-                    {3, 0, VK_FORMAT_R8G8B8A8_UNORM, offsetof(models::ModelVertex, color)}};
+    d.attributes = {{shader::kModelInputPosition, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(models::ModelVertex, position)},
+                    {shader::kModelInputNormal, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(models::ModelVertex, normal)},
+                    {shader::kModelInputUv, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(models::ModelVertex, uv)},
+                    {shader::kModelInputColor, 0, VK_FORMAT_R8G8B8A8_UNORM, offsetof(models::ModelVertex, color)}};
     if (animated) {
         // Stride 0 when nothing is skinned: every vertex reads the one zero element.
         const uint32_t stride = model_.primitives.empty() || !std::any_of(model_.draws.begin(), model_.draws.end(),
@@ -252,8 +241,8 @@ void ModelLayer::buildPipelines(const render::RenderServices& services) {
                                     ? 0u
                                     : uint32_t(sizeof(models::ModelSkinVertex));
         d.bindings.push_back({1, stride, VK_VERTEX_INPUT_RATE_VERTEX});
-        d.attributes.push_back({4, 1, VK_FORMAT_R16G16B16A16_UINT, offsetof(models::ModelSkinVertex, joints)});
-        d.attributes.push_back({5, 1, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(models::ModelSkinVertex, weights)});
+        d.attributes.push_back({shader::kModelInputJoints, 1, VK_FORMAT_R16G16B16A16_UINT, offsetof(models::ModelSkinVertex, joints)});
+        d.attributes.push_back({shader::kModelInputWeights, 1, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(models::ModelSkinVertex, weights)});
     }
     // Both faces: double-sided materials and mirrored nodes need them, and a closed mesh loses
     // its back faces to the depth test anyway.
@@ -272,36 +261,37 @@ void ModelLayer::buildPipelines(const render::RenderServices& services) {
     // Only models with BLEND materials, or drawn translucent, build the blending pipeline.
     if (anyBlend) blend_ = gpu::createGraphicsPipeline(device, d);
     if (settings_.opacity < 1.0) buildTranslucentPipelines();
+}
 
-    if (settings_.path.show || settings_.label) {
-        const VkDescriptorSetLayout lineSets[] = {services.frameSetLayout};
-        lineLayout_ = gpu::createPipelineLayout(device, lineSets, {});
-        gpu::GraphicsPipelineDesc l;
-        l.vertexSpirv = kSpv_common_polyline_vert;
-        l.fragmentSpirv = kSpv_common_polyline_frag;
-        l.layout = lineLayout_.vk();
-        l.bindings = {{0, sizeof(shader::PolylineVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-        l.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, position)},
-                        {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, color)}};
-        l.cullMode = VK_CULL_MODE_NONE;
-        l.alphaBlend = true;
-        l.depthWrite = false;
-        l.colorFormat = services.colorFormat;
-        l.depthFormat = services.depthFormat;
-        if (settings_.path.show) {
-            l.topology = VK_PRIMITIVE_TOPOLOGY_LINE_STRIP;
-            l.name = "model path";
-            path_ = gpu::createGraphicsPipeline(device, l);
-        }
-        if (settings_.label) {
-            gpu::Specialization screen;
-            screen.set<VkBool32>(0, VK_TRUE);
-            l.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-            l.depthTest = false;
-            l.specialization = &screen;
-            l.name = "model label";
-            label_ = gpu::createGraphicsPipeline(device, l);
-        }
+void ModelLayer::buildLinePipelines(const render::RenderServices& services) {
+    gpu::Device& device = *services.device;
+    const VkDescriptorSetLayout lineSets[] = {services.frameSetLayout};
+    lineLayout_ = gpu::createPipelineLayout(device, lineSets, {});
+    gpu::GraphicsPipelineDesc l;
+    l.vertexSpirv = kSpv_common_polyline_vert;
+    l.fragmentSpirv = kSpv_common_polyline_frag;
+    l.layout = lineLayout_.vk();
+    l.bindings = {{0, sizeof(shader::PolylineVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
+    l.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, position)},
+                    {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, color)}};
+    l.cullMode = VK_CULL_MODE_NONE;
+    l.alphaBlend = true;
+    l.depthWrite = false;
+    l.colorFormat = services.colorFormat;
+    l.depthFormat = services.depthFormat;
+    if (settings_.path.show) {
+        l.topology = VK_PRIMITIVE_TOPOLOGY_LINE_STRIP;
+        l.name = "model path";
+        path_ = gpu::createGraphicsPipeline(device, l);
+    }
+    if (settings_.label) {
+        gpu::Specialization screen;
+        screen.set<VkBool32>(0, VK_TRUE);
+        l.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+        l.depthTest = false;
+        l.specialization = &screen;
+        l.name = "model label";
+        label_ = gpu::createGraphicsPipeline(device, l);
     }
 }
 
@@ -358,7 +348,7 @@ void ModelLayer::update(const scene::FrameContext& frame) {
     poseData_.clear();
     poseOfTime_.clear();
     poseCount_ = 0;
-    const glm::vec4 tint = linearColor(settings_.color, 1.0);
+    const glm::vec3 tint(linearColor(settings_.color, 1.0));
     for (uint32_t i = 0; i < maxCopies_; ++i) {
         const TimeNs t = frame.time - fromSeconds(double(i) * settings_.copySpacingSeconds);
         const auto pose = motion_->pose(t, ground);
@@ -380,10 +370,10 @@ void ModelLayer::update(const scene::FrameContext& frame) {
         if (i != 0) copyTransforms_.push_back(m);
         glm::dmat4 toEye = m;
         toEye[3] = glm::dvec4(pose->position - eye_, 1.0);   // large minus large, in double
-        shader::ModelInstance inst;
+        shader::ModelInstance inst{};
         inst.modelToEye = glm::mat4(toEye);
         inst.tint = tint;
-        inst.pose = glm::uvec4(poser_ ? poseFor(t) : 0u, 0u, 0u, 0u);
+        inst.poseBase = poser_ ? poseFor(t) : 0u;
         append(instanceData_, inst);
     }
     drawnCopies_ = uint32_t(instanceData_.size() / sizeof(shader::ModelInstance));
@@ -524,17 +514,21 @@ void ModelLayer::record(scene::Pass pass, const render::RecordContext& rc) {
                 shader::ModelPush push{};
                 push.baseColor = mat ? mat->baseColorFactor : glm::vec4(1.0f);
                 push.baseColor.a *= float(settings_.opacity);
-                push.params = glm::vec4(mat && mat->alphaMode == models::AlphaMode::Mask ? mat->alphaCutoff : -1.0f,
-                                        mat && mat->unlit ? 1.0f : 0.0f, settings_.sunLighting ? 1.0f : 0.0f,
-                                        tex >= 0 ? 1.0f : 0.0f);
-                push.ids = glm::uvec4(di, 0, 0, 0);
+                push.alphaCutoff = mat && mat->alphaMode == models::AlphaMode::Mask ? mat->alphaCutoff : -1.0f;
+                push.unlit = mat && mat->unlit ? 1u : 0u;
+                push.sunLighting = settings_.sunLighting ? 1u : 0u;
+                push.textured = tex >= 0 ? 1u : 0u;
+                push.node = di;
                 if (poser_) {
                     const models::PoseLayout& l = poser_->layout();
                     const bool morphs = l.drawWeights[di] != models::kPoseNone;
                     const uint32_t targets = morphs ? prim.morphTargets : 0u;
-                    push.ids = glm::uvec4(l.drawMatrix[di], l.drawJoints[di], targets, morphs ? l.drawWeights[di] : 0u);
+                    push.node = l.drawMatrix[di];
+                    push.joints = l.drawJoints[di];
+                    push.morphTargets = targets;
+                    push.morphWeights = morphs ? l.drawWeights[di] : 0u;
                     // Wraps modulo 2^32 like the shader's uint arithmetic.
-                    push.morph.x = prim.morphBase - uint32_t(prim.vertexOffset) * targets;
+                    push.morphBase = prim.morphBase - uint32_t(prim.vertexOffset) * targets;
                 }
                 vkCmdPushConstants(cmd, layout_.vk(), stages, 0, sizeof(push), &push);
                 vkCmdDrawIndexed(cmd, prim.indexCount, drawnCopies_, prim.firstIndex, prim.vertexOffset, 0);

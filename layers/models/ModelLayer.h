@@ -147,7 +147,10 @@ private:
         gpu::Image image;
         VkDescriptorSet set = VK_NULL_HANDLE;
     };
+    void createFrameSets(const render::RenderServices& services);
+    void createMaterialSets(gpu::Device& device);
     void buildPipelines(const render::RenderServices& services);
+    void buildLinePipelines(const render::RenderServices& services);
     void uploadModel(const render::RenderServices& services);
     /// Half the model's extent along the body's x and y axes at the layer's scale: the
     /// footprint on which a vehicle on the ground follows the terrain's slope.
