@@ -49,8 +49,8 @@ void AnnotationLayer::onPrepare(const render::RenderServices& services) {
     d.fragmentSpirv = kSpv_common_polyline_frag;
     d.layout = layout_.vk();
     d.bindings = {{0, sizeof(shader::PolylineVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-    d.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, position)},
-                    {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, color)}};
+    d.attributes = {{shader::kPolylineInputPosition, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, position)},
+                    {shader::kPolylineInputColor, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, color)}};
     d.cullMode = VK_CULL_MODE_NONE;
     d.alphaBlend = true;
     d.depthWrite = false;
@@ -58,7 +58,7 @@ void AnnotationLayer::onPrepare(const render::RenderServices& services) {
     d.colorFormat = services.colorFormat;
     d.depthFormat = services.depthFormat;
     gpu::Specialization screen;
-    screen.set<VkBool32>(0, VK_TRUE);
+    screen.set<VkBool32>(shader::kPolylineSpecScreen, VK_TRUE);
     d.specialization = &screen;
     d.name = "annotation pins";
     pipeline_ = gpu::createGraphicsPipeline(device, d);

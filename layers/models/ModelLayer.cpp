@@ -272,8 +272,8 @@ void ModelLayer::buildLinePipelines(const render::RenderServices& services) {
     l.fragmentSpirv = kSpv_common_polyline_frag;
     l.layout = lineLayout_.vk();
     l.bindings = {{0, sizeof(shader::PolylineVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-    l.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, position)},
-                    {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, color)}};
+    l.attributes = {{shader::kPolylineInputPosition, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, position)},
+                    {shader::kPolylineInputColor, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, color)}};
     l.cullMode = VK_CULL_MODE_NONE;
     l.alphaBlend = true;
     l.depthWrite = false;
@@ -286,7 +286,7 @@ void ModelLayer::buildLinePipelines(const render::RenderServices& services) {
     }
     if (settings_.label) {
         gpu::Specialization screen;
-        screen.set<VkBool32>(0, VK_TRUE);
+        screen.set<VkBool32>(shader::kPolylineSpecScreen, VK_TRUE);
         l.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
         l.depthTest = false;
         l.specialization = &screen;
