@@ -9,8 +9,8 @@
 #include "engine/render/RenderContext.h"
 #include "globe/Ellipsoid.h"
 #include "shared/FmvTypes.h"
-#include "spv/fmv/composite.frag.h"
-#include "spv/fmv/composite.vert.h"
+#include "spv/common/composite.frag.h"
+#include "spv/common/fullscreen.vert.h"
 #include "spv/fmv/drape.comp.h"
 #include "spv/fmv/footprint.comp.h"
 #include "spv/fmv/lines.frag.h"
@@ -109,8 +109,8 @@ void FmvLayer::onPrepare(const render::RenderServices& services) {
     dist.name = "fmv distance map";
     distancePipeline_ = gpu::createGraphicsPipeline(device, dist);
     gpu::GraphicsPipelineDesc composite;
-    composite.vertexSpirv = kSpv_fmv_composite_vert;
-    composite.fragmentSpirv = kSpv_fmv_composite_frag;
+    composite.vertexSpirv = kSpv_common_fullscreen_vert;
+    composite.fragmentSpirv = kSpv_common_composite_frag;
     composite.layout = layout_.vk();
     composite.cullMode = VK_CULL_MODE_NONE;
     composite.depthTest = composite.depthWrite = false;

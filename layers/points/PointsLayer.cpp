@@ -10,10 +10,10 @@
 #include "engine/render/RenderContext.h"
 #include "globe/Culling.h"
 #include "shared/PointTypes.h"
+#include "spv/common/fullscreen.vert.h"
 #include "spv/points/pointlist.frag.h"
 #include "spv/points/pointlist.vert.h"
 #include "spv/points/resolve.frag.h"
-#include "spv/points/resolve.vert.h"
 #include "spv/points/splat.comp.h"
 
 #include <algorithm>
@@ -248,7 +248,7 @@ gpu::Pipeline& PointsLayer::graphicsPipeline(std::map<int, gpu::Pipeline>& cache
     gpu::Pipeline& p = cache[key * 2 + (blend ? 1 : 0)];
     if (!p) {
         gpu::GraphicsPipelineDesc d;
-        d.vertexSpirv = pointList ? std::span<const uint32_t>(kSpv_points_pointlist_vert) : kSpv_points_resolve_vert;
+        d.vertexSpirv = pointList ? std::span<const uint32_t>(kSpv_points_pointlist_vert) : kSpv_common_fullscreen_vert;
         d.fragmentSpirv = pointList ? std::span<const uint32_t>(kSpv_points_pointlist_frag) : kSpv_points_resolve_frag;
         d.layout = layout_.vk();
         if (pointList) d.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;

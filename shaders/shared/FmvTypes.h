@@ -2,9 +2,10 @@
 // FmvUniforms, the scene depth (sampler2D), the video frame (sampler2D, sRGB), the sensor's
 // distance map (sampler2D R32F: metres along the boresight to the ground it sees), the
 // heightfield (sampler2D R32F: heights above the ellipsoid on the local grid), the decal
-// (storage image, written by drape.comp; sampled by the composite), the footprint (storage
-// buffer of vec4: kFmvFootprintRays ground points relative to the origin, w = 1 where the ray
-// met the ground, 0 where it was clamped to the horizon).
+// (storage image, written by drape.comp; sampled by shaders/common/composite.frag at the
+// binding CompositeTypes.h gives), the footprint (storage buffer of vec4: kFmvFootprintRays
+// ground points relative to the origin, w = 1 where the ray met the ground, 0 where it was
+// clamped to the horizon).
 //
 // Positions on the GPU are relative to the layer's origin O (on the ellipsoid at the middle of
 // the heightfield), or to the eye: small numbers, differences taken in double on the CPU.
@@ -12,6 +13,7 @@
 #define ORBIS_SHADERS_SHARED_FMV_TYPES_H
 
 #include "shared/Common.h"
+#include "shared/CompositeTypes.h"
 
 ORBIS_NAMESPACE_BEGIN
 
@@ -22,7 +24,7 @@ ORBIS_CONST(uint, kFmvBindingVideoFrame, 2)
 ORBIS_CONST(uint, kFmvBindingDistanceMap, 3)
 ORBIS_CONST(uint, kFmvBindingHeightfield, 4)
 ORBIS_CONST(uint, kFmvBindingDecal, 5)          // storage image (drape.comp)
-ORBIS_CONST(uint, kFmvBindingDecalSampled, 6)   // the same, sampled (the composite)
+ORBIS_CONST(uint, kFmvBindingDecalSampled, kCompositeBindingImage)   // the same, sampled (the composite)
 ORBIS_CONST(uint, kFmvBindingFootprint, 7)
 
 ORBIS_CONST(uint, kFmvSpecFrustum, 0)   // bool (lines.vert): the frustum's edges, else the footprint's outline
@@ -105,6 +107,7 @@ static_assert(offsetof(orbis::shader::FmvUniforms, hullEdges) == 368, "std140 of
 static_assert(sizeof(orbis::shader::FmvDistancePush) == 96, "FmvDistancePush layout changed");
 static_assert(offsetof(orbis::shader::FmvDistancePush, boresight) == 80, "std430 offset");
 static_assert(orbis::shader::kFmvFootprintRays == 4 * orbis::shader::kFmvEdgeRays + 1);
+static_assert(orbis::shader::kFmvSet == orbis::shader::kCompositeSet, "the composite reads the decal from the FMV's set");
 #endif
 
 #endif
