@@ -8,7 +8,6 @@
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
 #include "engine/gpu/Uploader.h"
-#include "engine/gpu/VkCheck.h"
 #include "engine/render/RenderContext.h"
 #include "engine/render/SkyPipeline.h"
 #include "globe/Ellipsoid.h"
@@ -27,9 +26,7 @@ namespace orbis::layers {
 namespace {
 
 constexpr uint32_t kMeshLayer = 0xffffffffu;   // DataKey layer used for tile meshes
-constexpr uint32_t kMeshSlotsPerPage = 64;
-constexpr uint32_t kMeshPagesMax = 64;
-enum Kind : uint32_t { kMesh = 0, kElevation = 1, kImagery = 2 };
+using Kind = TileSlotPool::Kind;
 
 }  // namespace
 
@@ -39,8 +36,12 @@ TerrainLayer::~TerrainLayer() = default;
 
 void TerrainLayer::onPrepare(const render::RenderServices& services) {
     services_ = services;
-    gpu::Device& device = *services.device;
+    openSources(services);
+    createGpuObjects(services);
+    buildPipelines(services);
+}
 
+void TerrainLayer::openSources(const render::RenderServices& services) {
     // Sources: a bad one is reported and left out; the terrain draws without it.
     std::vector<std::shared_ptr<globe::RasterSource>> dems, images;
     for (const auto& o : settings_.elevation) {
@@ -75,52 +76,20 @@ void TerrainLayer::onPrepare(const render::RenderServices& services) {
     for (uint32_t l = 0; l < model_->layerCount(); ++l)
         if (l > 0 || model_->hasElevation()) sel.detailLevel = std::max(sel.detailLevel, model_->maxDataLevel(l));
     selector_ = std::make_unique<globe::TileSelector>(sel);
+}
 
-    // Residency pools: pages are allocated on demand, up to the GPU budget.
-    const int n = settings_.gridSize;
-    meshes_.slotsPerPage = kMeshSlotsPerPage;
-    meshes_.maxPages = kMeshPagesMax;
-    meshes_.pageBytes = uint64_t(kMeshSlotsPerPage) * globe::tileVertexCount(n) * sizeof(globe::TileVertex);
-    elevation_.slotsPerPage = shader::kElevationSlotsPerPage;
-    elevation_.maxPages = shader::kElevationPages;
-    elevation_.pageBytes = uint64_t(shader::kElevationSlotsPerPage) * n * n * 4 * sizeof(float);
-    imagery_.slotsPerPage = shader::kImagerySlotsPerPage;
-    imagery_.maxPages = shader::kImageryPages;
-    imagery_.pageBytes = uint64_t(shader::kImagerySlotsPerPage) * settings_.imageSize * settings_.imageSize * 4 * 4 / 3;
-
-    const std::vector<uint32_t> indices = globe::buildTileIndices(n);
+void TerrainLayer::createGpuObjects(const render::RenderServices& services) {
+    gpu::Device& device = *services.device;
+    const std::vector<uint32_t> indices = globe::buildTileIndices(settings_.gridSize);
     indexCount_ = uint32_t(indices.size());
     indices_ = gpu::Buffer(device, indices.size() * sizeof(uint32_t),
                            VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::GpuOnly,
                            "terrain indices");
-    gpu::ImageDesc de;
-    de.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
-    de.format = VK_FORMAT_R32G32B32A32_SFLOAT;   // height, gradient east, gradient south
-    de.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-    de.extent = {uint32_t(n), uint32_t(n), 1};
-    de.name = "terrain elevation (unused page)";
-    dummyElevation_ = gpu::Image(device, de);
-    gpu::ImageDesc di = de;
-    di.format = VK_FORMAT_R8G8B8A8_SRGB;
-    di.extent = {1, 1, 1};
-    di.name = "terrain imagery (unused page)";
-    dummyImagery_ = gpu::Image(device, di);
     device.runOnce([&](VkCommandBuffer cmd) {
         services.uploader->toBuffer(cmd, indices_, indices.data(), indices.size() * sizeof(uint32_t));
         gpu::bufferBarrier(cmd, indices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                            VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT, VK_ACCESS_2_INDEX_READ_BIT);
-        const std::vector<float> zeros(size_t(n) * size_t(n) * 4, 0.0f);
-        services.uploader->toImage(cmd, dummyElevation_, zeros.data(), zeros.size() * sizeof(float));
-        const uint8_t clear[4] = {0, 0, 0, 0};
-        services.uploader->toImage(cmd, dummyImagery_, clear, 4);
-        gpu::transition(cmd, dummyElevation_, gpu::ImageUse::SampledGraphics);
-        gpu::transition(cmd, dummyImagery_, gpu::ImageUse::SampledGraphics);
     });
-
-    heightSampler_ = gpu::createSampler(device, {});
-    // Anisotropic filtering where it helps (createSampler leaves it off on CPU devices).
-    imagerySampler_ = gpu::createSampler(device, {.mipmaps = true, .maxAnisotropy = 4.0f});
-
     const uint32_t frames = services.framesInFlight;
     descriptors_ = gpu::createDescriptorSets(device, shader::kTerrainBindings, frames);
     setVersion_.assign(frames, 0);
@@ -128,7 +97,16 @@ void TerrainLayer::onPrepare(const render::RenderServices& services) {
         drawBuffers_.emplace_back(device, uint64_t(maxDraws_) * sizeof(shader::TileDraw),
                                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Upload, "terrain draws");
     }
+    // Tile data: pages are allocated on demand, up to the GPU budget less the buffers above.
+    gpuSlots_ = std::make_unique<TileSlotPool>(device, *services.uploader, settings_.gridSize, settings_.imageSize,
+                                               settings_.gpuCacheBytes, fixedBytes());
+    heightSampler_ = gpu::createSampler(device, {});
+    // Anisotropic filtering where it helps (createSampler leaves it off on CPU devices).
+    imagerySampler_ = gpu::createSampler(device, {.mipmaps = true, .maxAnisotropy = 4.0f});
+}
 
+void TerrainLayer::buildPipelines(const render::RenderServices& services) {
+    gpu::Device& device = *services.device;
     const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                                    sizeof(shader::TerrainPush)};
     const VkDescriptorSetLayout sets[] = {services.frameSetLayout, descriptors_.layout.vk()};
@@ -156,85 +134,20 @@ void TerrainLayer::onPrepare(const render::RenderServices& services) {
     if (settings_.sky) sky_ = render::createSkyPipeline(device, layout_.vk(), services, "terrain sky");
 }
 
-uint64_t TerrainLayer::allocatedBytes() const {
-    return uint64_t(meshes_.pages()) * meshes_.pageBytes + uint64_t(elevation_.pages()) * elevation_.pageBytes +
-           uint64_t(imagery_.pages()) * imagery_.pageBytes;
-}
-
-void TerrainLayer::addPage(uint32_t kind) {
-    gpu::Device& device = *services_.device;
-    SlotPool& pool = kind == kMesh ? meshes_ : kind == kElevation ? elevation_ : imagery_;
-    const uint32_t first = uint32_t(pool.slots.size());
-    pool.slots.resize(pool.slots.size() + pool.slotsPerPage);
-    for (uint32_t i = pool.slotsPerPage; i-- > 0;) pool.freeSlots.push_back(first + i);
-    if (kind == kMesh) {
-        meshPages_.emplace_back(device, pool.pageBytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                gpu::MemoryUsage::GpuOnly, "terrain meshes");
-        return;
-    }
-    gpu::ImageDesc d;
-    d.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
-    d.layers = pool.slotsPerPage;
-    d.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-    if (kind == kElevation) {
-        d.format = VK_FORMAT_R32G32B32A32_SFLOAT;
-        d.extent = {uint32_t(settings_.gridSize), uint32_t(settings_.gridSize), 1};
-        d.name = "terrain elevation page";
-        elevationPages_.emplace_back(device, d);
-    } else {
-        d.format = VK_FORMAT_R8G8B8A8_SRGB;
-        d.extent = {uint32_t(settings_.imageSize), uint32_t(settings_.imageSize), 1};
-        d.mipLevels = uint32_t(std::log2(settings_.imageSize)) + 1;
-        d.name = "terrain imagery page";
-        imageryPages_.emplace_back(device, d);
-    }
-    ++descriptorVersion_;
-}
-
-std::optional<uint32_t> TerrainLayer::acquireSlot(SlotPool& pool, const globe::DataKey& owner, bool mayExceedBudget) {
-    const uint32_t kind = &pool == &meshes_ ? kMesh : &pool == &elevation_ ? kElevation : kImagery;
-    if (pool.freeSlots.empty()) {
-        // Grow while within the budget; then reuse the least recently used slot that this frame
-        // does not need; only a mesh (without which a tile would be a hole) may go over.
-        const bool fits = fixedBytes() + allocatedBytes() + pool.pageBytes <= settings_.gpuCacheBytes;
-        uint32_t victim = UINT32_MAX;
-        if (!(fits && pool.pages() < pool.maxPages)) {
-            uint64_t oldest = UINT64_MAX;
-            for (uint32_t i = 0; i < pool.slots.size(); ++i) {
-                const Slot& slot = pool.slots[i];
-                if (slot.lastUsed < frame_ && slot.lastUsed < oldest) victim = i, oldest = slot.lastUsed;
-            }
-        }
-        if (victim != UINT32_MAX) {
-            pool.resident.erase(pool.slots[victim].owner);
-            pool.slots[victim].taken = false;
-            pool.freeSlots.push_back(victim);
-        } else if (pool.pages() < pool.maxPages && (fits || mayExceedBudget || pool.pages() == 0)) {
-            if (!fits && !warnedBudget_) {
-                warnedBudget_ = true;
-                log::warn("terrain: this view needs more than the GPU tile budget (", settings_.gpuCacheBytes >> 20,
-                          " MB); raise \"gpuCacheMB\" or \"maxScreenSpaceError\"");
-            }
-            addPage(kind);
-        } else {
-            return std::nullopt;   // the caller falls back to an ancestor already on the GPU
-        }
-    }
-    const uint32_t slot = pool.freeSlots.back();
-    pool.freeSlots.pop_back();
-    pool.slots[slot] = Slot{owner, frame_, true};
-    pool.resident[owner] = slot;
-    return slot;
+globe::TileHeightRange TerrainLayer::drawnHeights(const globe::TileKey& key) const {
+    const double ex = settings_.verticalExaggeration;
+    const globe::TileHeightRange r = model_->heightRange(key);
+    return globe::TileHeightRange{std::min(r.minHeight * ex, 0.0), std::max(r.maxHeight * ex, 0.0)};
 }
 
 void TerrainLayer::update(const scene::FrameContext& frame) {
     frame_ = frame.frameNumber + 1;   // 0 means "never used"
     const scene::Camera& camera = *frame.camera;
     model_->beginFrame(frame_);
+    gpuSlots_->beginFrame(frame_);
     ground_->endFrame();
     stats_ = {};
 
-    const double ex = settings_.verticalExaggeration;
     globe::SelectorView view;
     view.eye = camera.position();
     view.worldToView = glm::dmat3(camera.viewRotation());
@@ -242,11 +155,7 @@ void TerrainLayer::update(const scene::FrameContext& frame) {
     view.aspect = frame.aspect();
     view.nearPlane = camera.nearPlane();
     view.viewportHeightPx = frame.height;
-    const auto heights = [&](const globe::TileKey& k) {
-        const globe::TileHeightRange r = model_->heightRange(k);
-        return globe::TileHeightRange{std::min(r.minHeight * ex, 0.0), std::max(r.maxHeight * ex, 0.0)};
-    };
-    const auto& selected = selector_->select(view, heights);
+    const auto& selected = selector_->select(view, [&](const globe::TileKey& k) { return drawnHeights(k); });
     stats_.selection = selector_->stats();
 
     // Ask for data: elevation and each visible imagery layer, near and coarse first.
@@ -257,96 +166,65 @@ void TerrainLayer::update(const scene::FrameContext& frame) {
     }
     model_->endFrame();
 
-    // Residency and the draw list.
-    uploads_.clear();
-    uint64_t uploadBytes = 0;
-    deferred_ = false;
-    const uint64_t elevBytes = uint64_t(settings_.gridSize) * settings_.gridSize * 4 * sizeof(float);
-    const uint64_t imgBytes = uint64_t(settings_.imageSize) * settings_.imageSize * 4 * 4 / 3;
-    const auto resident = [&](SlotPool& pool, uint32_t kind, uint32_t layer, const globe::TileKey& tile,
-                              uint64_t bytes) -> std::optional<std::pair<globe::TileKey, uint32_t>> {
-        // The deepest ready ancestor-or-self that is on the GPU or can go there this frame.
-        std::optional<globe::TileKey> a = model_->readyAncestor(layer, tile);
-        while (a) {
-            const globe::DataKey key{layer, *a};
-            if (auto it = pool.resident.find(key); it != pool.resident.end()) {
-                pool.slots[it->second].lastUsed = frame_;
-                return std::make_pair(*a, it->second);
-            }
-            if (uploadBytes + bytes <= settings_.uploadBudgetBytes) {
-                if (auto slot = acquireSlot(pool, key, false)) {
-                    uploads_.push_back({kind, *slot, *a, layer});
-                    uploadBytes += bytes;
-                    return std::make_pair(*a, *slot);
-                }
-            } else {
-                deferred_ = true;
-            }
-            if (a->level == 0) break;
-            a = model_->readyAncestor(layer, a->parent());
-        }
-        return std::nullopt;
-    };
+    buildDrawList(frame, selected);
+    for (const auto& err : model_->errors())
+        if (std::find(errors_.begin(), errors_.end(), err) == errors_.end()) errors_.push_back(err);
+}
 
-    const glm::dmat4 proj = camera.projection(frame.aspect());
-    const auto& ell = globe::Ellipsoid::wgs84();
+std::optional<std::pair<globe::TileKey, uint32_t>> TerrainLayer::residentData(uint32_t layer, const globe::TileKey& tile) {
+    const Kind kind = layer == 0 ? Kind::Elevation : Kind::Imagery;
+    // The deepest ready ancestor-or-self that is on the GPU or can go there this frame.
+    std::optional<globe::TileKey> a = model_->readyAncestor(layer, tile);
+    while (a) {
+        const globe::DataKey key{layer, *a};
+        if (auto slot = gpuSlots_->find(kind, key)) return std::make_pair(*a, *slot);
+        if (uploadBytes_ + gpuSlots_->slotBytes(kind) <= settings_.uploadBudgetBytes) {
+            if (auto slot = gpuSlots_->acquire(kind, key, false)) {
+                uploads_.push_back({kind, *slot, *a, layer});
+                uploadBytes_ += gpuSlots_->slotBytes(kind);
+                return std::make_pair(*a, *slot);
+            }
+        } else {
+            deferred_ = true;
+        }
+        if (a->level == 0) break;
+        a = model_->readyAncestor(layer, a->parent());
+    }
+    return std::nullopt;
+}
+
+std::optional<uint32_t> TerrainLayer::meshSlot(const globe::TileKey& key) {
+    const globe::DataKey meshKey{kMeshLayer, key};
+    if (auto slot = gpuSlots_->find(Kind::Mesh, meshKey)) return slot;
+    // Meshes are never held back: without one, the tile would be a hole.
+    auto slot = gpuSlots_->acquire(Kind::Mesh, meshKey, true);
+    if (!slot) return std::nullopt;
+    uploads_.push_back({Kind::Mesh, *slot, key, kMeshLayer});
+    uploadBytes_ += gpuSlots_->slotBytes(Kind::Mesh);
+    return slot;
+}
+
+void TerrainLayer::buildDrawList(const scene::FrameContext& frame, const std::vector<globe::SelectedTile>& selected) {
+    uploads_.clear();
+    uploadBytes_ = 0;
+    deferred_ = false;
     const size_t count = std::min<size_t>(selected.size(), maxDraws_);
     if (selected.size() > maxDraws_ && !warnedDrawCap_) {
         warnedDrawCap_ = true;
         log::warn("terrain: ", selected.size(), " tiles selected, drawing the first ", maxDraws_,
                   "; raise \"maxScreenSpaceError\"");
     }
+    const glm::dmat4 proj = frame.camera->projection(frame.aspect());
     drawItems_.clear();
     drawData_.resize(count * sizeof(shader::TileDraw));
     for (size_t i = 0; i < count; ++i) {
         const globe::TileKey key = selected[i].key;
-        const globe::DataKey meshKey{kMeshLayer, key};
-        uint32_t meshSlot;
-        if (auto it = meshes_.resident.find(meshKey); it != meshes_.resident.end()) {
-            meshSlot = it->second;
-            meshes_.slots[meshSlot].lastUsed = frame_;
-        } else {
-            // Meshes are never held back: without one, the tile would be a hole.
-            auto slot = acquireSlot(meshes_, meshKey, true);
-            if (!slot) continue;
-            meshSlot = *slot;
-            uploads_.push_back({kMesh, meshSlot, key, kMeshLayer});
-            uploadBytes += meshes_.pageBytes / meshes_.slotsPerPage;
-        }
-        const globe::GeoExtent e = key.extent();
-        const glm::dvec3 center = ell.toEcef(e.centerLon(), e.centerLat(), 0.0);
-
-        shader::TileDraw d{};
-        d.modelViewProj = glm::mat4(proj * camera.modelViewRelativeToEye(center));
-        const double cell = key.sizeDeg() * 111320.0 / double(settings_.gridSize - 1);
-        const globe::TileHeightRange hr = heights(key);
-        // Deep enough for the gap between a tile and a coarser neighbour: the chord sag of the
-        // coarser grid (twice this cell) plus part of the height range; any deeper only costs
-        // fill rate where skirts show at grazing angles.
-        const double sag = (2.0 * cell) * (2.0 * cell) / (8.0 * 6371000.0);
-        const double skirt = std::min(sag + 0.25 * (hr.maxHeight - hr.minHeight), 5.0e4) + 10.0;
-        d.originFromEye = glm::vec3(center - camera.position());
-        d.skirtDepth = float(skirt);
-        d.elevationSlot = -1;
-        d.elevationGridSize = settings_.gridSize;
-        d.elevationScaleBias = glm::vec4(1, 1, 0, 0);
-        if (auto r = resident(elevation_, kElevation, 0, key, elevBytes)) {
-            d.elevationSlot = int(r->second);
-            d.elevationScaleBias = glm::vec4(key.scaleBiasWithin(r->first));
-            if (r->first == key) ++stats_.tilesWithOwnElevation;
-        }
-        d.imagerySlot = glm::ivec4(-1);
-        for (uint32_t l = 0; l < imageryIndex_.size(); ++l) {
-            d.imageryScaleBias[l] = glm::vec4(1, 1, 0, 0);
-            if (!settings_.imagery[imageryIndex_[l]].visible) continue;
-            if (auto r = resident(imagery_, kImagery, 1 + l, key, imgBytes)) {
-                d.imagerySlot[int(l)] = int(r->second);
-                d.imageryScaleBias[l] = glm::vec4(key.scaleBiasWithin(r->first));
-            }
-        }
+        const std::optional<uint32_t> mesh = meshSlot(key);
+        if (!mesh) continue;
+        const shader::TileDraw d = tileDraw(*frame.camera, proj, key);
         const uint32_t drawIndex = uint32_t(drawItems_.size());
         std::memcpy(drawData_.data() + drawIndex * sizeof(d), &d, sizeof(d));
-        drawItems_.push_back({meshSlot, drawIndex, selected[i].distance});
+        drawItems_.push_back({*mesh, drawIndex, selected[i].distance});
         stats_.deepestLevel = std::max(stats_.deepestLevel, key.level);
     }
     drawData_.resize(drawItems_.size() * sizeof(shader::TileDraw));
@@ -356,23 +234,51 @@ void TerrainLayer::update(const scene::FrameContext& frame) {
                      [](const DrawItem& a, const DrawItem& b) { return a.distance < b.distance; });
     stats_.tilesDrawn = drawItems_.size();
     stats_.uploadsThisFrame = uploads_.size();
-    stats_.uploadBytesThisFrame = uploadBytes;
-    for (const auto& err : model_->errors())
-        if (std::find(errors_.begin(), errors_.end(), err) == errors_.end()) errors_.push_back(err);
+    stats_.uploadBytesThisFrame = uploadBytes_;
+}
+
+shader::TileDraw TerrainLayer::tileDraw(const scene::Camera& camera, const glm::dmat4& proj, const globe::TileKey& key) {
+    const globe::GeoExtent e = key.extent();
+    const glm::dvec3 center = globe::Ellipsoid::wgs84().toEcef(e.centerLon(), e.centerLat(), 0.0);
+    shader::TileDraw d{};
+    d.modelViewProj = glm::mat4(proj * camera.modelViewRelativeToEye(center));
+    const double cell = key.sizeDeg() * 111320.0 / double(settings_.gridSize - 1);
+    const globe::TileHeightRange hr = drawnHeights(key);
+    // Deep enough for the gap between a tile and a coarser neighbour: the chord sag of the
+    // coarser grid (twice this cell) plus part of the height range; any deeper only costs
+    // fill rate where skirts show at grazing angles.
+    const double sag = (2.0 * cell) * (2.0 * cell) / (8.0 * 6371000.0);
+    const double skirt = std::min(sag + 0.25 * (hr.maxHeight - hr.minHeight), 5.0e4) + 10.0;
+    d.originFromEye = glm::vec3(center - camera.position());
+    d.skirtDepth = float(skirt);
+    d.elevationSlot = -1;
+    d.elevationGridSize = settings_.gridSize;
+    d.elevationScaleBias = glm::vec4(1, 1, 0, 0);
+    if (auto r = residentData(0, key)) {
+        d.elevationSlot = int(r->second);
+        d.elevationScaleBias = glm::vec4(key.scaleBiasWithin(r->first));
+        if (r->first == key) ++stats_.tilesWithOwnElevation;
+    }
+    d.imagerySlot = glm::ivec4(-1);
+    for (uint32_t l = 0; l < imageryIndex_.size(); ++l) {
+        d.imageryScaleBias[l] = glm::vec4(1, 1, 0, 0);
+        if (!settings_.imagery[imageryIndex_[l]].visible) continue;
+        if (auto r = residentData(1 + l, key)) {
+            d.imagerySlot[int(l)] = int(r->second);
+            d.imageryScaleBias[l] = glm::vec4(key.scaleBiasWithin(r->first));
+        }
+    }
+    return d;
 }
 
 void TerrainLayer::writeDescriptors(uint32_t f) {
-    if (setVersion_[f] == descriptorVersion_) return;
-    setVersion_[f] = descriptorVersion_;
+    if (setVersion_[f] == gpuSlots_->version()) return;
+    setVersion_[f] = gpuSlots_->version();
     // Pages not made yet are bound to a dummy: the shaders index every page.
-    std::vector<VkImageView> elev(shader::kElevationPages), img(shader::kImageryPages);
-    for (uint32_t i = 0; i < elev.size(); ++i)
-        elev[i] = i < elevationPages_.size() ? elevationPages_[i].view() : dummyElevation_.view();
-    for (uint32_t i = 0; i < img.size(); ++i) img[i] = i < imageryPages_.size() ? imageryPages_[i].view() : dummyImagery_.view();
     gpu::DescriptorWriter(descriptors_.sets[f])
         .storageBuffer(shader::kTerrainBindingDraws, drawBuffers_[f])
-        .sampledImages(shader::kTerrainBindingElevation, heightSampler_.vk(), elev)
-        .sampledImages(shader::kTerrainBindingImagery, imagerySampler_.vk(), img)
+        .sampledImages(shader::kTerrainBindingElevation, heightSampler_.vk(), gpuSlots_->elevationViews())
+        .sampledImages(shader::kTerrainBindingImagery, imagerySampler_.vk(), gpuSlots_->imageryViews())
         .update(*services_.device);
 }
 
@@ -380,65 +286,18 @@ void TerrainLayer::recordTransfers(const render::RecordContext& rc) {
     VkCommandBuffer cmd = rc.cmd;
     if (!drawData_.empty()) drawBuffers_[rc.slot].write(drawData_.data(), drawData_.size());
     if (!uploads_.empty()) {
-        // Slots may be reused: earlier frames' reads of them come before these writes.
-        VkMemoryBarrier2 before{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-        before.srcStageMask = VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT;
-        before.dstStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
-        VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-        dep.memoryBarrierCount = 1;
-        dep.pMemoryBarriers = &before;
-        vkCmdPipelineBarrier2(cmd, &dep);
-
-        const int n = settings_.gridSize;
-        std::vector<bool> meshTouched(meshPages_.size()), elevTouched(elevationPages_.size()),
-            imgTouched(imageryPages_.size());
+        gpuSlots_->beginUploads(cmd);
         for (const PendingUpload& u : uploads_) {
-            if (u.kind == kMesh) {
-                const globe::TileMesh mesh = globe::buildTileMesh(u.tile, n);
-                const uint32_t page = u.slot / kMeshSlotsPerPage, index = u.slot % kMeshSlotsPerPage;
-                const VkDeviceSize bytes = mesh.vertices.size() * sizeof(globe::TileVertex);
-                rc.uploader->toBuffer(cmd, meshPages_[page], mesh.vertices.data(), bytes, index * bytes);
-                meshTouched[page] = true;
-            } else if (u.kind == kElevation) {
-                const auto data = model_->elevation(u.tile);
-                const uint32_t page = u.slot / shader::kElevationSlotsPerPage;
-                // Height and its gradient per sample (computed by the loader): interpolating
-                // the gradient gives continuous normals.
-                const auto& h = data->heights;
-                std::vector<float> texels(h.size() * 4);
-                for (size_t i = 0; i < h.size(); ++i) {
-                    texels[i * 4] = h[i];
-                    texels[i * 4 + 1] = data->gradients[i * 2];
-                    texels[i * 4 + 2] = data->gradients[i * 2 + 1];
-                    texels[i * 4 + 3] = 0.0f;
-                }
-                rc.uploader->toImage(cmd, elevationPages_[page], texels.data(), texels.size() * sizeof(float),
-                                     u.slot % shader::kElevationSlotsPerPage);
-                elevTouched[page] = true;
+            if (u.kind == Kind::Mesh) {
+                const globe::TileMesh mesh = globe::buildTileMesh(u.tile, settings_.gridSize);
+                gpuSlots_->uploadMesh(cmd, *rc.uploader, u.slot, mesh.vertices);
+            } else if (u.kind == Kind::Elevation) {
+                gpuSlots_->uploadElevation(cmd, *rc.uploader, u.slot, *model_->elevation(u.tile));
             } else {
-                const auto data = model_->imagery(u.layer, u.tile);
-                const uint32_t page = u.slot / shader::kImagerySlotsPerPage;
-                std::vector<VkBufferImageCopy> regions;
-                for (int m = 0; m < data->mipLevels(); ++m) {
-                    const uint32_t size = uint32_t(std::max(data->size >> m, 1));
-                    VkBufferImageCopy r{};
-                    r.bufferOffset = data->mipOffsets[size_t(m)];
-                    r.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), u.slot % shader::kImagerySlotsPerPage, 1};
-                    r.imageExtent = {size, size, 1};
-                    regions.push_back(r);
-                }
-                rc.uploader->toImageRegions(cmd, imageryPages_[page], data->rgba.data(), data->rgba.size(), regions);
-                imgTouched[page] = true;
+                gpuSlots_->uploadImagery(cmd, *rc.uploader, u.slot, *model_->imagery(u.layer, u.tile));
             }
         }
-        for (size_t p = 0; p < meshPages_.size(); ++p)
-            if (meshTouched[p])
-                gpu::bufferBarrier(cmd, meshPages_[p], VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                                   VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
-        for (size_t p = 0; p < elevationPages_.size(); ++p)
-            if (elevTouched[p]) gpu::transition(cmd, elevationPages_[p], gpu::ImageUse::SampledGraphics);
-        for (size_t p = 0; p < imageryPages_.size(); ++p)
-            if (imgTouched[p]) gpu::transition(cmd, imageryPages_[p], gpu::ImageUse::SampledGraphics);
+        gpuSlots_->endUploads(cmd);
         uploads_.clear();
     }
     writeDescriptors(rc.slot);
@@ -469,17 +328,16 @@ void TerrainLayer::record(scene::Pass, const render::RecordContext& rc) {
 void TerrainLayer::drawSurface(VkCommandBuffer cmd) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, surface_.vk());
     vkCmdBindIndexBuffer(cmd, indices_.vk(), 0, VK_INDEX_TYPE_UINT32);
-    const uint32_t verts = globe::tileVertexCount(settings_.gridSize);
     uint32_t boundPage = UINT32_MAX;
     for (const DrawItem& item : drawItems_) {
-        const uint32_t page = item.meshSlot / kMeshSlotsPerPage;
+        const uint32_t page = gpuSlots_->meshPage(item.meshSlot);
         if (page != boundPage) {
-            const VkBuffer vb = meshPages_[page].vk();
+            const VkBuffer vb = gpuSlots_->meshBuffer(item.meshSlot);
             const VkDeviceSize offset = 0;
             vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);
             boundPage = page;
         }
-        vkCmdDrawIndexed(cmd, indexCount_, 1, 0, int32_t((item.meshSlot % kMeshSlotsPerPage) * verts), item.drawIndex);
+        vkCmdDrawIndexed(cmd, indexCount_, 1, 0, gpuSlots_->meshVertexOffset(item.meshSlot), item.drawIndex);
     }
 }
 
@@ -489,7 +347,7 @@ uint64_t TerrainLayer::fixedBytes() const {
     return bytes;
 }
 
-uint64_t TerrainLayer::gpuBytes() const { return fixedBytes() + allocatedBytes(); }
+uint64_t TerrainLayer::gpuBytes() const { return fixedBytes() + (gpuSlots_ ? gpuSlots_->allocatedBytes() : 0); }
 
 bool TerrainLayer::setParameter(std::string_view name, double value) {
     // The ranges the scene file accepts (create()), so that a saved scene loads again.
