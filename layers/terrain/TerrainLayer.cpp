@@ -59,22 +59,22 @@ void TerrainLayer::openSources(const render::RenderServices& services) {
             errors_.push_back(s.message()), log::error(s.message());
         }
     }
-    globe::TerrainModelSettings ms;
-    ms.gridSize = settings_.gridSize;
-    ms.imageSize = settings_.imageSize;
-    ms.cpuBudgetBytes = settings_.cpuCacheBytes;
-    ms.maxLevel = settings_.maxLevel;
+    globe::TerrainTilesSettings ts;
+    ts.gridSize = settings_.gridSize;
+    ts.imageSize = settings_.imageSize;
+    ts.cpuBudgetBytes = settings_.cpuCacheBytes;
+    ts.maxLevel = settings_.maxLevel;
     ground_ = std::make_unique<TerrainGround>(settings_.gridSize, settings_.maxLevel, dems);
     // No sources, no threads: the pool starts only when there is something to load.
     jobs::ThreadPool* pool = dems.empty() && images.empty() ? nullptr : &services.jobs();
-    model_ = std::make_unique<globe::TerrainModel>(ms, std::move(dems), std::move(images), pool);
+    tiles_ = std::make_unique<globe::TerrainTiles>(ts, std::move(dems), std::move(images), pool);
     globe::SelectorSettings sel;
     sel.maxScreenSpaceError = settings_.maxScreenSpaceError;
     sel.maxLevel = settings_.maxLevel;
     sel.gridSize = settings_.gridSize;
     sel.detailLevel = 0;   // no sources: the ellipsoid's curvature alone sets the error
-    for (uint32_t l = 0; l < model_->layerCount(); ++l)
-        if (l > 0 || model_->hasElevation()) sel.detailLevel = std::max(sel.detailLevel, model_->maxDataLevel(l));
+    for (uint32_t l = 0; l < tiles_->layerCount(); ++l)
+        if (l > 0 || tiles_->hasElevation()) sel.detailLevel = std::max(sel.detailLevel, tiles_->maxDataLevel(l));
     selector_ = std::make_unique<globe::TileSelector>(sel);
 }
 
@@ -136,14 +136,14 @@ void TerrainLayer::buildPipelines(const render::RenderServices& services) {
 
 globe::TileHeightRange TerrainLayer::drawnHeights(const globe::TileKey& key) const {
     const double ex = settings_.verticalExaggeration;
-    const globe::TileHeightRange r = model_->heightRange(key);
+    const globe::TileHeightRange r = tiles_->heightRange(key);
     return globe::TileHeightRange{std::min(r.minHeight * ex, 0.0), std::max(r.maxHeight * ex, 0.0)};
 }
 
 void TerrainLayer::update(const scene::FrameContext& frame) {
     frame_ = frame.frameNumber + 1;   // 0 means "never used"
     const scene::Camera& camera = *frame.camera;
-    model_->beginFrame(frame_);
+    tiles_->beginFrame(frame_);
     gpuSlots_->beginFrame(frame_);
     ground_->endFrame();
     stats_ = {};
@@ -160,21 +160,21 @@ void TerrainLayer::update(const scene::FrameContext& frame) {
 
     // Ask for data: elevation and each visible imagery layer, near and coarse first.
     for (const auto& t : selected) {
-        model_->request(0, t.key, t.distance);
+        tiles_->request(0, t.key, t.distance);
         for (uint32_t i = 0; i < imageryIndex_.size(); ++i)
-            if (settings_.imagery[imageryIndex_[i]].visible) model_->request(1 + i, t.key, t.distance);
+            if (settings_.imagery[imageryIndex_[i]].visible) tiles_->request(1 + i, t.key, t.distance);
     }
-    model_->endFrame();
+    tiles_->endFrame();
 
     buildDrawList(frame, selected);
-    for (const auto& err : model_->errors())
+    for (const auto& err : tiles_->errors())
         if (std::find(errors_.begin(), errors_.end(), err) == errors_.end()) errors_.push_back(err);
 }
 
 std::optional<std::pair<globe::TileKey, uint32_t>> TerrainLayer::residentData(uint32_t layer, const globe::TileKey& tile) {
     const Kind kind = layer == 0 ? Kind::Elevation : Kind::Imagery;
     // The deepest ready ancestor-or-self that is on the GPU or can go there this frame.
-    std::optional<globe::TileKey> a = model_->readyAncestor(layer, tile);
+    std::optional<globe::TileKey> a = tiles_->readyAncestor(layer, tile);
     while (a) {
         const globe::DataKey key{layer, *a};
         if (auto slot = gpuSlots_->find(kind, key)) return std::make_pair(*a, *slot);
@@ -188,7 +188,7 @@ std::optional<std::pair<globe::TileKey, uint32_t>> TerrainLayer::residentData(ui
             deferred_ = true;
         }
         if (a->level == 0) break;
-        a = model_->readyAncestor(layer, a->parent());
+        a = tiles_->readyAncestor(layer, a->parent());
     }
     return std::nullopt;
 }
@@ -292,9 +292,9 @@ void TerrainLayer::recordTransfers(const render::RecordContext& rc) {
                 const globe::TileMesh mesh = globe::buildTileMesh(u.tile, settings_.gridSize);
                 gpuSlots_->uploadMesh(cmd, *rc.uploader, u.slot, mesh.vertices);
             } else if (u.kind == Kind::Elevation) {
-                gpuSlots_->uploadElevation(cmd, *rc.uploader, u.slot, *model_->elevation(u.tile));
+                gpuSlots_->uploadElevation(cmd, *rc.uploader, u.slot, *tiles_->elevation(u.tile));
             } else {
-                gpuSlots_->uploadImagery(cmd, *rc.uploader, u.slot, *model_->imagery(u.layer, u.tile));
+                gpuSlots_->uploadImagery(cmd, *rc.uploader, u.slot, *tiles_->imagery(u.layer, u.tile));
             }
         }
         gpuSlots_->endUploads(cmd);
@@ -407,13 +407,13 @@ std::vector<scene::LayerSetting> TerrainLayer::liveSettings() const {
     return out;
 }
 
-bool TerrainLayer::busy() const { return (model_ && model_->loading()) || deferred_; }
+bool TerrainLayer::busy() const { return (tiles_ && tiles_->loading()) || deferred_; }
 
 std::string TerrainLayer::status() const {
     std::ostringstream s;
     s << "tiles " << stats_.tilesDrawn << " drawn (deepest level " << stats_.deepestLevel << ")";
-    if (model_) {
-        s << ", " << model_->stats().loading << " loading, " << (model_->cpuBytes() >> 20) << " MB cached";
+    if (tiles_) {
+        s << ", " << tiles_->stats().loading << " loading, " << (tiles_->cpuBytes() >> 20) << " MB cached";
     }
     s << ", " << (gpuBytes() >> 20) << " MB on the GPU";
     if (!errors_.empty()) s << ", " << errors_.size() << " error(s)";

@@ -22,7 +22,7 @@
 #include "engine/scene/Layer.h"
 #include "engine/scene/SceneDesc.h"
 #include "globe/RasterSource.h"
-#include "globe/TerrainModel.h"
+#include "globe/TerrainTiles.h"
 #include "globe/TileSelector.h"
 #include "layers/terrain/TerrainGround.h"
 #include "layers/terrain/TileSlotPool.h"
@@ -83,7 +83,7 @@ public:
     void recordTransfers(const render::RecordContext& context) override;
     void record(scene::Pass pass, const render::RecordContext& context) override;
     uint64_t gpuBytes() const override;
-    uint64_t cacheBytes() const override { return model_ ? model_->cpuBytes() : 0; }
+    uint64_t cacheBytes() const override { return tiles_ ? tiles_->cpuBytes() : 0; }
     bool busy() const override;
     /// Live: "maxScreenSpaceError" (0.25 .. 1000 px), "verticalExaggeration" (0 .. 1000).
     bool setParameter(std::string_view name, double value) override;
@@ -98,9 +98,9 @@ public:
     const std::vector<uint8_t>& drawRecords() const { return drawData_; }
     /// The tiles selected for the last frame.
     const std::vector<globe::SelectedTile>& selection() const { return selector_->selection(); }
-    /// The CPU model (sources, pager, cache); null before prepare().
-    globe::TerrainModel* model() { return model_.get(); }
-    const globe::TerrainModel* model() const { return model_.get(); }
+    /// The tiles on the CPU (sources, pager, cache, heights); null before prepare().
+    globe::TerrainTiles* tiles() { return tiles_.get(); }
+    const globe::TerrainTiles* tiles() const { return tiles_.get(); }
     /// Terrain height (metres above the ellipsoid, exaggerated as drawn) at a point, from the
     /// DEMs at their own resolution whatever has been streamed (TerrainGround.h): the same
     /// answer for the same point every time; nothing before prepare().
@@ -140,7 +140,7 @@ private:
 
     TerrainSettings settings_;
     std::vector<std::string> errors_;
-    std::unique_ptr<globe::TerrainModel> model_;
+    std::unique_ptr<globe::TerrainTiles> tiles_;
     std::unique_ptr<TerrainGround> ground_;   ///< heightAt's own DEM reads
     uint64_t groundChanges_ = 0;
     std::unique_ptr<globe::TileSelector> selector_;

@@ -9,7 +9,7 @@
 
 #include "engine/gpu/Buffer.h"
 #include "engine/gpu/Image.h"
-#include "globe/TerrainModel.h"
+#include "globe/TerrainTiles.h"
 #include "globe/TileMesh.h"
 
 #include <vulkan/vulkan.h>

@@ -1,6 +1,6 @@
 // orbis bench SCENE --tiles LEVEL: tile throughput of the pager against a bare loop.
 //
-// The pager (TerrainModel on a worker pool: priorities, chained coarse-to-fine loading,
+// The pager (TerrainTiles on a worker pool: priorities, chained coarse-to-fine loading,
 // cancellation bookkeeping, cache, mip building) loads every tile of LEVEL over the scene's
 // terrain sources, with their ancestors. The bare loop then reads exactly the same (layer,
 // tile) list with RasterSource (GDAL's warper with the transformer kept per handle) on as many
@@ -10,7 +10,7 @@
 
 #include "base/Log.h"
 #include "base/ThreadPool.h"
-#include "globe/TerrainModel.h"
+#include "globe/TerrainTiles.h"
 #include "layers/terrain/TerrainLayer.h"
 #include "tools/orbis/Session.h"
 
@@ -64,7 +64,7 @@ int tileBench(const Args& args, scene::Scene& scene, long level, unsigned thread
     });
     if (tiles.size() > 256) tiles.resize(256);
 
-    globe::TerrainModelSettings ms;
+    globe::TerrainTilesSettings ms;
     ms.gridSize = settings.gridSize;
     ms.imageSize = settings.imageSize;
     ms.maxLevel = settings.maxLevel;
@@ -72,7 +72,7 @@ int tileBench(const Args& args, scene::Scene& scene, long level, unsigned thread
 
     const auto runPager = [&](std::vector<globe::DataKey>* loaded) {
         jobs::ThreadPool pool(threads, "orbis-tiles");
-        globe::TerrainModel model(ms, dems, images, &pool);
+        globe::TerrainTiles model(ms, dems, images, &pool);
         const auto t0 = std::chrono::steady_clock::now();
         for (uint64_t frame = 1;; ++frame) {
             model.beginFrame(frame);
