@@ -12,6 +12,7 @@
 #include "engine/gpu/Buffer.h"
 #include "engine/gpu/Handle.h"
 #include "engine/scene/Layer.h"
+#include "engine/scene/LayerSetting.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/annotations/PinOverlay.h"
 
@@ -23,6 +24,10 @@ namespace orbis::layers {
 
 class AnnotationLayer : public scene::Layer, public scene::LiveSettings, public scene::LayerStats {
 public:
+    /// The ranges its numeric setting may take, the same for the scene file (create), a live
+    /// edit (setParameter) and the panel (liveSettings).
+    static constexpr scene::SettingRange kLabelScaleRange{0.5, 8.0};
+
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
     explicit AnnotationLayer(const PinStyle& style) : style_(style) {}

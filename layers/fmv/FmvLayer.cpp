@@ -535,7 +535,7 @@ uint64_t FmvLayer::gpuBytes() const {
 }
 
 bool FmvLayer::setParameter(std::string_view name, double value) {
-    if (name == "opacity" && value >= 0.0 && value <= 1.0) settings_.opacity = value;
+    if (name == "opacity" && kOpacityRange.contains(value)) settings_.opacity = value;
     else if (name == "footprint") settings_.footprint = value != 0.0;
     else if (name == "frustum") settings_.frustum = value != 0.0;
     else return false;
@@ -546,7 +546,7 @@ std::vector<scene::LayerSetting> FmvLayer::liveSettings() const {
     using Kind = scene::LayerSetting::Kind;
     return {
         {.name = "opacity", .label = "Video opacity", .kind = Kind::Number, .value = settings_.opacity,
-         .min = 0.0, .max = 1.0},
+         .min = kOpacityRange.min, .max = kOpacityRange.max},
         {.name = "footprint", .label = "Footprint outline", .kind = Kind::Toggle, .value = settings_.footprint ? 1.0 : 0.0},
         {.name = "frustum", .label = "Sensor frustum", .kind = Kind::Toggle, .value = settings_.frustum ? 1.0 : 0.0},
     };

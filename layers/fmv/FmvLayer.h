@@ -26,6 +26,7 @@
 #include "engine/gpu/Pipeline.h"
 #include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
+#include "engine/scene/LayerSetting.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/fmv/FmvTimeline.h"
 #include "layers/fmv/FramePrefetcher.h"
@@ -51,6 +52,10 @@ struct FmvSettings {
 
 class FmvLayer final : public scene::Layer, public scene::LiveSettings, public scene::LayerStats {
 public:
+    /// The ranges its numeric setting may take, the same for the scene file (create), a live
+    /// edit (setParameter) and the panel (liveSettings).
+    static constexpr scene::SettingRange kOpacityRange{0.0, 1.0};
+
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
     FmvLayer(std::shared_ptr<fmv::VideoFile> video, fmv::FmvTimeline timeline, FmvSettings settings);
     ~FmvLayer() override;

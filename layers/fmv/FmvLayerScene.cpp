@@ -23,7 +23,7 @@ Result<std::unique_ptr<scene::Layer>> FmvLayer::create(const scene::LayerDesc& d
         if (!t) r.fail("start", t.message());
         else s.startUtc = toSeconds(*t);
     }
-    s.opacity = r.number("opacity", 0.9, 0.0, 1.0).value_or(0.9);
+    s.opacity = r.number("opacity", 0.9, kOpacityRange.min, kOpacityRange.max).value_or(0.9);
     s.footprint = r.boolean("footprint", true).value_or(true);
     s.frustum = r.boolean("frustum", true).value_or(true);
     if (auto c = r.numbers("footprintColor", 3, std::vector<double>{1.0, 0.75, 0.1}); c && c->size() == 3) {

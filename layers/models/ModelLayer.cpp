@@ -592,12 +592,12 @@ std::string ModelLayer::status() const {
 bool ModelLayer::setParameter(std::string_view name, double value) {
     // Both are read every frame (the copies' transforms, the label's height, tracked poses).
     // The ranges are the scene file's (create()), so that a saved scene loads again.
-    if (name == "scale" && value >= 1e-6 && value <= 1e6) {
+    if (name == "scale" && kScaleRange.contains(value)) {
         settings_.scale = value;
         motion_->setFootprint(footprint());
     }
-    else if (name == "minimumPixelSize" && value >= 0.0 && value <= 1024.0) settings_.minimumPixelSize = value;
-    else if (name == "opacity" && value >= 0.0 && value <= 1.0) settings_.opacity = value;
+    else if (name == "minimumPixelSize" && kMinimumPixelSizeRange.contains(value)) settings_.minimumPixelSize = value;
+    else if (name == "opacity" && kOpacityRange.contains(value)) settings_.opacity = value;
     else return false;
     return true;
 }
@@ -605,11 +605,11 @@ bool ModelLayer::setParameter(std::string_view name, double value) {
 std::vector<scene::LayerSetting> ModelLayer::liveSettings() const {
     using Kind = scene::LayerSetting::Kind;
     return {
-        {.name = "scale", .label = "Scale", .kind = Kind::Number, .value = settings_.scale, .min = 1e-6, .max = 1e6,
+        {.name = "scale", .label = "Scale", .kind = Kind::Number, .value = settings_.scale, .min = kScaleRange.min, .max = kScaleRange.max,
          .logarithmic = true},
         {.name = "minimumPixelSize", .label = "Minimum size (px)", .kind = Kind::Number,
-         .value = settings_.minimumPixelSize, .min = 0.0, .max = 1024.0},
-        {.name = "opacity", .label = "Opacity", .kind = Kind::Number, .value = settings_.opacity, .min = 0.0, .max = 1.0},
+         .value = settings_.minimumPixelSize, .min = kMinimumPixelSizeRange.min, .max = kMinimumPixelSizeRange.max},
+        {.name = "opacity", .label = "Opacity", .kind = Kind::Number, .value = settings_.opacity, .min = kOpacityRange.min, .max = kOpacityRange.max},
     };
 }
 

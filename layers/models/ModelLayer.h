@@ -61,6 +61,7 @@
 #include "engine/gpu/Pipeline.h"
 #include "engine/gpu/Image.h"
 #include "engine/scene/Layer.h"
+#include "engine/scene/LayerSetting.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/models/GltfAnimation.h"
 #include "layers/models/GltfModel.h"
@@ -106,6 +107,12 @@ struct ModelSettings {
 
 class ModelLayer : public scene::Layer, public scene::LiveSettings, public scene::MovingContent, public scene::FloatingContent, public scene::LayerStats {
 public:
+    /// The ranges its numeric settings may take, the same for the scene file (create), a live
+    /// edit (setParameter) and the panel (liveSettings).
+    static constexpr scene::SettingRange kScaleRange{1e-6, 1e6};
+    static constexpr scene::SettingRange kMinimumPixelSizeRange{0.0, 1024.0};
+    static constexpr scene::SettingRange kOpacityRange{0.0, 1.0};
+
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
     ModelLayer(ModelSettings settings, models::ModelData model, std::unique_ptr<models::ModelMotion> motion);

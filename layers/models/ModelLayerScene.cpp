@@ -130,8 +130,12 @@ Result<models::AnimationPlayback> resolveAnimation(const AnimationChoice& c, con
             if (anims[i].name == *c.name) p.animation = int(i);
         if (p.animation < 0) {
             std::string names;
-            for (size_t i = 0; i < anims.size(); ++i)
-                names += (i ? ", " : "") + (anims[i].name.empty() ? "#" + std::to_string(i) : "\"" + anims[i].name + "\"");
+            for (size_t i = 0; i < anims.size(); ++i) {
+                // Appended piece by piece: GCC 12 warns (-Wrestrict, a false positive) on "literal" + a temporary.
+                if (i) names += ", ";
+                if (anims[i].name.empty()) names.append("#").append(std::to_string(i));
+                else names.append("\"").append(anims[i].name).append("\"");
+            }
             return makeError(where + "/animation/name: " + model.file + " has no animation \"" + *c.name + "\" (it has " + names + ")");
         }
     } else if (c.index) {
@@ -157,9 +161,9 @@ Result<std::unique_ptr<scene::Layer>> ModelLayer::create(const scene::LayerDesc&
     s.name = desc.name;
     const auto file = r.string("file");
     if (r.ok() && (!file || file->empty())) r.fail("file", "name the glTF model (.glb or .gltf)");
-    s.scale = r.number("scale", 1.0, 1e-6, 1e6).value_or(1.0);
-    s.minimumPixelSize = r.number("minimumPixelSize", 0.0, 0.0, 1024.0).value_or(0.0);
-    s.opacity = r.number("opacity", 1.0, 0.0, 1.0).value_or(1.0);
+    s.scale = r.number("scale", 1.0, kScaleRange.min, kScaleRange.max).value_or(1.0);
+    s.minimumPixelSize = r.number("minimumPixelSize", 0.0, kMinimumPixelSizeRange.min, kMinimumPixelSizeRange.max).value_or(0.0);
+    s.opacity = r.number("opacity", 1.0, kOpacityRange.min, kOpacityRange.max).value_or(1.0);
     if (auto o = r.numbers("orientation", 3, std::vector<double>{0, 0, 0}); o && o->size() == 3) {
         s.orientationDeg = {(*o)[0], (*o)[1], (*o)[2]};
     }

@@ -453,12 +453,12 @@ bool PointsLayer::computeAvailable() const {
 
 bool PointsLayer::setParameter(std::string_view name, double value) {
     // The ranges the scene file accepts (create()), so that a saved scene loads again.
-    if (name == "pointBudget" && value >= 0.0 && value <= 4e9) settings_.pointBudget = uint64_t(value);
-    else if (name == "pointSize" && value >= 1.0 && value <= 15.0) settings_.pointSize = int(value);
-    else if (name == "opacity" && value >= 0.0 && value <= 1.0) settings_.opacity = value;
+    if (name == "pointBudget" && kPointBudgetRange.contains(value)) settings_.pointBudget = uint64_t(value);
+    else if (name == "pointSize" && kPointSizeRange.contains(value)) settings_.pointSize = int(value);
+    else if (name == "opacity" && kOpacityRange.contains(value)) settings_.opacity = value;
     else if (name == "edl") settings_.edl = value != 0.0;
-    else if (name == "edlStrength" && value >= 0.0 && value <= 100.0) settings_.edlStrength = value;
-    else if (name == "edlRadius" && value >= 0.5 && value <= 8.0) settings_.edlRadius = value;
+    else if (name == "edlStrength" && kEdlStrengthRange.contains(value)) settings_.edlStrength = value;
+    else if (name == "edlRadius" && kEdlRadiusRange.contains(value)) settings_.edlRadius = value;
     else if (name == "renderer" && (value == 0.0 || value == 1.0)) {
         const bool compute = value == 0.0 && computeAvailable();
         settings_.renderer = compute ? PointsSettings::Renderer::Compute : PointsSettings::Renderer::PointList;
@@ -491,15 +491,15 @@ std::vector<scene::LayerSetting> PointsLayer::liveSettings() const {
         {.name = "color", .label = "Colour by", .kind = Kind::Choice, .choice = kColorNames[size_t(settings_.color)],
          .choices = {std::begin(kColorNames), std::end(kColorNames)}},
         {.name = "pointBudget", .label = "Point budget (0: all)", .kind = Kind::Integer,
-         .value = double(settings_.pointBudget), .min = 0.0, .max = 4e9, .logarithmic = true},
+         .value = double(settings_.pointBudget), .min = kPointBudgetRange.min, .max = kPointBudgetRange.max, .logarithmic = true},
         {.name = "pointSize", .label = "Point size (px)", .kind = Kind::Integer, .value = double(settings_.pointSize),
-         .min = 1.0, .max = 15.0},
-        {.name = "opacity", .label = "Opacity", .kind = Kind::Number, .value = settings_.opacity, .min = 0.0, .max = 1.0},
+         .min = kPointSizeRange.min, .max = kPointSizeRange.max},
+        {.name = "opacity", .label = "Opacity", .kind = Kind::Number, .value = settings_.opacity, .min = kOpacityRange.min, .max = kOpacityRange.max},
         {.name = "edl", .label = "Eye-dome lighting", .kind = Kind::Toggle, .value = settings_.edl ? 1.0 : 0.0},
         {.name = "edlStrength", .label = "EDL strength", .kind = Kind::Number, .value = settings_.edlStrength,
-         .min = 0.0, .max = 100.0, .logarithmic = true},
+         .min = kEdlStrengthRange.min, .max = kEdlStrengthRange.max, .logarithmic = true},
         {.name = "edlRadius", .label = "EDL radius (px)", .kind = Kind::Number, .value = settings_.edlRadius,
-         .min = 0.5, .max = 8.0},
+         .min = kEdlRadiusRange.min, .max = kEdlRadiusRange.max},
         {.name = "renderer", .label = "Renderer", .kind = Kind::Choice,
          .choice = kRendererNames[size_t(settings_.renderer)], .choices = std::move(renderers)},
     };

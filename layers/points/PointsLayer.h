@@ -34,6 +34,7 @@
 #include "base/ThreadPool.h"
 #include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
+#include "engine/scene/LayerSetting.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/points/NodeResidency.h"
 #include "layers/points/PointCloud.h"
@@ -67,6 +68,14 @@ struct PointsSettings {
 
 class PointsLayer final : public scene::Layer, public scene::LiveSettings, public scene::FloatingContent, public scene::LayerStats {
 public:
+    /// The ranges its numeric settings may take, the same for the scene file (create), a live
+    /// edit (setParameter) and the panel (liveSettings).
+    static constexpr scene::SettingRange kPointBudgetRange{0.0, 4e9};
+    static constexpr scene::SettingRange kPointSizeRange{1.0, 15.0};
+    static constexpr scene::SettingRange kOpacityRange{0.0, 1.0};
+    static constexpr scene::SettingRange kEdlStrengthRange{0.0, 100.0};
+    static constexpr scene::SettingRange kEdlRadiusRange{0.5, 8.0};
+
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
     PointsLayer(std::unique_ptr<points::LasFile> file, points::PointGeoreference georef, PointsSettings settings);
     ~PointsLayer() override;

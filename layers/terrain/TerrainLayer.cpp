@@ -351,7 +351,7 @@ uint64_t TerrainLayer::gpuBytes() const { return fixedBytes() + (gpuSlots_ ? gpu
 
 bool TerrainLayer::setParameter(std::string_view name, double value) {
     // The ranges the scene file accepts (create()), so that a saved scene loads again.
-    if (name == "maxScreenSpaceError" && value >= 0.25 && value <= 1000.0) {
+    if (name == "maxScreenSpaceError" && kScreenSpaceErrorRange.contains(value)) {
         settings_.maxScreenSpaceError = value;
         if (selector_) {
             globe::SelectorSettings s = selector_->settings();
@@ -361,7 +361,7 @@ bool TerrainLayer::setParameter(std::string_view name, double value) {
         }
         return true;
     }
-    if (name == "verticalExaggeration" && value >= 0.0 && value <= 1000.0) {
+    if (name == "verticalExaggeration" && kExaggerationRange.contains(value)) {
         if (value != settings_.verticalExaggeration) ++groundChanges_;
         settings_.verticalExaggeration = value;
         return true;
@@ -377,7 +377,7 @@ bool TerrainLayer::setParameter(std::string_view name, double value) {
         }
         return i < settings_.imagery.size() ? std::optional<size_t>(i) : std::nullopt;
     };
-    if (const auto i = imageryIndex("imageryOpacity"); i && value >= 0.0 && value <= 1.0) {
+    if (const auto i = imageryIndex("imageryOpacity"); i && kImageryOpacityRange.contains(value)) {
         settings_.imagery[*i].opacity = value;
         return true;
     }
@@ -392,9 +392,11 @@ std::vector<scene::LayerSetting> TerrainLayer::liveSettings() const {
     using Kind = scene::LayerSetting::Kind;
     std::vector<scene::LayerSetting> out = {
         {.name = "maxScreenSpaceError", .label = "Screen-space error (px)", .kind = Kind::Number,
-         .value = settings_.maxScreenSpaceError, .min = 0.25, .max = 1000.0, .logarithmic = true},
+         .value = settings_.maxScreenSpaceError, .min = kScreenSpaceErrorRange.min, .max = kScreenSpaceErrorRange.max,
+         .logarithmic = true},
         {.name = "verticalExaggeration", .label = "Vertical exaggeration", .kind = Kind::Number,
-         .value = settings_.verticalExaggeration, .min = 0.0, .max = 1000.0, .logarithmic = true},
+         .value = settings_.verticalExaggeration, .min = kExaggerationRange.min, .max = kExaggerationRange.max,
+         .logarithmic = true},
     };
     for (size_t i = 0; i < settings_.imagery.size(); ++i) {
         const ImageryLayerSettings& l = settings_.imagery[i];
@@ -402,7 +404,7 @@ std::vector<scene::LayerSetting> TerrainLayer::liveSettings() const {
         out.push_back({.name = "imageryVisible" + std::to_string(i), .label = name, .kind = Kind::Toggle,
                        .value = l.visible ? 1.0 : 0.0});
         out.push_back({.name = "imageryOpacity" + std::to_string(i), .label = name + " opacity", .kind = Kind::Number,
-                       .value = l.opacity, .min = 0.0, .max = 1.0});
+                       .value = l.opacity, .min = kImageryOpacityRange.min, .max = kImageryOpacityRange.max});
     }
     return out;
 }

@@ -20,6 +20,7 @@
 #include "engine/gpu/Image.h"
 #include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
+#include "engine/scene/LayerSetting.h"
 #include "engine/scene/SceneDesc.h"
 #include "globe/RasterSource.h"
 #include "globe/TerrainTiles.h"
@@ -69,6 +70,12 @@ struct TerrainStats {
 
 class TerrainLayer : public scene::Layer, public scene::LiveSettings, public scene::GroundSource, public scene::LayerStats {
 public:
+    /// The ranges its numeric settings may take, the same for the scene file (create), a live
+    /// edit (setParameter) and the panel (liveSettings).
+    static constexpr scene::SettingRange kScreenSpaceErrorRange{0.25, 1000.0};
+    static constexpr scene::SettingRange kExaggerationRange{0.0, 1000.0};
+    static constexpr scene::SettingRange kImageryOpacityRange{0.0, 1.0};
+
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
     explicit TerrainLayer(TerrainSettings settings);

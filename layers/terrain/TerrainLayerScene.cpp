@@ -56,7 +56,7 @@ Result<globe::RasterSourceOptions> readSource(const nlohmann::json& value, const
     if (auto resampling = r.string("resampling", std::string())) o.resampling = *resampling;
     if (name) *name = r.string("name", std::filesystem::path(o.path.empty() ? o.xyzUrl : o.path).filename().string()).value_or("");
     else r.accept("name");
-    if (opacity) *opacity = r.number("opacity", 1.0, 0.0, 1.0).value_or(1.0);
+    if (opacity) *opacity = r.number("opacity", 1.0, TerrainLayer::kImageryOpacityRange.min, TerrainLayer::kImageryOpacityRange.max).value_or(1.0);
     if (visible) *visible = r.boolean("visible", true).value_or(true);
     if (auto done = r.finish(); !done) return done.error();
     return o;
@@ -88,12 +88,12 @@ Result<std::unique_ptr<scene::Layer>> TerrainLayer::create(const scene::LayerDes
             s.imagery.push_back(std::move(layer));
         }
     }
-    s.maxScreenSpaceError = r.number("maxScreenSpaceError", s.maxScreenSpaceError, 0.25, 1000.0).value_or(s.maxScreenSpaceError);
+    s.maxScreenSpaceError = r.number("maxScreenSpaceError", s.maxScreenSpaceError, kScreenSpaceErrorRange.min, kScreenSpaceErrorRange.max).value_or(s.maxScreenSpaceError);
     s.gridSize = int(r.number("gridSize", s.gridSize, 3.0, 257.0).value_or(s.gridSize));
     s.imageSize = int(r.number("imageSize", s.imageSize, 16.0, 1024.0).value_or(s.imageSize));
     if (s.imageSize & (s.imageSize - 1)) r.fail("imageSize", "must be a power of two (16 ... 1024)");
     s.maxLevel = uint32_t(r.number("maxLevel", s.maxLevel, 0.0, 28.0).value_or(s.maxLevel));
-    s.verticalExaggeration = r.number("verticalExaggeration", 1.0, 0.0, 1000.0).value_or(1.0);
+    s.verticalExaggeration = r.number("verticalExaggeration", 1.0, kExaggerationRange.min, kExaggerationRange.max).value_or(1.0);
     if (auto c = r.numbers("color", 3, std::vector<double>{s.color.r, s.color.g, s.color.b})) {
         for (double v : *c)
             if (v < 0.0 || v > 1.0) r.fail("color", "colour components must be in [0, 1]");
