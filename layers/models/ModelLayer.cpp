@@ -107,7 +107,36 @@ void ModelLayer::uploadModel(const render::RenderServices& services) {
                                    gpu::MemoryUsage::GpuOnly, "model morph deltas");
         gpuBytes_ += sbytes + mbytes;
     }
+    device.runOnce([&](VkCommandBuffer cmd) {
+        services.uploader->toBuffer(cmd, vertices_, model_.vertices.data(), vbytes);
+        services.uploader->toBuffer(cmd, indices_, model_.indices.data(), ibytes);
+        services.uploader->toBuffer(cmd, nodes_, nodes.data(), nbytes);
+        if (model_.animated()) {
+            services.uploader->toBuffer(cmd, skinVertices_, skin.data(), sbytes);
+            services.uploader->toBuffer(cmd, morphDeltas_, morph.data(), mbytes);
+            gpu::bufferBarrier(cmd, skinVertices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                               VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
+            gpu::bufferBarrier(cmd, morphDeltas_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                               VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+        }
+        gpu::bufferBarrier(cmd, vertices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
+        gpu::bufferBarrier(cmd, indices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_INDEX_READ_BIT);
+        gpu::bufferBarrier(cmd, nodes_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    });
+    uploadTextures(services);
+    // On the GPU now; keep the draw list and materials (and the bounds) for recording.
+    model_.vertices = {};
+    model_.indices = {};
+    model_.rig.skinVertices = {};
+    model_.rig.morphDeltas = {};
+    for (auto& t : model_.textures) t.mips = {};
+}
 
+void ModelLayer::uploadTextures(const render::RenderServices& services) {
+    gpu::Device& device = *services.device;
     // Textures: the model's, then one white texel for untextured materials.
     std::vector<const models::ModelTexture*> sources;
     for (const auto& t : model_.textures) sources.push_back(&t);
@@ -127,23 +156,6 @@ void ModelLayer::uploadModel(const render::RenderServices& services) {
     }
 
     device.runOnce([&](VkCommandBuffer cmd) {
-        services.uploader->toBuffer(cmd, vertices_, model_.vertices.data(), vbytes);
-        services.uploader->toBuffer(cmd, indices_, model_.indices.data(), ibytes);
-        services.uploader->toBuffer(cmd, nodes_, nodes.data(), nbytes);
-        if (model_.animated()) {
-            services.uploader->toBuffer(cmd, skinVertices_, skin.data(), sbytes);
-            services.uploader->toBuffer(cmd, morphDeltas_, morph.data(), mbytes);
-            gpu::bufferBarrier(cmd, skinVertices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                               VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
-            gpu::bufferBarrier(cmd, morphDeltas_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                               VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-        }
-        gpu::bufferBarrier(cmd, vertices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                           VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
-        gpu::bufferBarrier(cmd, indices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                           VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_INDEX_READ_BIT);
-        gpu::bufferBarrier(cmd, nodes_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                           VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
         for (size_t i = 0; i < sources.size(); ++i) {
             const models::ModelTexture& t = *sources[i];
             std::vector<uint8_t> blob;
@@ -161,12 +173,6 @@ void ModelLayer::uploadModel(const render::RenderServices& services) {
             gpuBytes_ += blob.size();
         }
     });
-    // On the GPU now; keep the draw list and materials (and the bounds) for recording.
-    model_.vertices = {};
-    model_.indices = {};
-    model_.rig.skinVertices = {};
-    model_.rig.morphDeltas = {};
-    for (auto& t : model_.textures) t.mips = {};
 }
 
 void ModelLayer::createFrameSets(const render::RenderServices& services) {
@@ -479,60 +485,13 @@ void ModelLayer::record(scene::Pass pass, const render::RecordContext& rc) {
         return;
     }
     if (drawnCopies_ > 0) {
-        const VkDescriptorSet sets[] = {rc.frameSet, frameSets_.sets[rc.slot]};
-        const VkBuffer vb = vertices_.vk();
-        const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
         // Opaque and masked materials first, then blended ones over them. A translucent model
         // (opacity below 1) lays down its depth first, then blends every material where it is
         // the nearest surface.
         const bool translucent = settings_.opacity < 1.0;
         for (const bool blended : {false, true}) {
             const gpu::Pipeline& pipeline = blended ? blend_ : translucent ? depthOnly_ : opaque_;
-            if (!pipeline) continue;
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.vk());
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
-            vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
-            if (poser_) {
-                const VkBuffer sb = skinVertices_.vk();
-                vkCmdBindVertexBuffers(cmd, 1, 1, &sb, &zero);
-            }
-            vkCmdBindIndexBuffer(cmd, indices_.vk(), 0, VK_INDEX_TYPE_UINT32);
-            VkDescriptorSet boundMaterial = VK_NULL_HANDLE;
-            for (uint32_t di = 0; di < model_.draws.size(); ++di) {
-                const models::ModelDraw& draw = model_.draws[di];
-                const models::ModelPrimitive& prim = model_.primitives[draw.primitive];
-                const models::ModelMaterial* mat = prim.material >= 0 ? &model_.materials[size_t(prim.material)] : nullptr;
-                const bool isBlend = mat && mat->alphaMode == models::AlphaMode::Blend;
-                if (!translucent && isBlend != blended) continue;
-                if (translucent && !blended && isBlend) continue;   // BLEND materials do not hide
-                const int tex = mat ? mat->baseColorTexture : -1;
-                const VkDescriptorSet set = textures_[tex >= 0 ? size_t(tex) : textures_.size() - 1].set;
-                if (set != boundMaterial) {
-                    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 2, 1, &set, 0, nullptr);
-                    boundMaterial = set;
-                }
-                shader::ModelPush push{};
-                push.baseColor = mat ? mat->baseColorFactor : glm::vec4(1.0f);
-                push.baseColor.a *= float(settings_.opacity);
-                push.alphaCutoff = mat && mat->alphaMode == models::AlphaMode::Mask ? mat->alphaCutoff : -1.0f;
-                push.unlit = mat && mat->unlit ? 1u : 0u;
-                push.sunLighting = settings_.sunLighting ? 1u : 0u;
-                push.textured = tex >= 0 ? 1u : 0u;
-                push.node = di;
-                if (poser_) {
-                    const models::PoseLayout& l = poser_->layout();
-                    const bool morphs = l.drawWeights[di] != models::kPoseNone;
-                    const uint32_t targets = morphs ? prim.morphTargets : 0u;
-                    push.node = l.drawMatrix[di];
-                    push.joints = l.drawJoints[di];
-                    push.morphTargets = targets;
-                    push.morphWeights = morphs ? l.drawWeights[di] : 0u;
-                    // Wraps modulo 2^32 like the shader's uint arithmetic.
-                    push.morphBase = prim.morphBase - uint32_t(prim.vertexOffset) * targets;
-                }
-                vkCmdPushConstants(cmd, layout_.vk(), stages, 0, sizeof(push), &push);
-                vkCmdDrawIndexed(cmd, prim.indexCount, drawnCopies_, prim.firstIndex, prim.vertexOffset, 0);
-            }
+            if (pipeline) drawCopies(rc, pipeline, blended);
         }
     }
     if (pathVertices_ > 1) {
@@ -542,6 +501,63 @@ void ModelLayer::record(scene::Pass pass, const render::RecordContext& rc) {
         vkCmdBindVertexBuffers(cmd, 0, 1, &b, &zero);
         vkCmdDraw(cmd, pathVertices_, 1, 0, 0);
     }
+}
+
+void ModelLayer::drawCopies(const render::RecordContext& rc, const gpu::Pipeline& pipeline, bool blended) {
+    VkCommandBuffer cmd = rc.cmd;
+    const VkDeviceSize zero = 0;
+    const VkDescriptorSet sets[] = {rc.frameSet, frameSets_.sets[rc.slot]};
+    const VkBuffer vb = vertices_.vk();
+    const bool translucent = settings_.opacity < 1.0;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.vk());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
+    vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
+    if (poser_) {
+        const VkBuffer sb = skinVertices_.vk();
+        vkCmdBindVertexBuffers(cmd, 1, 1, &sb, &zero);
+    }
+    vkCmdBindIndexBuffer(cmd, indices_.vk(), 0, VK_INDEX_TYPE_UINT32);
+    VkDescriptorSet boundMaterial = VK_NULL_HANDLE;
+    for (uint32_t di = 0; di < model_.draws.size(); ++di) {
+        const models::ModelPrimitive& prim = model_.primitives[model_.draws[di].primitive];
+        const models::ModelMaterial* mat = prim.material >= 0 ? &model_.materials[size_t(prim.material)] : nullptr;
+        const bool isBlend = mat && mat->alphaMode == models::AlphaMode::Blend;
+        if (!translucent && isBlend != blended) continue;
+        if (translucent && !blended && isBlend) continue;   // BLEND materials do not hide
+        const int tex = mat ? mat->baseColorTexture : -1;
+        const VkDescriptorSet set = textures_[tex >= 0 ? size_t(tex) : textures_.size() - 1].set;
+        if (set != boundMaterial) {
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 2, 1, &set, 0, nullptr);
+            boundMaterial = set;
+        }
+        const shader::ModelPush push = drawPush(di, mat);
+        vkCmdPushConstants(cmd, layout_.vk(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(push), &push);
+        vkCmdDrawIndexed(cmd, prim.indexCount, drawnCopies_, prim.firstIndex, prim.vertexOffset, 0);
+    }
+}
+
+shader::ModelPush ModelLayer::drawPush(uint32_t di, const models::ModelMaterial* mat) const {
+    const models::ModelPrimitive& prim = model_.primitives[model_.draws[di].primitive];
+    shader::ModelPush push{};
+    push.baseColor = mat ? mat->baseColorFactor : glm::vec4(1.0f);
+    push.baseColor.a *= float(settings_.opacity);
+    push.alphaCutoff = mat && mat->alphaMode == models::AlphaMode::Mask ? mat->alphaCutoff : -1.0f;
+    push.unlit = mat && mat->unlit ? 1u : 0u;
+    push.sunLighting = settings_.sunLighting ? 1u : 0u;
+    push.textured = mat && mat->baseColorTexture >= 0 ? 1u : 0u;
+    push.node = di;
+    if (poser_) {
+        const models::PoseLayout& l = poser_->layout();
+        const bool morphs = l.drawWeights[di] != models::kPoseNone;
+        const uint32_t targets = morphs ? prim.morphTargets : 0u;
+        push.node = l.drawMatrix[di];
+        push.joints = l.drawJoints[di];
+        push.morphTargets = targets;
+        push.morphWeights = morphs ? l.drawWeights[di] : 0u;
+        // Wraps modulo 2^32 like the shader's uint arithmetic.
+        push.morphBase = prim.morphBase - uint32_t(prim.vertexOffset) * targets;
+    }
+    return push;
 }
 
 uint64_t ModelLayer::gpuBytes() const { return gpuBytes_; }

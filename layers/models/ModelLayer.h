@@ -66,6 +66,7 @@
 #include "layers/models/GltfAnimation.h"
 #include "layers/models/GltfModel.h"
 #include "layers/models/ModelMotion.h"
+#include "shared/ModelTypes.h"
 
 #include <memory>
 #include <optional>
@@ -159,6 +160,10 @@ private:
     void buildPipelines(const render::RenderServices& services);
     void buildLinePipelines(const render::RenderServices& services);
     void uploadModel(const render::RenderServices& services);
+    void uploadTextures(const render::RenderServices& services);
+    /// The copies' draws of the materials `blended` selects, with `pipeline`.
+    void drawCopies(const render::RecordContext& rc, const gpu::Pipeline& pipeline, bool blended);
+    shader::ModelPush drawPush(uint32_t draw, const models::ModelMaterial* material) const;
     /// Half the model's extent along the body's x and y axes at the layer's scale: the
     /// footprint on which a vehicle on the ground follows the terrain's slope.
     motion::Footprint footprint() const;
