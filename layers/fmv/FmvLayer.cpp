@@ -31,6 +31,39 @@ constexpr double kSensorNear = 1.0;        // metres: the distance map's near pl
 
 const globe::Ellipsoid& wgs84() { return globe::Ellipsoid::wgs84(); }
 
+/// The convex hull of `points` (Andrew's monotone chain, counter-clockwise in pixel
+/// coordinates) as edge equations (nx, ny, c: inside when nx x + ny y + c >= 0), each edge moved
+/// out by `margin`; none for a hull of more than the shader's kFmvHullEdges edges.
+std::vector<glm::vec3> hullEdges(std::vector<glm::dvec2> points, double margin) {
+    std::vector<glm::vec3> edges;
+    std::sort(points.begin(), points.end(), [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+    const auto cross = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
+        return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+    };
+    std::vector<glm::dvec2> hull(2 * points.size());
+    size_t k = 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+        while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+        hull[k++] = points[i];
+    }
+    for (size_t i = points.size() - 1, t = k + 1; i-- > 0;) {
+        while (k >= t && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+        hull[k++] = points[i];
+    }
+    hull.resize(k > 0 ? k - 1 : 0);
+    if (hull.size() >= 3 && hull.size() <= shader::kFmvHullEdges) {
+        for (size_t i = 0; i < hull.size(); ++i) {
+            const glm::dvec2 a = hull[i], b = hull[(i + 1) % hull.size()];
+            const glm::dvec2 e = b - a;
+            const double len = glm::length(e);
+            if (len < 1e-9) continue;
+            const glm::dvec2 n(-e.y / len, e.x / len);   // inward for a counter-clockwise polygon
+            edges.push_back(glm::vec3(glm::vec2(n), float(-glm::dot(n, a) + margin)));
+        }
+    }
+    return edges;
+}
+
 }  // namespace
 
 FmvLayer::FmvLayer(std::shared_ptr<fmv::VideoFile> video, fmv::FmvTimeline timeline, FmvSettings settings)
@@ -55,8 +88,15 @@ void FmvLayer::onPrepare(const render::RenderServices& services) {
     const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(shader::FmvDistancePush)};
     const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, descriptors_.layout.vk()};
     layout_ = gpu::createPipelineLayout(device, setLayouts, {&push, 1});
+    createImages(device);
+    createGrid(services);
+    buildPipelines(services);
+    frames_ = std::make_unique<fmv::FramePrefetcher>(video_, services.jobs(), 4);
+    gpuReady_ = true;
+}
 
-    // Images: the video frame, the heightfield, the distance map (colour: metres; depth).
+void FmvLayer::createImages(gpu::Device& device) {
+    // The video frame, the heightfield, the distance map (colour: metres; depth).
     const auto image = [&](VkFormat format, uint32_t w, uint32_t h, VkImageUsageFlags usage, const char* name) {
         gpu::ImageDesc d;
         d.format = format;
@@ -73,7 +113,11 @@ void FmvLayer::onPrepare(const render::RenderServices& services) {
     distanceImage_ = image(VK_FORMAT_R32_SFLOAT, m, m, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                            "fmv distance map");
     distanceDepth_ = image(VK_FORMAT_D32_SFLOAT, m, m, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, "fmv distance map depth");
+}
 
+void FmvLayer::createGrid(const render::RenderServices& services) {
+    gpu::Device& device = *services.device;
+    const uint32_t n = uint32_t(settings_.heightfieldSize);
     // The heightfield's grid: two triangles a cell; positions rewritten with the heights.
     std::vector<uint32_t> indices;
     for (uint32_t j = 0; j + 1 < n; ++j)
@@ -93,8 +137,10 @@ void FmvLayer::onPrepare(const render::RenderServices& services) {
                                 gpu::MemoryUsage::GpuOnly, "fmv grid vertices");
     footprintBuffer_ = gpu::Buffer(device, shader::kFmvFootprintRays * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                    gpu::MemoryUsage::Readback, "fmv footprint");
+}
 
-    // Pipelines.
+void FmvLayer::buildPipelines(const render::RenderServices& services) {
+    gpu::Device& device = *services.device;
     drapePipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_fmv_drape_comp, nullptr, "fmv drape");
     footprintPipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_fmv_footprint_comp, nullptr, "fmv footprint");
     gpu::GraphicsPipelineDesc dist;
@@ -135,8 +181,6 @@ void FmvLayer::onPrepare(const render::RenderServices& services) {
         lines.name = frustum ? "fmv frustum" : "fmv footprint outline";
         (frustum ? frustumPipeline_ : outlinePipeline_) = gpu::createGraphicsPipeline(device, lines);
     }
-    frames_ = std::make_unique<fmv::FramePrefetcher>(video_, services.jobs(), 4);
-    gpuReady_ = true;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -209,6 +253,11 @@ void FmvLayer::updateHeightfield(const scene::FrameContext& frame) {
     enu_ = wgs84().enuFrame(lon, lat);
     halfSize_ = halfSize;
     groundVersion_ = frame.groundVersion;
+    sampleHeightfield(groundAt);
+    heightsComplete_ = !unknown;
+}
+
+void FmvLayer::sampleHeightfield(const std::function<double(double, double)>& groundAt) {
     const int n = settings_.heightfieldSize;
     const double cell = 2.0 * halfSize_ / double(n - 1);
     std::vector<float> heights(size_t(n) * size_t(n));
@@ -225,7 +274,6 @@ void FmvLayer::updateHeightfield(const scene::FrameContext& frame) {
             minHeight_ = std::min(minHeight_, h);
             maxHeight_ = std::max(maxHeight_, h);
         }
-    heightsComplete_ = !unknown;
     ++heightfieldBuilds_;
     heights_ = std::move(heights);
     heightfieldDirty_ = true;
@@ -250,7 +298,10 @@ void FmvLayer::recordTransfers(const render::RecordContext& rc) {
                            VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
         heightfieldDirty_ = false;
     }
+    writeUniforms(rc);
+}
 
+void FmvLayer::writeUniforms(const render::RecordContext& rc) {
     const fmv::SensorCamera camera(pose_);
     const glm::dmat3 axes = camera.axes();
     const glm::dvec3 s = camera.position() - origin_;
@@ -295,6 +346,7 @@ void FmvLayer::recordTransfers(const render::RecordContext& rc) {
 }
 
 FmvLayer::ScreenBounds FmvLayer::screenBounds(const scene::FrameContext& frame) const {
+    constexpr double kMargin = 4.0;   // pixels
     const ScreenBounds whole{glm::uvec4(0u, 0u, frame.width, frame.height), {}};
     const fmv::SensorCamera sensor(pose_);
     // The heights of the ground the sensor sees (the heightfield's samples in its view), else
@@ -329,35 +381,8 @@ FmvLayer::ScreenBounds FmvLayer::screenBounds(const scene::FrameContext& frame) 
             points.push_back(px);
         }
     }
-    constexpr double kMargin = 4.0;
     ScreenBounds out;
-    // The convex hull (Andrew's monotone chain, counter-clockwise in pixel coordinates), each
-    // edge moved out by the margin.
-    std::sort(points.begin(), points.end(), [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
-    const auto cross = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
-        return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
-    };
-    std::vector<glm::dvec2> hull(2 * points.size());
-    size_t k = 0;
-    for (size_t i = 0; i < points.size(); ++i) {
-        while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-        hull[k++] = points[i];
-    }
-    for (size_t i = points.size() - 1, t = k + 1; i-- > 0;) {
-        while (k >= t && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-        hull[k++] = points[i];
-    }
-    hull.resize(k > 0 ? k - 1 : 0);
-    if (hull.size() >= 3 && hull.size() <= shader::kFmvHullEdges) {
-        for (size_t i = 0; i < hull.size(); ++i) {
-            const glm::dvec2 a = hull[i], b = hull[(i + 1) % hull.size()];
-            const glm::dvec2 e = b - a;
-            const double len = glm::length(e);
-            if (len < 1e-9) continue;
-            const glm::dvec2 n(-e.y / len, e.x / len);   // inward for a counter-clockwise polygon
-            out.edges.push_back(glm::vec3(glm::vec2(n), float(-glm::dot(n, a) + kMargin)));
-        }
-    }
+    out.edges = hullEdges(std::move(points), kMargin);
     const double x0 = std::clamp(std::floor(lo.x - kMargin), 0.0, double(frame.width));
     const double y0 = std::clamp(std::floor(lo.y - kMargin), 0.0, double(frame.height));
     const double x1 = std::clamp(std::ceil(hi.x + kMargin), 0.0, double(frame.width));

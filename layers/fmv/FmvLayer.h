@@ -34,6 +34,7 @@
 
 #include <glm/glm.hpp>
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -95,7 +96,13 @@ public:
 
 private:
     void onPrepare(const render::RenderServices& services) override;
+    void createImages(gpu::Device& device);
+    void createGrid(const render::RenderServices& services);
+    void buildPipelines(const render::RenderServices& services);
     void updateHeightfield(const scene::FrameContext& frame);
+    /// The heightfield's samples around origin_ (halfSize_, enu_) from the ground's heights.
+    void sampleHeightfield(const std::function<double(double, double)>& groundAt);
+    void writeUniforms(const render::RecordContext& rc);
     void writeDescriptors(uint32_t slot);
     void renderDistanceMap(VkCommandBuffer cmd);
     glm::dmat4 sensorClip() const;
