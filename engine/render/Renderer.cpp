@@ -168,16 +168,7 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback, const FrameHook
     return render(scene, readback, true, &hooks);
 }
 
-FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw, const FrameHooks* hooks) {
-    const auto t0 = std::chrono::steady_clock::now();
-    // GPU objects are built before the frame starts recording, and only for visible layers.
-    for (auto& r : scene.resources())
-        if (r.visible && !r.layer->prepared()) prepareLayer(*r.layer);
-    for (auto& r : scene.resources())
-        if (r.visible && r.layer->prepared()) r.layer->poll();
-    // A camera mode that watches a moving layer puts the camera first (at the scene's time).
-    scene.updateCamera(double(target_->width()) / double(std::max(1u, target_->height())));
-
+double Renderer::placeNearPlane(scene::Scene& scene) {
     // The near plane follows the camera's height above the ground (reversed-Z keeps precision
     // at any range).
     const globe::Geodetic eye = globe::Ellipsoid::wgs84().toGeodetic(scene.camera().position());
@@ -190,6 +181,44 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw, cons
         if (auto d = content->nearestContent(scene.camera().position())) clearance = std::min(clearance, *d);
     }
     scene.camera().setNear(scene::Camera::autoNear(clearance));
+    return height;
+}
+
+void Renderer::recordPasses(scene::Scene& scene, const RecordContext& rc) {
+    // The opaque pass always runs (it clears); later passes only when a visible layer uses them.
+    recordPass(scene::Pass::Opaque, passName(scene::Pass::Opaque), scene, rc, true, scene.desc().background);
+    for (scene::Pass pass : {scene::Pass::Points, scene::Pass::Fmv, scene::Pass::Volume, scene::Pass::Overlay}) {
+        const bool used = std::any_of(scene.resources().begin(), scene.resources().end(),
+                                      [&](const scene::Resource& r) { return r.visible && r.layer->drawsIn(pass); });
+        if (!used) continue;
+        const bool computes = std::any_of(scene.resources().begin(), scene.resources().end(), [&](const scene::Resource& r) {
+            return r.visible && r.layer->drawsIn(pass) && r.layer->computesBefore(pass);
+        });
+        if (computes) {
+            // Compute before the pass (ray casting): the depth so far is read, not written.
+            gpu::transition(rc.cmd, target_->depth(), gpu::ImageUse::SampledCompute);
+            RecordContext crc = rc;
+            crc.sceneDepth = &target_->depth();
+            const int scope = timer_.begin(rc.cmd, computeName(pass));
+            for (auto& r : scene.resources())
+                if (r.visible && r.layer->drawsIn(pass) && r.layer->computesBefore(pass)) r.layer->recordCompute(pass, crc);
+            timer_.end(rc.cmd, scope);
+        }
+        recordPass(pass, passName(pass), scene, rc, false, scene.desc().background);
+    }
+}
+
+FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw, const FrameHooks* hooks) {
+    const auto t0 = std::chrono::steady_clock::now();
+    // GPU objects are built before the frame starts recording, and only for visible layers.
+    for (auto& r : scene.resources())
+        if (r.visible && !r.layer->prepared()) prepareLayer(*r.layer);
+    for (auto& r : scene.resources())
+        if (r.visible && r.layer->prepared()) r.layer->poll();
+    // A camera mode that watches a moving layer puts the camera first (at the scene's time).
+    scene.updateCamera(double(target_->width()) / double(std::max(1u, target_->height())));
+
+    const double height = placeNearPlane(scene);
 
     gpu::FrameRing::Frame& frame = ring_.begin();
     timer_.beginFrame(frame.cmd, frame.slot);
@@ -220,31 +249,7 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw, cons
 
     for (auto& r : scene.resources())
         if (r.visible) r.layer->recordTransfers(rc);
-    // The opaque pass always runs (it clears); later passes only when a visible layer uses them.
-    if (draw) {
-        recordPass(scene::Pass::Opaque, passName(scene::Pass::Opaque), scene, rc, true, scene.desc().background);
-        for (scene::Pass pass : {scene::Pass::Points, scene::Pass::Fmv, scene::Pass::Volume, scene::Pass::Overlay}) {
-            const bool used = std::any_of(scene.resources().begin(), scene.resources().end(),
-                                          [&](const scene::Resource& r) { return r.visible && r.layer->drawsIn(pass); });
-            if (!used) continue;
-            const bool computes = std::any_of(scene.resources().begin(), scene.resources().end(),
-                                              [&](const scene::Resource& r) {
-                                                  return r.visible && r.layer->drawsIn(pass) && r.layer->computesBefore(pass);
-                                              });
-            if (computes) {
-                // Compute before the pass (ray casting): the depth so far is read, not written.
-                gpu::transition(rc.cmd, target_->depth(), gpu::ImageUse::SampledCompute);
-                RecordContext crc = rc;
-                crc.sceneDepth = &target_->depth();
-                const int scope = timer_.begin(rc.cmd, computeName(pass));
-                for (auto& r : scene.resources())
-                    if (r.visible && r.layer->drawsIn(pass) && r.layer->computesBefore(pass))
-                        r.layer->recordCompute(pass, crc);
-                timer_.end(rc.cmd, scope);
-            }
-            recordPass(pass, passName(pass), scene, rc, false, scene.desc().background);
-        }
-    }
+    if (draw) recordPasses(scene, rc);
     if (hooks && hooks->overlay) {
         gpu::transition(frame.cmd, target_->color(), gpu::ImageUse::ColorAttachment);
         const int scope = timer_.begin(frame.cmd, "ui");

@@ -80,6 +80,11 @@ public:
 private:
     FrameResult render(scene::Scene& scene, bool readback, bool draw, const FrameHooks* hooks);
     void prepareLayer(scene::Layer& layer);
+    /// Sets the camera's near plane from its clearance above the ground and the layers'
+    /// floating content; returns the eye's height above the ellipsoid.
+    double placeNearPlane(scene::Scene& scene);
+    /// The passes in order, each with the compute work its layers record before it.
+    void recordPasses(scene::Scene& scene, const render::RecordContext& rc);
     void writeFrameUniforms(uint32_t slot, const scene::Scene& scene, const scene::FrameContext& ctx);
     void recordPass(scene::Pass pass, const char* name, scene::Scene& scene, const render::RecordContext& rc,
                     bool clear, const glm::dvec3& background);
