@@ -38,6 +38,58 @@ const SrgbTables& srgb() {
     return tables;
 }
 
+/// A tile's heights and gradients from the composited samples `g` ((n + 2)^2, a one-sample
+/// border, NaN where no source had data), holes and border filled from `parent` (the nearest
+/// loaded ancestor, at `sb` within it) or the ellipsoid.
+std::shared_ptr<ElevationData> fillElevation(std::vector<float> g, int n, const ElevationData* parent, const glm::dvec4& sb) {
+    const int m = n + 2;
+    auto data = std::make_shared<ElevationData>();
+    data->size = n;
+    // Holes: the nearest loaded ancestor's heights at the same place, else the ellipsoid.
+    // Never a spike.
+    const auto at = [&](int i, int j) -> float& { return g[size_t((j + 1) * m + (i + 1))]; };   // i, j in -1..n
+    std::vector<float> h(size_t(n) * size_t(n));
+    float lo = std::numeric_limits<float>::max(), hi = -lo;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            float& v = at(i, j);
+            if (!std::isfinite(v)) {
+                const double u = double(i) / (n - 1), w = double(j) / (n - 1);
+                v = parent ? parent->sample(u * sb.x + sb.z, w * sb.y + sb.w) : 0.0f;
+            }
+            h[size_t(j * n + i)] = v;
+            lo = std::min(lo, v);
+            hi = std::max(hi, v);
+        }
+    // Border samples without data: the ancestor's where it reaches them (as for holes), else
+    // (beyond a pole or the antimeridian, past every DEM) extrapolated linearly, which makes the
+    // difference there one-sided.
+    if (parent) {
+        const auto fill = [&](int i, int j) {
+            float& v = at(i, j);
+            const double u = (double(i) / (n - 1)) * sb.x + sb.z, w = (double(j) / (n - 1)) * sb.y + sb.w;
+            if (!std::isfinite(v) && u >= 0.0 && u <= 1.0 && w >= 0.0 && w <= 1.0) v = parent->sample(u, w);
+        };
+        for (int k = 0; k < n; ++k) fill(-1, k), fill(n, k), fill(k, -1), fill(k, n);
+    }
+    for (int k = 0; k < n; ++k) {
+        if (!std::isfinite(at(-1, k))) at(-1, k) = 2.0f * at(0, k) - at(1, k);
+        if (!std::isfinite(at(n, k))) at(n, k) = 2.0f * at(n - 1, k) - at(n - 2, k);
+        if (!std::isfinite(at(k, -1))) at(k, -1) = 2.0f * at(k, 0) - at(k, 1);
+        if (!std::isfinite(at(k, n))) at(k, n) = 2.0f * at(k, n - 1) - at(k, n - 2);
+    }
+    data->gradients.resize(size_t(n) * size_t(n) * 2);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            data->gradients[size_t(j * n + i) * 2] = 0.5f * (at(i + 1, j) - at(i - 1, j));
+            data->gradients[size_t(j * n + i) * 2 + 1] = 0.5f * (at(i, j + 1) - at(i, j - 1));
+        }
+    data->heights = std::move(h);
+    data->minHeight = lo;
+    data->maxHeight = hi;
+    return data;
+}
+
 }  // namespace
 
 float ElevationData::sample(double u, double v) const {
@@ -379,52 +431,8 @@ TerrainTiles::LoadResult TerrainTiles::loadElevation(const TileKey& tile, std::s
         out.empty = true;
         return out;
     }
-    auto data = std::make_shared<ElevationData>();
-    data->size = n;
-    // Holes: the nearest loaded ancestor's heights at the same place, else the ellipsoid.
-    // Never a spike.
     const glm::dvec4 sb = parent ? tile.scaleBiasWithin(tile.ancestor(parentLevel)) : glm::dvec4(1, 1, 0, 0);
-    const auto at = [&](int i, int j) -> float& { return g[size_t((j + 1) * m + (i + 1))]; };   // i, j in -1..n
-    std::vector<float> h(size_t(n) * size_t(n));
-    float lo = std::numeric_limits<float>::max(), hi = -lo;
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            float& v = at(i, j);
-            if (!std::isfinite(v)) {
-                const double u = double(i) / (n - 1), w = double(j) / (n - 1);
-                v = parent ? parent->sample(u * sb.x + sb.z, w * sb.y + sb.w) : 0.0f;
-            }
-            h[size_t(j * n + i)] = v;
-            lo = std::min(lo, v);
-            hi = std::max(hi, v);
-        }
-    // Border samples without data: the ancestor's where it reaches them (as for holes), else
-    // (beyond a pole or the antimeridian, past every DEM) extrapolated linearly, which makes the
-    // difference there one-sided.
-    if (parent) {
-        const auto fill = [&](int i, int j) {
-            float& v = at(i, j);
-            const double u = (double(i) / (n - 1)) * sb.x + sb.z, w = (double(j) / (n - 1)) * sb.y + sb.w;
-            if (!std::isfinite(v) && u >= 0.0 && u <= 1.0 && w >= 0.0 && w <= 1.0) v = parent->sample(u, w);
-        };
-        for (int k = 0; k < n; ++k) fill(-1, k), fill(n, k), fill(k, -1), fill(k, n);
-    }
-    for (int k = 0; k < n; ++k) {
-        if (!std::isfinite(at(-1, k))) at(-1, k) = 2.0f * at(0, k) - at(1, k);
-        if (!std::isfinite(at(n, k))) at(n, k) = 2.0f * at(n - 1, k) - at(n - 2, k);
-        if (!std::isfinite(at(k, -1))) at(k, -1) = 2.0f * at(k, 0) - at(k, 1);
-        if (!std::isfinite(at(k, n))) at(k, n) = 2.0f * at(k, n - 1) - at(k, n - 2);
-    }
-    data->gradients.resize(size_t(n) * size_t(n) * 2);
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            data->gradients[size_t(j * n + i) * 2] = 0.5f * (at(i + 1, j) - at(i - 1, j));
-            data->gradients[size_t(j * n + i) * 2 + 1] = 0.5f * (at(i, j + 1) - at(i, j - 1));
-        }
-    data->heights = std::move(h);
-    data->minHeight = lo;
-    data->maxHeight = hi;
-    out.elevation = std::move(data);
+    out.elevation = fillElevation(std::move(g), n, parent.get(), sb);
     return out;
 }
 
