@@ -23,8 +23,6 @@
 #include <limits>
 #include <queue>
 
-static_assert(sizeof(orbis::shader::PointNode) == 32);
-
 namespace orbis::layers {
 namespace {
 
@@ -299,8 +297,8 @@ void PointsLayer::ensureFrameBuffers(uint32_t s, size_t nodes, size_t batches) {
         b = gpu::Buffer(*services_.device, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Upload, name);
         slot.version = 0;   // its set names the old buffer
     };
-    grow(slot.nodes, std::max<size_t>(nodes, 1) * sizeof(NodeGpu), "point nodes");
-    grow(slot.batches, std::max<size_t>(batches, 1) * sizeof(glm::uvec4), "point batches");
+    grow(slot.nodes, std::max<size_t>(nodes, 1) * sizeof(shader::PointNode), "point nodes");
+    grow(slot.batches, std::max<size_t>(batches, 1) * sizeof(shader::PointBatch), "point batches");
 }
 
 void PointsLayer::writeDescriptors(uint32_t s) {
@@ -339,8 +337,8 @@ void PointsLayer::writeUniforms(const render::RecordContext& rc) {
         const points::StoredNode& n = nodes[size_t(drawList_[k])];
         const uint64_t offset = residency_->offset(drawList_[k]) % pageBytes;   // within its page
         nodePage_[k] = uint32_t(residency_->offset(drawList_[k]) / pageBytes);
-        nodeData_[k].centreStep = glm::vec4(glm::vec3(n.centre - eye_), float(n.step));
-        nodeData_[k].data = glm::uvec4(uint32_t(offset / 8), uint32_t((offset + n.positionOffset()) / 4), n.count, 0u);
+        nodeData_[k] = {glm::vec3(n.centre - eye_), float(n.step), uint32_t(offset / 8),
+                        uint32_t((offset + n.positionOffset()) / 4), n.count, 0u};
     }
     // The batches by position format (quantised first) and page: one dispatch each.
     std::vector<uint32_t> order(drawList_.size());
@@ -357,12 +355,12 @@ void PointsLayer::writeUniforms(const render::RecordContext& rc) {
         if (dispatches_.empty() || dispatches_.back().quantised != quantised || dispatches_.back().page != nodePage_[k])
             dispatches_.push_back({quantised, nodePage_[k], uint32_t(b), 0});
         for (uint32_t off = 0; off < n.count; off += shader::kPointBatch) {
-            batchData_[b++] = glm::uvec4(k, off, std::min(shader::kPointBatch, n.count - off), 0u);
+            batchData_[b++] = {k, off, std::min(shader::kPointBatch, n.count - off), 0u};
             ++dispatches_.back().batches;
         }
     }
-    slot.nodes.write(nodeData_.data(), nodeData_.size() * sizeof(NodeGpu));
-    slot.batches.write(batchData_.data(), b * sizeof(glm::uvec4));
+    slot.nodes.write(nodeData_.data(), nodeData_.size() * sizeof(shader::PointNode));
+    slot.batches.write(batchData_.data(), b * sizeof(shader::PointBatch));
 
     shader::PointUniforms u{};
     u.viewProj = glm::mat4(viewProj_);

@@ -38,6 +38,7 @@
 #include "engine/scene/SceneDesc.h"
 #include "layers/points/NodeResidency.h"
 #include "layers/points/PointCloud.h"
+#include "shared/PointTypes.h"
 
 #include <glm/glm.hpp>
 
@@ -151,12 +152,8 @@ private:
     // This frame's selection: the nodes wanted (most important first) and those drawn.
     std::vector<int32_t> wanted_, drawList_;
     std::vector<uint64_t> drawnFrame_;   // per node: the last frame that drew it
-    struct NodeGpu {   // shader::PointNode
-        glm::vec4 centreStep;
-        glm::uvec4 data;
-    };
-    std::vector<NodeGpu> nodeData_;   // the frame's drawn nodes and batches, as uploaded
-    std::vector<glm::uvec4> batchData_;
+    std::vector<shader::PointNode> nodeData_;   // the frame's drawn nodes and batches, as uploaded
+    std::vector<shader::PointBatch> batchData_;
     std::vector<uint32_t> nodePage_;   // per drawn node: its page of data_
     struct Dispatch {                  // the batches of one position format and page
         bool quantised;

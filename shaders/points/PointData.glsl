@@ -7,16 +7,16 @@
 layout(constant_id = kPointSpecQuantised) const bool kQuantised = true;
 
 vec3 pointPosition(PointNode node, uint local) {
-    float step = node.centreStep.w;
+    float step = node.step;
     vec3 offset;
     if (kQuantised) {
-        uint at = node.data.y + 2u * local;
+        uint at = node.firstWord + 2u * local;
         uint w0 = words[at], w1 = words[at + 1u];
         uvec3 q = uvec3(w0 & 0x1FFFFFu, (w0 >> 21) | ((w1 & 0x3FFu) << 11), w1 >> 10);
         offset = (vec3(q) - 1048576.0) * step;
     } else {
-        uint at = node.data.y + 3u * local;
+        uint at = node.firstWord + 3u * local;
         offset = vec3(uintBitsToFloat(words[at]), uintBitsToFloat(words[at + 1u]), uintBitsToFloat(words[at + 2u]));
     }
-    return node.centreStep.xyz + offset;
+    return node.centre + offset;
 }

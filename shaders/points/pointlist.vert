@@ -21,5 +21,5 @@ void main() {
     uint local = uint(gl_VertexIndex);   // drawn from 0: the point within its node
     gl_Position = pu.viewProj * vec4(pointPosition(node, local), 1.0);
     gl_PointSize = pu.pointSizePx;
-    color = vec4(pointColor(attributes[node.data.x + local]), 1.0) * pu.opacity;
+    color = vec4(pointColor(attributes[node.firstAttribute + local]), 1.0) * pu.opacity;
 }

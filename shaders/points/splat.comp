@@ -25,7 +25,7 @@ layout(push_constant) uniform PushBlock { PointPush push; };
 layout(set = kPointSet, binding = kPointBindingUniforms) uniform PointBlock { PointUniforms pu; };
 layout(set = kPointSet, binding = kPointBindingWords, std430) readonly buffer Words { uint words[]; };
 layout(set = kPointSet, binding = kPointBindingAttributes, std430) readonly buffer Attributes { uvec2 attributes[]; };
-layout(set = kPointSet, binding = kPointBindingBatches, std430) readonly buffer Batches { uvec4 batches[]; };
+layout(set = kPointSet, binding = kPointBindingBatches, std430) readonly buffer Batches { PointBatch batches[]; };
 layout(set = kPointSet, binding = kPointBindingNodes, std430) readonly buffer Nodes { PointNode nodes[]; };
 layout(set = kPointSet, binding = kPointBindingScreen, std430) buffer Screen { uint64_t screen[]; };
 layout(set = kPointSet, binding = kPointBindingSceneDepth) uniform sampler2D sceneDepth;
@@ -34,13 +34,13 @@ layout(set = kPointSet, binding = kPointBindingSceneDepth) uniform sampler2D sce
 #include "points/PointData.glsl"
 
 void main() {
-    uvec4 batch = batches[push.firstBatch + gl_WorkGroupID.x];
-    PointNode node = nodes[batch.x];
+    PointBatch batch = batches[push.firstBatch + gl_WorkGroupID.x];
+    PointNode node = nodes[batch.node];
     ivec2 size = ivec2(pu.screenSize);
     for (uint k = 0u; k < kPointsPerInvocation; ++k) {
         uint local = k * kPointGroupSize + gl_LocalInvocationID.x;
-        if (local >= batch.z) break;
-        local += batch.y;   // within the node
+        if (local >= batch.count) break;
+        local += batch.first;   // within the node
         vec3 p = pointPosition(node, local);
         vec4 clip = pu.viewProj * vec4(p, 1.0);
         if (clip.w <= 0.0) continue;   // behind the eye
@@ -51,11 +51,11 @@ void main() {
         if (px.x < -kRadius || px.y < -kRadius || px.x >= size.x + kRadius || px.y >= size.y + kRadius) continue;
         if (kRadius == 0) {
             if (depth < texelFetch(sceneDepth, px, 0).r) continue;   // behind the opaque scene
-            uint color = pointColorPacked(attributes[node.data.x + local]);
+            uint color = pointColorPacked(attributes[node.firstAttribute + local]);
             atomicMax(screen[px.y * size.x + px.x], (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(color));
             continue;
         }
-        uint64_t packed = (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(pointColorPacked(attributes[node.data.x + local]));
+        uint64_t packed = (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(pointColorPacked(attributes[node.firstAttribute + local]));
         [[unroll]] for (int dy = -kRadius; dy <= kRadius; ++dy)
             [[unroll]] for (int dx = -kRadius; dx <= kRadius; ++dx) {
                 if (dx * dx + dy * dy > kRadius * kRadius + kRadius) continue;   // a disc

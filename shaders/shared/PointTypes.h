@@ -2,8 +2,7 @@
 // pass), or the point-list fallback. Set kPointSet: the frame's PointUniforms; a page of the
 // resident nodes' data (dynamic storage buffers at the page's offset, bound as uint words for
 // the positions and as uvec2 for the attributes; layout in layers/points/PointStore.h); the
-// frame's batches (uvec4: drawn node, first point of the node, count, 0); the drawn nodes
-// (PointNode); the screen buffer (one uint64 a pixel: depth bits << 32 | sRGB r | g << 8 |
+// frame's batches (PointBatch); the drawn nodes (PointNode); the screen buffer (one uint64 a pixel: depth bits << 32 | sRGB r | g << 8 |
 // b << 16; 0 = empty); the scene depth (sampler2D).
 #ifndef ORBIS_SHADERS_SHARED_POINT_TYPES_H
 #define ORBIS_SHADERS_SHARED_POINT_TYPES_H
@@ -41,10 +40,20 @@ ORBIS_CONST(uint, kPointColorConstant, 4)
 
 // A drawn node (std430).
 struct PointNode {
-    vec4 centreStep;   // xyz: the node's centre relative to the eye (from doubles on the CPU);
-                       // w: the quantisation step (m), 0 for float positions
-    uvec4 data;        // x: its first point's attribute index (uvec2 units), y: its positions'
-                       // first word, both within its page; z: its point count, w: 0
+    vec3 centre;            // relative to the eye (from doubles on the CPU)
+    float step;             // the quantisation step (m), 0 for float positions
+    uint firstAttribute;    // its first point's attribute (uvec2 units), within its page
+    uint firstWord;         // its positions' first word, within its page
+    uint count;             // its points
+    uint pad0;
+};
+
+// A workgroup's work (std430): up to kPointBatch points of one drawn node.
+struct PointBatch {
+    uint node;    // the drawn node (index into the nodes)
+    uint first;   // its first point within the node
+    uint count;
+    uint pad0;
 };
 
 // std140.
@@ -98,6 +107,9 @@ static_assert(offsetof(orbis::shader::PointUniforms, edlStrength) == 96, "std140
 static_assert(offsetof(orbis::shader::PointUniforms, screenSize) == 112, "std140 offset: vec2 aligned to 8");
 static_assert(sizeof(orbis::shader::PointPush) == 8, "PointPush layout changed");
 static_assert(sizeof(orbis::shader::PointNode) == 32, "PointNode layout changed");
+static_assert(offsetof(orbis::shader::PointNode, step) == 12 && offsetof(orbis::shader::PointNode, firstAttribute) == 16,
+              "std430 offset: a float after a vec3");
+static_assert(sizeof(orbis::shader::PointBatch) == 16, "PointBatch layout changed");
 static_assert(orbis::shader::kPointBatch == orbis::shader::kPointGroupSize * orbis::shader::kPointsPerInvocation);
 #endif
 
