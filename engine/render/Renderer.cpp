@@ -4,7 +4,6 @@
 #include "base/Log.h"
 #include "engine/gpu/Barriers.h"
 #include "engine/gpu/Device.h"
-#include "engine/gpu/VkCheck.h"
 #include "base/ThreadPool.h"
 #include "globe/Ellipsoid.h"
 #include "globe/Sun.h"
@@ -49,52 +48,20 @@ Renderer::Renderer(gpu::Device& device, uint32_t width, uint32_t height)
       ring_(device, kFramesInFlight),
       timer_(device, kFramesInFlight),
       uploader_(device) {
-    VkDescriptorSetLayoutBinding binding{};
-    binding.binding = shader::kFrameBinding;
-    binding.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    binding.descriptorCount = 1;
-    binding.stageFlags = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT | VK_SHADER_STAGE_COMPUTE_BIT;
-    VkDescriptorSetLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    layoutInfo.bindingCount = 1;
-    layoutInfo.pBindings = &binding;
-    VkDescriptorSetLayout layout = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateDescriptorSetLayout(device.vk(), &layoutInfo, nullptr, &layout));
-    frameSetLayout_ = gpu::DescriptorSetLayout(device, layout);
-
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kFramesInFlight};
-    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    poolInfo.maxSets = kFramesInFlight;
-    poolInfo.poolSizeCount = 1;
-    poolInfo.pPoolSizes = &size;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateDescriptorPool(device.vk(), &poolInfo, nullptr, &pool));
-    descriptorPool_ = gpu::DescriptorPool(device, pool);
-
+    frameSets_ = gpu::createDescriptorSets(device, shader::kFrameBindings, kFramesInFlight);
     for (uint32_t i = 0; i < kFramesInFlight; ++i) {
         frameUniforms_.emplace_back(device, sizeof(shader::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                     gpu::MemoryUsage::Upload, "frame uniforms");
-        VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-        alloc.descriptorPool = pool;
-        alloc.descriptorSetCount = 1;
-        alloc.pSetLayouts = &layout;
-        VkDescriptorSet set = VK_NULL_HANDLE;
-        VK_CHECK(vkAllocateDescriptorSets(device.vk(), &alloc, &set));
-        VkDescriptorBufferInfo bufferInfo{frameUniforms_.back().vk(), 0, sizeof(shader::FrameUniforms)};
-        VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-        write.dstSet = set;
-        write.dstBinding = shader::kFrameBinding;
-        write.descriptorCount = 1;
-        write.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-        write.pBufferInfo = &bufferInfo;
-        vkUpdateDescriptorSets(device.vk(), 1, &write, 0, nullptr);
-        frameSets_.push_back(set);
+        gpu::DescriptorWriter(frameSets_.sets[i])
+            .uniformBuffer(shader::kFrameBinding, frameUniforms_.back(), 0, sizeof(shader::FrameUniforms))
+            .update(device);
     }
 
     services_.device = &device_;
     services_.uploader = &uploader_;
     services_.colorFormat = gpu::RenderTarget::kColorFormat;
     services_.depthFormat = gpu::RenderTarget::kDepthFormat;
-    services_.frameSetLayout = frameSetLayout_.vk();
+    services_.frameSetLayout = frameSets_.layout.vk();
     services_.framesInFlight = ring_.framesInFlight();
     services_.jobs = [this]() -> jobs::ThreadPool& { return jobs(); };
 }
@@ -222,7 +189,7 @@ FrameResult Renderer::render(scene::Scene& scene, bool readback, bool draw, cons
     RecordContext rc;
     rc.cmd = frame.cmd;
     rc.frame = &ctx;
-    rc.frameSet = frameSets_[frame.slot];
+    rc.frameSet = frameSets_.sets[frame.slot];
     rc.uploader = &uploader_;
     rc.slot = frame.slot;
     for (auto& r : scene.resources())

@@ -4,6 +4,7 @@
 // benchmark and (blitted to a swapchain) the viewer.
 
 #include "engine/gpu/Buffer.h"
+#include "engine/gpu/Descriptors.h"
 #include "engine/gpu/FrameRing.h"
 #include "engine/gpu/GpuTimer.h"
 #include "engine/gpu/Handle.h"
@@ -85,7 +86,7 @@ private:
     /// The passes in order, each only when a visible layer draws in it.
     void recordPasses(scene::Scene& scene, const RecordContext& rc);
     void writeFrameUniforms(uint32_t slot, const scene::Scene& scene, const scene::FrameContext& ctx);
-    void recordPass(scene::Pass pass, const char* name, scene::Scene& scene, const render::RecordContext& rc,
+    void recordPass(scene::Pass pass, const char* name, scene::Scene& scene, const RecordContext& rc,
                     bool clear, const glm::dvec3& background);
 
     gpu::Device& device_;
@@ -93,10 +94,8 @@ private:
     gpu::FrameRing ring_;
     gpu::GpuTimer timer_;
     gpu::Uploader uploader_;
-    gpu::DescriptorSetLayout frameSetLayout_;
-    gpu::DescriptorPool descriptorPool_;
+    gpu::DescriptorSets frameSets_;   // set 0 (shader::kFrameBindings), one per frame in flight
     std::vector<gpu::Buffer> frameUniforms_;
-    std::vector<VkDescriptorSet> frameSets_;
     std::unique_ptr<jobs::ThreadPool> jobs_;
     RenderServices services_;
 };

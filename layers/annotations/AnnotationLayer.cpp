@@ -31,7 +31,7 @@ Result<std::unique_ptr<scene::Layer>> AnnotationLayer::create(const scene::Layer
             if (v < 0.0 || v > 1.0) r.fail("color", "colour components must be in [0, 1]");
         if (c->size() == 3) s.color = {(*c)[0], (*c)[1], (*c)[2]};
     }
-    s.labelScale = r.number("labelScale", s.labelScale, 0.5, 8.0).value_or(s.labelScale);
+    s.labelScale = r.number("labelScale", s.labelScale, kLabelScaleRange.min, kLabelScaleRange.max).value_or(s.labelScale);
     s.labels = r.boolean("labels", s.labels).value_or(s.labels);
     if (auto done = r.finish(); !done) return done.error();
     return std::unique_ptr<scene::Layer>(new AnnotationLayer(s));
@@ -49,8 +49,8 @@ void AnnotationLayer::onPrepare(const render::RenderServices& services) {
     d.fragmentSpirv = kSpv_common_polyline_frag;
     d.layout = layout_.vk();
     d.bindings = {{0, sizeof(shader::PolylineVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-    d.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, position)},
-                    {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, color)}};
+    d.attributes = {{shader::kPolylineInputPosition, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, position)},
+                    {shader::kPolylineInputColor, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, color)}};
     d.cullMode = VK_CULL_MODE_NONE;
     d.alphaBlend = true;
     d.depthWrite = false;
@@ -58,7 +58,7 @@ void AnnotationLayer::onPrepare(const render::RenderServices& services) {
     d.colorFormat = services.colorFormat;
     d.depthFormat = services.depthFormat;
     gpu::Specialization screen;
-    screen.set<VkBool32>(0, VK_TRUE);
+    screen.set<VkBool32>(shader::kPolylineSpecScreen, VK_TRUE);
     d.specialization = &screen;
     d.name = "annotation pins";
     pipeline_ = gpu::createGraphicsPipeline(device, d);
@@ -116,7 +116,7 @@ uint64_t AnnotationLayer::gpuBytes() const {
 }
 
 bool AnnotationLayer::setParameter(std::string_view name, double value) {
-    if (name == "labelScale" && value >= 0.5 && value <= 8.0) style_.labelScale = value;
+    if (name == "labelScale" && kLabelScaleRange.contains(value)) style_.labelScale = value;
     else if (name == "labels") style_.labels = value != 0.0;
     else return false;
     return true;
@@ -126,7 +126,7 @@ std::vector<scene::LayerSetting> AnnotationLayer::liveSettings() const {
     using Kind = scene::LayerSetting::Kind;
     return {
         {.name = "labels", .label = "Labels", .kind = Kind::Toggle, .value = style_.labels ? 1.0 : 0.0},
-        {.name = "labelScale", .label = "Label size", .kind = Kind::Number, .value = style_.labelScale, .min = 0.5, .max = 8.0},
+        {.name = "labelScale", .label = "Label size", .kind = Kind::Number, .value = style_.labelScale, .min = kLabelScaleRange.min, .max = kLabelScaleRange.max},
     };
 }
 

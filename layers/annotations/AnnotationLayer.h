@@ -13,6 +13,7 @@
 #include "engine/gpu/Handle.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/LayerRegistry.h"
+#include "engine/scene/LayerSetting.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/annotations/PinOverlay.h"
 
@@ -26,6 +27,10 @@ class AnnotationLayer : public scene::Layer, public scene::LiveSettings, public 
 public:
     /// The scene type: its name, description, factory (create) and the files its object names.
     static scene::LayerType layerType();
+    /// The ranges its numeric setting may take, the same for the scene file (create), a live
+    /// edit (setParameter) and the panel (liveSettings).
+    static constexpr scene::SettingRange kLabelScaleRange{0.5, 8.0};
+
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
     explicit AnnotationLayer(const PinStyle& style) : style_(style) {}

@@ -70,9 +70,9 @@ void EarthLayer::onPrepare(const render::RenderServices& services) {
     surface.fragmentSpirv = kSpv_earth_ellipsoid_frag;
     surface.layout = layout_.vk();
     surface.bindings = {{0, sizeof(EarthVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-    surface.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(EarthVertex, position)},
-                          {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(EarthVertex, normal)},
-                          {2, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(EarthVertex, lonLatDeg)}};
+    surface.attributes = {{shader::kEarthInputPosition, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(EarthVertex, position)},
+                          {shader::kEarthInputNormal, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(EarthVertex, normal)},
+                          {shader::kEarthInputLonLat, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(EarthVertex, lonLatDeg)}};
     surface.colorFormat = services.colorFormat;
     surface.depthFormat = services.depthFormat;
     surface.name = "globe surface";
@@ -89,10 +89,11 @@ void EarthLayer::record(scene::Pass, const render::RecordContext& rc) {
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 1, &rc.frameSet, 0, nullptr);
 
     shader::EarthPush push{};
-    push.graticule = glm::vec4(settings_.graticuleDeg, 0.75f, settings_.graticuleDeg > 0.0 ? 1.0f : 0.0f,
-                               settings_.sunLighting ? 1.0f : 0.0f);
-    push.baseColor = glm::vec4(srgbToLinear(settings_.color.r), srgbToLinear(settings_.color.g),
-                               srgbToLinear(settings_.color.b), 1.0f);
+    push.graticuleDeg = float(settings_.graticuleDeg);
+    push.lineHalfWidthPx = 0.75f;
+    push.drawLines = settings_.graticuleDeg > 0.0 ? 1u : 0u;
+    push.sunLighting = settings_.sunLighting ? 1u : 0u;
+    push.baseColor = glm::vec3(srgbToLinear(settings_.color.r), srgbToLinear(settings_.color.g), srgbToLinear(settings_.color.b));
     const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
 
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, surface_.vk());
@@ -110,7 +111,7 @@ void EarthLayer::record(scene::Pass, const render::RecordContext& rc) {
         if (globe::sphereBelowHorizon(camera.position(), patch.origin, patch.radius)) continue;
         if (!frustum.intersectsSphere(glm::dmat3(view) * rel, patch.radius)) continue;
         push.modelViewProj = glm::mat4(proj * camera.modelViewRelativeToEye(patch.origin));
-        push.originFromEye = glm::vec4(glm::vec3(rel), 0.0f);
+        push.originFromEye = glm::vec3(rel);
         vkCmdPushConstants(cmd, layout_.vk(), stages, 0, sizeof(push), &push);
         vkCmdDrawIndexed(cmd, uint32_t(mesh_.indices.size()), 1, 0, int32_t(i * mesh_.verticesPerPatch()), 0);
         ++patchesDrawn_;

@@ -9,8 +9,8 @@
 #include "engine/render/RenderContext.h"
 #include "globe/Ellipsoid.h"
 #include "shared/FmvTypes.h"
-#include "spv/fmv/composite.frag.h"
-#include "spv/fmv/composite.vert.h"
+#include "spv/common/composite.frag.h"
+#include "spv/common/fullscreen.vert.h"
 #include "spv/fmv/drape.comp.h"
 #include "spv/fmv/footprint.comp.h"
 #include "spv/fmv/lines.frag.h"
@@ -25,17 +25,44 @@
 namespace orbis::layers {
 namespace {
 
-constexpr uint32_t kBindings = 8;
 constexpr double kMapFovPad = 1.05;        // the distance map sees a little more than the video
 constexpr double kMaxHalfSize = 30000.0;   // the heightfield covers at most 60 km a side
 constexpr double kSensorNear = 1.0;        // metres: the distance map's near plane
 
-struct DistancePush {
-    glm::mat4 sensorClip;
-    glm::vec4 sensor, axisX;
-};
-
 const globe::Ellipsoid& wgs84() { return globe::Ellipsoid::wgs84(); }
+
+/// The convex hull of `points` (Andrew's monotone chain, counter-clockwise in pixel
+/// coordinates) as edge equations (nx, ny, c: inside when nx x + ny y + c >= 0), each edge moved
+/// out by `margin`; none for a hull of more than the shader's kFmvHullEdges edges.
+std::vector<glm::vec3> hullEdges(std::vector<glm::dvec2> points, double margin) {
+    std::vector<glm::vec3> edges;
+    std::sort(points.begin(), points.end(), [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+    const auto cross = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
+        return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+    };
+    std::vector<glm::dvec2> hull(2 * points.size());
+    size_t k = 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+        while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+        hull[k++] = points[i];
+    }
+    for (size_t i = points.size() - 1, t = k + 1; i-- > 0;) {
+        while (k >= t && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+        hull[k++] = points[i];
+    }
+    hull.resize(k > 0 ? k - 1 : 0);
+    if (hull.size() >= 3 && hull.size() <= shader::kFmvHullEdges) {
+        for (size_t i = 0; i < hull.size(); ++i) {
+            const glm::dvec2 a = hull[i], b = hull[(i + 1) % hull.size()];
+            const glm::dvec2 e = b - a;
+            const double len = glm::length(e);
+            if (len < 1e-9) continue;
+            const glm::dvec2 n(-e.y / len, e.x / len);   // inward for a counter-clockwise polygon
+            edges.push_back(glm::vec3(glm::vec2(n), float(-glm::dot(n, a) + margin)));
+        }
+    }
+    return edges;
+}
 
 }  // namespace
 
@@ -52,28 +79,24 @@ void FmvLayer::onPrepare(const render::RenderServices& services) {
     linearSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_LINEAR});
     nearestSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_NEAREST});
 
-    const VkShaderStageFlags all = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    const VkDescriptorSetLayoutBinding bindings[kBindings] = {
-        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, all, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {5, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-        {7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT, nullptr},
-    };
     const uint32_t frames = services.framesInFlight;
-    descriptors_ = gpu::createDescriptorSets(device, bindings, frames);
+    descriptors_ = gpu::createDescriptorSets(device, shader::kFmvBindings, frames);
     setVersion_.assign(frames, 0);
     for (uint32_t f = 0; f < frames; ++f)
         uniforms_.emplace_back(device, sizeof(shader::FmvUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::Upload,
                                "fmv uniforms");
-    const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(DistancePush)};
+    const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(shader::FmvDistancePush)};
     const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, descriptors_.layout.vk()};
     layout_ = gpu::createPipelineLayout(device, setLayouts, {&push, 1});
+    createImages(device);
+    createGrid(services);
+    buildPipelines(services);
+    frames_ = std::make_unique<fmv::FramePrefetcher>(video_, services.jobs(), 4);
+    gpuReady_ = true;
+}
 
-    // Images: the video frame, the heightfield, the distance map (colour: metres; depth).
+void FmvLayer::createImages(gpu::Device& device) {
+    // The video frame, the heightfield, the distance map (colour: metres; depth).
     const auto image = [&](VkFormat format, uint32_t w, uint32_t h, VkImageUsageFlags usage, const char* name) {
         gpu::ImageDesc d;
         d.format = format;
@@ -90,7 +113,11 @@ void FmvLayer::onPrepare(const render::RenderServices& services) {
     distanceImage_ = image(VK_FORMAT_R32_SFLOAT, m, m, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                            "fmv distance map");
     distanceDepth_ = image(VK_FORMAT_D32_SFLOAT, m, m, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, "fmv distance map depth");
+}
 
+void FmvLayer::createGrid(const render::RenderServices& services) {
+    gpu::Device& device = *services.device;
+    const uint32_t n = uint32_t(settings_.heightfieldSize);
     // The heightfield's grid: two triangles a cell; positions rewritten with the heights.
     std::vector<uint32_t> indices;
     for (uint32_t j = 0; j + 1 < n; ++j)
@@ -110,8 +137,10 @@ void FmvLayer::onPrepare(const render::RenderServices& services) {
                                 gpu::MemoryUsage::GpuOnly, "fmv grid vertices");
     footprintBuffer_ = gpu::Buffer(device, shader::kFmvFootprintRays * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                    gpu::MemoryUsage::Readback, "fmv footprint");
+}
 
-    // Pipelines.
+void FmvLayer::buildPipelines(const render::RenderServices& services) {
+    gpu::Device& device = *services.device;
     drapePipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_fmv_drape_comp, nullptr, "fmv drape");
     footprintPipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_fmv_footprint_comp, nullptr, "fmv footprint");
     gpu::GraphicsPipelineDesc dist;
@@ -119,15 +148,15 @@ void FmvLayer::onPrepare(const render::RenderServices& services) {
     dist.fragmentSpirv = kSpv_fmv_sensordepth_frag;
     dist.layout = layout_.vk();
     dist.bindings = {{0, sizeof(glm::vec3), VK_VERTEX_INPUT_RATE_VERTEX}};
-    dist.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+    dist.attributes = {{shader::kFmvInputPosition, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
     dist.cullMode = VK_CULL_MODE_NONE;
     dist.colorFormat = VK_FORMAT_R32_SFLOAT;
     dist.depthFormat = VK_FORMAT_D32_SFLOAT;
     dist.name = "fmv distance map";
     distancePipeline_ = gpu::createGraphicsPipeline(device, dist);
     gpu::GraphicsPipelineDesc composite;
-    composite.vertexSpirv = kSpv_fmv_composite_vert;
-    composite.fragmentSpirv = kSpv_fmv_composite_frag;
+    composite.vertexSpirv = kSpv_common_fullscreen_vert;
+    composite.fragmentSpirv = kSpv_common_composite_frag;
     composite.layout = layout_.vk();
     composite.cullMode = VK_CULL_MODE_NONE;
     composite.depthTest = composite.depthWrite = false;
@@ -138,7 +167,7 @@ void FmvLayer::onPrepare(const render::RenderServices& services) {
     compositePipeline_ = gpu::createGraphicsPipeline(device, composite);
     for (bool frustum : {false, true}) {
         gpu::Specialization spec;
-        spec.set<VkBool32>(0, frustum ? VK_TRUE : VK_FALSE);
+        spec.set<VkBool32>(shader::kFmvSpecFrustum, frustum ? VK_TRUE : VK_FALSE);
         gpu::GraphicsPipelineDesc lines;
         lines.vertexSpirv = kSpv_fmv_lines_vert;
         lines.fragmentSpirv = kSpv_fmv_lines_frag;
@@ -152,8 +181,6 @@ void FmvLayer::onPrepare(const render::RenderServices& services) {
         lines.name = frustum ? "fmv frustum" : "fmv footprint outline";
         (frustum ? frustumPipeline_ : outlinePipeline_) = gpu::createGraphicsPipeline(device, lines);
     }
-    frames_ = std::make_unique<fmv::FramePrefetcher>(video_, services.jobs(), 4);
-    gpuReady_ = true;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -226,6 +253,11 @@ void FmvLayer::updateHeightfield(const scene::FrameContext& frame) {
     enu_ = wgs84().enuFrame(lon, lat);
     halfSize_ = halfSize;
     groundVersion_ = frame.groundVersion;
+    sampleHeightfield(groundAt);
+    heightsComplete_ = !unknown;
+}
+
+void FmvLayer::sampleHeightfield(const std::function<double(double, double)>& groundAt) {
     const int n = settings_.heightfieldSize;
     const double cell = 2.0 * halfSize_ / double(n - 1);
     std::vector<float> heights(size_t(n) * size_t(n));
@@ -242,7 +274,6 @@ void FmvLayer::updateHeightfield(const scene::FrameContext& frame) {
             minHeight_ = std::min(minHeight_, h);
             maxHeight_ = std::max(maxHeight_, h);
         }
-    heightsComplete_ = !unknown;
     ++heightfieldBuilds_;
     heights_ = std::move(heights);
     heightfieldDirty_ = true;
@@ -267,38 +298,55 @@ void FmvLayer::recordTransfers(const render::RecordContext& rc) {
                            VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
         heightfieldDirty_ = false;
     }
+    writeUniforms(rc);
+}
 
+void FmvLayer::writeUniforms(const render::RecordContext& rc) {
     const fmv::SensorCamera camera(pose_);
     const glm::dmat3 axes = camera.axes();
     const glm::dvec3 s = camera.position() - origin_;
     const double tanH = camera.tanHalfFov().x, tanV = camera.tanHalfFov().y;
     const double n = double(settings_.heightfieldSize), cell = 2.0 * halfSize_ / (n - 1.0);
     shader::FmvUniforms u{};
-    u.originFromEye = glm::vec4(glm::vec3(origin_ - eye_), float(settings_.opacity));
-    u.sensor = glm::vec4(glm::vec3(s), float(0.5 * cell));
-    u.axisX = glm::vec4(glm::vec3(axes[0]), float(tanH));
-    u.axisY = glm::vec4(glm::vec3(axes[1]), float(tanV));
-    u.axisZ = glm::vec4(glm::vec3(axes[2]), float(kMapFovPad));
+    u.originFromEye = glm::vec3(origin_ - eye_);
+    u.opacity = float(settings_.opacity);
+    u.sensor = glm::vec3(s);
+    u.occlusionBias = float(0.5 * cell);
+    u.boresight = glm::vec3(axes[0]);
+    u.tanHalfFovX = float(tanH);
+    u.imageRight = glm::vec3(axes[1]);
+    u.tanHalfFovY = float(tanV);
+    u.imageDown = glm::vec3(axes[2]);
+    u.mapFovScale = float(kMapFovPad);
     const globe::Geodetic og = wgs84().toGeodetic(origin_);
     const double lat = glm::radians(og.latDeg), a = wgs84().equatorialRadius(), e2 = wgs84().flattening() * (2.0 - wgs84().flattening());
     const double w = std::sqrt(1.0 - e2 * std::sin(lat) * std::sin(lat));
     const double radius = std::sqrt((a / w) * (a * (1.0 - e2) / (w * w * w)));   // Gaussian mean radius at O
-    u.east = glm::vec4(glm::vec3(enu_[0]), float(halfSize_));
-    u.north = glm::vec4(glm::vec3(enu_[1]), float(radius));
-    u.up = glm::vec4(glm::vec3(enu_[2]), float(n));
-    u.heights = glm::vec4(float(minHeight_), float(maxHeight_), float(std::max(0.5 * cell, 1.0)), shownIndex_ ? 1.0f : 0.0f);
+    u.east = glm::vec3(enu_[0]);
+    u.halfSize = float(halfSize_);
+    u.north = glm::vec3(enu_[1]);
+    u.sphereRadius = float(radius);
+    u.up = glm::vec3(enu_[2]);
+    u.heightfieldSamples = float(n);
+    u.lowestHeight = float(minHeight_);
+    u.highestHeight = float(maxHeight_);
+    u.marchStep = float(std::max(0.5 * cell, 1.0));
+    u.frameShown = shownIndex_ ? 1u : 0u;
     const glm::dvec3 c = settings_.footprintColor;
-    u.outline = glm::vec4(float(srgbToLinear(c.r)), float(srgbToLinear(c.g)), float(srgbToLinear(c.b)), 0.01f);
+    u.outlineColor = glm::vec3(float(srgbToLinear(c.r)), float(srgbToLinear(c.g)), float(srgbToLinear(c.b)));
+    u.occlusionBiasPerMetre = 0.01f;
     u.sensorClip = glm::mat4(sensorClip());
     const ScreenBounds bounds = screenBounds(*rc.frame);
     rect_ = bounds.rect;
-    u.rect = glm::vec4(rect_);
-    u.hullCount = glm::vec4(float(bounds.edges.size()), 0.0f, 0.0f, 0.0f);
+    u.rectOrigin = glm::vec2(rect_.x, rect_.y);
+    u.rectSize = glm::vec2(rect_.z, rect_.w);
+    u.hullEdges = uint32_t(bounds.edges.size());
     for (size_t i = 0; i < bounds.edges.size(); ++i) u.hull[i] = glm::vec4(bounds.edges[i], 0.0f);
     uniforms_[rc.slot].write(&u, sizeof(u));
 }
 
 FmvLayer::ScreenBounds FmvLayer::screenBounds(const scene::FrameContext& frame) const {
+    constexpr double kMargin = 4.0;   // pixels
     const ScreenBounds whole{glm::uvec4(0u, 0u, frame.width, frame.height), {}};
     const fmv::SensorCamera sensor(pose_);
     // The heights of the ground the sensor sees (the heightfield's samples in its view), else
@@ -333,35 +381,8 @@ FmvLayer::ScreenBounds FmvLayer::screenBounds(const scene::FrameContext& frame) 
             points.push_back(px);
         }
     }
-    constexpr double kMargin = 4.0;
     ScreenBounds out;
-    // The convex hull (Andrew's monotone chain, counter-clockwise in pixel coordinates), each
-    // edge moved out by the margin.
-    std::sort(points.begin(), points.end(), [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
-    const auto cross = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
-        return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
-    };
-    std::vector<glm::dvec2> hull(2 * points.size());
-    size_t k = 0;
-    for (size_t i = 0; i < points.size(); ++i) {
-        while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-        hull[k++] = points[i];
-    }
-    for (size_t i = points.size() - 1, t = k + 1; i-- > 0;) {
-        while (k >= t && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-        hull[k++] = points[i];
-    }
-    hull.resize(k > 0 ? k - 1 : 0);
-    if (hull.size() >= 3 && hull.size() <= shader::kFmvHullEdges) {
-        for (size_t i = 0; i < hull.size(); ++i) {
-            const glm::dvec2 a = hull[i], b = hull[(i + 1) % hull.size()];
-            const glm::dvec2 e = b - a;
-            const double len = glm::length(e);
-            if (len < 1e-9) continue;
-            const glm::dvec2 n(-e.y / len, e.x / len);   // inward for a counter-clockwise polygon
-            out.edges.push_back(glm::vec3(glm::vec2(n), float(-glm::dot(n, a) + kMargin)));
-        }
-    }
+    out.edges = hullEdges(std::move(points), kMargin);
     const double x0 = std::clamp(std::floor(lo.x - kMargin), 0.0, double(frame.width));
     const double y0 = std::clamp(std::floor(lo.y - kMargin), 0.0, double(frame.height));
     const double x1 = std::clamp(std::ceil(hi.x + kMargin), 0.0, double(frame.width));
@@ -392,35 +413,16 @@ glm::dmat4 FmvLayer::sensorClip() const {
 }
 
 void FmvLayer::writeDescriptors(uint32_t slot) {
-    VkDescriptorSet set = descriptors_.sets[slot];
-    const VkDescriptorBufferInfo ubo{uniforms_[slot].vk(), 0, sizeof(shader::FmvUniforms)};
-    const VkDescriptorBufferInfo foot{footprintBuffer_.vk(), 0, VK_WHOLE_SIZE};
-    const VkDescriptorImageInfo images[6] = {
-        {nearestSampler_.vk(), boundDepth_->view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
-        {linearSampler_.vk(), frameImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
-        {linearSampler_.vk(), distanceImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
-        {linearSampler_.vk(), heightImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
-        {VK_NULL_HANDLE, decalImage_.view(), VK_IMAGE_LAYOUT_GENERAL},
-        {nearestSampler_.vk(), decalImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
-    };
-    VkWriteDescriptorSet w[kBindings] = {};
-    for (uint32_t b = 0; b < kBindings; ++b) {
-        w[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        w[b].dstSet = set;
-        w[b].dstBinding = b;
-        w[b].descriptorCount = 1;
-        if (b == 0) {
-            w[b].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-            w[b].pBufferInfo = &ubo;
-        } else if (b == 7) {
-            w[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-            w[b].pBufferInfo = &foot;
-        } else {
-            w[b].descriptorType = b == 5 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-            w[b].pImageInfo = &images[b - 1];
-        }
-    }
-    vkUpdateDescriptorSets(services_.device->vk(), kBindings, w, 0, nullptr);
+    gpu::DescriptorWriter(descriptors_.sets[slot])
+        .uniformBuffer(shader::kFmvBindingUniforms, uniforms_[slot], 0, sizeof(shader::FmvUniforms))
+        .sampledImage(shader::kFmvBindingSceneDepth, nearestSampler_.vk(), boundDepth_->view())
+        .sampledImage(shader::kFmvBindingVideoFrame, linearSampler_.vk(), frameImage_.view())
+        .sampledImage(shader::kFmvBindingDistanceMap, linearSampler_.vk(), distanceImage_.view())
+        .sampledImage(shader::kFmvBindingHeightfield, linearSampler_.vk(), heightImage_.view())
+        .storageImage(shader::kFmvBindingDecal, decalImage_.view())
+        .sampledImage(shader::kFmvBindingDecalSampled, nearestSampler_.vk(), decalImage_.view())
+        .storageBuffer(shader::kFmvBindingFootprint, footprintBuffer_)
+        .update(*services_.device);
     setVersion_[slot] = imagesVersion_;
 }
 
@@ -454,10 +456,10 @@ void FmvLayer::renderDistanceMap(VkCommandBuffer cmd) {
     vkCmdSetScissor(cmd, 0, 1, &scissor);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, distancePipeline_.vk());
     const fmv::SensorCamera camera(pose_);
-    DistancePush push;
+    shader::FmvDistancePush push{};
     push.sensorClip = glm::mat4(sensorClip());
-    push.sensor = glm::vec4(glm::vec3(camera.position() - origin_), 0.0f);
-    push.axisX = glm::vec4(glm::vec3(camera.axes()[0]), 0.0f);
+    push.sensor = glm::vec3(camera.position() - origin_);
+    push.boresight = glm::vec3(camera.axes()[0]);
     vkCmdPushConstants(cmd, layout_.vk(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof push, &push);
     const VkDeviceSize offset = 0;
     VkBuffer vertices = gridVertices_.vk();
@@ -558,7 +560,7 @@ uint64_t FmvLayer::gpuBytes() const {
 }
 
 bool FmvLayer::setParameter(std::string_view name, double value) {
-    if (name == "opacity" && value >= 0.0 && value <= 1.0) settings_.opacity = value;
+    if (name == "opacity" && kOpacityRange.contains(value)) settings_.opacity = value;
     else if (name == "footprint") settings_.footprint = value != 0.0;
     else if (name == "frustum") settings_.frustum = value != 0.0;
     else return false;
@@ -569,7 +571,7 @@ std::vector<scene::LayerSetting> FmvLayer::liveSettings() const {
     using Kind = scene::LayerSetting::Kind;
     return {
         {.name = "opacity", .label = "Video opacity", .kind = Kind::Number, .value = settings_.opacity,
-         .min = 0.0, .max = 1.0},
+         .min = kOpacityRange.min, .max = kOpacityRange.max},
         {.name = "footprint", .label = "Footprint outline", .kind = Kind::Toggle, .value = settings_.footprint ? 1.0 : 0.0},
         {.name = "frustum", .label = "Sensor frustum", .kind = Kind::Toggle, .value = settings_.frustum ? 1.0 : 0.0},
     };

@@ -27,6 +27,7 @@
 #include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/LayerRegistry.h"
+#include "engine/scene/LayerSetting.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/fmv/FmvTimeline.h"
 #include "layers/fmv/FramePrefetcher.h"
@@ -34,6 +35,7 @@
 
 #include <glm/glm.hpp>
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -54,6 +56,10 @@ class FmvLayer final : public scene::Layer, public scene::LiveSettings, public s
 public:
     /// The scene type: its name, description, factory (create) and the files its object names.
     static scene::LayerType layerType();
+    /// The ranges its numeric setting may take, the same for the scene file (create), a live
+    /// edit (setParameter) and the panel (liveSettings).
+    static constexpr scene::SettingRange kOpacityRange{0.0, 1.0};
+
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
     FmvLayer(std::shared_ptr<fmv::VideoFile> video, fmv::FmvTimeline timeline, FmvSettings settings);
     ~FmvLayer() override;
@@ -93,7 +99,13 @@ public:
 
 private:
     void onPrepare(const render::RenderServices& services) override;
+    void createImages(gpu::Device& device);
+    void createGrid(const render::RenderServices& services);
+    void buildPipelines(const render::RenderServices& services);
     void updateHeightfield(const scene::FrameContext& frame);
+    /// The heightfield's samples around origin_ (halfSize_, enu_) from the ground's heights.
+    void sampleHeightfield(const std::function<double(double, double)>& groundAt);
+    void writeUniforms(const render::RecordContext& rc);
     void writeDescriptors(uint32_t slot);
     void renderDistanceMap(VkCommandBuffer cmd);
     glm::dmat4 sensorClip() const;

@@ -10,6 +10,39 @@
 #include <memory>
 
 namespace orbis::layers {
+namespace {
+
+/// The sensor's poses on the video's clock: from a pose CSV (`csvPath`, its rows' UTC placed by
+/// `startUtc`, else the first row is frame 0, which then sets `startUtc`), else the video's KLV.
+Result<fmv::FmvTimeline> makeTimeline(const fmv::VideoFile& video, const std::string& csvPath, std::optional<double>& startUtc,
+                                      const std::string& where, const std::string& file) {
+    const fmv::GeoidHeight geoid = globe::egm96Geoid();
+    if (!csvPath.empty()) {
+        auto csv = fmv::readPoseCsv(csvPath);
+        if (!csv) return makeError(where + "/poses: " + csv.message());
+        std::optional<double> start = startUtc;
+        std::vector<std::pair<double, fmv::St0601Packet>> placed;
+        for (const fmv::PoseSample& row : csv->samples) {
+            if (!row.pose.precisionTimeUs) continue;
+            const double utc = double(*row.pose.precisionTimeUs) * 1e-6;
+            if (!start) start = utc;
+            placed.emplace_back(utc - *start, row.pose);
+        }
+        auto t = fmv::FmvTimeline::fromPackets(placed, csvPath, geoid);
+        if (!t) return makeError(where + "/poses: " + t.message());
+        if (!startUtc) startUtc = start;
+        return std::move(*t);
+    }
+    if (!video.info().hasKlv)
+        return makeError(where + ": " + file +
+                         " has no KLV metadata stream: without the sensor's pose the video cannot be placed "
+                         "(give \"poses\": a pose CSV sidecar)");
+    auto t = fmv::FmvTimeline::fromKlv(video.klv(), file, geoid);
+    if (!t) return makeError(where + ": " + t.message());
+    return std::move(*t);
+}
+
+}  // namespace
 
 Result<std::unique_ptr<scene::Layer>> FmvLayer::create(const scene::LayerDesc& desc, const scene::SceneDesc& scene) {
     scene::JsonReader r(desc.settings, scene.file.string(), desc.jsonPath);
@@ -23,7 +56,7 @@ Result<std::unique_ptr<scene::Layer>> FmvLayer::create(const scene::LayerDesc& d
         if (!t) r.fail("start", t.message());
         else s.startUtc = toSeconds(*t);
     }
-    s.opacity = r.number("opacity", 0.9, 0.0, 1.0).value_or(0.9);
+    s.opacity = r.number("opacity", 0.9, kOpacityRange.min, kOpacityRange.max).value_or(0.9);
     s.footprint = r.boolean("footprint", true).value_or(true);
     s.frustum = r.boolean("frustum", true).value_or(true);
     if (auto c = r.numbers("footprintColor", 3, std::vector<double>{1.0, 0.75, 0.1}); c && c->size() == 3) {
@@ -39,34 +72,9 @@ Result<std::unique_ptr<scene::Layer>> FmvLayer::create(const scene::LayerDesc& d
     const std::string file = scene.resolve(*path).string();
     auto video = fmv::VideoFile::open(file);
     if (!video) return makeError(where + ": " + video.message());
-    const fmv::GeoidHeight geoid = globe::egm96Geoid();
-    std::optional<fmv::FmvTimeline> timeline;
-    if (poses && !poses->empty()) {
-        const std::string csvPath = scene.resolve(*poses).string();
-        auto csv = fmv::readPoseCsv(csvPath);
-        if (!csv) return makeError(where + "/poses: " + csv.message());
-        // The rows' UTC onto the video's clock: "start", else the first row is frame 0.
-        std::optional<double> start = s.startUtc;
-        std::vector<std::pair<double, fmv::St0601Packet>> placed;
-        for (const fmv::PoseSample& row : csv->samples) {
-            if (!row.pose.precisionTimeUs) continue;
-            const double utc = double(*row.pose.precisionTimeUs) * 1e-6;
-            if (!start) start = utc;
-            placed.emplace_back(utc - *start, row.pose);
-        }
-        auto t = fmv::FmvTimeline::fromPackets(placed, csvPath, geoid);
-        if (!t) return makeError(where + "/poses: " + t.message());
-        timeline = std::move(*t);
-        if (!s.startUtc) s.startUtc = start;
-    } else {
-        if (!(*video)->info().hasKlv)
-            return makeError(where + ": " + file +
-                             " has no KLV metadata stream: without the sensor's pose the video cannot be placed "
-                             "(give \"poses\": a pose CSV sidecar)");
-        auto t = fmv::FmvTimeline::fromKlv((*video)->klv(), file, geoid);
-        if (!t) return makeError(where + ": " + t.message());
-        timeline = std::move(*t);
-    }
+    auto timeline = makeTimeline(**video, poses && !poses->empty() ? scene.resolve(*poses).string() : std::string(), s.startUtc,
+                                 where, file);
+    if (!timeline) return timeline.error();
     // The rotation order against the corners the packets carry (a wrong convention in the
     // producer, or here, shows as corners far off).
     if (const fmv::CornerCheck& c = timeline->cornerCheck(); c.corners > 0) {

@@ -77,6 +77,27 @@ bool readWholeFileBounded(std::vector<unsigned char>* out, std::string* err, con
     return tinygltf::ReadWholeFile(out, err, path, user);
 }
 
+/// A primitive's vertex attributes as floats (each empty when the primitive has none).
+struct PrimitiveAttributes {
+    std::vector<float> positions, normals, uvs, colors, joints, weights;
+    int colorComponents = 0;
+    size_t count = 0;   ///< vertices
+};
+
+/// A primitive ready to append to the model: interleaved vertices, their skin and morph data,
+/// triangle-list indices.
+struct PrimitiveVertices {
+    std::vector<ModelVertex> vertices;
+    std::vector<ModelSkinVertex> skin;   ///< empty unless skinned
+    std::vector<float> morph;            ///< (vertex, target) pairs of 6 floats
+    std::vector<uint32_t> indices;
+    uint32_t maxJoint = 0;
+};
+
+PrimitiveVertices buildVertices(const PrimitiveAttributes& a);
+/// Flat normals: every triangle gets its own three vertices.
+void flattenNormals(PrimitiveVertices& p, size_t targets);
+
 class Reader {
 public:
     Reader(const tinygltf::Model& m, std::string file) : m_(m), file_(file), acc_(m, std::move(file)) {}
@@ -89,9 +110,17 @@ private:
         return acc_.floats(accessor, components, what, kMaxGltfVertices);
     }
     Result<void> readPrimitive(const tinygltf::Primitive& p, const std::string& meshName, ModelData& out);
+    Result<PrimitiveAttributes> readAttributes(const tinygltf::Primitive& p, const std::string& label, ModelData& out);
+    Result<std::vector<float>> readMorphTargets(const tinygltf::Primitive& p, const std::string& label, size_t n,
+                                                const ModelData& out);
+    Result<std::vector<uint32_t>> readIndices(const tinygltf::Primitive& p, const std::string& label, size_t n,
+                                              const ModelData& out);
+    void appendPrimitive(const tinygltf::Primitive& p, PrimitiveVertices v, ModelData& out) const;
     void readMaterials(ModelData& out);
     void readTextures(ModelData& out);
     Result<void> walk(int node, const glm::dmat4& parent, int depth, ModelData& out);
+    /// The default scene's root nodes.
+    std::vector<int> rootNodes() const;
 
     const tinygltf::Model& m_;
     std::string file_;
@@ -114,78 +143,99 @@ Result<void> Reader::readPrimitive(const tinygltf::Primitive& p, const std::stri
         warnOnce(out, "points and lines primitives are not drawn (" + label + ")");
         return {};
     }
+    auto attributes = readAttributes(p, label, out);
+    if (!attributes) return attributes.error();
+    auto morph = readMorphTargets(p, label, attributes->count, out);
+    if (!morph) return morph.error();
+    auto indices = readIndices(p, label, attributes->count, out);
+    if (!indices) return indices.error();
+    PrimitiveVertices v = buildVertices(*attributes);
+    v.morph = std::move(*morph);
+    v.indices = std::move(*indices);
+    // No normals: flat ones (the spec's rule), so every triangle gets its own three vertices.
+    if (attributes->normals.empty()) {
+        flattenNormals(v, p.targets.size());
+        if (out.vertices.size() + v.vertices.size() > kMaxGltfVertices) return makeError(file_ + ": more than " + std::to_string(kMaxGltfVertices) + " vertices in all");
+        if (out.rig.morphDeltas.size() / 6 + v.morph.size() / 6 > kMaxGltfMorphDeltas)
+            return makeError(file_ + ": more than " + std::to_string(kMaxGltfMorphDeltas) + " morph target vertices in all");
+    }
+    appendPrimitive(p, std::move(v), out);
+    return {};
+}
+
+Result<PrimitiveAttributes> Reader::readAttributes(const tinygltf::Primitive& p, const std::string& label, ModelData& out) {
+    PrimitiveAttributes a;
     auto pos = p.attributes.find("POSITION");
     if (pos == p.attributes.end()) return makeError(file_ + ": a primitive of " + label + " has no POSITION");
     auto positions = floats(pos->second, 3, "POSITION of " + label);
     if (!positions) return positions.error();
-    const size_t n = positions->size() / 3;
-    if (out.vertices.size() + n > kMaxGltfVertices) return makeError(file_ + ": more than " + std::to_string(kMaxGltfVertices) + " vertices in all");
-
-    std::vector<float> normals, uvs, colors, joints, weights;
-    int colorComponents = 0;
-    if (auto it = p.attributes.find("NORMAL"); it != p.attributes.end()) {
-        auto r = floats(it->second, 3, "NORMAL of " + label);
+    a.positions = std::move(*positions);
+    a.count = a.positions.size() / 3;
+    if (out.vertices.size() + a.count > kMaxGltfVertices) return makeError(file_ + ": more than " + std::to_string(kMaxGltfVertices) + " vertices in all");
+    const auto read = [&](const char* name, int components, std::vector<float>& to) -> Result<void> {
+        auto it = p.attributes.find(name);
+        if (it == p.attributes.end()) return {};
+        auto r = floats(it->second, components, std::string(name) + " of " + label);
         if (!r) return r.error();
-        normals = std::move(*r);
-    }
-    if (auto it = p.attributes.find("TEXCOORD_0"); it != p.attributes.end()) {
-        auto r = floats(it->second, 2, "TEXCOORD_0 of " + label);
-        if (!r) return r.error();
-        uvs = std::move(*r);
-    }
+        to = std::move(*r);
+        return {};
+    };
+    if (auto r = read("NORMAL", 3, a.normals); !r) return r.error();
+    if (auto r = read("TEXCOORD_0", 2, a.uvs); !r) return r.error();
     if (auto it = p.attributes.find("COLOR_0"); it != p.attributes.end() && it->second >= 0 && size_t(it->second) < m_.accessors.size()) {
-        colorComponents = gltfComponentCount(m_.accessors[size_t(it->second)].type);
-        if (colorComponents == 3 || colorComponents == 4) {
-            auto r = floats(it->second, colorComponents, "COLOR_0 of " + label);
-            if (!r) return r.error();
-            colors = std::move(*r);
-        }
+        a.colorComponents = gltfComponentCount(m_.accessors[size_t(it->second)].type);
+        if (a.colorComponents == 3 || a.colorComponents == 4)
+            if (auto r = read("COLOR_0", a.colorComponents, a.colors); !r) return r.error();
     }
     // Skinning: JOINTS_0 (unsigned byte or short) and WEIGHTS_0 (float or normalized).
-    const auto ji = p.attributes.find("JOINTS_0"), wi = p.attributes.find("WEIGHTS_0");
-    if ((ji == p.attributes.end()) != (wi == p.attributes.end()))
-        return makeError(file_ + ": a primitive of " + label + " has " + (ji == p.attributes.end() ? "WEIGHTS_0 without JOINTS_0" : "JOINTS_0 without WEIGHTS_0"));
-    if (ji != p.attributes.end()) {
-        auto j = floats(ji->second, 4, "JOINTS_0 of " + label);
-        if (!j) return j.error();
-        auto w = floats(wi->second, 4, "WEIGHTS_0 of " + label);
-        if (!w) return w.error();
-        joints = std::move(*j);
-        weights = std::move(*w);
+    const bool hasJoints = p.attributes.count("JOINTS_0") > 0, hasWeights = p.attributes.count("WEIGHTS_0") > 0;
+    if (hasJoints != hasWeights)
+        return makeError(file_ + ": a primitive of " + label + " has " + (hasJoints ? "JOINTS_0 without WEIGHTS_0" : "WEIGHTS_0 without JOINTS_0"));
+    if (hasJoints) {
+        if (auto r = read("JOINTS_0", 4, a.joints); !r) return r.error();
+        if (auto r = read("WEIGHTS_0", 4, a.weights); !r) return r.error();
         if (p.attributes.count("JOINTS_1")) warnOnce(out, "only the first four joint influences (JOINTS_0) are used (" + label + ")");
     }
-    for (auto* attr : {&normals, &uvs, &colors, &joints, &weights}) {
-        const size_t per = attr == &uvs ? 2 : attr == &colors ? size_t(colorComponents) : (attr == &joints || attr == &weights) ? 4 : 3;
-        if (!attr->empty() && attr->size() / per != n) {
+    for (auto* attr : {&a.normals, &a.uvs, &a.colors, &a.joints, &a.weights}) {
+        const size_t per = attr == &a.uvs ? 2 : attr == &a.colors ? size_t(a.colorComponents) : (attr == &a.joints || attr == &a.weights) ? 4 : 3;
+        if (!attr->empty() && attr->size() / per != a.count) {
             return makeError(file_ + ": the attributes of a primitive of " + label + " have different counts");
         }
     }
-    // Morph targets: POSITION and NORMAL deltas, (vertex, target) pairs of 6 floats.
+    return a;
+}
+
+Result<std::vector<float>> Reader::readMorphTargets(const tinygltf::Primitive& p, const std::string& label, size_t n,
+                                                    const ModelData& out) {
+    // POSITION and NORMAL deltas, (vertex, target) pairs of 6 floats.
     const size_t targets = p.targets.size();
     std::vector<float> morph;
     if (targets > kMaxGltfMorphTargets)
         return makeError(file_ + ": a primitive of " + label + " has " + std::to_string(targets) + " morph targets; at most " +
                          std::to_string(kMaxGltfMorphTargets) + " are read");
-    if (targets > 0) {
-        if (out.rig.morphDeltas.size() / 6 + n * targets > kMaxGltfMorphDeltas)
-            return makeError(file_ + ": more than " + std::to_string(kMaxGltfMorphDeltas) + " morph target vertices in all");
-        morph.assign(n * targets * 6, 0.0f);
-        for (size_t k = 0; k < targets; ++k) {
-            for (const char* attr : {"POSITION", "NORMAL"}) {
-                const auto it = p.targets[k].find(attr);
-                if (it == p.targets[k].end()) continue;
-                const std::string what = std::string(attr) + " of morph target " + std::to_string(k) + " of " + label;
-                auto d = floats(it->second, 3, what);
-                if (!d) return d.error();
-                if (d->size() != n * 3) return makeError(where(it->second, what) + ": " + std::to_string(d->size() / 3) +
-                                                         " elements for " + std::to_string(n) + " vertices");
-                const size_t off = attr[0] == 'P' ? 0 : 3;
-                for (size_t v = 0; v < n; ++v)
-                    for (size_t c = 0; c < 3; ++c) morph[(v * targets + k) * 6 + off + c] = (*d)[v * 3 + c];
-            }
+    if (targets == 0) return morph;
+    if (out.rig.morphDeltas.size() / 6 + n * targets > kMaxGltfMorphDeltas)
+        return makeError(file_ + ": more than " + std::to_string(kMaxGltfMorphDeltas) + " morph target vertices in all");
+    morph.assign(n * targets * 6, 0.0f);
+    for (size_t k = 0; k < targets; ++k) {
+        for (const char* attr : {"POSITION", "NORMAL"}) {
+            const auto it = p.targets[k].find(attr);
+            if (it == p.targets[k].end()) continue;
+            const std::string what = std::string(attr) + " of morph target " + std::to_string(k) + " of " + label;
+            auto d = floats(it->second, 3, what);
+            if (!d) return d.error();
+            if (d->size() != n * 3) return makeError(where(it->second, what) + ": " + std::to_string(d->size() / 3) +
+                                                     " elements for " + std::to_string(n) + " vertices");
+            const size_t off = attr[0] == 'P' ? 0 : 3;
+            for (size_t v = 0; v < n; ++v)
+                for (size_t c = 0; c < 3; ++c) morph[(v * targets + k) * 6 + off + c] = (*d)[v * 3 + c];
         }
     }
+    return morph;
+}
 
+Result<std::vector<uint32_t>> Reader::readIndices(const tinygltf::Primitive& p, const std::string& label, size_t n,
+                                                  const ModelData& out) {
     std::vector<uint32_t> idx;
     if (p.indices >= 0) {
         auto r = acc_.indices(p.indices, "indices of " + label, kMaxGltfIndices);
@@ -210,83 +260,85 @@ Result<void> Reader::readPrimitive(const tinygltf::Primitive& p, const std::stri
     }
     idx.resize(idx.size() / 3 * 3);
     if (out.indices.size() + idx.size() > kMaxGltfIndices) return makeError(file_ + ": more than " + std::to_string(kMaxGltfIndices) + " indices in all");
+    return idx;
+}
 
-    std::vector<ModelVertex> verts(n);
-    std::vector<ModelSkinVertex> skin(joints.empty() ? 0 : n);
-    uint32_t maxJoint = 0;
-    for (size_t i = 0; i < n; ++i) {
-        ModelVertex& v = verts[i];
-        for (int c = 0; c < 3; ++c) v.position[c] = (*positions)[i * 3 + size_t(c)];
-        if (!normals.empty()) for (int c = 0; c < 3; ++c) v.normal[c] = normals[i * 3 + size_t(c)];
+PrimitiveVertices buildVertices(const PrimitiveAttributes& a) {
+    PrimitiveVertices out;
+    out.vertices.resize(a.count);
+    out.skin.resize(a.joints.empty() ? 0 : a.count);
+    for (size_t i = 0; i < a.count; ++i) {
+        ModelVertex& v = out.vertices[i];
+        for (int c = 0; c < 3; ++c) v.position[c] = a.positions[i * 3 + size_t(c)];
+        if (!a.normals.empty()) for (int c = 0; c < 3; ++c) v.normal[c] = a.normals[i * 3 + size_t(c)];
         else v.normal[0] = v.normal[1] = v.normal[2] = 0.0f;
-        v.uv[0] = uvs.empty() ? 0.0f : uvs[i * 2];
-        v.uv[1] = uvs.empty() ? 0.0f : uvs[i * 2 + 1];
-        if (colors.empty()) v.color = 0xffffffffu;
+        v.uv[0] = a.uvs.empty() ? 0.0f : a.uvs[i * 2];
+        v.uv[1] = a.uvs.empty() ? 0.0f : a.uvs[i * 2 + 1];
+        if (a.colors.empty()) v.color = 0xffffffffu;
         else {
-            const float* c = &colors[i * size_t(colorComponents)];
-            v.color = packColor(c[0], c[1], c[2], colorComponents == 4 ? c[3] : 1.0f);
+            const float* c = &a.colors[i * size_t(a.colorComponents)];
+            v.color = packColor(c[0], c[1], c[2], a.colorComponents == 4 ? c[3] : 1.0f);
         }
-        if (!skin.empty()) {
-            for (int c = 0; c < 4; ++c) {
-                const float j = joints[i * 4 + size_t(c)], w = weights[i * 4 + size_t(c)];
-                skin[i].joints[c] = uint16_t(std::clamp(j, 0.0f, 65535.0f));
-                skin[i].weights[c] = std::isfinite(w) ? w : 0.0f;
-                if (skin[i].weights[c] != 0.0f) maxJoint = std::max<uint32_t>(maxJoint, skin[i].joints[c]);
-            }
+        if (out.skin.empty()) continue;
+        for (int c = 0; c < 4; ++c) {
+            const float j = a.joints[i * 4 + size_t(c)], w = a.weights[i * 4 + size_t(c)];
+            out.skin[i].joints[c] = uint16_t(std::clamp(j, 0.0f, 65535.0f));
+            out.skin[i].weights[c] = std::isfinite(w) ? w : 0.0f;
+            if (out.skin[i].weights[c] != 0.0f) out.maxJoint = std::max<uint32_t>(out.maxJoint, out.skin[i].joints[c]);
         }
     }
-    // No normals: flat ones (the spec's rule), so every triangle gets its own three vertices
-    // (skin and morph data follow their vertex; morphing does not turn flat normals).
-    if (normals.empty()) {
-        std::vector<ModelVertex> flat;
-        std::vector<ModelSkinVertex> flatSkin;
-        std::vector<float> flatMorph;
-        flat.reserve(idx.size());
-        for (size_t t = 0; t + 2 < idx.size(); t += 3) {
-            const glm::vec3 a = glm::make_vec3(verts[idx[t]].position), b = glm::make_vec3(verts[idx[t + 1]].position),
-                            c = glm::make_vec3(verts[idx[t + 2]].position);
-            glm::vec3 nrm = glm::cross(b - a, c - a);
-            const float len = glm::length(nrm);
-            nrm = len > 0.0f ? nrm / len : glm::vec3(0.0f, 1.0f, 0.0f);
-            for (int k = 0; k < 3; ++k) {
-                const uint32_t src = idx[t + size_t(k)];
-                ModelVertex v = verts[src];
-                v.normal[0] = nrm.x; v.normal[1] = nrm.y; v.normal[2] = nrm.z;
-                flat.push_back(v);
-                if (!skin.empty()) flatSkin.push_back(skin[src]);
-                if (!morph.empty()) flatMorph.insert(flatMorph.end(), morph.begin() + long(src * targets * 6), morph.begin() + long((src + 1) * targets * 6));
-            }
-        }
-        verts = std::move(flat);
-        skin = std::move(flatSkin);
-        morph = std::move(flatMorph);
-        for (size_t i = 0; i < idx.size(); ++i) idx[i] = uint32_t(i);
-        if (out.vertices.size() + verts.size() > kMaxGltfVertices) return makeError(file_ + ": more than " + std::to_string(kMaxGltfVertices) + " vertices in all");
-        if (out.rig.morphDeltas.size() / 6 + morph.size() / 6 > kMaxGltfMorphDeltas)
-            return makeError(file_ + ": more than " + std::to_string(kMaxGltfMorphDeltas) + " morph target vertices in all");
-    }
+    return out;
+}
 
+void flattenNormals(PrimitiveVertices& p, size_t targets) {
+    // Skin and morph data follow their vertex; morphing does not turn flat normals.
+    std::vector<ModelVertex> flat;
+    std::vector<ModelSkinVertex> flatSkin;
+    std::vector<float> flatMorph;
+    const std::vector<uint32_t>& idx = p.indices;
+    flat.reserve(idx.size());
+    for (size_t t = 0; t + 2 < idx.size(); t += 3) {
+        const glm::vec3 a = glm::make_vec3(p.vertices[idx[t]].position), b = glm::make_vec3(p.vertices[idx[t + 1]].position),
+                        c = glm::make_vec3(p.vertices[idx[t + 2]].position);
+        glm::vec3 nrm = glm::cross(b - a, c - a);
+        const float len = glm::length(nrm);
+        nrm = len > 0.0f ? nrm / len : glm::vec3(0.0f, 1.0f, 0.0f);
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t src = idx[t + size_t(k)];
+            ModelVertex v = p.vertices[src];
+            v.normal[0] = nrm.x; v.normal[1] = nrm.y; v.normal[2] = nrm.z;
+            flat.push_back(v);
+            if (!p.skin.empty()) flatSkin.push_back(p.skin[src]);
+            if (!p.morph.empty()) flatMorph.insert(flatMorph.end(), p.morph.begin() + long(src * targets * 6), p.morph.begin() + long((src + 1) * targets * 6));
+        }
+    }
+    p.vertices = std::move(flat);
+    p.skin = std::move(flatSkin);
+    p.morph = std::move(flatMorph);
+    for (size_t i = 0; i < p.indices.size(); ++i) p.indices[i] = uint32_t(i);
+}
+
+void Reader::appendPrimitive(const tinygltf::Primitive& p, PrimitiveVertices v, ModelData& out) const {
     ModelPrimitive prim;
     prim.firstIndex = uint32_t(out.indices.size());
-    prim.indexCount = uint32_t(idx.size());
+    prim.indexCount = uint32_t(v.indices.size());
     prim.vertexOffset = int32_t(out.vertices.size());
-    prim.vertexCount = uint32_t(verts.size());
+    prim.vertexCount = uint32_t(v.vertices.size());
     prim.material = (p.material >= 0 && size_t(p.material) < m_.materials.size()) ? p.material : -1;
-    prim.morphTargets = uint32_t(targets);
+    prim.morphTargets = uint32_t(p.targets.size());
     prim.morphBase = uint32_t(out.rig.morphDeltas.size() / 6);
-    prim.skinned = !skin.empty();
-    prim.maxJoint = maxJoint;
+    prim.skinned = !v.skin.empty();
+    prim.maxJoint = v.maxJoint;
     // Skin data stays parallel to the vertices once a skinned primitive has been read.
     if (prim.skinned || !out.rig.skinVertices.empty()) {
         out.rig.skinVertices.resize(out.vertices.size(), ModelSkinVertex{});   // zeros for the unskinned ones before
-        if (prim.skinned) out.rig.skinVertices.insert(out.rig.skinVertices.end(), skin.begin(), skin.end());
-        else out.rig.skinVertices.resize(out.rig.skinVertices.size() + verts.size(), ModelSkinVertex{});
+        if (prim.skinned) out.rig.skinVertices.insert(out.rig.skinVertices.end(), v.skin.begin(), v.skin.end());
+        else out.rig.skinVertices.resize(out.rig.skinVertices.size() + v.vertices.size(), ModelSkinVertex{});
     }
-    out.rig.morphDeltas.insert(out.rig.morphDeltas.end(), morph.begin(), morph.end());
-    out.vertices.insert(out.vertices.end(), verts.begin(), verts.end());
-    out.indices.insert(out.indices.end(), idx.begin(), idx.end());
+    out.rig.morphDeltas.insert(out.rig.morphDeltas.end(), v.morph.begin(), v.morph.end());
+    out.vertices.insert(out.vertices.end(), v.vertices.begin(), v.vertices.end());
+    out.indices.insert(out.indices.end(), v.indices.begin(), v.indices.end());
     out.primitives.push_back(prim);
-    return {};
 }
 
 void Reader::readTextures(ModelData& out) {
@@ -389,6 +441,19 @@ Result<void> Reader::walk(int node, const glm::dmat4& parent, int depth, ModelDa
     return {};
 }
 
+std::vector<int> Reader::rootNodes() const {
+    if (!m_.scenes.empty()) {
+        const int s = (m_.defaultScene >= 0 && size_t(m_.defaultScene) < m_.scenes.size()) ? m_.defaultScene : 0;
+        return m_.scenes[size_t(s)].nodes;
+    }
+    // No scene: every node that is nobody's child.
+    std::vector<int> roots;
+    std::vector<bool> child(m_.nodes.size(), false);
+    for (const auto& n : m_.nodes) for (int c : n.children) if (c >= 0 && size_t(c) < child.size()) child[size_t(c)] = true;
+    for (size_t i = 0; i < m_.nodes.size(); ++i) if (!child[i]) roots.push_back(int(i));
+    return roots;
+}
+
 Result<ModelData> Reader::read() {
     ModelData out;
     out.file = file_;
@@ -427,16 +492,7 @@ Result<ModelData> Reader::read() {
     }
     out.boundsMin = glm::dvec3(std::numeric_limits<double>::max());
     out.boundsMax = glm::dvec3(-std::numeric_limits<double>::max());
-    std::vector<int> roots;
-    if (!m_.scenes.empty()) {
-        const int s = (m_.defaultScene >= 0 && size_t(m_.defaultScene) < m_.scenes.size()) ? m_.defaultScene : 0;
-        roots = m_.scenes[size_t(s)].nodes;
-    } else {   // no scene: every node that is nobody's child
-        std::vector<bool> child(m_.nodes.size(), false);
-        for (const auto& n : m_.nodes) for (int c : n.children) if (c >= 0 && size_t(c) < child.size()) child[size_t(c)] = true;
-        for (size_t i = 0; i < m_.nodes.size(); ++i) if (!child[i]) roots.push_back(int(i));
-    }
-    for (int r : roots) {
+    for (int r : rootNodes()) {
         if (auto w = walk(r, glm::dmat4(1.0), 0, out); !w) return w.error();
     }
     if (out.draws.empty()) return makeError(file_ + ": the scene has no triangles to draw");

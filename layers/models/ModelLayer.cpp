@@ -69,7 +69,10 @@ bool ModelLayer::drawsIn(scene::Pass pass) const {
 
 void ModelLayer::onPrepare(const render::RenderServices& services) {
     uploadModel(services);
+    createFrameSets(services);
+    createMaterialSets(*services.device);
     buildPipelines(services);
+    if (settings_.path.show || settings_.label) buildLinePipelines(services);
 }
 
 void ModelLayer::uploadModel(const render::RenderServices& services) {
@@ -104,7 +107,36 @@ void ModelLayer::uploadModel(const render::RenderServices& services) {
                                    gpu::MemoryUsage::GpuOnly, "model morph deltas");
         gpuBytes_ += sbytes + mbytes;
     }
+    device.runOnce([&](VkCommandBuffer cmd) {
+        services.uploader->toBuffer(cmd, vertices_, model_.vertices.data(), vbytes);
+        services.uploader->toBuffer(cmd, indices_, model_.indices.data(), ibytes);
+        services.uploader->toBuffer(cmd, nodes_, nodes.data(), nbytes);
+        if (model_.animated()) {
+            services.uploader->toBuffer(cmd, skinVertices_, skin.data(), sbytes);
+            services.uploader->toBuffer(cmd, morphDeltas_, morph.data(), mbytes);
+            gpu::bufferBarrier(cmd, skinVertices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                               VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
+            gpu::bufferBarrier(cmd, morphDeltas_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                               VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+        }
+        gpu::bufferBarrier(cmd, vertices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
+        gpu::bufferBarrier(cmd, indices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_INDEX_READ_BIT);
+        gpu::bufferBarrier(cmd, nodes_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    });
+    uploadTextures(services);
+    // On the GPU now; keep the draw list and materials (and the bounds) for recording.
+    model_.vertices = {};
+    model_.indices = {};
+    model_.rig.skinVertices = {};
+    model_.rig.morphDeltas = {};
+    for (auto& t : model_.textures) t.mips = {};
+}
 
+void ModelLayer::uploadTextures(const render::RenderServices& services) {
+    gpu::Device& device = *services.device;
     // Textures: the model's, then one white texel for untextured materials.
     std::vector<const models::ModelTexture*> sources;
     for (const auto& t : model_.textures) sources.push_back(&t);
@@ -124,23 +156,6 @@ void ModelLayer::uploadModel(const render::RenderServices& services) {
     }
 
     device.runOnce([&](VkCommandBuffer cmd) {
-        services.uploader->toBuffer(cmd, vertices_, model_.vertices.data(), vbytes);
-        services.uploader->toBuffer(cmd, indices_, model_.indices.data(), ibytes);
-        services.uploader->toBuffer(cmd, nodes_, nodes.data(), nbytes);
-        if (model_.animated()) {
-            services.uploader->toBuffer(cmd, skinVertices_, skin.data(), sbytes);
-            services.uploader->toBuffer(cmd, morphDeltas_, morph.data(), mbytes);
-            gpu::bufferBarrier(cmd, skinVertices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                               VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
-            gpu::bufferBarrier(cmd, morphDeltas_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                               VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-        }
-        gpu::bufferBarrier(cmd, vertices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                           VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
-        gpu::bufferBarrier(cmd, indices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                           VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_INDEX_READ_BIT);
-        gpu::bufferBarrier(cmd, nodes_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                           VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
         for (size_t i = 0; i < sources.size(); ++i) {
             const models::ModelTexture& t = *sources[i];
             std::vector<uint8_t> blob;
@@ -158,51 +173,30 @@ void ModelLayer::uploadModel(const render::RenderServices& services) {
             gpuBytes_ += blob.size();
         }
     });
-    // On the GPU now; keep the draw list and materials (and the bounds) for recording.
-    model_.vertices = {};
-    model_.indices = {};
-    model_.rig.skinVertices = {};
-    model_.rig.morphDeltas = {};
-    for (auto& t : model_.textures) t.mips = {};
 }
 
-void ModelLayer::buildPipelines(const render::RenderServices& services) {
+void ModelLayer::createFrameSets(const render::RenderServices& services) {
     gpu::Device& device = *services.device;
-    // Samplers: repeat (glTF's default) and clamp, trilinear.
-    repeatSampler_ = gpu::createSampler(device, {.address = VK_SAMPLER_ADDRESS_MODE_REPEAT, .mipmaps = true});
-    clampSampler_ = gpu::createSampler(device, {.mipmaps = true});
-
     const uint32_t frames = services.framesInFlight;
     // Static models: instances and node matrices; animated ones: instances, poses, morph deltas.
     const bool animated = model_.animated();
-    const std::vector<uint32_t> bindings = animated ? std::vector<uint32_t>{0, 2, 3} : std::vector<uint32_t>{0, 1};
-    std::vector<VkDescriptorSetLayoutBinding> frameBindings;
-    for (uint32_t b : bindings) frameBindings.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr});
-    frameSets_ = gpu::createDescriptorSets(device, frameBindings, frames);
+    frameSets_ = animated ? gpu::createDescriptorSets(device, shader::kModelAnimatedBindings, frames)
+                          : gpu::createDescriptorSets(device, shader::kModelStaticBindings, frames);
     for (uint32_t f = 0; f < frames; ++f) {
         instanceBuffers_.emplace_back(device, uint64_t(maxCopies_) * sizeof(shader::ModelInstance),
                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Upload, "model instances");
         gpuBytes_ += instanceBuffers_.back().size();
+        gpu::DescriptorWriter w(frameSets_.sets[f]);
+        w.storageBuffer(shader::kModelBindingInstances, instanceBuffers_[f]);
         if (animated) {
             poseBuffers_.emplace_back(device, uint64_t(poseCapacity_) * poser_->layout().vec4s * sizeof(glm::vec4),
                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Upload, "model poses");
             gpuBytes_ += poseBuffers_.back().size();
+            w.storageBuffer(shader::kModelBindingPoses, poseBuffers_[f]).storageBuffer(shader::kModelBindingMorphDeltas, morphDeltas_);
+        } else {
+            w.storageBuffer(shader::kModelBindingNodes, nodes_);
         }
-        std::vector<VkDescriptorBufferInfo> infos;
-        for (uint32_t b : bindings) {
-            const gpu::Buffer& buffer = b == 0 ? instanceBuffers_[f] : b == 1 ? nodes_ : b == 2 ? poseBuffers_[f] : morphDeltas_;
-            infos.push_back({buffer.vk(), 0, VK_WHOLE_SIZE});
-        }
-        std::vector<VkWriteDescriptorSet> w(bindings.size());
-        for (size_t b = 0; b < bindings.size(); ++b) {
-            w[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-            w[b].dstSet = frameSets_.sets[f];
-            w[b].dstBinding = bindings[b];
-            w[b].descriptorCount = 1;
-            w[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-            w[b].pBufferInfo = &infos[b];
-        }
-        vkUpdateDescriptorSets(device.vk(), uint32_t(w.size()), w.data(), 0, nullptr);
+        w.update(device);
         if (settings_.path.show) {
             pathBuffers_.emplace_back(device, uint64_t(settings_.path.maxPoints) * sizeof(shader::PolylineVertex),
                                       VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, gpu::MemoryUsage::Upload, "model path");
@@ -214,24 +208,25 @@ void ModelLayer::buildPipelines(const render::RenderServices& services) {
             gpuBytes_ += labelBuffers_.back().size();
         }
     }
+}
 
-    const VkDescriptorSetLayoutBinding materialBinding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1,
-                                                       VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
-    materialSets_ = gpu::createDescriptorSets(device, {&materialBinding, 1}, uint32_t(textures_.size()));
+void ModelLayer::createMaterialSets(gpu::Device& device) {
+    // Samplers: repeat (glTF's default) and clamp, trilinear.
+    repeatSampler_ = gpu::createSampler(device, {.address = VK_SAMPLER_ADDRESS_MODE_REPEAT, .mipmaps = true});
+    clampSampler_ = gpu::createSampler(device, {.mipmaps = true});
+    materialSets_ = gpu::createDescriptorSets(device, shader::kModelMaterialBindings, uint32_t(textures_.size()));
     for (size_t i = 0; i < textures_.size(); ++i) {
         const bool repeat = i < model_.textures.size() ? (model_.textures[i].repeatU || model_.textures[i].repeatV) : false;
         textures_[i].set = materialSets_.sets[i];
-        VkDescriptorImageInfo info{repeat ? repeatSampler_.vk() : clampSampler_.vk(), textures_[i].image.view(),
-                                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-        VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-        w.dstSet = textures_[i].set;
-        w.dstBinding = 0;
-        w.descriptorCount = 1;
-        w.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-        w.pImageInfo = &info;
-        vkUpdateDescriptorSets(device.vk(), 1, &w, 0, nullptr);
+        gpu::DescriptorWriter(textures_[i].set)
+            .sampledImage(shader::kModelBindingBaseColor, repeat ? repeatSampler_.vk() : clampSampler_.vk(), textures_[i].image.view())
+            .update(device);
     }
+}
 
+void ModelLayer::buildPipelines(const render::RenderServices& services) {
+    gpu::Device& device = *services.device;
+    const bool animated = model_.animated();
     const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(shader::ModelPush)};
     const VkDescriptorSetLayout sets[] = {services.frameSetLayout, frameSets_.layout.vk(), materialSets_.layout.vk()};
     layout_ = gpu::createPipelineLayout(device, sets, {&push, 1});
@@ -241,10 +236,10 @@ void ModelLayer::buildPipelines(const render::RenderServices& services) {
     d.fragmentSpirv = kSpv_models_model_frag;
     d.layout = layout_.vk();
     d.bindings = {{0, sizeof(models::ModelVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-    d.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(models::ModelVertex, position)},
-                    {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(models::ModelVertex, normal)},
-                    {2, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(models::ModelVertex, uv)},
-                    {3, 0, VK_FORMAT_R8G8B8A8_UNORM, offsetof(models::ModelVertex, color)}};
+    d.attributes = {{shader::kModelInputPosition, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(models::ModelVertex, position)},
+                    {shader::kModelInputNormal, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(models::ModelVertex, normal)},
+                    {shader::kModelInputUv, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(models::ModelVertex, uv)},
+                    {shader::kModelInputColor, 0, VK_FORMAT_R8G8B8A8_UNORM, offsetof(models::ModelVertex, color)}};
     if (animated) {
         // Stride 0 when nothing is skinned: every vertex reads the one zero element.
         const uint32_t stride = model_.primitives.empty() || !std::any_of(model_.draws.begin(), model_.draws.end(),
@@ -252,8 +247,8 @@ void ModelLayer::buildPipelines(const render::RenderServices& services) {
                                     ? 0u
                                     : uint32_t(sizeof(models::ModelSkinVertex));
         d.bindings.push_back({1, stride, VK_VERTEX_INPUT_RATE_VERTEX});
-        d.attributes.push_back({4, 1, VK_FORMAT_R16G16B16A16_UINT, offsetof(models::ModelSkinVertex, joints)});
-        d.attributes.push_back({5, 1, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(models::ModelSkinVertex, weights)});
+        d.attributes.push_back({shader::kModelInputJoints, 1, VK_FORMAT_R16G16B16A16_UINT, offsetof(models::ModelSkinVertex, joints)});
+        d.attributes.push_back({shader::kModelInputWeights, 1, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(models::ModelSkinVertex, weights)});
     }
     // Both faces: double-sided materials and mirrored nodes need them, and a closed mesh loses
     // its back faces to the depth test anyway.
@@ -272,36 +267,37 @@ void ModelLayer::buildPipelines(const render::RenderServices& services) {
     // Only models with BLEND materials, or drawn translucent, build the blending pipeline.
     if (anyBlend) blend_ = gpu::createGraphicsPipeline(device, d);
     if (settings_.opacity < 1.0) buildTranslucentPipelines();
+}
 
-    if (settings_.path.show || settings_.label) {
-        const VkDescriptorSetLayout lineSets[] = {services.frameSetLayout};
-        lineLayout_ = gpu::createPipelineLayout(device, lineSets, {});
-        gpu::GraphicsPipelineDesc l;
-        l.vertexSpirv = kSpv_common_polyline_vert;
-        l.fragmentSpirv = kSpv_common_polyline_frag;
-        l.layout = lineLayout_.vk();
-        l.bindings = {{0, sizeof(shader::PolylineVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-        l.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, position)},
-                        {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, color)}};
-        l.cullMode = VK_CULL_MODE_NONE;
-        l.alphaBlend = true;
-        l.depthWrite = false;
-        l.colorFormat = services.colorFormat;
-        l.depthFormat = services.depthFormat;
-        if (settings_.path.show) {
-            l.topology = VK_PRIMITIVE_TOPOLOGY_LINE_STRIP;
-            l.name = "model path";
-            path_ = gpu::createGraphicsPipeline(device, l);
-        }
-        if (settings_.label) {
-            gpu::Specialization screen;
-            screen.set<VkBool32>(0, VK_TRUE);
-            l.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-            l.depthTest = false;
-            l.specialization = &screen;
-            l.name = "model label";
-            label_ = gpu::createGraphicsPipeline(device, l);
-        }
+void ModelLayer::buildLinePipelines(const render::RenderServices& services) {
+    gpu::Device& device = *services.device;
+    const VkDescriptorSetLayout lineSets[] = {services.frameSetLayout};
+    lineLayout_ = gpu::createPipelineLayout(device, lineSets, {});
+    gpu::GraphicsPipelineDesc l;
+    l.vertexSpirv = kSpv_common_polyline_vert;
+    l.fragmentSpirv = kSpv_common_polyline_frag;
+    l.layout = lineLayout_.vk();
+    l.bindings = {{0, sizeof(shader::PolylineVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
+    l.attributes = {{shader::kPolylineInputPosition, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, position)},
+                    {shader::kPolylineInputColor, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(shader::PolylineVertex, color)}};
+    l.cullMode = VK_CULL_MODE_NONE;
+    l.alphaBlend = true;
+    l.depthWrite = false;
+    l.colorFormat = services.colorFormat;
+    l.depthFormat = services.depthFormat;
+    if (settings_.path.show) {
+        l.topology = VK_PRIMITIVE_TOPOLOGY_LINE_STRIP;
+        l.name = "model path";
+        path_ = gpu::createGraphicsPipeline(device, l);
+    }
+    if (settings_.label) {
+        gpu::Specialization screen;
+        screen.set<VkBool32>(shader::kPolylineSpecScreen, VK_TRUE);
+        l.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+        l.depthTest = false;
+        l.specialization = &screen;
+        l.name = "model label";
+        label_ = gpu::createGraphicsPipeline(device, l);
     }
 }
 
@@ -358,7 +354,7 @@ void ModelLayer::update(const scene::FrameContext& frame) {
     poseData_.clear();
     poseOfTime_.clear();
     poseCount_ = 0;
-    const glm::vec4 tint = linearColor(settings_.color, 1.0);
+    const glm::vec3 tint(linearColor(settings_.color, 1.0));
     for (uint32_t i = 0; i < maxCopies_; ++i) {
         const TimeNs t = frame.time - fromSeconds(double(i) * settings_.copySpacingSeconds);
         const auto pose = motion_->pose(t, ground);
@@ -380,10 +376,10 @@ void ModelLayer::update(const scene::FrameContext& frame) {
         if (i != 0) copyTransforms_.push_back(m);
         glm::dmat4 toEye = m;
         toEye[3] = glm::dvec4(pose->position - eye_, 1.0);   // large minus large, in double
-        shader::ModelInstance inst;
+        shader::ModelInstance inst{};
         inst.modelToEye = glm::mat4(toEye);
         inst.tint = tint;
-        inst.pose = glm::uvec4(poser_ ? poseFor(t) : 0u, 0u, 0u, 0u);
+        inst.poseBase = poser_ ? poseFor(t) : 0u;
         append(instanceData_, inst);
     }
     drawnCopies_ = uint32_t(instanceData_.size() / sizeof(shader::ModelInstance));
@@ -489,56 +485,13 @@ void ModelLayer::record(scene::Pass pass, const render::RecordContext& rc) {
         return;
     }
     if (drawnCopies_ > 0) {
-        const VkDescriptorSet sets[] = {rc.frameSet, frameSets_.sets[rc.slot]};
-        const VkBuffer vb = vertices_.vk();
-        const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
         // Opaque and masked materials first, then blended ones over them. A translucent model
         // (opacity below 1) lays down its depth first, then blends every material where it is
         // the nearest surface.
         const bool translucent = settings_.opacity < 1.0;
         for (const bool blended : {false, true}) {
             const gpu::Pipeline& pipeline = blended ? blend_ : translucent ? depthOnly_ : opaque_;
-            if (!pipeline) continue;
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.vk());
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
-            vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
-            if (poser_) {
-                const VkBuffer sb = skinVertices_.vk();
-                vkCmdBindVertexBuffers(cmd, 1, 1, &sb, &zero);
-            }
-            vkCmdBindIndexBuffer(cmd, indices_.vk(), 0, VK_INDEX_TYPE_UINT32);
-            VkDescriptorSet boundMaterial = VK_NULL_HANDLE;
-            for (uint32_t di = 0; di < model_.draws.size(); ++di) {
-                const models::ModelDraw& draw = model_.draws[di];
-                const models::ModelPrimitive& prim = model_.primitives[draw.primitive];
-                const models::ModelMaterial* mat = prim.material >= 0 ? &model_.materials[size_t(prim.material)] : nullptr;
-                const bool isBlend = mat && mat->alphaMode == models::AlphaMode::Blend;
-                if (!translucent && isBlend != blended) continue;
-                if (translucent && !blended && isBlend) continue;   // BLEND materials do not hide
-                const int tex = mat ? mat->baseColorTexture : -1;
-                const VkDescriptorSet set = textures_[tex >= 0 ? size_t(tex) : textures_.size() - 1].set;
-                if (set != boundMaterial) {
-                    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 2, 1, &set, 0, nullptr);
-                    boundMaterial = set;
-                }
-                shader::ModelPush push{};
-                push.baseColor = mat ? mat->baseColorFactor : glm::vec4(1.0f);
-                push.baseColor.a *= float(settings_.opacity);
-                push.params = glm::vec4(mat && mat->alphaMode == models::AlphaMode::Mask ? mat->alphaCutoff : -1.0f,
-                                        mat && mat->unlit ? 1.0f : 0.0f, settings_.sunLighting ? 1.0f : 0.0f,
-                                        tex >= 0 ? 1.0f : 0.0f);
-                push.ids = glm::uvec4(di, 0, 0, 0);
-                if (poser_) {
-                    const models::PoseLayout& l = poser_->layout();
-                    const bool morphs = l.drawWeights[di] != models::kPoseNone;
-                    const uint32_t targets = morphs ? prim.morphTargets : 0u;
-                    push.ids = glm::uvec4(l.drawMatrix[di], l.drawJoints[di], targets, morphs ? l.drawWeights[di] : 0u);
-                    // Wraps modulo 2^32 like the shader's uint arithmetic.
-                    push.morph.x = prim.morphBase - uint32_t(prim.vertexOffset) * targets;
-                }
-                vkCmdPushConstants(cmd, layout_.vk(), stages, 0, sizeof(push), &push);
-                vkCmdDrawIndexed(cmd, prim.indexCount, drawnCopies_, prim.firstIndex, prim.vertexOffset, 0);
-            }
+            if (pipeline) drawCopies(rc, pipeline, blended);
         }
     }
     if (pathVertices_ > 1) {
@@ -548,6 +501,63 @@ void ModelLayer::record(scene::Pass pass, const render::RecordContext& rc) {
         vkCmdBindVertexBuffers(cmd, 0, 1, &b, &zero);
         vkCmdDraw(cmd, pathVertices_, 1, 0, 0);
     }
+}
+
+void ModelLayer::drawCopies(const render::RecordContext& rc, const gpu::Pipeline& pipeline, bool blended) {
+    VkCommandBuffer cmd = rc.cmd;
+    const VkDeviceSize zero = 0;
+    const VkDescriptorSet sets[] = {rc.frameSet, frameSets_.sets[rc.slot]};
+    const VkBuffer vb = vertices_.vk();
+    const bool translucent = settings_.opacity < 1.0;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.vk());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
+    vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
+    if (poser_) {
+        const VkBuffer sb = skinVertices_.vk();
+        vkCmdBindVertexBuffers(cmd, 1, 1, &sb, &zero);
+    }
+    vkCmdBindIndexBuffer(cmd, indices_.vk(), 0, VK_INDEX_TYPE_UINT32);
+    VkDescriptorSet boundMaterial = VK_NULL_HANDLE;
+    for (uint32_t di = 0; di < model_.draws.size(); ++di) {
+        const models::ModelPrimitive& prim = model_.primitives[model_.draws[di].primitive];
+        const models::ModelMaterial* mat = prim.material >= 0 ? &model_.materials[size_t(prim.material)] : nullptr;
+        const bool isBlend = mat && mat->alphaMode == models::AlphaMode::Blend;
+        if (!translucent && isBlend != blended) continue;
+        if (translucent && !blended && isBlend) continue;   // BLEND materials do not hide
+        const int tex = mat ? mat->baseColorTexture : -1;
+        const VkDescriptorSet set = textures_[tex >= 0 ? size_t(tex) : textures_.size() - 1].set;
+        if (set != boundMaterial) {
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 2, 1, &set, 0, nullptr);
+            boundMaterial = set;
+        }
+        const shader::ModelPush push = drawPush(di, mat);
+        vkCmdPushConstants(cmd, layout_.vk(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(push), &push);
+        vkCmdDrawIndexed(cmd, prim.indexCount, drawnCopies_, prim.firstIndex, prim.vertexOffset, 0);
+    }
+}
+
+shader::ModelPush ModelLayer::drawPush(uint32_t di, const models::ModelMaterial* mat) const {
+    const models::ModelPrimitive& prim = model_.primitives[model_.draws[di].primitive];
+    shader::ModelPush push{};
+    push.baseColor = mat ? mat->baseColorFactor : glm::vec4(1.0f);
+    push.baseColor.a *= float(settings_.opacity);
+    push.alphaCutoff = mat && mat->alphaMode == models::AlphaMode::Mask ? mat->alphaCutoff : -1.0f;
+    push.unlit = mat && mat->unlit ? 1u : 0u;
+    push.sunLighting = settings_.sunLighting ? 1u : 0u;
+    push.textured = mat && mat->baseColorTexture >= 0 ? 1u : 0u;
+    push.node = di;
+    if (poser_) {
+        const models::PoseLayout& l = poser_->layout();
+        const bool morphs = l.drawWeights[di] != models::kPoseNone;
+        const uint32_t targets = morphs ? prim.morphTargets : 0u;
+        push.node = l.drawMatrix[di];
+        push.joints = l.drawJoints[di];
+        push.morphTargets = targets;
+        push.morphWeights = morphs ? l.drawWeights[di] : 0u;
+        // Wraps modulo 2^32 like the shader's uint arithmetic.
+        push.morphBase = prim.morphBase - uint32_t(prim.vertexOffset) * targets;
+    }
+    return push;
 }
 
 uint64_t ModelLayer::gpuBytes() const { return gpuBytes_; }
@@ -598,12 +608,12 @@ std::string ModelLayer::status() const {
 bool ModelLayer::setParameter(std::string_view name, double value) {
     // Both are read every frame (the copies' transforms, the label's height, tracked poses).
     // The ranges are the scene file's (create()), so that a saved scene loads again.
-    if (name == "scale" && value >= 1e-6 && value <= 1e6) {
+    if (name == "scale" && kScaleRange.contains(value)) {
         settings_.scale = value;
         motion_->setFootprint(footprint());
     }
-    else if (name == "minimumPixelSize" && value >= 0.0 && value <= 1024.0) settings_.minimumPixelSize = value;
-    else if (name == "opacity" && value >= 0.0 && value <= 1.0) settings_.opacity = value;
+    else if (name == "minimumPixelSize" && kMinimumPixelSizeRange.contains(value)) settings_.minimumPixelSize = value;
+    else if (name == "opacity" && kOpacityRange.contains(value)) settings_.opacity = value;
     else return false;
     return true;
 }
@@ -611,11 +621,11 @@ bool ModelLayer::setParameter(std::string_view name, double value) {
 std::vector<scene::LayerSetting> ModelLayer::liveSettings() const {
     using Kind = scene::LayerSetting::Kind;
     return {
-        {.name = "scale", .label = "Scale", .kind = Kind::Number, .value = settings_.scale, .min = 1e-6, .max = 1e6,
+        {.name = "scale", .label = "Scale", .kind = Kind::Number, .value = settings_.scale, .min = kScaleRange.min, .max = kScaleRange.max,
          .logarithmic = true},
         {.name = "minimumPixelSize", .label = "Minimum size (px)", .kind = Kind::Number,
-         .value = settings_.minimumPixelSize, .min = 0.0, .max = 1024.0},
-        {.name = "opacity", .label = "Opacity", .kind = Kind::Number, .value = settings_.opacity, .min = 0.0, .max = 1.0},
+         .value = settings_.minimumPixelSize, .min = kMinimumPixelSizeRange.min, .max = kMinimumPixelSizeRange.max},
+        {.name = "opacity", .label = "Opacity", .kind = Kind::Number, .value = settings_.opacity, .min = kOpacityRange.min, .max = kOpacityRange.max},
     };
 }
 

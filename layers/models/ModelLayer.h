@@ -62,10 +62,12 @@
 #include "engine/gpu/Image.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/LayerRegistry.h"
+#include "engine/scene/LayerSetting.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/models/GltfAnimation.h"
 #include "layers/models/GltfModel.h"
 #include "layers/models/ModelMotion.h"
+#include "shared/ModelTypes.h"
 
 #include <memory>
 #include <optional>
@@ -109,6 +111,12 @@ class ModelLayer : public scene::Layer, public scene::LiveSettings, public scene
 public:
     /// The scene type: its name, description, factory (create) and the files its object names.
     static scene::LayerType layerType();
+    /// The ranges its numeric settings may take, the same for the scene file (create), a live
+    /// edit (setParameter) and the panel (liveSettings).
+    static constexpr scene::SettingRange kScaleRange{1e-6, 1e6};
+    static constexpr scene::SettingRange kMinimumPixelSizeRange{0.0, 1024.0};
+    static constexpr scene::SettingRange kOpacityRange{0.0, 1.0};
+
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
     ModelLayer(ModelSettings settings, models::ModelData model, std::unique_ptr<models::ModelMotion> motion);
@@ -150,8 +158,15 @@ private:
         gpu::Image image;
         VkDescriptorSet set = VK_NULL_HANDLE;
     };
+    void createFrameSets(const render::RenderServices& services);
+    void createMaterialSets(gpu::Device& device);
     void buildPipelines(const render::RenderServices& services);
+    void buildLinePipelines(const render::RenderServices& services);
     void uploadModel(const render::RenderServices& services);
+    void uploadTextures(const render::RenderServices& services);
+    /// The copies' draws of the materials `blended` selects, with `pipeline`.
+    void drawCopies(const render::RecordContext& rc, const gpu::Pipeline& pipeline, bool blended);
+    shader::ModelPush drawPush(uint32_t draw, const models::ModelMaterial* material) const;
     /// Half the model's extent along the body's x and y axes at the layer's scale: the
     /// footprint on which a vehicle on the ground follows the terrain's slope.
     motion::Footprint footprint() const;

@@ -130,8 +130,12 @@ Result<models::AnimationPlayback> resolveAnimation(const AnimationChoice& c, con
             if (anims[i].name == *c.name) p.animation = int(i);
         if (p.animation < 0) {
             std::string names;
-            for (size_t i = 0; i < anims.size(); ++i)
-                names.append(i ? ", " : "").append(anims[i].name.empty() ? '#' + std::to_string(i) : '"' + anims[i].name + '"');
+            for (size_t i = 0; i < anims.size(); ++i) {
+                // Appended piece by piece: GCC 12 warns (-Wrestrict, a false positive) on "literal" + a temporary.
+                if (i) names += ", ";
+                if (anims[i].name.empty()) names.append("#").append(std::to_string(i));
+                else names.append("\"").append(anims[i].name).append("\"");
+            }
             return makeError(where + "/animation/name: " + model.file + " has no animation \"" + *c.name + "\" (it has " + names + ")");
         }
     } else if (c.index) {
@@ -148,27 +152,7 @@ Result<models::AnimationPlayback> resolveAnimation(const AnimationChoice& c, con
     return p;
 }
 
-}  // namespace
-
-Result<std::unique_ptr<scene::Layer>> ModelLayer::create(const scene::LayerDesc& desc, const scene::SceneDesc& scene) {
-    scene::JsonReader r(desc.settings, scene.file.string(), desc.jsonPath);
-    for (const char* common : {"type", "name", "visible", "viewpoint"}) r.accept(common);
-    ModelSettings s;
-    s.name = desc.name;
-    const auto file = r.string("file");
-    if (r.ok() && (!file || file->empty())) r.fail("file", "name the glTF model (.glb or .gltf)");
-    s.scale = r.number("scale", 1.0, 1e-6, 1e6).value_or(1.0);
-    s.minimumPixelSize = r.number("minimumPixelSize", 0.0, 0.0, 1024.0).value_or(0.0);
-    s.opacity = r.number("opacity", 1.0, 0.0, 1.0).value_or(1.0);
-    if (auto o = r.numbers("orientation", 3, std::vector<double>{0, 0, 0}); o && o->size() == 3) {
-        s.orientationDeg = {(*o)[0], (*o)[1], (*o)[2]};
-    }
-    s.color = color(r, "color", s.color).value_or(s.color);
-    if (auto l = r.string("lighting", std::string("sun"))) {
-        if (*l == "sun") s.sunLighting = true;
-        else if (*l == "headlight") s.sunLighting = false;
-        else r.fail("lighting", "expected \"sun\" or \"headlight\", got \"" + *l + "\"");
-    }
+Result<void> readCopiesAndPath(scene::JsonReader& r, const scene::LayerDesc& desc, const scene::SceneDesc& scene, ModelSettings& s) {
     if (const auto* copies = r.object("copies")) {
         scene::JsonReader c(*copies, scene.file.string(), desc.jsonPath + "/copies");
         s.copies = uint32_t(c.number("count", 1.0, 1.0, 100000.0).value_or(1.0));
@@ -184,6 +168,70 @@ Result<std::unique_ptr<scene::Layer>> ModelLayer::create(const scene::LayerDesc&
         s.path.maxPoints = uint32_t(p.number("maxPoints", 4096.0, 2.0, 1e6).value_or(4096.0));
         if (auto done = p.finish(); !done) return done.error();
     }
+    return {};
+}
+
+/// Where the model is: exactly one of "position" (with "attitude" and "altitude"),
+/// "trajectory" and "live".
+struct Placement {
+    bool hasPosition = false, hasTrajectory = false, hasLive = false;
+    std::optional<std::vector<double>> position, attitude;
+    std::optional<motion::AltitudeRef> altitude;
+};
+
+Placement readPlacement(scene::JsonReader& r) {
+    Placement p;
+    p.hasPosition = r.has("position"), p.hasTrajectory = r.has("trajectory"), p.hasLive = r.has("live");
+    if (int(p.hasPosition) + int(p.hasTrajectory) + int(p.hasLive) != 1 && r.ok()) {
+        r.fail("position", "give exactly one of \"position\", \"trajectory\" or \"live\"");
+    }
+    if (p.hasPosition) {
+        p.position = r.numbers("position", 3);
+        p.attitude = r.numbers("attitude", 3, std::vector<double>{0, 0, 0});
+        p.altitude = altitudeRef(r, "altitude", false);
+        if (p.position && p.position->size() == 3 && (std::abs((*p.position)[1]) > 90.0 || std::abs((*p.position)[0]) > 360.0)) {
+            r.fail("position", "expected [longitude, latitude, height] with latitude in [-90, 90]");
+        }
+    }
+    if (p.hasTrajectory) r.accept("trajectory");
+    if (p.hasLive) r.accept("live");
+    return p;
+}
+
+/// The motion of a placement that passed its reader's checks.
+Result<std::unique_ptr<models::ModelMotion>> makeMotion(const Placement& placement, const scene::LayerDesc& desc,
+                                                        const scene::SceneDesc& scene) {
+    if (placement.hasPosition) {
+        const auto& p = *placement.position;
+        const auto& a = *placement.attitude;
+        return models::makeFixedMotion(p[0], p[1], p[2], placement.altitude == motion::AltitudeRef::Ground, a[0], a[1], a[2]);
+    }
+    if (placement.hasTrajectory) return trajectoryMotion(desc.settings["trajectory"], desc, scene);
+    return models::makeLiveMotion(desc.settings["live"], scene.file.string(), desc.jsonPath + "/live");
+}
+
+}  // namespace
+
+Result<std::unique_ptr<scene::Layer>> ModelLayer::create(const scene::LayerDesc& desc, const scene::SceneDesc& scene) {
+    scene::JsonReader r(desc.settings, scene.file.string(), desc.jsonPath);
+    for (const char* common : {"type", "name", "visible", "viewpoint"}) r.accept(common);
+    ModelSettings s;
+    s.name = desc.name;
+    const auto file = r.string("file");
+    if (r.ok() && (!file || file->empty())) r.fail("file", "name the glTF model (.glb or .gltf)");
+    s.scale = r.number("scale", 1.0, kScaleRange.min, kScaleRange.max).value_or(1.0);
+    s.minimumPixelSize = r.number("minimumPixelSize", 0.0, kMinimumPixelSizeRange.min, kMinimumPixelSizeRange.max).value_or(0.0);
+    s.opacity = r.number("opacity", 1.0, kOpacityRange.min, kOpacityRange.max).value_or(1.0);
+    if (auto o = r.numbers("orientation", 3, std::vector<double>{0, 0, 0}); o && o->size() == 3) {
+        s.orientationDeg = {(*o)[0], (*o)[1], (*o)[2]};
+    }
+    s.color = color(r, "color", s.color).value_or(s.color);
+    if (auto l = r.string("lighting", std::string("sun"))) {
+        if (*l == "sun") s.sunLighting = true;
+        else if (*l == "headlight") s.sunLighting = false;
+        else r.fail("lighting", "expected \"sun\" or \"headlight\", got \"" + *l + "\"");
+    }
+    if (auto done = readCopiesAndPath(r, desc, scene, s); !done) return done.error();
     if (r.has("label")) {
         const nlohmann::json& label = desc.settings["label"];
         r.accept("label");
@@ -200,45 +248,17 @@ Result<std::unique_ptr<scene::Layer>> ModelLayer::create(const scene::LayerDesc&
         animation = *a;
     }
 
-    // Where the model is: exactly one of position, trajectory, live.
-    const bool hasPosition = r.has("position"), hasTrajectory = r.has("trajectory"), hasLive = r.has("live");
-    if (int(hasPosition) + int(hasTrajectory) + int(hasLive) != 1 && r.ok()) {
-        r.fail("position", "give exactly one of \"position\", \"trajectory\" or \"live\"");
-    }
-    std::optional<std::vector<double>> position, attitude;
-    std::optional<motion::AltitudeRef> positionAltitude;
-    if (hasPosition) {
-        position = r.numbers("position", 3);
-        attitude = r.numbers("attitude", 3, std::vector<double>{0, 0, 0});
-        positionAltitude = altitudeRef(r, "altitude", false);
-        if (position && position->size() == 3 && (std::abs((*position)[1]) > 90.0 || std::abs((*position)[0]) > 360.0)) {
-            r.fail("position", "expected [longitude, latitude, height] with latitude in [-90, 90]");
-        }
-    }
-    if (hasTrajectory) r.accept("trajectory");
-    if (hasLive) r.accept("live");
+    const Placement placement = readPlacement(r);
     if (auto done = r.finish(); !done) return done.error();
 
     const std::string where = scene.file.string() + ": " + desc.jsonPath;
-    std::unique_ptr<models::ModelMotion> motion;
-    if (hasPosition) {
-        const auto& p = *position;
-        const auto& a = *attitude;
-        motion = models::makeFixedMotion(p[0], p[1], p[2], positionAltitude == motion::AltitudeRef::Ground, a[0], a[1], a[2]);
-    } else if (hasTrajectory) {
-        auto m = trajectoryMotion(desc.settings["trajectory"], desc, scene);
-        if (!m) return m.error();
-        motion = std::move(*m);
-    } else {
-        auto m = models::makeLiveMotion(desc.settings["live"], scene.file.string(), desc.jsonPath + "/live");
-        if (!m) return m.error();
-        motion = std::move(*m);
-    }
+    auto motion = makeMotion(placement, desc, scene);
+    if (!motion) return motion.error();
 
     auto model = models::loadGltf(scene.resolve(*file).string());
     if (!model) return makeError(where + ": " + model.message());
     for (const std::string& w : model->warnings) log::info("model '", desc.name, "': ", w);
-    auto playback = resolveAnimation(animation, *model, *motion, scene, where);
+    auto playback = resolveAnimation(animation, *model, **motion, scene, where);
     if (!playback) return playback.error();
     s.animation = *playback;
     if (model->animated()) {
@@ -249,7 +269,7 @@ Result<std::unique_ptr<scene::Layer>> ModelLayer::create(const scene::LayerDesc&
                              std::to_string(model->rig.skins.size()) + " skins) needs " + std::to_string(bytes >> 20) +
                              " MiB, more than the " + std::to_string(kMaxPoseBytes >> 20) + " MiB a model's poses may use");
     }
-    return std::unique_ptr<scene::Layer>(std::make_unique<ModelLayer>(std::move(s), std::move(*model), std::move(motion)));
+    return std::unique_ptr<scene::Layer>(std::make_unique<ModelLayer>(std::move(s), std::move(*model), std::move(*motion)));
 }
 
 scene::LayerType ModelLayer::layerType() {

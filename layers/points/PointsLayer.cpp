@@ -10,10 +10,10 @@
 #include "engine/render/RenderContext.h"
 #include "globe/Culling.h"
 #include "shared/PointTypes.h"
+#include "spv/common/fullscreen.vert.h"
 #include "spv/points/pointlist.frag.h"
 #include "spv/points/pointlist.vert.h"
 #include "spv/points/resolve.frag.h"
-#include "spv/points/resolve.vert.h"
 #include "spv/points/splat.comp.h"
 
 #include <algorithm>
@@ -23,12 +23,15 @@
 #include <limits>
 #include <queue>
 
-static_assert(sizeof(orbis::shader::PointNode) == 32);
-
 namespace orbis::layers {
 namespace {
 
-constexpr uint32_t kBindings = 7;
+// The colour modes are the shader's kPointSpecColorMode values.
+using Color = PointsSettings::Color;
+static_assert(uint32_t(Color::Rgb) == shader::kPointColorRgb && uint32_t(Color::Intensity) == shader::kPointColorIntensity &&
+              uint32_t(Color::Classification) == shader::kPointColorClassification &&
+              uint32_t(Color::Height) == shader::kPointColorHeight && uint32_t(Color::Constant) == shader::kPointColorConstant);
+
 constexpr VkShaderStageFlags kPushStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_COMPUTE_BIT;
 constexpr uint64_t kUploadBytesPerFrame = uint64_t(48) << 20;
 
@@ -206,18 +209,8 @@ void PointsLayer::onPrepare(const render::RenderServices& services) {
         log::warn("points: the device has no 64-bit buffer atomics; drawing point lists instead of compute rasterisation");
         settings_.renderer = PointsSettings::Renderer::PointList;
     }
-    const VkShaderStageFlags all = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    const VkDescriptorSetLayoutBinding bindings[kBindings] = {
-        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, all, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC, 1, all, nullptr},   // a page of the nodes' data
-        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC, 1, all, nullptr},
-        {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
-        {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
-        {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
-        {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-    };
     const uint32_t frames = services.framesInFlight;
-    descriptors_ = gpu::createDescriptorSets(device, bindings, frames);
+    descriptors_ = gpu::createDescriptorSets(device, shader::kPointBindings, frames);
     slots_.resize(frames);
     for (uint32_t f = 0; f < frames; ++f) {
         Slot& slot = slots_[f];
@@ -225,7 +218,7 @@ void PointsLayer::onPrepare(const render::RenderServices& services) {
         slot.uniforms = gpu::Buffer(device, sizeof(shader::PointUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                     gpu::MemoryUsage::Upload, "point uniforms");
     }
-    const VkPushConstantRange push{kPushStages, 0, 2 * sizeof(uint32_t)};
+    const VkPushConstantRange push{kPushStages, 0, sizeof(shader::PointPush)};
     const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, descriptors_.layout.vk()};
     layout_ = gpu::createPipelineLayout(device, setLayouts, {&push, 1});
     depthSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_NEAREST});
@@ -237,9 +230,9 @@ gpu::Pipeline& PointsLayer::splatPipeline(int radius, bool quantised) {
     gpu::Pipeline& p = splatPipelines_[(int(settings_.color) * 16 + radius) * 2 + (quantised ? 1 : 0)];
     if (!p) {
         gpu::Specialization spec;
-        spec.set<int32_t>(0, radius);
-        spec.set<uint32_t>(1, uint32_t(settings_.color));
-        spec.set<VkBool32>(3, quantised ? VK_TRUE : VK_FALSE);
+        spec.set<int32_t>(shader::kPointSpecRadius, radius);
+        spec.set<uint32_t>(shader::kPointSpecColorMode, uint32_t(settings_.color));
+        spec.set<VkBool32>(shader::kPointSpecQuantised, quantised ? VK_TRUE : VK_FALSE);
         p = gpu::createComputePipeline(*services_.device, layout_.vk(), kSpv_points_splat_comp, &spec, "points splat");
     }
     return p;
@@ -253,7 +246,7 @@ gpu::Pipeline& PointsLayer::graphicsPipeline(std::map<int, gpu::Pipeline>& cache
     gpu::Pipeline& p = cache[key * 2 + (blend ? 1 : 0)];
     if (!p) {
         gpu::GraphicsPipelineDesc d;
-        d.vertexSpirv = pointList ? std::span<const uint32_t>(kSpv_points_pointlist_vert) : kSpv_points_resolve_vert;
+        d.vertexSpirv = pointList ? std::span<const uint32_t>(kSpv_points_pointlist_vert) : kSpv_common_fullscreen_vert;
         d.fragmentSpirv = pointList ? std::span<const uint32_t>(kSpv_points_pointlist_frag) : kSpv_points_resolve_frag;
         d.layout = layout_.vk();
         if (pointList) d.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
@@ -270,14 +263,14 @@ gpu::Pipeline& PointsLayer::graphicsPipeline(std::map<int, gpu::Pipeline>& cache
 
 gpu::Pipeline& PointsLayer::pointListPipeline(bool quantised) {
     gpu::Specialization spec;
-    spec.set<uint32_t>(1, uint32_t(settings_.color));
-    spec.set<VkBool32>(3, quantised ? VK_TRUE : VK_FALSE);
+    spec.set<uint32_t>(shader::kPointSpecColorMode, uint32_t(settings_.color));
+    spec.set<VkBool32>(shader::kPointSpecQuantised, quantised ? VK_TRUE : VK_FALSE);
     return graphicsPipeline(pointListPipelines_, int(settings_.color) * 2 + (quantised ? 1 : 0), true, spec);
 }
 
 gpu::Pipeline& PointsLayer::resolvePipeline() {
     gpu::Specialization spec;
-    spec.set<VkBool32>(2, settings_.edl ? VK_TRUE : VK_FALSE);
+    spec.set<VkBool32>(shader::kPointSpecEdl, settings_.edl ? VK_TRUE : VK_FALSE);
     return graphicsPipeline(resolvePipelines_, settings_.edl ? 1 : 0, false, spec);
 }
 
@@ -304,43 +297,25 @@ void PointsLayer::ensureFrameBuffers(uint32_t s, size_t nodes, size_t batches) {
         b = gpu::Buffer(*services_.device, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Upload, name);
         slot.version = 0;   // its set names the old buffer
     };
-    grow(slot.nodes, std::max<size_t>(nodes, 1) * sizeof(NodeGpu), "point nodes");
-    grow(slot.batches, std::max<size_t>(batches, 1) * sizeof(glm::uvec4), "point batches");
+    grow(slot.nodes, std::max<size_t>(nodes, 1) * sizeof(shader::PointNode), "point nodes");
+    grow(slot.batches, std::max<size_t>(batches, 1) * sizeof(shader::PointBatch), "point batches");
 }
 
 void PointsLayer::writeDescriptors(uint32_t s) {
     Slot& slot = slots_[s];
     const VkDeviceSize page = residency_ ? residency_->pageBytes() : VK_WHOLE_SIZE;   // at dynamic offsets
-    const VkDescriptorBufferInfo infos[6] = {
-        {slot.uniforms.vk(), 0, sizeof(shader::PointUniforms)}, {data_.vk(), 0, page},
-        {data_.vk(), 0, page},                                  {slot.batches.vk(), 0, VK_WHOLE_SIZE},
-        {slot.nodes.vk(), 0, VK_WHOLE_SIZE},                    {screen_.vk(), 0, VK_WHOLE_SIZE}};
-    VkWriteDescriptorSet w[kBindings] = {};
-    uint32_t count = 0;
-    for (uint32_t b = 0; b < 6; ++b) {
-        if (infos[b].buffer == VK_NULL_HANDLE) continue;   // not made yet: the pipelines in use do not read it
-        w[count].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        w[count].dstSet = slot.set;
-        w[count].dstBinding = b;
-        w[count].descriptorCount = 1;
-        w[count].descriptorType = b == 0                ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
-                                  : b == 1 || b == 2 ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC
-                                                     : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        w[count].pBufferInfo = &infos[b];
-        ++count;
+    gpu::DescriptorWriter w(slot.set);
+    w.uniformBuffer(shader::kPointBindingUniforms, slot.uniforms, 0, sizeof(shader::PointUniforms));
+    // What is not made yet is left out: the pipelines in use do not read it.
+    if (data_) {
+        w.storageBufferDynamic(shader::kPointBindingWords, data_, page);
+        w.storageBufferDynamic(shader::kPointBindingAttributes, data_, page);
     }
-    const VkDescriptorImageInfo depth{depthSampler_.vk(), boundDepth_ ? boundDepth_->view() : VK_NULL_HANDLE,
-                                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    if (boundDepth_) {
-        w[count].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        w[count].dstSet = slot.set;
-        w[count].dstBinding = 6;
-        w[count].descriptorCount = 1;
-        w[count].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-        w[count].pImageInfo = &depth;
-        ++count;
-    }
-    vkUpdateDescriptorSets(services_.device->vk(), count, w, 0, nullptr);
+    if (slot.batches) w.storageBuffer(shader::kPointBindingBatches, slot.batches);
+    if (slot.nodes) w.storageBuffer(shader::kPointBindingNodes, slot.nodes);
+    if (screen_) w.storageBuffer(shader::kPointBindingScreen, screen_);
+    if (boundDepth_) w.sampledImage(shader::kPointBindingSceneDepth, depthSampler_.vk(), boundDepth_->view());
+    w.update(*services_.device);
     slot.version = buffersVersion_;
 }
 
@@ -362,8 +337,8 @@ void PointsLayer::writeUniforms(const render::RecordContext& rc) {
         const points::StoredNode& n = nodes[size_t(drawList_[k])];
         const uint64_t offset = residency_->offset(drawList_[k]) % pageBytes;   // within its page
         nodePage_[k] = uint32_t(residency_->offset(drawList_[k]) / pageBytes);
-        nodeData_[k].centreStep = glm::vec4(glm::vec3(n.centre - eye_), float(n.step));
-        nodeData_[k].data = glm::uvec4(uint32_t(offset / 8), uint32_t((offset + n.positionOffset()) / 4), n.count, 0u);
+        nodeData_[k] = {glm::vec3(n.centre - eye_), float(n.step), uint32_t(offset / 8),
+                        uint32_t((offset + n.positionOffset()) / 4), n.count, 0u};
     }
     // The batches by position format (quantised first) and page: one dispatch each.
     std::vector<uint32_t> order(drawList_.size());
@@ -380,21 +355,24 @@ void PointsLayer::writeUniforms(const render::RecordContext& rc) {
         if (dispatches_.empty() || dispatches_.back().quantised != quantised || dispatches_.back().page != nodePage_[k])
             dispatches_.push_back({quantised, nodePage_[k], uint32_t(b), 0});
         for (uint32_t off = 0; off < n.count; off += shader::kPointBatch) {
-            batchData_[b++] = glm::uvec4(k, off, std::min(shader::kPointBatch, n.count - off), 0u);
+            batchData_[b++] = {k, off, std::min(shader::kPointBatch, n.count - off), 0u};
             ++dispatches_.back().batches;
         }
     }
-    slot.nodes.write(nodeData_.data(), nodeData_.size() * sizeof(NodeGpu));
-    slot.batches.write(batchData_.data(), b * sizeof(glm::uvec4));
+    slot.nodes.write(nodeData_.data(), nodeData_.size() * sizeof(shader::PointNode));
+    slot.batches.write(batchData_.data(), b * sizeof(shader::PointBatch));
 
     shader::PointUniforms u{};
     u.viewProj = glm::mat4(viewProj_);
-    u.colorInfo = glm::vec4(float(settings_.opacity), store_->info().intensityGain, float(settings_.heightRange.x),
-                            float(1.0 / std::max(settings_.heightRange.y - settings_.heightRange.x, 1e-6)));
+    u.opacity = float(settings_.opacity);
+    u.intensityGain = store_->info().intensityGain;
+    u.heightLow = float(settings_.heightRange.x);
+    u.heightScale = float(1.0 / std::max(settings_.heightRange.y - settings_.heightRange.x, 1e-6));
     u.constantColor = glm::vec4(glm::vec3(settings_.constantColor), 1.0f);
-    u.edl = glm::vec4(0.0f, float(settings_.edlStrength), float(settings_.edlRadius),
-                      float(settings_.pointSize));
-    u.screen = glm::vec4(float(frame.width), float(frame.height), 0.0f, 0.0f);
+    u.edlStrength = float(settings_.edlStrength);
+    u.edlRadiusPx = float(settings_.edlRadius);
+    u.pointSizePx = float(settings_.pointSize);
+    u.screenSize = glm::vec2(float(frame.width), float(frame.height));
     slot.uniforms.write(&u, sizeof(u));
     if (!computePath() && slot.version != buffersVersion_) writeDescriptors(rc.slot);
 }
@@ -424,8 +402,8 @@ void PointsLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
         gpu::Pipeline& p = splatPipeline(splatRadius(settings_.pointSize), d.quantised);
         if (&p != bound) vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.vk());
         bound = &p;
-        const uint32_t push[2] = {0, d.firstBatch};
-        vkCmdPushConstants(cmd, layout_.vk(), kPushStages, 0, sizeof push, push);
+        const shader::PointPush push{0, d.firstBatch};
+        vkCmdPushConstants(cmd, layout_.vk(), kPushStages, 0, sizeof push, &push);
         vkCmdDispatch(cmd, d.batches, 1, 1);
     }
     gpu::bufferBarrier(cmd, screen_, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
@@ -457,8 +435,8 @@ void PointsLayer::record(scene::Pass, const render::RecordContext& rc) {
             bound = int(n.step > 0.0);
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pointListPipeline(bound != 0).vk());
         }
-        const uint32_t push[2] = {k, 0};
-        vkCmdPushConstants(cmd, layout_.vk(), kPushStages, 0, sizeof push, push);
+        const shader::PointPush push{k, 0};
+        vkCmdPushConstants(cmd, layout_.vk(), kPushStages, 0, sizeof push, &push);
         vkCmdDraw(cmd, n.count, 1, 0, 0);
     }
 }
@@ -473,12 +451,12 @@ bool PointsLayer::computeAvailable() const {
 
 bool PointsLayer::setParameter(std::string_view name, double value) {
     // The ranges the scene file accepts (create()), so that a saved scene loads again.
-    if (name == "pointBudget" && value >= 0.0 && value <= 4e9) settings_.pointBudget = uint64_t(value);
-    else if (name == "pointSize" && value >= 1.0 && value <= 15.0) settings_.pointSize = int(value);
-    else if (name == "opacity" && value >= 0.0 && value <= 1.0) settings_.opacity = value;
+    if (name == "pointBudget" && kPointBudgetRange.contains(value)) settings_.pointBudget = uint64_t(value);
+    else if (name == "pointSize" && kPointSizeRange.contains(value)) settings_.pointSize = int(value);
+    else if (name == "opacity" && kOpacityRange.contains(value)) settings_.opacity = value;
     else if (name == "edl") settings_.edl = value != 0.0;
-    else if (name == "edlStrength" && value >= 0.0 && value <= 100.0) settings_.edlStrength = value;
-    else if (name == "edlRadius" && value >= 0.5 && value <= 8.0) settings_.edlRadius = value;
+    else if (name == "edlStrength" && kEdlStrengthRange.contains(value)) settings_.edlStrength = value;
+    else if (name == "edlRadius" && kEdlRadiusRange.contains(value)) settings_.edlRadius = value;
     else if (name == "renderer" && (value == 0.0 || value == 1.0)) {
         const bool compute = value == 0.0 && computeAvailable();
         settings_.renderer = compute ? PointsSettings::Renderer::Compute : PointsSettings::Renderer::PointList;
@@ -511,15 +489,15 @@ std::vector<scene::LayerSetting> PointsLayer::liveSettings() const {
         {.name = "color", .label = "Colour by", .kind = Kind::Choice, .choice = kColorNames[size_t(settings_.color)],
          .choices = {std::begin(kColorNames), std::end(kColorNames)}},
         {.name = "pointBudget", .label = "Point budget (0: all)", .kind = Kind::Integer,
-         .value = double(settings_.pointBudget), .min = 0.0, .max = 4e9, .logarithmic = true},
+         .value = double(settings_.pointBudget), .min = kPointBudgetRange.min, .max = kPointBudgetRange.max, .logarithmic = true},
         {.name = "pointSize", .label = "Point size (px)", .kind = Kind::Integer, .value = double(settings_.pointSize),
-         .min = 1.0, .max = 15.0},
-        {.name = "opacity", .label = "Opacity", .kind = Kind::Number, .value = settings_.opacity, .min = 0.0, .max = 1.0},
+         .min = kPointSizeRange.min, .max = kPointSizeRange.max},
+        {.name = "opacity", .label = "Opacity", .kind = Kind::Number, .value = settings_.opacity, .min = kOpacityRange.min, .max = kOpacityRange.max},
         {.name = "edl", .label = "Eye-dome lighting", .kind = Kind::Toggle, .value = settings_.edl ? 1.0 : 0.0},
         {.name = "edlStrength", .label = "EDL strength", .kind = Kind::Number, .value = settings_.edlStrength,
-         .min = 0.0, .max = 100.0, .logarithmic = true},
+         .min = kEdlStrengthRange.min, .max = kEdlStrengthRange.max, .logarithmic = true},
         {.name = "edlRadius", .label = "EDL radius (px)", .kind = Kind::Number, .value = settings_.edlRadius,
-         .min = 0.5, .max = 8.0},
+         .min = kEdlRadiusRange.min, .max = kEdlRadiusRange.max},
         {.name = "renderer", .label = "Renderer", .kind = Kind::Choice,
          .choice = kRendererNames[size_t(settings_.renderer)], .choices = std::move(renderers)},
     };

@@ -35,9 +35,11 @@
 #include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/LayerRegistry.h"
+#include "engine/scene/LayerSetting.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/points/NodeResidency.h"
 #include "layers/points/PointCloud.h"
+#include "shared/PointTypes.h"
 
 #include <glm/glm.hpp>
 
@@ -70,6 +72,14 @@ class PointsLayer final : public scene::Layer, public scene::LiveSettings, publi
 public:
     /// The scene type: its name, description, factory (create) and the files its object names.
     static scene::LayerType layerType();
+    /// The ranges its numeric settings may take, the same for the scene file (create), a live
+    /// edit (setParameter) and the panel (liveSettings).
+    static constexpr scene::SettingRange kPointBudgetRange{0.0, 4e9};
+    static constexpr scene::SettingRange kPointSizeRange{1.0, 15.0};
+    static constexpr scene::SettingRange kOpacityRange{0.0, 1.0};
+    static constexpr scene::SettingRange kEdlStrengthRange{0.0, 100.0};
+    static constexpr scene::SettingRange kEdlRadiusRange{0.5, 8.0};
+
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
     PointsLayer(std::unique_ptr<points::LasFile> file, points::PointGeoreference georef, PointsSettings settings);
     ~PointsLayer() override;
@@ -145,12 +155,8 @@ private:
     // This frame's selection: the nodes wanted (most important first) and those drawn.
     std::vector<int32_t> wanted_, drawList_;
     std::vector<uint64_t> drawnFrame_;   // per node: the last frame that drew it
-    struct NodeGpu {   // shader::PointNode
-        glm::vec4 centreStep;
-        glm::uvec4 data;
-    };
-    std::vector<NodeGpu> nodeData_;   // the frame's drawn nodes and batches, as uploaded
-    std::vector<glm::uvec4> batchData_;
+    std::vector<shader::PointNode> nodeData_;   // the frame's drawn nodes and batches, as uploaded
+    std::vector<shader::PointBatch> batchData_;
     std::vector<uint32_t> nodePage_;   // per drawn node: its page of data_
     struct Dispatch {                  // the batches of one position format and page
         bool quantised;

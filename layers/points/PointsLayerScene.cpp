@@ -32,12 +32,12 @@ Result<std::unique_ptr<scene::Layer>> PointsLayer::create(const scene::LayerDesc
         if (!((*range)[0] < (*range)[1])) r.fail("heightRange", "must be [low, high] with low < high (fractions of the cloud's heights)");
         s.heightRange = {(*range)[0], (*range)[1]};
     }
-    s.pointSize = int(r.number("pointSize", 1.0, 1.0, 15.0).value_or(1.0));
-    s.opacity = r.number("opacity", 1.0, 0.0, 1.0).value_or(1.0);
+    s.pointSize = int(r.number("pointSize", 1.0, kPointSizeRange.min, kPointSizeRange.max).value_or(1.0));
+    s.opacity = r.number("opacity", 1.0, kOpacityRange.min, kOpacityRange.max).value_or(1.0);
     s.edl = r.boolean("edl", false).value_or(false);
-    s.edlStrength = r.number("edlStrength", 1.0, 0.0, 100.0).value_or(1.0);
-    s.edlRadius = r.number("edlRadius", 1.4, 0.5, 8.0).value_or(1.4);
-    s.pointBudget = uint64_t(r.number("pointBudget", 3e6, 0.0, 4e9).value_or(3e6));
+    s.edlStrength = r.number("edlStrength", 1.0, kEdlStrengthRange.min, kEdlStrengthRange.max).value_or(1.0);
+    s.edlRadius = r.number("edlRadius", 1.4, kEdlRadiusRange.min, kEdlRadiusRange.max).value_or(1.4);
+    s.pointBudget = uint64_t(r.number("pointBudget", 3e6, kPointBudgetRange.min, kPointBudgetRange.max).value_or(3e6));
     s.gpuMemoryBytes = uint64_t(r.number("gpuMemoryMB", 1024.0, 0.0625, 65536.0).value_or(1024.0) * 1048576.0);
     s.gpuPageBytes = uint64_t(r.number("gpuPageMB", 0.0, 0.0, 65536.0).value_or(0.0) * 1048576.0);
     if (s.gpuPageBytes > 0 && s.gpuPageBytes < 65536) r.fail("gpuPageMB", "must be 0 (the device's limit) or at least 0.0625 (64 KB)");

@@ -7,9 +7,9 @@
 // kept above it) would stand higher or lower after one seek path than after another, and the
 // same scene time would not give the same picture.
 //
-// What instead: a second, small TerrainModel over the same DEMs (no imagery, no thread pool: its
+// What instead: a second, small TerrainTiles over the same DEMs (no imagery, no thread pool: its
 // loads run inline, on the caller's thread) that is always asked at one level, the DEMs' own
-// resolution (TerrainModel::maxDataLevel(0) for the layer's grid size: the finest the renderer
+// resolution (TerrainTiles::maxDataLevel(0) for the layer's grid size: the finest the renderer
 // ever draws). A query loads that level's tile and its ancestors when they are not cached, then
 // samples it bilinearly: the answer depends only on the DEMs and the point. The renderer's
 // tiles approximate these heights within their screen-space error, so what stands on them
@@ -21,7 +21,7 @@
 // later ones nearby are a hash lookup and a bilinear sample (the last tile is remembered).
 
 #include "globe/RasterSource.h"
-#include "globe/TerrainModel.h"
+#include "globe/TerrainTiles.h"
 
 #include <memory>
 #include <mutex>
@@ -55,7 +55,7 @@ private:
     uint32_t level_ = 0;
     uint64_t budget_;
     mutable std::mutex mutex_;
-    mutable globe::TerrainModel model_;
+    mutable globe::TerrainTiles tiles_;
     mutable uint64_t frame_ = 1;
     mutable globe::TileKey lastKey_;
     mutable std::shared_ptr<const globe::ElevationData> last_;

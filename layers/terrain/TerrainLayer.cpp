@@ -8,10 +8,8 @@
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
 #include "engine/gpu/Uploader.h"
-#include "engine/gpu/VkCheck.h"
 #include "engine/render/RenderContext.h"
 #include "engine/render/SkyPipeline.h"
-#include "engine/scene/JsonReader.h"
 #include "globe/Ellipsoid.h"
 #include "globe/TileMesh.h"
 #include "shared/TerrainTypes.h"
@@ -28,116 +26,9 @@ namespace orbis::layers {
 namespace {
 
 constexpr uint32_t kMeshLayer = 0xffffffffu;   // DataKey layer used for tile meshes
-constexpr uint32_t kMeshSlotsPerPage = 64;
-constexpr uint32_t kMeshPagesMax = 64;
-enum Kind : uint32_t { kMesh = 0, kElevation = 1, kImagery = 2 };
-
-Result<globe::RasterSourceOptions> readSource(const nlohmann::json& value, const scene::SceneDesc& scene,
-                                              const std::string& path, globe::RasterRole role, scene::JsonReader* outer,
-                                              std::string* name, double* opacity, bool* visible) {
-    globe::RasterSourceOptions o;
-    o.role = role;
-    if (value.is_string()) {
-        o.path = scene.resolve(value.get<std::string>()).string();
-        if (name) *name = std::filesystem::path(o.path).filename().string();
-        return o;
-    }
-    (void)outer;
-    scene::JsonReader r(value, scene.file.string(), path);
-    if (!r.isObject())
-        return makeError(scene.file.string() + ": " + path + ": expected a file name or an object, got " +
-                         scene::describeJsonType(value));
-    const auto file = r.string("path", std::string());
-    const auto xyz = r.string("xyz", std::string());
-    if (file && !file->empty()) o.path = scene.resolve(*file).string();
-    if (xyz && !xyz->empty()) o.xyzUrl = *xyz;
-    if (auto maxZoom = r.number("maxZoom", 18.0, 0.0, 30.0)) {
-        if (*maxZoom != std::floor(*maxZoom)) r.fail("maxZoom", "must be an integer zoom level");
-        o.xyzMaxZoom = int(*maxZoom);
-    }
-    if (r.ok() && r.has("maxZoom") && o.xyzUrl.empty()) r.fail("maxZoom", "only applies to an \"xyz\" source");
-    if (r.ok() && o.path.empty() == o.xyzUrl.empty())
-        r.fail(o.path.empty() ? "path" : "xyz", "give exactly one of \"path\" and \"xyz\"");
-    if (role == globe::RasterRole::Elevation) {
-        if (auto band = r.number("band", 1.0, 1.0, 65535.0)) o.bands = {int(*band)};
-    } else if (auto bands = r.numbers("bands", 0, std::vector<double>{})) {
-        if (!bands->empty() && bands->size() != 1 && bands->size() != 3 && bands->size() != 4)
-            r.fail("bands", "give 1 (grey), 3 (RGB) or 4 (RGBA) band numbers");
-        for (double b : *bands) {
-            if (b < 1 || b != std::floor(b)) r.fail("bands", "band numbers are integers from 1");
-            o.bands.push_back(int(b));
-        }
-    }
-    if (r.has("noData")) o.noData = r.number("noData");
-    if (!r.has("range")) {
-    } else if (auto range = r.numbers("range", 2)) {
-        if (range->size() == 2) {
-            if (!((*range)[1] > (*range)[0])) r.fail("range", "must be [low, high] with low < high");
-            o.scaleRange = std::make_pair((*range)[0], (*range)[1]);
-        }
-    }
-    if (auto resampling = r.string("resampling", std::string())) o.resampling = *resampling;
-    if (name) *name = r.string("name", std::filesystem::path(o.path.empty() ? o.xyzUrl : o.path).filename().string()).value_or("");
-    else r.accept("name");
-    if (opacity) *opacity = r.number("opacity", 1.0, 0.0, 1.0).value_or(1.0);
-    if (visible) *visible = r.boolean("visible", true).value_or(true);
-    if (auto done = r.finish(); !done) return done.error();
-    return o;
-}
+using Kind = TileSlotPool::Kind;
 
 }  // namespace
-
-Result<std::unique_ptr<scene::Layer>> TerrainLayer::create(const scene::LayerDesc& desc, const scene::SceneDesc& scene) {
-    scene::JsonReader r(desc.settings, scene.file.string(), desc.jsonPath);
-    for (const char* common : {"type", "name", "visible", "viewpoint"}) r.accept(common);
-    TerrainSettings s;
-    if (const nlohmann::json* list = r.array("elevation")) {
-        for (size_t i = 0; i < list->size(); ++i) {
-            auto o = readSource((*list)[i], scene, desc.jsonPath + "/elevation/" + std::to_string(i),
-                                globe::RasterRole::Elevation, &r, nullptr, nullptr, nullptr);
-            if (!o) return o.error();
-            s.elevation.push_back(std::move(*o));
-        }
-    }
-    if (const nlohmann::json* list = r.array("imagery")) {
-        if (list->size() > shader::kTerrainMaxImagery)
-            r.fail("imagery", "at most " + std::to_string(shader::kTerrainMaxImagery) + " imagery layers");
-        for (size_t i = 0; i < list->size() && i < shader::kTerrainMaxImagery; ++i) {
-            ImageryLayerSettings layer;
-            auto o = readSource((*list)[i], scene, desc.jsonPath + "/imagery/" + std::to_string(i),
-                                globe::RasterRole::Imagery, &r, &layer.name, &layer.opacity, &layer.visible);
-            if (!o) return o.error();
-            layer.source = std::move(*o);
-            s.imagery.push_back(std::move(layer));
-        }
-    }
-    s.maxScreenSpaceError = r.number("maxScreenSpaceError", s.maxScreenSpaceError, 0.25, 1000.0).value_or(s.maxScreenSpaceError);
-    s.gridSize = int(r.number("gridSize", s.gridSize, 3.0, 257.0).value_or(s.gridSize));
-    s.imageSize = int(r.number("imageSize", s.imageSize, 16.0, 1024.0).value_or(s.imageSize));
-    if (s.imageSize & (s.imageSize - 1)) r.fail("imageSize", "must be a power of two (16 ... 1024)");
-    s.maxLevel = uint32_t(r.number("maxLevel", s.maxLevel, 0.0, 28.0).value_or(s.maxLevel));
-    s.verticalExaggeration = r.number("verticalExaggeration", 1.0, 0.0, 1000.0).value_or(1.0);
-    if (auto c = r.numbers("color", 3, std::vector<double>{s.color.r, s.color.g, s.color.b})) {
-        for (double v : *c)
-            if (v < 0.0 || v > 1.0) r.fail("color", "colour components must be in [0, 1]");
-        if (c->size() == 3) s.color = {(*c)[0], (*c)[1], (*c)[2]};
-    }
-    if (auto lighting = r.string("lighting", std::string("sun"))) {
-        if (*lighting == "sun") s.sunLighting = true;
-        else if (*lighting == "headlight") s.sunLighting = false;
-        else r.fail("lighting", "expected \"sun\" or \"headlight\", got \"" + *lighting + "\"");
-    }
-    s.sky = r.boolean("sky", s.sky).value_or(s.sky);
-    const auto mb = [&](const char* key, uint64_t fallback, double min) {
-        return uint64_t(r.number(key, double(fallback >> 20), min, 1 << 20).value_or(double(fallback >> 20))) << 20;
-    };
-    s.cpuCacheBytes = mb("cpuCacheMB", s.cpuCacheBytes, 16);
-    s.gpuCacheBytes = mb("gpuCacheMB", s.gpuCacheBytes, 32);
-    s.uploadBudgetBytes = mb("uploadBudgetMB", s.uploadBudgetBytes, 1);
-    s.tileBorders = r.boolean("tileBorders", false).value_or(false);
-    if (auto done = r.finish(); !done) return done.error();
-    return std::unique_ptr<scene::Layer>(new TerrainLayer(std::move(s)));
-}
 
 TerrainLayer::TerrainLayer(TerrainSettings settings) : settings_(std::move(settings)) {}
 
@@ -145,8 +36,12 @@ TerrainLayer::~TerrainLayer() = default;
 
 void TerrainLayer::onPrepare(const render::RenderServices& services) {
     services_ = services;
-    gpu::Device& device = *services.device;
+    openSources(services);
+    createGpuObjects(services);
+    buildPipelines(services);
+}
 
+void TerrainLayer::openSources(const render::RenderServices& services) {
     // Sources: a bad one is reported and left out; the terrain draws without it.
     std::vector<std::shared_ptr<globe::RasterSource>> dems, images;
     for (const auto& o : settings_.elevation) {
@@ -164,82 +59,54 @@ void TerrainLayer::onPrepare(const render::RenderServices& services) {
             errors_.push_back(s.message()), log::error(s.message());
         }
     }
-    globe::TerrainModelSettings ms;
-    ms.gridSize = settings_.gridSize;
-    ms.imageSize = settings_.imageSize;
-    ms.cpuBudgetBytes = settings_.cpuCacheBytes;
-    ms.maxLevel = settings_.maxLevel;
+    globe::TerrainTilesSettings ts;
+    ts.gridSize = settings_.gridSize;
+    ts.imageSize = settings_.imageSize;
+    ts.cpuBudgetBytes = settings_.cpuCacheBytes;
+    ts.maxLevel = settings_.maxLevel;
     ground_ = std::make_unique<TerrainGround>(settings_.gridSize, settings_.maxLevel, dems);
     // No sources, no threads: the pool starts only when there is something to load.
     jobs::ThreadPool* pool = dems.empty() && images.empty() ? nullptr : &services.jobs();
-    model_ = std::make_unique<globe::TerrainModel>(ms, std::move(dems), std::move(images), pool);
+    tiles_ = std::make_unique<globe::TerrainTiles>(ts, std::move(dems), std::move(images), pool);
     globe::SelectorSettings sel;
     sel.maxScreenSpaceError = settings_.maxScreenSpaceError;
     sel.maxLevel = settings_.maxLevel;
     sel.gridSize = settings_.gridSize;
     sel.detailLevel = 0;   // no sources: the ellipsoid's curvature alone sets the error
-    for (uint32_t l = 0; l < model_->layerCount(); ++l)
-        if (l > 0 || model_->hasElevation()) sel.detailLevel = std::max(sel.detailLevel, model_->maxDataLevel(l));
+    for (uint32_t l = 0; l < tiles_->layerCount(); ++l)
+        if (l > 0 || tiles_->hasElevation()) sel.detailLevel = std::max(sel.detailLevel, tiles_->maxDataLevel(l));
     selector_ = std::make_unique<globe::TileSelector>(sel);
+}
 
-    // Residency pools: pages are allocated on demand, up to the GPU budget.
-    const int n = settings_.gridSize;
-    meshes_.slotsPerPage = kMeshSlotsPerPage;
-    meshes_.maxPages = kMeshPagesMax;
-    meshes_.pageBytes = uint64_t(kMeshSlotsPerPage) * globe::tileVertexCount(n) * sizeof(globe::TileVertex);
-    elevation_.slotsPerPage = shader::kElevationSlotsPerPage;
-    elevation_.maxPages = shader::kElevationPages;
-    elevation_.pageBytes = uint64_t(shader::kElevationSlotsPerPage) * n * n * 4 * sizeof(float);
-    imagery_.slotsPerPage = shader::kImagerySlotsPerPage;
-    imagery_.maxPages = shader::kImageryPages;
-    imagery_.pageBytes = uint64_t(shader::kImagerySlotsPerPage) * settings_.imageSize * settings_.imageSize * 4 * 4 / 3;
-
-    const std::vector<uint32_t> indices = globe::buildTileIndices(n);
+void TerrainLayer::createGpuObjects(const render::RenderServices& services) {
+    gpu::Device& device = *services.device;
+    const std::vector<uint32_t> indices = globe::buildTileIndices(settings_.gridSize);
     indexCount_ = uint32_t(indices.size());
     indices_ = gpu::Buffer(device, indices.size() * sizeof(uint32_t),
                            VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::GpuOnly,
                            "terrain indices");
-    gpu::ImageDesc de;
-    de.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
-    de.format = VK_FORMAT_R32G32B32A32_SFLOAT;   // height, gradient east, gradient south
-    de.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-    de.extent = {uint32_t(n), uint32_t(n), 1};
-    de.name = "terrain elevation (unused page)";
-    dummyElevation_ = gpu::Image(device, de);
-    gpu::ImageDesc di = de;
-    di.format = VK_FORMAT_R8G8B8A8_SRGB;
-    di.extent = {1, 1, 1};
-    di.name = "terrain imagery (unused page)";
-    dummyImagery_ = gpu::Image(device, di);
     device.runOnce([&](VkCommandBuffer cmd) {
         services.uploader->toBuffer(cmd, indices_, indices.data(), indices.size() * sizeof(uint32_t));
         gpu::bufferBarrier(cmd, indices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                            VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT, VK_ACCESS_2_INDEX_READ_BIT);
-        const std::vector<float> zeros(size_t(n) * size_t(n) * 4, 0.0f);
-        services.uploader->toImage(cmd, dummyElevation_, zeros.data(), zeros.size() * sizeof(float));
-        const uint8_t clear[4] = {0, 0, 0, 0};
-        services.uploader->toImage(cmd, dummyImagery_, clear, 4);
-        gpu::transition(cmd, dummyElevation_, gpu::ImageUse::SampledGraphics);
-        gpu::transition(cmd, dummyImagery_, gpu::ImageUse::SampledGraphics);
     });
-
-    heightSampler_ = gpu::createSampler(device, {});
-    // Anisotropic filtering where it helps (createSampler leaves it off on CPU devices).
-    imagerySampler_ = gpu::createSampler(device, {.mipmaps = true, .maxAnisotropy = 4.0f});
-
-    const VkDescriptorSetLayoutBinding bindings[] = {
-        {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shader::kElevationPages, VK_SHADER_STAGE_VERTEX_BIT, nullptr},
-        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shader::kImageryPages, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-    };
     const uint32_t frames = services.framesInFlight;
-    descriptors_ = gpu::createDescriptorSets(device, bindings, frames);
+    descriptors_ = gpu::createDescriptorSets(device, shader::kTerrainBindings, frames);
     setVersion_.assign(frames, 0);
     for (uint32_t f = 0; f < frames; ++f) {
         drawBuffers_.emplace_back(device, uint64_t(maxDraws_) * sizeof(shader::TileDraw),
                                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::Upload, "terrain draws");
     }
+    // Tile data: pages are allocated on demand, up to the GPU budget less the buffers above.
+    gpuSlots_ = std::make_unique<TileSlotPool>(device, *services.uploader, settings_.gridSize, settings_.imageSize,
+                                               settings_.gpuCacheBytes, fixedBytes());
+    heightSampler_ = gpu::createSampler(device, {});
+    // Anisotropic filtering where it helps (createSampler leaves it off on CPU devices).
+    imagerySampler_ = gpu::createSampler(device, {.mipmaps = true, .maxAnisotropy = 4.0f});
+}
 
+void TerrainLayer::buildPipelines(const render::RenderServices& services) {
+    gpu::Device& device = *services.device;
     const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                                    sizeof(shader::TerrainPush)};
     const VkDescriptorSetLayout sets[] = {services.frameSetLayout, descriptors_.layout.vk()};
@@ -250,13 +117,14 @@ void TerrainLayer::onPrepare(const render::RenderServices& services) {
     surface.fragmentSpirv = kSpv_terrain_terrain_frag;
     surface.layout = layout_.vk();
     surface.bindings = {{0, sizeof(globe::TileVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-    surface.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(globe::TileVertex, position)},
-                          {1, 0, VK_FORMAT_R16G16B16A16_SNORM, offsetof(globe::TileVertex, normal)},
-                          {2, 0, VK_FORMAT_R16G16_UNORM, offsetof(globe::TileVertex, uv)},
-                          {3, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(globe::TileVertex, cellMetres)}};
+    surface.attributes = {
+        {shader::kTerrainInputPosition, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(globe::TileVertex, position)},
+        {shader::kTerrainInputNormal, 0, VK_FORMAT_R16G16B16A16_SNORM, offsetof(globe::TileVertex, normal)},
+        {shader::kTerrainInputUv, 0, VK_FORMAT_R16G16_UNORM, offsetof(globe::TileVertex, uv)},
+        {shader::kTerrainInputCellMetres, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(globe::TileVertex, cellMetres)}};
     surface.cullMode = VK_CULL_MODE_NONE;   // skirts face both ways; hidden faces lose the depth test
     gpu::Specialization spec;
-    spec.set<int32_t>(0, int32_t(imageryIndex_.size()));
+    spec.set<int32_t>(shader::kTerrainSpecImageryLayers, int32_t(imageryIndex_.size()));
     surface.specialization = &spec;
     surface.colorFormat = services.colorFormat;
     surface.depthFormat = services.depthFormat;
@@ -266,85 +134,20 @@ void TerrainLayer::onPrepare(const render::RenderServices& services) {
     if (settings_.sky) sky_ = render::createSkyPipeline(device, layout_.vk(), services, "terrain sky");
 }
 
-uint64_t TerrainLayer::allocatedBytes() const {
-    return uint64_t(meshes_.pages()) * meshes_.pageBytes + uint64_t(elevation_.pages()) * elevation_.pageBytes +
-           uint64_t(imagery_.pages()) * imagery_.pageBytes;
-}
-
-void TerrainLayer::addPage(uint32_t kind) {
-    gpu::Device& device = *services_.device;
-    SlotPool& pool = kind == kMesh ? meshes_ : kind == kElevation ? elevation_ : imagery_;
-    const uint32_t first = uint32_t(pool.slots.size());
-    pool.slots.resize(pool.slots.size() + pool.slotsPerPage);
-    for (uint32_t i = pool.slotsPerPage; i-- > 0;) pool.freeSlots.push_back(first + i);
-    if (kind == kMesh) {
-        meshPages_.emplace_back(device, pool.pageBytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                gpu::MemoryUsage::GpuOnly, "terrain meshes");
-        return;
-    }
-    gpu::ImageDesc d;
-    d.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
-    d.layers = pool.slotsPerPage;
-    d.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-    if (kind == kElevation) {
-        d.format = VK_FORMAT_R32G32B32A32_SFLOAT;
-        d.extent = {uint32_t(settings_.gridSize), uint32_t(settings_.gridSize), 1};
-        d.name = "terrain elevation page";
-        elevationPages_.emplace_back(device, d);
-    } else {
-        d.format = VK_FORMAT_R8G8B8A8_SRGB;
-        d.extent = {uint32_t(settings_.imageSize), uint32_t(settings_.imageSize), 1};
-        d.mipLevels = uint32_t(std::log2(settings_.imageSize)) + 1;
-        d.name = "terrain imagery page";
-        imageryPages_.emplace_back(device, d);
-    }
-    ++descriptorVersion_;
-}
-
-std::optional<uint32_t> TerrainLayer::acquireSlot(SlotPool& pool, const globe::DataKey& owner, bool mayExceedBudget) {
-    const uint32_t kind = &pool == &meshes_ ? kMesh : &pool == &elevation_ ? kElevation : kImagery;
-    if (pool.freeSlots.empty()) {
-        // Grow while within the budget; then reuse the least recently used slot that this frame
-        // does not need; only a mesh (without which a tile would be a hole) may go over.
-        const bool fits = fixedBytes() + allocatedBytes() + pool.pageBytes <= settings_.gpuCacheBytes;
-        uint32_t victim = UINT32_MAX;
-        if (!(fits && pool.pages() < pool.maxPages)) {
-            uint64_t oldest = UINT64_MAX;
-            for (uint32_t i = 0; i < pool.slots.size(); ++i) {
-                const Slot& slot = pool.slots[i];
-                if (slot.lastUsed < frame_ && slot.lastUsed < oldest) victim = i, oldest = slot.lastUsed;
-            }
-        }
-        if (victim != UINT32_MAX) {
-            pool.resident.erase(pool.slots[victim].owner);
-            pool.slots[victim].taken = false;
-            pool.freeSlots.push_back(victim);
-        } else if (pool.pages() < pool.maxPages && (fits || mayExceedBudget || pool.pages() == 0)) {
-            if (!fits && !warnedBudget_) {
-                warnedBudget_ = true;
-                log::warn("terrain: this view needs more than the GPU tile budget (", settings_.gpuCacheBytes >> 20,
-                          " MB); raise \"gpuCacheMB\" or \"maxScreenSpaceError\"");
-            }
-            addPage(kind);
-        } else {
-            return std::nullopt;   // the caller falls back to an ancestor already on the GPU
-        }
-    }
-    const uint32_t slot = pool.freeSlots.back();
-    pool.freeSlots.pop_back();
-    pool.slots[slot] = Slot{owner, frame_, true};
-    pool.resident[owner] = slot;
-    return slot;
+globe::TileHeightRange TerrainLayer::drawnHeights(const globe::TileKey& key) const {
+    const double ex = settings_.verticalExaggeration;
+    const globe::TileHeightRange r = tiles_->heightRange(key);
+    return globe::TileHeightRange{std::min(r.minHeight * ex, 0.0), std::max(r.maxHeight * ex, 0.0)};
 }
 
 void TerrainLayer::update(const scene::FrameContext& frame) {
     frame_ = frame.frameNumber + 1;   // 0 means "never used"
     const scene::Camera& camera = *frame.camera;
-    model_->beginFrame(frame_);
+    tiles_->beginFrame(frame_);
+    gpuSlots_->beginFrame(frame_);
     ground_->endFrame();
     stats_ = {};
 
-    const double ex = settings_.verticalExaggeration;
     globe::SelectorView view;
     view.eye = camera.position();
     view.worldToView = glm::dmat3(camera.viewRotation());
@@ -352,109 +155,76 @@ void TerrainLayer::update(const scene::FrameContext& frame) {
     view.aspect = frame.aspect();
     view.nearPlane = camera.nearPlane();
     view.viewportHeightPx = frame.height;
-    const auto heights = [&](const globe::TileKey& k) {
-        const globe::TileHeightRange r = model_->heightRange(k);
-        return globe::TileHeightRange{std::min(r.minHeight * ex, 0.0), std::max(r.maxHeight * ex, 0.0)};
-    };
-    const auto& selected = selector_->select(view, heights);
+    const auto& selected = selector_->select(view, [&](const globe::TileKey& k) { return drawnHeights(k); });
     stats_.selection = selector_->stats();
 
     // Ask for data: elevation and each visible imagery layer, near and coarse first.
     for (const auto& t : selected) {
-        model_->request(0, t.key, t.distance);
+        tiles_->request(0, t.key, t.distance);
         for (uint32_t i = 0; i < imageryIndex_.size(); ++i)
-            if (settings_.imagery[imageryIndex_[i]].visible) model_->request(1 + i, t.key, t.distance);
+            if (settings_.imagery[imageryIndex_[i]].visible) tiles_->request(1 + i, t.key, t.distance);
     }
-    model_->endFrame();
+    tiles_->endFrame();
 
-    // Residency and the draw list.
-    uploads_.clear();
-    uint64_t uploadBytes = 0;
-    deferred_ = false;
-    const uint64_t elevBytes = uint64_t(settings_.gridSize) * settings_.gridSize * 4 * sizeof(float);
-    const uint64_t imgBytes = uint64_t(settings_.imageSize) * settings_.imageSize * 4 * 4 / 3;
-    const auto resident = [&](SlotPool& pool, uint32_t kind, uint32_t layer, const globe::TileKey& tile,
-                              uint64_t bytes) -> std::optional<std::pair<globe::TileKey, uint32_t>> {
-        // The deepest ready ancestor-or-self that is on the GPU or can go there this frame.
-        std::optional<globe::TileKey> a = model_->readyAncestor(layer, tile);
-        while (a) {
-            const globe::DataKey key{layer, *a};
-            if (auto it = pool.resident.find(key); it != pool.resident.end()) {
-                pool.slots[it->second].lastUsed = frame_;
-                return std::make_pair(*a, it->second);
+    buildDrawList(frame, selected);
+    for (const auto& err : tiles_->errors())
+        if (std::find(errors_.begin(), errors_.end(), err) == errors_.end()) errors_.push_back(err);
+}
+
+std::optional<std::pair<globe::TileKey, uint32_t>> TerrainLayer::residentData(uint32_t layer, const globe::TileKey& tile) {
+    const Kind kind = layer == 0 ? Kind::Elevation : Kind::Imagery;
+    // The deepest ready ancestor-or-self that is on the GPU or can go there this frame.
+    std::optional<globe::TileKey> a = tiles_->readyAncestor(layer, tile);
+    while (a) {
+        const globe::DataKey key{layer, *a};
+        if (auto slot = gpuSlots_->find(kind, key)) return std::make_pair(*a, *slot);
+        if (uploadBytes_ + gpuSlots_->slotBytes(kind) <= settings_.uploadBudgetBytes) {
+            if (auto slot = gpuSlots_->acquire(kind, key, false)) {
+                uploads_.push_back({kind, *slot, *a, layer});
+                uploadBytes_ += gpuSlots_->slotBytes(kind);
+                return std::make_pair(*a, *slot);
             }
-            if (uploadBytes + bytes <= settings_.uploadBudgetBytes) {
-                if (auto slot = acquireSlot(pool, key, false)) {
-                    uploads_.push_back({kind, *slot, *a, layer});
-                    uploadBytes += bytes;
-                    return std::make_pair(*a, *slot);
-                }
-            } else {
-                deferred_ = true;
-            }
-            if (a->level == 0) break;
-            a = model_->readyAncestor(layer, a->parent());
+        } else {
+            deferred_ = true;
         }
-        return std::nullopt;
-    };
+        if (a->level == 0) break;
+        a = tiles_->readyAncestor(layer, a->parent());
+    }
+    return std::nullopt;
+}
 
-    const glm::dmat4 proj = camera.projection(frame.aspect());
-    const auto& ell = globe::Ellipsoid::wgs84();
+std::optional<uint32_t> TerrainLayer::meshSlot(const globe::TileKey& key) {
+    const globe::DataKey meshKey{kMeshLayer, key};
+    if (auto slot = gpuSlots_->find(Kind::Mesh, meshKey)) return slot;
+    // Meshes are never held back: without one, the tile would be a hole.
+    auto slot = gpuSlots_->acquire(Kind::Mesh, meshKey, true);
+    if (!slot) return std::nullopt;
+    uploads_.push_back({Kind::Mesh, *slot, key, kMeshLayer});
+    uploadBytes_ += gpuSlots_->slotBytes(Kind::Mesh);
+    return slot;
+}
+
+void TerrainLayer::buildDrawList(const scene::FrameContext& frame, const std::vector<globe::SelectedTile>& selected) {
+    uploads_.clear();
+    uploadBytes_ = 0;
+    deferred_ = false;
     const size_t count = std::min<size_t>(selected.size(), maxDraws_);
     if (selected.size() > maxDraws_ && !warnedDrawCap_) {
         warnedDrawCap_ = true;
         log::warn("terrain: ", selected.size(), " tiles selected, drawing the first ", maxDraws_,
                   "; raise \"maxScreenSpaceError\"");
     }
+    const glm::dmat4 proj = frame.camera->projection(frame.aspect());
     drawItems_.clear();
     drawData_.resize(count * sizeof(shader::TileDraw));
     for (size_t i = 0; i < count; ++i) {
         const globe::TileKey key = selected[i].key;
-        const globe::DataKey meshKey{kMeshLayer, key};
-        uint32_t meshSlot;
-        if (auto it = meshes_.resident.find(meshKey); it != meshes_.resident.end()) {
-            meshSlot = it->second;
-            meshes_.slots[meshSlot].lastUsed = frame_;
-        } else {
-            // Meshes are never held back: without one, the tile would be a hole.
-            auto slot = acquireSlot(meshes_, meshKey, true);
-            if (!slot) continue;
-            meshSlot = *slot;
-            uploads_.push_back({kMesh, meshSlot, key, kMeshLayer});
-            uploadBytes += meshes_.pageBytes / meshes_.slotsPerPage;
-        }
-        const globe::GeoExtent e = key.extent();
-        const glm::dvec3 center = ell.toEcef(e.centerLon(), e.centerLat(), 0.0);
-
-        shader::TileDraw d{};
-        d.modelViewProj = glm::mat4(proj * camera.modelViewRelativeToEye(center));
-        const double cell = key.sizeDeg() * 111320.0 / double(settings_.gridSize - 1);
-        const globe::TileHeightRange hr = heights(key);
-        // Deep enough for the gap between a tile and a coarser neighbour: the chord sag of the
-        // coarser grid (twice this cell) plus part of the height range; any deeper only costs
-        // fill rate where skirts show at grazing angles.
-        const double sag = (2.0 * cell) * (2.0 * cell) / (8.0 * 6371000.0);
-        const double skirt = std::min(sag + 0.25 * (hr.maxHeight - hr.minHeight), 5.0e4) + 10.0;
-        d.originFromEye = glm::vec4(glm::vec3(center - camera.position()), float(skirt));
-        d.elevation = glm::ivec4(-1, settings_.gridSize, 0, 0);
-        d.elevationScaleBias = glm::vec4(1, 1, 0, 0);
-        if (auto r = resident(elevation_, kElevation, 0, key, elevBytes)) {
-            d.elevation.x = int(r->second);
-            d.elevationScaleBias = glm::vec4(key.scaleBiasWithin(r->first));
-            if (r->first == key) ++stats_.tilesWithOwnElevation;
-        }
-        d.imagerySlot = glm::ivec4(-1);
-        for (uint32_t l = 0; l < imageryIndex_.size(); ++l) {
-            d.imageryScaleBias[l] = glm::vec4(1, 1, 0, 0);
-            if (!settings_.imagery[imageryIndex_[l]].visible) continue;
-            if (auto r = resident(imagery_, kImagery, 1 + l, key, imgBytes)) {
-                d.imagerySlot[int(l)] = int(r->second);
-                d.imageryScaleBias[l] = glm::vec4(key.scaleBiasWithin(r->first));
-            }
-        }
+        const std::optional<uint32_t> mesh = meshSlot(key);
+        if (!mesh) continue;
+        const shader::TileDraw d = tileDraw(*frame.camera, proj, key);
         const uint32_t drawIndex = uint32_t(drawItems_.size());
         std::memcpy(drawData_.data() + drawIndex * sizeof(d), &d, sizeof(d));
-        drawItems_.push_back({meshSlot, drawIndex, selected[i].distance});
+        drawItems_.push_back({*mesh, drawIndex, selected[i].distance});
         stats_.deepestLevel = std::max(stats_.deepestLevel, key.level);
     }
     drawData_.resize(drawItems_.size() * sizeof(shader::TileDraw));
@@ -464,105 +234,70 @@ void TerrainLayer::update(const scene::FrameContext& frame) {
                      [](const DrawItem& a, const DrawItem& b) { return a.distance < b.distance; });
     stats_.tilesDrawn = drawItems_.size();
     stats_.uploadsThisFrame = uploads_.size();
-    stats_.uploadBytesThisFrame = uploadBytes;
-    for (const auto& err : model_->errors())
-        if (std::find(errors_.begin(), errors_.end(), err) == errors_.end()) errors_.push_back(err);
+    stats_.uploadBytesThisFrame = uploadBytes_;
+}
+
+shader::TileDraw TerrainLayer::tileDraw(const scene::Camera& camera, const glm::dmat4& proj, const globe::TileKey& key) {
+    const globe::GeoExtent e = key.extent();
+    const glm::dvec3 center = globe::Ellipsoid::wgs84().toEcef(e.centerLon(), e.centerLat(), 0.0);
+    shader::TileDraw d{};
+    d.modelViewProj = glm::mat4(proj * camera.modelViewRelativeToEye(center));
+    const double cell = key.sizeDeg() * 111320.0 / double(settings_.gridSize - 1);
+    const globe::TileHeightRange hr = drawnHeights(key);
+    // Deep enough for the gap between a tile and a coarser neighbour: the chord sag of the
+    // coarser grid (twice this cell) plus part of the height range; any deeper only costs
+    // fill rate where skirts show at grazing angles.
+    const double sag = (2.0 * cell) * (2.0 * cell) / (8.0 * 6371000.0);
+    const double skirt = std::min(sag + 0.25 * (hr.maxHeight - hr.minHeight), 5.0e4) + 10.0;
+    d.originFromEye = glm::vec3(center - camera.position());
+    d.skirtDepth = float(skirt);
+    d.elevationSlot = -1;
+    d.elevationGridSize = settings_.gridSize;
+    d.elevationScaleBias = glm::vec4(1, 1, 0, 0);
+    if (auto r = residentData(0, key)) {
+        d.elevationSlot = int(r->second);
+        d.elevationScaleBias = glm::vec4(key.scaleBiasWithin(r->first));
+        if (r->first == key) ++stats_.tilesWithOwnElevation;
+    }
+    d.imagerySlot = glm::ivec4(-1);
+    for (uint32_t l = 0; l < imageryIndex_.size(); ++l) {
+        d.imageryScaleBias[l] = glm::vec4(1, 1, 0, 0);
+        if (!settings_.imagery[imageryIndex_[l]].visible) continue;
+        if (auto r = residentData(1 + l, key)) {
+            d.imagerySlot[int(l)] = int(r->second);
+            d.imageryScaleBias[l] = glm::vec4(key.scaleBiasWithin(r->first));
+        }
+    }
+    return d;
 }
 
 void TerrainLayer::writeDescriptors(uint32_t f) {
-    if (setVersion_[f] == descriptorVersion_) return;
-    setVersion_[f] = descriptorVersion_;
-    VkDescriptorBufferInfo buffer{drawBuffers_[f].vk(), 0, VK_WHOLE_SIZE};
-    std::vector<VkDescriptorImageInfo> elev(shader::kElevationPages), img(shader::kImageryPages);
-    for (uint32_t i = 0; i < elev.size(); ++i)
-        elev[i] = {heightSampler_.vk(), i < elevationPages_.size() ? elevationPages_[i].view() : dummyElevation_.view(),
-                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    for (uint32_t i = 0; i < img.size(); ++i)
-        img[i] = {imagerySampler_.vk(), i < imageryPages_.size() ? imageryPages_[i].view() : dummyImagery_.view(),
-                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    VkWriteDescriptorSet w[3]{};
-    for (auto& x : w) {
-        x.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        x.dstSet = descriptors_.sets[f];
-    }
-    w[0].dstBinding = 0;
-    w[0].descriptorCount = 1;
-    w[0].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    w[0].pBufferInfo = &buffer;
-    w[1].dstBinding = 1;
-    w[1].descriptorCount = uint32_t(elev.size());
-    w[1].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-    w[1].pImageInfo = elev.data();
-    w[2].dstBinding = 2;
-    w[2].descriptorCount = uint32_t(img.size());
-    w[2].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-    w[2].pImageInfo = img.data();
-    vkUpdateDescriptorSets(services_.device->vk(), 3, w, 0, nullptr);
+    if (setVersion_[f] == gpuSlots_->version()) return;
+    setVersion_[f] = gpuSlots_->version();
+    // Pages not made yet are bound to a dummy: the shaders index every page.
+    gpu::DescriptorWriter(descriptors_.sets[f])
+        .storageBuffer(shader::kTerrainBindingDraws, drawBuffers_[f])
+        .sampledImages(shader::kTerrainBindingElevation, heightSampler_.vk(), gpuSlots_->elevationViews())
+        .sampledImages(shader::kTerrainBindingImagery, imagerySampler_.vk(), gpuSlots_->imageryViews())
+        .update(*services_.device);
 }
 
 void TerrainLayer::recordTransfers(const render::RecordContext& rc) {
     VkCommandBuffer cmd = rc.cmd;
     if (!drawData_.empty()) drawBuffers_[rc.slot].write(drawData_.data(), drawData_.size());
     if (!uploads_.empty()) {
-        // Slots may be reused: earlier frames' reads of them come before these writes.
-        VkMemoryBarrier2 before{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-        before.srcStageMask = VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT;
-        before.dstStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
-        VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-        dep.memoryBarrierCount = 1;
-        dep.pMemoryBarriers = &before;
-        vkCmdPipelineBarrier2(cmd, &dep);
-
-        const int n = settings_.gridSize;
-        std::vector<bool> meshTouched(meshPages_.size()), elevTouched(elevationPages_.size()),
-            imgTouched(imageryPages_.size());
+        gpuSlots_->beginUploads(cmd);
         for (const PendingUpload& u : uploads_) {
-            if (u.kind == kMesh) {
-                const globe::TileMesh mesh = globe::buildTileMesh(u.tile, n);
-                const uint32_t page = u.slot / kMeshSlotsPerPage, index = u.slot % kMeshSlotsPerPage;
-                const VkDeviceSize bytes = mesh.vertices.size() * sizeof(globe::TileVertex);
-                rc.uploader->toBuffer(cmd, meshPages_[page], mesh.vertices.data(), bytes, index * bytes);
-                meshTouched[page] = true;
-            } else if (u.kind == kElevation) {
-                const auto data = model_->elevation(u.tile);
-                const uint32_t page = u.slot / shader::kElevationSlotsPerPage;
-                // Height and its gradient per sample (computed by the loader): interpolating
-                // the gradient gives continuous normals.
-                const auto& h = data->heights;
-                std::vector<float> texels(h.size() * 4);
-                for (size_t i = 0; i < h.size(); ++i) {
-                    texels[i * 4] = h[i];
-                    texels[i * 4 + 1] = data->gradients[i * 2];
-                    texels[i * 4 + 2] = data->gradients[i * 2 + 1];
-                    texels[i * 4 + 3] = 0.0f;
-                }
-                rc.uploader->toImage(cmd, elevationPages_[page], texels.data(), texels.size() * sizeof(float),
-                                     u.slot % shader::kElevationSlotsPerPage);
-                elevTouched[page] = true;
+            if (u.kind == Kind::Mesh) {
+                const globe::TileMesh mesh = globe::buildTileMesh(u.tile, settings_.gridSize);
+                gpuSlots_->uploadMesh(cmd, *rc.uploader, u.slot, mesh.vertices);
+            } else if (u.kind == Kind::Elevation) {
+                gpuSlots_->uploadElevation(cmd, *rc.uploader, u.slot, *tiles_->elevation(u.tile));
             } else {
-                const auto data = model_->imagery(u.layer, u.tile);
-                const uint32_t page = u.slot / shader::kImagerySlotsPerPage;
-                std::vector<VkBufferImageCopy> regions;
-                for (int m = 0; m < data->mipLevels(); ++m) {
-                    const uint32_t size = uint32_t(std::max(data->size >> m, 1));
-                    VkBufferImageCopy r{};
-                    r.bufferOffset = data->mipOffsets[size_t(m)];
-                    r.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), u.slot % shader::kImagerySlotsPerPage, 1};
-                    r.imageExtent = {size, size, 1};
-                    regions.push_back(r);
-                }
-                rc.uploader->toImageRegions(cmd, imageryPages_[page], data->rgba.data(), data->rgba.size(), regions);
-                imgTouched[page] = true;
+                gpuSlots_->uploadImagery(cmd, *rc.uploader, u.slot, *tiles_->imagery(u.layer, u.tile));
             }
         }
-        for (size_t p = 0; p < meshPages_.size(); ++p)
-            if (meshTouched[p])
-                gpu::bufferBarrier(cmd, meshPages_[p], VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                                   VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
-        for (size_t p = 0; p < elevationPages_.size(); ++p)
-            if (elevTouched[p]) gpu::transition(cmd, elevationPages_[p], gpu::ImageUse::SampledGraphics);
-        for (size_t p = 0; p < imageryPages_.size(); ++p)
-            if (imgTouched[p]) gpu::transition(cmd, imageryPages_[p], gpu::ImageUse::SampledGraphics);
+        gpuSlots_->endUploads(cmd);
         uploads_.clear();
     }
     writeDescriptors(rc.slot);
@@ -573,12 +308,13 @@ void TerrainLayer::record(scene::Pass, const render::RecordContext& rc) {
     const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
     shader::TerrainPush push{};
-    push.baseColor = glm::vec4(srgbToLinear(settings_.color.r), srgbToLinear(settings_.color.g),
-                               srgbToLinear(settings_.color.b), float(settings_.verticalExaggeration));
+    push.baseColor = glm::vec3(srgbToLinear(settings_.color.r), srgbToLinear(settings_.color.g), srgbToLinear(settings_.color.b));
+    push.verticalExaggeration = float(settings_.verticalExaggeration);
     for (uint32_t l = 0; l < imageryIndex_.size(); ++l)
         push.imageryOpacity[int(l)] = float(settings_.imagery[imageryIndex_[l]].opacity);
-    push.params = glm::vec4(settings_.sunLighting ? 1.0f : 0.0f, settings_.tileBorders ? 1.0f : 0.0f,
-                            float(settings_.imageSize), 0);
+    push.sunLighting = settings_.sunLighting ? 1u : 0u;
+    push.tileBorders = settings_.tileBorders ? 1u : 0u;
+    push.imageSizePx = float(settings_.imageSize);
     const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     vkCmdPushConstants(cmd, layout_.vk(), stages, 0, sizeof(push), &push);
 
@@ -592,17 +328,16 @@ void TerrainLayer::record(scene::Pass, const render::RecordContext& rc) {
 void TerrainLayer::drawSurface(VkCommandBuffer cmd) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, surface_.vk());
     vkCmdBindIndexBuffer(cmd, indices_.vk(), 0, VK_INDEX_TYPE_UINT32);
-    const uint32_t verts = globe::tileVertexCount(settings_.gridSize);
     uint32_t boundPage = UINT32_MAX;
     for (const DrawItem& item : drawItems_) {
-        const uint32_t page = item.meshSlot / kMeshSlotsPerPage;
+        const uint32_t page = gpuSlots_->meshPage(item.meshSlot);
         if (page != boundPage) {
-            const VkBuffer vb = meshPages_[page].vk();
+            const VkBuffer vb = gpuSlots_->meshBuffer(item.meshSlot);
             const VkDeviceSize offset = 0;
             vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);
             boundPage = page;
         }
-        vkCmdDrawIndexed(cmd, indexCount_, 1, 0, int32_t((item.meshSlot % kMeshSlotsPerPage) * verts), item.drawIndex);
+        vkCmdDrawIndexed(cmd, indexCount_, 1, 0, gpuSlots_->meshVertexOffset(item.meshSlot), item.drawIndex);
     }
 }
 
@@ -612,11 +347,11 @@ uint64_t TerrainLayer::fixedBytes() const {
     return bytes;
 }
 
-uint64_t TerrainLayer::gpuBytes() const { return fixedBytes() + allocatedBytes(); }
+uint64_t TerrainLayer::gpuBytes() const { return fixedBytes() + (gpuSlots_ ? gpuSlots_->allocatedBytes() : 0); }
 
 bool TerrainLayer::setParameter(std::string_view name, double value) {
     // The ranges the scene file accepts (create()), so that a saved scene loads again.
-    if (name == "maxScreenSpaceError" && value >= 0.25 && value <= 1000.0) {
+    if (name == "maxScreenSpaceError" && kScreenSpaceErrorRange.contains(value)) {
         settings_.maxScreenSpaceError = value;
         if (selector_) {
             globe::SelectorSettings s = selector_->settings();
@@ -626,7 +361,7 @@ bool TerrainLayer::setParameter(std::string_view name, double value) {
         }
         return true;
     }
-    if (name == "verticalExaggeration" && value >= 0.0 && value <= 1000.0) {
+    if (name == "verticalExaggeration" && kExaggerationRange.contains(value)) {
         if (value != settings_.verticalExaggeration) ++groundChanges_;
         settings_.verticalExaggeration = value;
         return true;
@@ -642,7 +377,7 @@ bool TerrainLayer::setParameter(std::string_view name, double value) {
         }
         return i < settings_.imagery.size() ? std::optional<size_t>(i) : std::nullopt;
     };
-    if (const auto i = imageryIndex("imageryOpacity"); i && value >= 0.0 && value <= 1.0) {
+    if (const auto i = imageryIndex("imageryOpacity"); i && kImageryOpacityRange.contains(value)) {
         settings_.imagery[*i].opacity = value;
         return true;
     }
@@ -657,9 +392,11 @@ std::vector<scene::LayerSetting> TerrainLayer::liveSettings() const {
     using Kind = scene::LayerSetting::Kind;
     std::vector<scene::LayerSetting> out = {
         {.name = "maxScreenSpaceError", .label = "Screen-space error (px)", .kind = Kind::Number,
-         .value = settings_.maxScreenSpaceError, .min = 0.25, .max = 1000.0, .logarithmic = true},
+         .value = settings_.maxScreenSpaceError, .min = kScreenSpaceErrorRange.min, .max = kScreenSpaceErrorRange.max,
+         .logarithmic = true},
         {.name = "verticalExaggeration", .label = "Vertical exaggeration", .kind = Kind::Number,
-         .value = settings_.verticalExaggeration, .min = 0.0, .max = 1000.0, .logarithmic = true},
+         .value = settings_.verticalExaggeration, .min = kExaggerationRange.min, .max = kExaggerationRange.max,
+         .logarithmic = true},
     };
     for (size_t i = 0; i < settings_.imagery.size(); ++i) {
         const ImageryLayerSettings& l = settings_.imagery[i];
@@ -669,18 +406,19 @@ std::vector<scene::LayerSetting> TerrainLayer::liveSettings() const {
         out.push_back({.name = "imageryVisible" + std::to_string(i), .label = name, .kind = Kind::Toggle,
                        .value = l.visible ? 1.0 : 0.0, .pointer = entry + "/visible"});
         out.push_back({.name = "imageryOpacity" + std::to_string(i), .label = name + " opacity", .kind = Kind::Number,
-                       .value = l.opacity, .min = 0.0, .max = 1.0, .pointer = entry + "/opacity"});
+                       .value = l.opacity, .min = kImageryOpacityRange.min, .max = kImageryOpacityRange.max,
+                       .pointer = entry + "/opacity"});
     }
     return out;
 }
 
-bool TerrainLayer::busy() const { return (model_ && model_->loading()) || deferred_; }
+bool TerrainLayer::busy() const { return (tiles_ && tiles_->loading()) || deferred_; }
 
 std::string TerrainLayer::status() const {
     std::ostringstream s;
     s << "tiles " << stats_.tilesDrawn << " drawn (deepest level " << stats_.deepestLevel << ")";
-    if (model_) {
-        s << ", " << model_->stats().loading << " loading, " << (model_->cpuBytes() >> 20) << " MB cached";
+    if (tiles_) {
+        s << ", " << tiles_->stats().loading << " loading, " << (tiles_->cpuBytes() >> 20) << " MB cached";
     }
     s << ", " << (gpuBytes() >> 20) << " MB on the GPU";
     if (!errors_.empty()) s << ", " << errors_.size() << " error(s)";
@@ -694,8 +432,5 @@ std::optional<double> TerrainLayer::heightAt(double lonDeg, double latDeg) const
     return h;
 }
 
-scene::LayerType TerrainLayer::layerType() {
-    return {"terrain", "WGS84 quadtree terrain streaming DEMs and imagery through GDAL", &TerrainLayer::create, {"/elevation/*", "/elevation/*/path", "/imagery/*", "/imagery/*/path"}};
-}
 
 }  // namespace orbis::layers

@@ -21,15 +21,17 @@
 #include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/LayerRegistry.h"
+#include "engine/scene/LayerSetting.h"
 #include "engine/scene/SceneDesc.h"
 #include "globe/RasterSource.h"
-#include "globe/TerrainModel.h"
+#include "globe/TerrainTiles.h"
 #include "globe/TileSelector.h"
 #include "layers/terrain/TerrainGround.h"
+#include "layers/terrain/TileSlotPool.h"
+#include "shared/TerrainTypes.h"
 
 #include <memory>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 namespace orbis::layers {
@@ -71,6 +73,12 @@ class TerrainLayer : public scene::Layer, public scene::LiveSettings, public sce
 public:
     /// The scene type: its name, description, factory (create) and the files its object names.
     static scene::LayerType layerType();
+    /// The ranges its numeric settings may take, the same for the scene file (create), a live
+    /// edit (setParameter) and the panel (liveSettings).
+    static constexpr scene::SettingRange kScreenSpaceErrorRange{0.25, 1000.0};
+    static constexpr scene::SettingRange kExaggerationRange{0.0, 1000.0};
+    static constexpr scene::SettingRange kImageryOpacityRange{0.0, 1.0};
+
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
     explicit TerrainLayer(TerrainSettings settings);
@@ -85,7 +93,7 @@ public:
     void recordTransfers(const render::RecordContext& context) override;
     void record(scene::Pass pass, const render::RecordContext& context) override;
     uint64_t gpuBytes() const override;
-    uint64_t cacheBytes() const override { return model_ ? model_->cpuBytes() : 0; }
+    uint64_t cacheBytes() const override { return tiles_ ? tiles_->cpuBytes() : 0; }
     bool busy() const override;
     /// Live: "maxScreenSpaceError" (0.25 .. 1000 px), "verticalExaggeration" (0 .. 1000).
     bool setParameter(std::string_view name, double value) override;
@@ -100,9 +108,9 @@ public:
     const std::vector<uint8_t>& drawRecords() const { return drawData_; }
     /// The tiles selected for the last frame.
     const std::vector<globe::SelectedTile>& selection() const { return selector_->selection(); }
-    /// The CPU model (sources, pager, cache); null before prepare().
-    globe::TerrainModel* model() { return model_.get(); }
-    const globe::TerrainModel* model() const { return model_.get(); }
+    /// The tiles on the CPU (sources, pager, cache, heights); null before prepare().
+    globe::TerrainTiles* tiles() { return tiles_.get(); }
+    const globe::TerrainTiles* tiles() const { return tiles_.get(); }
     /// Terrain height (metres above the ellipsoid, exaggerated as drawn) at a point, from the
     /// DEMs at their own resolution whatever has been streamed (TerrainGround.h): the same
     /// answer for the same point every time; nothing before prepare().
@@ -115,37 +123,34 @@ public:
 
 private:
     void onPrepare(const render::RenderServices& services) override;
-    struct Slot {
-        globe::DataKey owner;
-        uint64_t lastUsed = 0;
-        bool taken = false;
-    };
-    struct SlotPool {
-        uint32_t slotsPerPage = 0, maxPages = 0;
-        uint64_t pageBytes = 0;
-        std::vector<Slot> slots;
-        std::vector<uint32_t> freeSlots;
-        std::unordered_map<globe::DataKey, uint32_t, globe::DataKeyHash> resident;
-        uint32_t pages() const { return slotsPerPage ? uint32_t(slots.size() / slotsPerPage) : 0; }
-    };
     struct PendingUpload {
-        uint32_t kind;   // 0 mesh, 1 elevation, 2 imagery
+        TileSlotPool::Kind kind;
         uint32_t slot;
         globe::TileKey tile;
         uint32_t layer;
     };
 
-    std::optional<uint32_t> acquireSlot(SlotPool& pool, const globe::DataKey& owner, bool mayExceedBudget);
-    void addPage(uint32_t kind);
-    uint64_t allocatedBytes() const;   ///< tile pools
-    uint64_t fixedBytes() const;       ///< index and draw buffers
+    void openSources(const render::RenderServices& services);
+    void createGpuObjects(const render::RenderServices& services);
+    void buildPipelines(const render::RenderServices& services);
+    /// A tile's height range as drawn (exaggerated, and the ellipsoid's 0 included).
+    globe::TileHeightRange drawnHeights(const globe::TileKey& key) const;
+    /// The residency of the selected tiles' data (uploads queued within the budget) and their draws.
+    void buildDrawList(const scene::FrameContext& frame, const std::vector<globe::SelectedTile>& selected);
+    shader::TileDraw tileDraw(const scene::Camera& camera, const glm::dmat4& proj, const globe::TileKey& key);
+    /// The tile's mesh slot, its upload queued when new; nothing when no slot can be had.
+    std::optional<uint32_t> meshSlot(const globe::TileKey& key);
+    /// The deepest ready ancestor-or-self of `tile` whose data in `layer` is on the GPU or is
+    /// queued to go there this frame, and its slot.
+    std::optional<std::pair<globe::TileKey, uint32_t>> residentData(uint32_t layer, const globe::TileKey& tile);
+    uint64_t fixedBytes() const;   ///< index and draw buffers
     void writeDescriptors(uint32_t frameSlot);
     /// The selected tiles, front to back (descriptor sets and push constants already set).
     void drawSurface(VkCommandBuffer cmd);
 
     TerrainSettings settings_;
     std::vector<std::string> errors_;
-    std::unique_ptr<globe::TerrainModel> model_;
+    std::unique_ptr<globe::TerrainTiles> tiles_;
     std::unique_ptr<TerrainGround> ground_;   ///< heightAt's own DEM reads
     uint64_t groundChanges_ = 0;
     std::unique_ptr<globe::TileSelector> selector_;
@@ -153,19 +158,15 @@ private:
     uint64_t frame_ = 0;
 
     // GPU residency.
-    SlotPool meshes_, elevation_, imagery_;
-    std::vector<gpu::Buffer> meshPages_;
-    std::vector<gpu::Image> elevationPages_, imageryPages_;
-    gpu::Image dummyElevation_, dummyImagery_;
+    std::unique_ptr<TileSlotPool> gpuSlots_;
     gpu::Buffer indices_;
     uint32_t indexCount_ = 0;
-    std::vector<PendingUpload> uploads_;
-    std::unordered_map<globe::TileKey, glm::dvec3, globe::TileKeyHash> meshCenters_;
+    std::vector<PendingUpload> uploads_;   // this frame's, queued by update()
+    uint64_t uploadBytes_ = 0;
 
     // Per frame in flight: draw list and its descriptor set.
     std::vector<gpu::Buffer> drawBuffers_;
-    std::vector<uint64_t> setVersion_;
-    uint64_t descriptorVersion_ = 1;
+    std::vector<uint64_t> setVersion_;   // per set: the slot pool's version it names
     uint32_t maxDraws_ = 8192;
     struct DrawItem {
         uint32_t meshSlot;
@@ -181,7 +182,7 @@ private:
     gpu::Pipeline surface_, sky_;
 
     TerrainStats stats_;
-    bool warnedDrawCap_ = false, warnedBudget_ = false;
+    bool warnedDrawCap_ = false;
     bool deferred_ = false;                 ///< ready data waited for upload budget this frame
     std::vector<size_t> imageryIndex_;      ///< model imagery layer i -> settings_.imagery index
 };

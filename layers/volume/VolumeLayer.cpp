@@ -10,8 +10,8 @@
 #include "globe/Ellipsoid.h"
 #include "shared/FrameUniforms.h"
 #include "shared/VolumeTypes.h"
-#include "spv/volume/composite.frag.h"
-#include "spv/volume/composite.vert.h"
+#include "spv/common/composite.frag.h"
+#include "spv/common/fullscreen.vert.h"
 #include "spv/volume/raycast.comp.h"
 
 #include <algorithm>
@@ -241,8 +241,8 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
     hitImage_ = gpu::Image(device, hd);
     castPipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_volume_raycast_comp, &modes, "volume ray cast");
     gpu::GraphicsPipelineDesc composite;
-    composite.vertexSpirv = kSpv_volume_composite_vert;
-    composite.fragmentSpirv = kSpv_volume_composite_frag;
+    composite.vertexSpirv = kSpv_common_fullscreen_vert;
+    composite.fragmentSpirv = kSpv_common_composite_frag;
     composite.layout = layout_.vk();
     composite.cullMode = VK_CULL_MODE_NONE;
     composite.depthTest = false;

@@ -6,12 +6,12 @@
 // Polylines relative to the eye (world axes: a model's path) or, with kScreen, quads already in
 // clip space (labels, pins).
 
-layout(constant_id = 0) const bool kScreen = false;
+layout(constant_id = kPolylineSpecScreen) const bool kScreen = false;
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 
-layout(location = 0) in vec4 inPosition;
-layout(location = 1) in vec4 inColor;
+layout(location = kPolylineInputPosition) in vec4 inPosition;
+layout(location = kPolylineInputColor) in vec4 inColor;
 
 layout(location = 0) out vec4 vColor;
 

@@ -4,7 +4,7 @@
 
 // A simple analytic sky: glow that falls off with the height of the ray's closest approach to
 // the Earth, lit by the sun. Float ECEF is fine here: it shades, it places no geometry.
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 
 layout(location = 0) in vec2 vNdc;
 layout(location = 0) out vec4 outColor;

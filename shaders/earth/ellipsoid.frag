@@ -3,7 +3,7 @@
 #include "shared/FrameUniforms.h"
 #include "shared/EarthTypes.h"
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 layout(push_constant) uniform PushBlock { EarthPush pc; };
 
 layout(location = 0) in vec3 vNormal;
@@ -25,13 +25,13 @@ float gridLines(vec2 lonLat, float spacing, float halfWidth, vec2 weight) {
 void main() {
     vec3 n = normalize(vNormal);
     vec3 toEye = normalize(-vFromEye);
-    bool sun = pc.graticule.w > 0.5;
+    bool sun = pc.sunLighting != 0u;
     vec3 toLight = sun ? frame.sunDirection.xyz : toEye;
 
     float ndl = dot(n, toLight);
     float day = smoothstep(-0.10, 0.15, ndl);           // soft terminator (twilight)
     float diffuse = max(ndl, 0.0);
-    vec3 base = pc.baseColor.rgb;
+    vec3 base = pc.baseColor;
     vec3 color = base * (0.03 + 0.97 * diffuse);
 
     // Sun glint on the ocean-coloured surface.
@@ -50,8 +50,8 @@ void main() {
     vec2 ulp = max(abs(vLonLat), vec2(1.0)) * 1.2e-7;
     vec2 footprint = fwidth(vLonLat);
     vec2 resolvable = smoothstep(100.0 * ulp, 400.0 * ulp, footprint);
-    if (pc.graticule.z > 0.5 && max(resolvable.x, resolvable.y) > 0.0) {
-        float lines = gridLines(vLonLat, pc.graticule.x, pc.graticule.y, resolvable);
+    if (pc.drawLines != 0u && max(resolvable.x, resolvable.y) > 0.0) {
+        float lines = gridLines(vLonLat, pc.graticuleDeg, pc.lineHalfWidthPx, resolvable);
         // Equator and prime meridian stand out.
         vec2 zero = abs(vLonLat) / max(footprint, vec2(1e-6));
         vec2 axis = (1.0 - clamp(zero / 1.25, 0.0, 1.0)) * resolvable;

@@ -3,12 +3,12 @@
 #include "shared/FrameUniforms.h"
 #include "shared/EarthTypes.h"
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 layout(push_constant) uniform PushBlock { EarthPush pc; };
 
-layout(location = 0) in vec3 inPosition;   // relative to the patch origin
-layout(location = 1) in vec3 inNormal;
-layout(location = 2) in vec2 inLonLat;
+layout(location = kEarthInputPosition) in vec3 inPosition;   // relative to the patch origin
+layout(location = kEarthInputNormal) in vec3 inNormal;
+layout(location = kEarthInputLonLat) in vec2 inLonLat;
 
 layout(location = 0) out vec3 vNormal;
 layout(location = 1) out vec2 vLonLat;
@@ -18,5 +18,5 @@ void main() {
     gl_Position = pc.modelViewProj * vec4(inPosition, 1.0);
     vNormal = inNormal;
     vLonLat = inLonLat;
-    vFromEye = pc.originFromEye.xyz + inPosition;
+    vFromEye = pc.originFromEye + inPosition;
 }

@@ -4,7 +4,7 @@
 
 // The footprint: rays from the sensor through the image's border (kFmvEdgeRays an edge, from
 // corner 1, upper left, clockwise) and its centre, marched over the heightfield in steps of
-// fu.heights.z, then refined by bisection. Heights above the ellipsoid are taken on the sphere
+// fu.marchStep, then refined by bisection. Heights above the ellipsoid are taken on the sphere
 // that osculates it at O (centimetres off over tens of kilometres). A ray that leaves the
 // heightfield without meeting it ends on the sphere at the terrain's mean height, and a ray
 // that misses that too (the sensor looking above the horizon) ends at the horizon in its
@@ -12,33 +12,33 @@
 
 layout(local_size_x = kFmvFootprintGroup) in;
 
-layout(set = 1, binding = 0) uniform FmvBlock { FmvUniforms fu; };
-layout(set = 1, binding = 4) uniform sampler2D heightfield;
-layout(set = 1, binding = 7, std430) writeonly buffer Footprint { vec4 points[]; };
+layout(set = kFmvSet, binding = kFmvBindingUniforms) uniform FmvBlock { FmvUniforms fu; };
+layout(set = kFmvSet, binding = kFmvBindingHeightfield) uniform sampler2D heightfield;
+layout(set = kFmvSet, binding = kFmvBindingFootprint, std430) writeonly buffer Footprint { vec4 points[]; };
 
 #include "fmv/FmvCommon.glsl"
 
-vec3 sphereCentre() { return -fu.north.w * fu.up.xyz; }
+vec3 sphereCentre() { return -fu.sphereRadius * fu.up; }
 
 // Height above the terrain of a point relative to O (beyond the heightfield: above the
 // terrain's mean height).
 float aboveTerrain(vec3 q) {
-    float halfSize = fu.east.w;
-    vec2 en = vec2(dot(q, fu.east.xyz), dot(q, fu.north.xyz));
-    float ground = 0.5 * (fu.heights.x + fu.heights.y);
+    float halfSize = fu.halfSize;
+    vec2 en = vec2(dot(q, fu.east), dot(q, fu.north));
+    float ground = 0.5 * (fu.lowestHeight + fu.highestHeight);
     if (all(lessThanEqual(abs(en), vec2(halfSize)))) {
-        float n = fu.up.w;
+        float n = fu.heightfieldSamples;
         vec2 tc = (en / halfSize * 0.5 + 0.5) * (n - 1.0) / n + 0.5 / n;
         tc.y = 1.0 - tc.y;   // row 0 is north
         ground = textureLod(heightfield, tc, 0.0).r;
     }
-    return length(q - sphereCentre()) - fu.north.w - ground;
+    return length(q - sphereCentre()) - fu.sphereRadius - ground;
 }
 
 // Where the ray meets the sphere of radius R + h (nearest, ahead), or -1.
 float hitSphere(vec3 o, vec3 d, float h) {
     vec3 oc = o - sphereCentre();
-    float r = fu.north.w + h;
+    float r = fu.sphereRadius + h;
     float b = dot(oc, d), c = dot(oc, oc) - r * r;
     float disc = b * b - c;
     if (disc < 0.0) return -1.0;
@@ -48,10 +48,10 @@ float hitSphere(vec3 o, vec3 d, float h) {
 
 vec3 horizon(vec3 o, vec3 d, float h) {
     vec3 up = normalize(o - sphereCentre());
-    float r = fu.north.w + h;
+    float r = fu.sphereRadius + h;
     float above = max(length(o - sphereCentre()) - r, 0.0);
     vec3 horiz = d - dot(d, up) * up;
-    horiz = length(horiz) > 1e-6 ? normalize(horiz) : fu.north.xyz;
+    horiz = length(horiz) > 1e-6 ? normalize(horiz) : fu.north;
     float dip = acos(clamp(r / (r + above), -1.0, 1.0));
     float dist = sqrt(above * (2.0 * r + above));
     return o + dist * (cos(dip) * horiz - sin(dip) * up);
@@ -66,18 +66,18 @@ void main() {
         uint edge = i / kFmvEdgeRays;
         uv = edge == 0u ? vec2(f, -1.0) : edge == 1u ? vec2(1.0, f) : edge == 2u ? vec2(-f, 1.0) : vec2(-1.0, -f);
     }
-    vec3 o = fu.sensor.xyz;
+    vec3 o = fu.sensor;
     vec3 d = normalize(sensorRay(uv));
     // March from where the ray enters the terrain's height range.
-    float tStart = hitSphere(o, d, fu.heights.y);
-    bool insideTop = length(o - sphereCentre()) - fu.north.w <= fu.heights.y;
+    float tStart = hitSphere(o, d, fu.highestHeight);
+    bool insideTop = length(o - sphereCentre()) - fu.sphereRadius <= fu.highestHeight;
     if (insideTop) tStart = 0.0;
-    float tEnd = hitSphere(o, d, fu.heights.x);
+    float tEnd = hitSphere(o, d, fu.lowestHeight);
     vec4 result = vec4(0.0);
     bool found = false;
     if (tStart >= 0.0) {
-        if (tEnd < 0.0) tEnd = tStart + 4.0 * fu.east.w;
-        float step = fu.heights.z;
+        if (tEnd < 0.0) tEnd = tStart + 4.0 * fu.halfSize;
+        float step = fu.marchStep;
         int steps = int(min(ceil((tEnd - tStart) / step), 8192.0));
         float t0 = tStart;
         for (int k = 1; k <= steps && !found; ++k) {
@@ -99,7 +99,7 @@ void main() {
         }
     }
     if (!found) {
-        float mean = 0.5 * (fu.heights.x + fu.heights.y);
+        float mean = 0.5 * (fu.lowestHeight + fu.highestHeight);
         float t = hitSphere(o, d, mean);
         result = t > 0.0 ? vec4(o + t * d, 1.0) : vec4(horizon(o, d, mean), 0.0);
     }

@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shared/FmvTypes.h"
-layout(set = 1, binding = 0) uniform FmvBlock { FmvUniforms fu; };
+layout(set = kFmvSet, binding = kFmvBindingUniforms) uniform FmvBlock { FmvUniforms fu; };
 layout(location = 0) out vec4 outColor;
-void main() { outColor = vec4(fu.outline.rgb, 1.0); }
+void main() { outColor = vec4(fu.outlineColor, 1.0); }

@@ -7,8 +7,8 @@
 // lighting: the sun (or a headlight) as a diffuse light with a sky ambient term; both faces are
 // lit (double-sided materials and mirrored nodes show their back faces).
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
-layout(set = 2, binding = 0) uniform sampler2D baseColorTexture;
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kModelMaterialSet, binding = kModelBindingBaseColor) uniform sampler2D baseColorTexture;
 layout(push_constant) uniform PushBlock { ModelPush pc; };
 
 layout(location = 0) in vec3 vNormal;
@@ -20,15 +20,15 @@ layout(location = 0) out vec4 outColor;
 
 void main() {
     vec4 base = pc.baseColor * vColor;
-    if (pc.params.w > 0.5) base *= texture(baseColorTexture, vUv);
-    if (pc.params.x >= 0.0 && base.a < pc.params.x) discard;
+    if (pc.textured != 0u) base *= texture(baseColorTexture, vUv);
+    if (pc.alphaCutoff >= 0.0 && base.a < pc.alphaCutoff) discard;
 
     vec3 color = base.rgb;
-    if (pc.params.y < 0.5) {
+    if (pc.unlit == 0u) {
         vec3 n = normalize(vNormal);
         vec3 toEye = normalize(-vFromEye);
         if (dot(n, toEye) < 0.0) n = -n;   // the back face of a double-sided surface
-        bool sun = pc.params.z > 0.5;
+        bool sun = pc.sunLighting != 0u;
         vec3 toLight = sun ? frame.sunDirection.xyz : toEye;
         float diffuse = max(dot(n, toLight), 0.0);
         // A constant sky ambient keeps the faces turned away from the light readable.

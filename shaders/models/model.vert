@@ -6,15 +6,15 @@
 // A glTF vertex through its node's transform and its instance's model-to-eye transform (both
 // small numbers: the instance's ECEF origin minus the eye was taken in double on the CPU).
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
-layout(set = 1, binding = 0, std430) readonly buffer Instances { ModelInstance instances[]; };
-layout(set = 1, binding = 1, std430) readonly buffer Nodes { ModelNode nodes[]; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kModelSet, binding = kModelBindingInstances, std430) readonly buffer Instances { ModelInstance instances[]; };
+layout(set = kModelSet, binding = kModelBindingNodes, std430) readonly buffer Nodes { ModelNode nodes[]; };
 layout(push_constant) uniform PushBlock { ModelPush pc; };
 
-layout(location = 0) in vec3 inPosition;
-layout(location = 1) in vec3 inNormal;
-layout(location = 2) in vec2 inUv;
-layout(location = 3) in vec4 inColor;
+layout(location = kModelInputPosition) in vec3 inPosition;
+layout(location = kModelInputNormal) in vec3 inNormal;
+layout(location = kModelInputUv) in vec2 inUv;
+layout(location = kModelInputColor) in vec4 inColor;
 
 layout(location = 0) out vec3 vNormal;
 layout(location = 1) out vec2 vUv;
@@ -23,11 +23,11 @@ layout(location = 3) out vec3 vFromEye;
 
 void main() {
     ModelInstance inst = instances[gl_InstanceIndex];
-    ModelNode node = nodes[pc.ids.x];
+    ModelNode node = nodes[pc.node];
     vec4 p = inst.modelToEye * (node.transform * vec4(inPosition, 1.0));
     vNormal = mat3(inst.modelToEye) * (mat3(node.normal) * inNormal);
     vUv = inUv;
-    vColor = inColor * vec4(inst.tint.rgb, 1.0);
+    vColor = inColor * vec4(inst.tint, 1.0);
     vFromEye = p.xyz;
     gl_Position = frame.projection * frame.viewRotation * p;
 }

@@ -8,18 +8,18 @@
 // pose block of its instance; then the instance's model-to-eye transform as in model.vert.
 // Static models use model.vert (no pose, no second vertex stream).
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
-layout(set = 1, binding = 0, std430) readonly buffer Instances { ModelInstance instances[]; };
-layout(set = 1, binding = 2, std430) readonly buffer Poses { vec4 poses[]; };
-layout(set = 1, binding = 3, std430) readonly buffer Morphs { float morphDeltas[]; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kModelSet, binding = kModelBindingInstances, std430) readonly buffer Instances { ModelInstance instances[]; };
+layout(set = kModelSet, binding = kModelBindingPoses, std430) readonly buffer Poses { vec4 poses[]; };
+layout(set = kModelSet, binding = kModelBindingMorphDeltas, std430) readonly buffer Morphs { float morphDeltas[]; };
 layout(push_constant) uniform PushBlock { ModelPush pc; };
 
-layout(location = 0) in vec3 inPosition;
-layout(location = 1) in vec3 inNormal;
-layout(location = 2) in vec2 inUv;
-layout(location = 3) in vec4 inColor;
-layout(location = 4) in uvec4 inJoints;
-layout(location = 5) in vec4 inWeights;
+layout(location = kModelInputPosition) in vec3 inPosition;
+layout(location = kModelInputNormal) in vec3 inNormal;
+layout(location = kModelInputUv) in vec2 inUv;
+layout(location = kModelInputColor) in vec4 inColor;
+layout(location = kModelInputJoints) in uvec4 inJoints;
+layout(location = kModelInputWeights) in vec4 inWeights;
 
 layout(location = 0) out vec3 vNormal;
 layout(location = 1) out vec2 vUv;
@@ -32,26 +32,26 @@ float poseFloat(uint at) { return poses[at >> 2][at & 3u]; }
 
 void main() {
     ModelInstance inst = instances[gl_InstanceIndex];
-    uint pose = inst.pose.x;
+    uint pose = inst.poseBase;
     vec3 position = inPosition;
     vec3 normal = inNormal;
     // Morph targets: (vertex, target) pairs of 6 floats; gl_VertexIndex includes the draw's
-    // vertex offset, which pc.morph.x has taken out (modulo 2^32).
-    uint targets = pc.ids.z;
+    // vertex offset, which pc.morphBase has taken out (modulo 2^32).
+    uint targets = pc.morphTargets;
     for (uint k = 0u; k < targets; ++k) {
-        float w = poseFloat(pose * 4u + pc.ids.w + k);
+        float w = poseFloat(pose * 4u + pc.morphWeights + k);
         if (w == 0.0) continue;
-        uint d = (pc.morph.x + uint(gl_VertexIndex) * targets + k) * 6u;
+        uint d = (pc.morphBase + uint(gl_VertexIndex) * targets + k) * 6u;
         position += w * vec3(morphDeltas[d], morphDeltas[d + 1u], morphDeltas[d + 2u]);
         normal += w * vec3(morphDeltas[d + 3u], morphDeltas[d + 4u], morphDeltas[d + 5u]);
     }
     mat4 m;
-    if (pc.ids.y != kModelPoseNone) {
-        uint joints = pose + pc.ids.y;
+    if (pc.joints != kModelPoseNone) {
+        uint joints = pose + pc.joints;
         m = inWeights.x * poseMatrix(joints + 4u * inJoints.x) + inWeights.y * poseMatrix(joints + 4u * inJoints.y) +
             inWeights.z * poseMatrix(joints + 4u * inJoints.z) + inWeights.w * poseMatrix(joints + 4u * inJoints.w);
     } else {
-        m = poseMatrix(pose + pc.ids.x);
+        m = poseMatrix(pose + pc.node);
     }
     // The cofactor matrix is the inverse transpose times the determinant: right for normals
     // under any scale (the sign is fixed in the fragment shader, which lights both faces).
@@ -60,7 +60,7 @@ void main() {
     vec4 p = inst.modelToEye * (m * vec4(position, 1.0));
     vNormal = mat3(inst.modelToEye) * (cofactor * normal);
     vUv = inUv;
-    vColor = inColor * vec4(inst.tint.rgb, 1.0);
+    vColor = inColor * vec4(inst.tint, 1.0);
     vFromEye = p.xyz;
     gl_Position = frame.projection * frame.viewRotation * p;
 }

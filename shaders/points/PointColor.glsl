@@ -6,7 +6,7 @@
 // constant: a CPU device runs every side of a branch, so the modes not drawn must not be in the
 // shader at all.
 
-layout(constant_id = 1) const uint kColorMode = 0u;   // kPointColor*
+layout(constant_id = kPointSpecColorMode) const uint kColorMode = kPointColorRgb;
 
 vec3 srgbToLinear(vec3 c) {
     return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), greaterThan(c, vec3(0.04045)));
@@ -43,9 +43,9 @@ vec3 heightRamp(float f) {
 
 vec3 pointColorSrgb(uvec2 a) {
     if (kColorMode == kPointColorRgb) return vec3(a.x & 255u, (a.x >> 8) & 255u, (a.x >> 16) & 255u) / 255.0;
-    if (kColorMode == kPointColorIntensity) return vec3(clamp(float(a.y & 65535u) * pu.colorInfo.y, 0.0, 1.0));
+    if (kColorMode == kPointColorIntensity) return vec3(clamp(float(a.y & 65535u) * pu.intensityGain, 0.0, 1.0));
     if (kColorMode == kPointColorClassification) return classColor(a.x >> 24);
-    if (kColorMode == kPointColorHeight) return heightRamp((float(a.y >> 16) / 65535.0 - pu.colorInfo.z) * pu.colorInfo.w);
+    if (kColorMode == kPointColorHeight) return heightRamp((float(a.y >> 16) / 65535.0 - pu.heightLow) * pu.heightScale);
     return pu.constantColor.rgb;
 }
 

@@ -10,17 +10,17 @@
 
 // Eye-dome lighting on or off (a specialisation constant, like the colour mode: a CPU device
 // would otherwise pay for the neighbours' reads on every pixel even with EDL off).
-layout(constant_id = 2) const bool kEdl = false;
+layout(constant_id = kPointSpecEdl) const bool kEdl = false;
 
-layout(set = 1, binding = 0) uniform PointBlock { PointUniforms pu; };
-layout(set = 1, binding = 5, std430) readonly buffer Screen { uint64_t screen[]; };
+layout(set = kPointSet, binding = kPointBindingUniforms) uniform PointBlock { PointUniforms pu; };
+layout(set = kPointSet, binding = kPointBindingScreen, std430) readonly buffer Screen { uint64_t screen[]; };
 
 layout(location = 0) out vec4 outColor;
 
 #include "points/PointColor.glsl"
 
 uint64_t texel(ivec2 p) {
-    ivec2 size = ivec2(pu.screen.xy);
+    ivec2 size = ivec2(pu.screenSize);
     p = clamp(p, ivec2(0), size - 1);
     return screen[p.y * size.x + p.x];
 }
@@ -36,13 +36,13 @@ void main() {
                                      vec2(-1, 0), vec2(-0.7071, -0.7071), vec2(0, -1), vec2(0.7071, -0.7071));
         float logD = log2(depth), response = 0.0;
         for (int i = 0; i < 8; ++i) {
-            uint64_t n = texel(px + ivec2(round(dirs[i] * pu.edl.z)));
+            uint64_t n = texel(px + ivec2(round(dirs[i] * pu.edlRadiusPx)));
             // Empty neighbours (the background) count as far away: silhouettes get an outline.
             float logN = n == 0ul ? logD - 4.0 : log2(uintBitsToFloat(uint(n >> 32)));
             response += max(0.0, logN - logD);
         }
-        c *= exp(-pu.edl.y * 300.0 * response / 8.0);
+        c *= exp(-pu.edlStrength * 300.0 * response / 8.0);
     }
-    outColor = vec4(c, 1.0) * pu.colorInfo.x;   // premultiplied; 1 unless the cloud is translucent
+    outColor = vec4(c, 1.0) * pu.opacity;   // premultiplied; 1 unless the cloud is translucent
     gl_FragDepth = depth;
 }

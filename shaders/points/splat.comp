@@ -14,48 +14,48 @@
 // nothing but the screen, and the nodes' data can be in pages (one dispatch per page), as
 // maxStorageBufferRange may be smaller than the resident data.
 
-layout(local_size_x = 256) in;
+layout(local_size_x = kPointGroupSize) in;
 
 // Splat radius in pixels: 0 writes one pixel; r covers the disc of radius r + 0.5.
-layout(constant_id = 0) const int kRadius = 0;
+layout(constant_id = kPointSpecRadius) const int kRadius = 0;
 
 // The batches of one position format: [first, first + dispatched groups).
-layout(push_constant) uniform Push { uint node; uint firstBatch; } push;
+layout(push_constant) uniform PushBlock { PointPush push; };
 
-layout(set = 1, binding = 0) uniform PointBlock { PointUniforms pu; };
-layout(set = 1, binding = 1, std430) readonly buffer Words { uint words[]; };
-layout(set = 1, binding = 2, std430) readonly buffer Attributes { uvec2 attributes[]; };
-layout(set = 1, binding = 3, std430) readonly buffer Batches { uvec4 batches[]; };
-layout(set = 1, binding = 4, std430) readonly buffer Nodes { PointNode nodes[]; };
-layout(set = 1, binding = 5, std430) buffer Screen { uint64_t screen[]; };
-layout(set = 1, binding = 6) uniform sampler2D sceneDepth;
+layout(set = kPointSet, binding = kPointBindingUniforms) uniform PointBlock { PointUniforms pu; };
+layout(set = kPointSet, binding = kPointBindingWords, std430) readonly buffer Words { uint words[]; };
+layout(set = kPointSet, binding = kPointBindingAttributes, std430) readonly buffer Attributes { uvec2 attributes[]; };
+layout(set = kPointSet, binding = kPointBindingBatches, std430) readonly buffer Batches { PointBatch batches[]; };
+layout(set = kPointSet, binding = kPointBindingNodes, std430) readonly buffer Nodes { PointNode nodes[]; };
+layout(set = kPointSet, binding = kPointBindingScreen, std430) buffer Screen { uint64_t screen[]; };
+layout(set = kPointSet, binding = kPointBindingSceneDepth) uniform sampler2D sceneDepth;
 
 #include "points/PointColor.glsl"
 #include "points/PointData.glsl"
 
 void main() {
-    uvec4 batch = batches[push.firstBatch + gl_WorkGroupID.x];
-    PointNode node = nodes[batch.x];
-    ivec2 size = ivec2(pu.screen.xy);
+    PointBatch batch = batches[push.firstBatch + gl_WorkGroupID.x];
+    PointNode node = nodes[batch.node];
+    ivec2 size = ivec2(pu.screenSize);
     for (uint k = 0u; k < kPointsPerInvocation; ++k) {
         uint local = k * kPointGroupSize + gl_LocalInvocationID.x;
-        if (local >= batch.z) break;
-        local += batch.y;   // within the node
+        if (local >= batch.count) break;
+        local += batch.first;   // within the node
         vec3 p = pointPosition(node, local);
         vec4 clip = pu.viewProj * vec4(p, 1.0);
         if (clip.w <= 0.0) continue;   // behind the eye
         float depth = clip.z / clip.w;
         if (depth > 1.0) continue;     // nearer than the near plane
-        vec2 pixel = (clip.xy / clip.w * 0.5 + 0.5) * pu.screen.xy;
+        vec2 pixel = (clip.xy / clip.w * 0.5 + 0.5) * pu.screenSize;
         ivec2 px = ivec2(floor(pixel));
         if (px.x < -kRadius || px.y < -kRadius || px.x >= size.x + kRadius || px.y >= size.y + kRadius) continue;
         if (kRadius == 0) {
             if (depth < texelFetch(sceneDepth, px, 0).r) continue;   // behind the opaque scene
-            uint color = pointColorPacked(attributes[node.data.x + local]);
+            uint color = pointColorPacked(attributes[node.firstAttribute + local]);
             atomicMax(screen[px.y * size.x + px.x], (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(color));
             continue;
         }
-        uint64_t packed = (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(pointColorPacked(attributes[node.data.x + local]));
+        uint64_t packed = (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(pointColorPacked(attributes[node.firstAttribute + local]));
         [[unroll]] for (int dy = -kRadius; dy <= kRadius; ++dy)
             [[unroll]] for (int dx = -kRadius; dx <= kRadius; ++dx) {
                 if (dx * dx + dy * dy > kRadius * kRadius + kRadius) continue;   // a disc

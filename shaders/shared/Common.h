@@ -37,6 +37,15 @@ struct DescriptorBinding {
     uint32_t count = 1;
     uint32_t stages = 0;
 };
+/// The type of a specialisation constant (`layout(constant_id = ...) const T`): what the C++
+/// side must pass to gpu::Specialization::set<T> (VkBool32, int32_t, uint32_t, float).
+enum class SpecType : uint32_t { Bool, Int, Uint, Float };
+/// A specialisation constant a shared header names: its ID and type. A header lists its
+/// shaders' constants in a table that the build checks against the compiled SPIR-V.
+struct SpecConstant {
+    uint32_t id = 0;
+    SpecType type = SpecType::Bool;
+};
 }  // namespace orbis::shader
 #define ORBIS_NAMESPACE_BEGIN namespace orbis::shader {
 #define ORBIS_NAMESPACE_END }

@@ -24,6 +24,12 @@ struct FrameUniforms {
 ORBIS_NAMESPACE_END
 
 #ifdef __cplusplus
+namespace orbis::shader {
+/// Set 0, the renderer's (engine/render/Renderer.cpp): every stage of every layer may read it.
+inline constexpr DescriptorBinding kFrameBindings[] = {
+    {kFrameBinding, DescriptorKind::UniformBuffer, 1, kStageVertex | kStageFragment | kStageCompute},
+};
+}  // namespace orbis::shader
 static_assert(sizeof(orbis::shader::FrameUniforms) == 3 * 64 + 5 * 16, "FrameUniforms layout changed");
 static_assert(offsetof(orbis::shader::FrameUniforms, eyeEcef) == 192, "std140 offset");
 #endif

@@ -1,12 +1,16 @@
 // Coloured polylines and screen quads (shaders/common/polyline.*): a model's path and label
 // (layers/models), the scene's pins (layers/annotations). One vertex stream, set 0 only; the
-// specialisation constant kPolylineScreenId says whether positions are already in clip space.
+// specialisation constant kPolylineSpecScreen says whether positions are already in clip space.
 #ifndef ORBIS_SHADERS_SHARED_POLYLINE_TYPES_H
 #define ORBIS_SHADERS_SHARED_POLYLINE_TYPES_H
 
 #include "shared/Common.h"
 
 ORBIS_NAMESPACE_BEGIN
+
+ORBIS_CONST(uint, kPolylineSpecScreen, 0)   // bool: positions are in clip space (screen quads)
+ORBIS_CONST(uint, kPolylineInputPosition, 0)
+ORBIS_CONST(uint, kPolylineInputColor, 1)
 
 // One vertex, both streams.
 struct PolylineVertex {
@@ -17,6 +21,9 @@ struct PolylineVertex {
 ORBIS_NAMESPACE_END
 
 #ifdef __cplusplus
+namespace orbis::shader {
+inline constexpr SpecConstant kPolylineSpecConstants[] = {{kPolylineSpecScreen, SpecType::Bool}};
+}  // namespace orbis::shader
 static_assert(sizeof(orbis::shader::PolylineVertex) == 32, "PolylineVertex layout changed");
 #endif
 

@@ -1,6 +1,6 @@
-// Terrain tiles: one TileDraw per drawn tile in a per-frame storage buffer (set 1, binding 0),
+// Terrain tiles: one TileDraw per drawn tile in a per-frame storage buffer (set kTerrainSet),
 // picked by gl_InstanceIndex (the draw's firstInstance); tile data lives in pages of array
-// textures (bindings 1 and 2); the shaders pick a page with a switch over constant indices.
+// textures; the shaders pick a page with a switch over constant indices.
 #ifndef ORBIS_SHADERS_SHARED_TERRAIN_TYPES_H
 #define ORBIS_SHADERS_SHARED_TERRAIN_TYPES_H
 
@@ -9,35 +9,67 @@
 ORBIS_NAMESPACE_BEGIN
 
 ORBIS_CONST(uint, kTerrainSet, 1)
+ORBIS_CONST(uint, kTerrainBindingDraws, 0)       // TileDraw[] (storage buffer)
+ORBIS_CONST(uint, kTerrainBindingElevation, 1)   // sampler2DArray[kElevationPages]
+ORBIS_CONST(uint, kTerrainBindingImagery, 2)     // sampler2DArray[kImageryPages]
+
+ORBIS_CONST(uint, kTerrainSpecImageryLayers, 0)   // int: imagery layers the pipeline blends
+
+// Vertex inputs: globe::TileVertex.
+ORBIS_CONST(uint, kTerrainInputPosition, 0)
+ORBIS_CONST(uint, kTerrainInputNormal, 1)
+ORBIS_CONST(uint, kTerrainInputUv, 2)
+ORBIS_CONST(uint, kTerrainInputCellMetres, 3)
+
 ORBIS_CONST(uint, kTerrainMaxImagery, 4)
 ORBIS_CONST(uint, kElevationPages, 4)
 ORBIS_CONST(uint, kElevationSlotsPerPage, 128)
 ORBIS_CONST(uint, kImageryPages, 8)
 ORBIS_CONST(uint, kImagerySlotsPerPage, 32)
 
-// std430; every member 16-byte aligned.
+// std430; every vector 16-byte aligned.
 struct TileDraw {
     mat4 modelViewProj;        // tile centre relative to the eye, projection included (built in double)
-    vec4 originFromEye;        // xyz: tile centre minus eye, world axes; w: skirt depth (m)
+    vec3 originFromEye;        // tile centre minus eye, world axes
+    float skirtDepth;          // metres
     vec4 elevationScaleBias;   // this tile's uv -> the elevation tile's uv (an ancestor while loading)
-    ivec4 elevation;           // x: slot (-1: none, height 0), y: grid size of the elevation tile
-    vec4 imageryScaleBias[4];  // per imagery layer, as above
+    int elevationSlot;         // -1: none (height 0)
+    int elevationGridSize;     // samples a side of the elevation tile
+    int pad0;
+    int pad1;
+    vec4 imageryScaleBias[kTerrainMaxImagery];   // per imagery layer, as above
     ivec4 imagerySlot;         // per imagery layer: slot, or -1 (nothing loaded yet, or hidden)
 };
 
 // Push constants, once per terrain layer.
 struct TerrainPush {
-    vec4 baseColor;            // rgb: colour where no imagery (linear); a: vertical exaggeration
-    vec4 imageryOpacity;       // per imagery layer
-    vec4 params;               // x: 1 = sun lighting, 0 = headlight; y: 1 = tile borders (debug); z: imagery tile size (px)
+    vec3 baseColor;               // where no imagery (linear)
+    float verticalExaggeration;
+    vec4 imageryOpacity;          // per imagery layer
+    uint sunLighting;             // 1: the sun, 0: a headlight
+    uint tileBorders;             // 1: draw the tiles' borders (debug)
+    float imageSizePx;            // imagery tile size
+    float pad0;
 };
 
 ORBIS_NAMESPACE_END
 
 #ifdef __cplusplus
+namespace orbis::shader {
+/// Set kTerrainSet, one per frame in flight (layers/terrain/TerrainLayer.cpp).
+inline constexpr DescriptorBinding kTerrainBindings[] = {
+    {kTerrainBindingDraws, DescriptorKind::StorageBuffer, 1, kStageVertex | kStageFragment},
+    {kTerrainBindingElevation, DescriptorKind::CombinedImageSampler, kElevationPages, kStageVertex},
+    {kTerrainBindingImagery, DescriptorKind::CombinedImageSampler, kImageryPages, kStageFragment},
+};
+inline constexpr SpecConstant kTerrainSpecConstants[] = {{kTerrainSpecImageryLayers, SpecType::Int}};
+}  // namespace orbis::shader
 static_assert(sizeof(orbis::shader::TileDraw) == 192, "TileDraw layout changed");
+static_assert(offsetof(orbis::shader::TileDraw, skirtDepth) == 76, "std430 offset: a float after a vec3");
+static_assert(offsetof(orbis::shader::TileDraw, elevationSlot) == 96, "std430 offset");
 static_assert(offsetof(orbis::shader::TileDraw, imageryScaleBias) == 112, "std430 offset");
 static_assert(sizeof(orbis::shader::TerrainPush) == 48, "TerrainPush must fit push constants");
+static_assert(offsetof(orbis::shader::TerrainPush, sunLighting) == 32, "std430 offset");
 #endif
 
 #endif

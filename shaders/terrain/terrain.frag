@@ -3,13 +3,13 @@
 #include "shared/FrameUniforms.h"
 #include "shared/TerrainTypes.h"
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
-layout(set = 1, binding = 0, std430) readonly buffer DrawBlock { TileDraw draws[]; };
-layout(set = 1, binding = 2) uniform sampler2DArray imageryPages[kImageryPages];
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kTerrainSet, binding = kTerrainBindingDraws, std430) readonly buffer DrawBlock { TileDraw draws[]; };
+layout(set = kTerrainSet, binding = kTerrainBindingImagery) uniform sampler2DArray imageryPages[kImageryPages];
 layout(push_constant) uniform PushBlock { TerrainPush pc; };
 
 // Imagery layers this pipeline blends (the scene's count): unused layers cost nothing.
-layout(constant_id = 0) const int kImageryLayers = 4;
+layout(constant_id = kTerrainSpecImageryLayers) const int kImageryLayers = int(kTerrainMaxImagery);
 
 layout(location = 0) in vec3 vNormal;
 layout(location = 1) in vec2 vUv;
@@ -38,9 +38,9 @@ vec4 fetchImagery(int page, vec3 tc, float lod) {
 
 void main() {
     TileDraw d = draws[vDraw];
-    vec3 color = pc.baseColor.rgb;
+    vec3 color = pc.baseColor;
     // Texels of an own-level imagery tile per pixel, squared; an ancestor's scale shrinks it.
-    vec2 uvDx = dFdx(vUv) * pc.params.z, uvDy = dFdy(vUv) * pc.params.z;
+    vec2 uvDx = dFdx(vUv) * pc.imageSizePx, uvDy = dFdy(vUv) * pc.imageSizePx;
     float footprint2 = max(dot(uvDx, uvDx), dot(uvDy, uvDy));
     // Imagery layers in scene order, each over the ones before it.
     for (int i = 0; i < kImageryLayers; ++i) {
@@ -56,7 +56,7 @@ void main() {
 
     vec3 n = normalize(vNormal);
     vec3 toEye = normalize(-vFromEye);
-    bool sun = pc.params.x > 0.5;
+    bool sun = pc.sunLighting != 0u;
     vec3 toLight = sun ? frame.sunDirection.xyz : toEye;
     float ndl = dot(n, toLight);
     float lit = sun ? 0.06 + 0.94 * max(ndl, 0.0) : 0.25 + 0.75 * max(ndl, 0.0);
@@ -71,7 +71,7 @@ void main() {
     float day = sun ? smoothstep(-0.1, 0.2, dot(normalize(vFromEye + frame.eyeEcef.xyz), frame.sunDirection.xyz)) : 1.0;
     color = mix(color, vec3(0.32, 0.52, 0.85) * 0.55 * day, haze);
 
-    if (pc.params.y > 0.5) {   // debug: tile borders
+    if (pc.tileBorders != 0u) {   // debug: tile borders
         vec2 e = min(vUv, 1.0 - vUv) / max(fwidth(vUv), vec2(1e-6));
         if (min(e.x, e.y) < 1.0) color = vec3(1.0, 0.9, 0.1);
     }

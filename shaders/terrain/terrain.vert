@@ -7,15 +7,15 @@
 // numbers only), raised along the geodetic normal by the height sampled from the elevation
 // tile (the tile's own, or an ancestor's through scale/bias while it loads).
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
-layout(set = 1, binding = 0, std430) readonly buffer DrawBlock { TileDraw draws[]; };
-layout(set = 1, binding = 1) uniform sampler2DArray elevationPages[kElevationPages];
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kTerrainSet, binding = kTerrainBindingDraws, std430) readonly buffer DrawBlock { TileDraw draws[]; };
+layout(set = kTerrainSet, binding = kTerrainBindingElevation) uniform sampler2DArray elevationPages[kElevationPages];
 layout(push_constant) uniform PushBlock { TerrainPush pc; };
 
-layout(location = 0) in vec3 inPosition;
-layout(location = 1) in vec4 inNormal;      // xyz: geodetic up; w: 1 on skirt vertices
-layout(location = 2) in vec2 inUv;
-layout(location = 3) in vec2 inCellMetres;
+layout(location = kTerrainInputPosition) in vec3 inPosition;
+layout(location = kTerrainInputNormal) in vec4 inNormal;     // xyz: geodetic up; w: 1 on skirt vertices
+layout(location = kTerrainInputUv) in vec2 inUv;
+layout(location = kTerrainInputCellMetres) in vec2 inCellMetres;
 
 layout(location = 0) out vec3 vNormal;      // terrain normal, world axes
 layout(location = 1) out vec2 vUv;
@@ -40,9 +40,9 @@ vec3 fetchHeight(int page, ivec3 texel) {
 // per sample (central differences, computed on the CPU), so the interpolated normal is
 // continuous across the data's cells.
 vec3 heightAt(TileDraw d, vec2 uv) {
-    int slot = d.elevation.x;
+    int slot = d.elevationSlot;
     if (slot < 0) return vec3(0.0);
-    int n = d.elevation.y;
+    int n = d.elevationGridSize;
     // Corner-aligned samples: sample i sits at t = i / (n - 1).
     vec2 t = clamp(uv * d.elevationScaleBias.xy + d.elevationScaleBias.zw, 0.0, 1.0);
     vec2 s = t * float(n - 1);
@@ -62,7 +62,7 @@ void main() {
     TileDraw d = draws[gl_InstanceIndex];
     vDraw = gl_InstanceIndex;
     vec3 up = normalize(inNormal.xyz);
-    float exaggeration = pc.baseColor.a;
+    float exaggeration = pc.verticalExaggeration;
     vec3 hg = heightAt(d, inUv) * exaggeration;
     float h = hg.x;
 
@@ -76,9 +76,9 @@ void main() {
     vec3 north = cross(up, east);
     vNormal = normalize(up - dhdx * east - dhdy * north);
 
-    float skirt = inNormal.w > 0.5 ? d.originFromEye.w : 0.0;
+    float skirt = inNormal.w > 0.5 ? d.skirtDepth : 0.0;
     vec3 p = inPosition + up * (h - skirt);
     vUv = inUv;
-    vFromEye = d.originFromEye.xyz + p;
+    vFromEye = d.originFromEye + p;
     gl_Position = d.modelViewProj * vec4(p, 1.0);
 }

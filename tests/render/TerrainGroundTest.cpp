@@ -1,7 +1,7 @@
 // The terrain's ground height (layers/terrain/TerrainGround.h) is the same for the same point
 // whatever has been streamed: after different loading histories, cache evictions and camera
 // paths. What clamped vehicles and camera collision stand on depends on the scene alone.
-#include "globe/TerrainModel.h"
+#include "globe/TerrainTiles.h"
 #include "layers/terrain/TerrainGround.h"
 #include "layers/terrain/TerrainLayer.h"
 #include "tests/render/RenderHelpers.h"
@@ -73,7 +73,7 @@ TEST(TerrainGround, TheRenderersCacheAloneWouldDependOnHistory) {
     // one point has one height after coarse loads and another after fine ones.
     auto dem = mountainDem();
     ASSERT_TRUE(dem);
-    globe::TerrainModel model({}, {dem}, {}, nullptr);
+    globe::TerrainTiles model({}, {dem}, {}, nullptr);
     model.beginFrame(1);
     const double lon = 6.93, lat = 45.97;
     model.request(0, globe::TileKey::containing(lon, lat, 5), 0.0);

@@ -123,7 +123,7 @@ TEST_F(TerrainRender, MountainMatchesGoldenWithoutCracks) {
     EXPECT_GT(stats.tilesWithOwnElevation, 0u);
     // Settled: every drawn tile over the DEM has its own data (or, past the DEM's finest
     // level, its ancestor at that level), never a coarser stand-in.
-    const auto* model = terrain(*scene).model();
+    const auto* model = terrain(*scene).tiles();
     const globe::GeoExtent dem{6.0, 45.0, 8.0, 47.0};
     size_t overDem = 0;
     for (const auto& t : terrain(*scene).selection()) {
@@ -159,7 +159,7 @@ TEST_F(TerrainRender, GradientsMatchAcrossTileEdges) {
                                    mountainLayer(), kDark));
     ASSERT_TRUE(scene);
     render(*scene);
-    const auto* model = terrain(*scene).model();
+    const auto* model = terrain(*scene).tiles();
     const int n = model->settings().gridSize;
     int pairs = 0;
     double worst = 0.0, largest = 0.0, worstHeight = 0.0, worstOneSided = 0.0;
@@ -242,7 +242,7 @@ TEST(TerrainModel, DemsStackFinestWinsAndCoarserFillsHoles) {
         ASSERT_TRUE(s.ok()) << s.message();
         dems.push_back(*s);
     }
-    globe::TerrainModel model({}, dems, {}, nullptr);   // no pool: loads run inline
+    globe::TerrainTiles model({}, dems, {}, nullptr);   // no pool: loads run inline
     model.beginFrame(1);
     const auto load = [&](double lon, double lat, bool covered = true) {
         const auto key = globe::TileKey::containing(lon, lat, 10);
@@ -522,12 +522,12 @@ TEST_F(TerrainRender, MemoryStaysWithinBudgetsOnALongFlight) {
         vp.pitchDeg = -40.0;
         scene->camera().setPose(globe::poseFromViewpoint(vp));
         render(*scene, true, 256, 192);
-        peakCpu = std::max(peakCpu, layer.model()->cpuBytes());
+        peakCpu = std::max(peakCpu, layer.tiles()->cpuBytes());
         peakGpu = std::max(peakGpu, layer.gpuBytes());
     }
     EXPECT_LE(peakCpu, uint64_t(16.0 * 1.1 * (1 << 20)));
     EXPECT_LE(peakGpu, uint64_t(48.0 * 1.1 * (1 << 20)));
-    EXPECT_GT(layer.model()->stats().evicted, 0u) << "the flight should have needed evictions";
+    EXPECT_GT(layer.tiles()->stats().evicted, 0u) << "the flight should have needed evictions";
 }
 
 // ---- real data from ../shared/data (skipped when absent) -------------------------------
@@ -557,7 +557,7 @@ TEST_F(SharedDataTerrain, OlindaUtmDemWithLandsatBands321) {
     // within its 3x3 neighbourhood's range (values read with gdal_translate -srcwin).
     struct Probe { double lon, lat, lo, hi; };
     for (const Probe& p : {Probe{-34.88, -8.02, 2, 9}, Probe{-34.86, -8.00, 14, 22}}) {
-        const auto h = terrain(*scene).model()->heightAt(p.lon, p.lat);
+        const auto h = terrain(*scene).tiles()->heightAt(p.lon, p.lat);
         ASSERT_TRUE(h.has_value());
         EXPECT_GE(*h, p.lo - 1.0) << p.lon << ", " << p.lat;
         EXPECT_LE(*h, p.hi + 1.0) << p.lon << ", " << p.lat;
@@ -574,7 +574,7 @@ TEST_F(SharedDataTerrain, LuxembourgNodataHolesFallBackWithoutSpikes) {
     // No spikes: every loaded height is within the DEM's valid range (or the ellipsoid).
     for (double lat = 49.45; lat < 50.19; lat += 0.01)
         for (double lon = 5.75; lon < 6.53; lon += 0.01) {
-            const auto h = terrain(*scene).model()->heightAt(lon, lat);
+            const auto h = terrain(*scene).tiles()->heightAt(lon, lat);
             if (!h) continue;
             EXPECT_GE(*h, 0.0);
             EXPECT_LE(*h, 560.0);

@@ -1,6 +1,6 @@
 // orbis bench SCENE --tiles LEVEL: tile throughput of the pager against a bare loop.
 //
-// The pager (TerrainModel on a worker pool: priorities, chained coarse-to-fine loading,
+// The pager (TerrainTiles on a worker pool: priorities, chained coarse-to-fine loading,
 // cancellation bookkeeping, cache, mip building) loads every tile of LEVEL over the scene's
 // terrain sources, with their ancestors. The bare loop then reads exactly the same (layer,
 // tile) list with RasterSource (GDAL's warper with the transformer kept per handle) on as many
@@ -10,7 +10,7 @@
 
 #include "base/Log.h"
 #include "base/ThreadPool.h"
-#include "globe/TerrainModel.h"
+#include "globe/TerrainTiles.h"
 #include "layers/terrain/TerrainLayer.h"
 #include "tools/orbis/Session.h"
 
@@ -75,8 +75,8 @@ std::vector<globe::TileKey> tilesOver(const globe::GeoExtent& coverage, uint32_t
     return tiles;
 }
 
-globe::TerrainModelSettings modelSettings(const layers::TerrainSettings& settings) {
-    globe::TerrainModelSettings ms;
+globe::TerrainTilesSettings modelSettings(const layers::TerrainSettings& settings) {
+    globe::TerrainTilesSettings ms;
     ms.gridSize = settings.gridSize;
     ms.imageSize = settings.imageSize;
     ms.maxLevel = settings.maxLevel;
@@ -91,10 +91,10 @@ struct PagerRun {
 
 /// The pager loads `tiles` with their ancestors on a pool of `threads`; `loaded`, if given,
 /// receives what it loaded.
-PagerRun runPager(const globe::TerrainModelSettings& ms, const TileSources& sources,
+PagerRun runPager(const globe::TerrainTilesSettings& ms, const TileSources& sources,
                   const std::vector<globe::TileKey>& tiles, unsigned threads, std::vector<globe::DataKey>* loaded) {
     jobs::ThreadPool pool(threads, "orbis-tiles");
-    globe::TerrainModel model(ms, sources.dems, sources.images, &pool);
+    globe::TerrainTiles model(ms, sources.dems, sources.images, &pool);
     const auto t0 = std::chrono::steady_clock::now();
     for (uint64_t frame = 1;; ++frame) {
         model.beginFrame(frame);
@@ -109,7 +109,7 @@ PagerRun runPager(const globe::TerrainModelSettings& ms, const TileSources& sour
 }
 
 /// The pager's read of one key, and nothing else.
-void readBare(const globe::TerrainModelSettings& ms, const TileSources& sources, const globe::DataKey& key) {
+void readBare(const globe::TerrainTilesSettings& ms, const TileSources& sources, const globe::DataKey& key) {
     const auto extent = key.tile.extent();
     if (key.layer == 0) {
         // The pager's read: the tile's grid with a one-sample border.
@@ -123,7 +123,7 @@ void readBare(const globe::TerrainModelSettings& ms, const TileSources& sources,
 }
 
 /// Reads `keys` on `threads` plain threads; the seconds it took.
-double runBare(const globe::TerrainModelSettings& ms, const TileSources& sources,
+double runBare(const globe::TerrainTilesSettings& ms, const TileSources& sources,
                const std::vector<globe::DataKey>& keys, unsigned threads) {
     std::atomic<size_t> next{0};
     const auto t0 = std::chrono::steady_clock::now();
@@ -168,7 +168,7 @@ int tileBench(const Args& args, scene::Scene& scene, long level, unsigned thread
         return kBadInput;
     }
     const std::vector<globe::TileKey> tiles = tilesOver(sources.coverage, uint32_t(level));
-    const globe::TerrainModelSettings ms = modelSettings(terrain->settings());
+    const globe::TerrainTilesSettings ms = modelSettings(terrain->settings());
     // Each run twice, the second reported, so that GDAL's block cache is equally warm for both.
     std::vector<globe::DataKey> keys;
     runPager(ms, sources, tiles, threads, &keys);

@@ -1,7 +1,6 @@
 #pragma once
-// The CPU side of the streamed terrain: the raster sources, the tile pager (loads on the
-// engine's worker pool with priorities and cancellation) and the LRU tile cache with a byte
-// budget. It knows which tile data is ready, which ancestor stands in for missing data
+// The terrain's tiles on the CPU: the raster sources, the tile pager (loads on the engine's
+// worker pool with priorities and cancellation) and the LRU tile cache with a byte budget. It knows which tile data is ready, which ancestor stands in for missing data
 // (scale/bias fallback), the height range of a tile for culling, and answers heightAt() over
 // the loaded data. No Vulkan: the terrain layer uploads what this holds.
 //
@@ -64,7 +63,7 @@ struct DataKeyHash {
 
 enum class DataState { Missing, Loading, Ready, Empty, Failed };
 
-struct TerrainModelSettings {
+struct TerrainTilesSettings {
     int gridSize = 65;                           ///< elevation samples per tile side
     int imageSize = 256;                         ///< imagery pixels per tile side
     uint64_t cpuBudgetBytes = 256ull << 20;      ///< tile data kept in memory
@@ -78,16 +77,16 @@ struct PagerStats {
     uint64_t loadNanoseconds = 0;  ///< summed time inside load functions (worker threads)
 };
 
-class TerrainModel {
+class TerrainTiles {
 public:
     /// `pool` may be null: loads then run inline inside request() (tests, tools).
-    TerrainModel(const TerrainModelSettings& settings, std::vector<std::shared_ptr<RasterSource>> elevation,
+    TerrainTiles(const TerrainTilesSettings& settings, std::vector<std::shared_ptr<RasterSource>> elevation,
                  std::vector<std::shared_ptr<RasterSource>> imagery, jobs::ThreadPool* pool);
-    ~TerrainModel();
-    TerrainModel(const TerrainModel&) = delete;
-    TerrainModel& operator=(const TerrainModel&) = delete;
+    ~TerrainTiles();
+    TerrainTiles(const TerrainTiles&) = delete;
+    TerrainTiles& operator=(const TerrainTiles&) = delete;
 
-    const TerrainModelSettings& settings() const { return settings_; }
+    const TerrainTilesSettings& settings() const { return settings_; }
     uint32_t layerCount() const { return uint32_t(1 + imagery_.size()); }
     bool hasElevation() const { return !elevation_.empty(); }
     /// Deepest level at which a layer has data worth loading.
@@ -158,7 +157,7 @@ private:
     LoadResult loadImagery(uint32_t layer, const TileKey& tile, const jobs::CancelToken& cancel) const;
     void noteError(const std::string& message);
 
-    TerrainModelSettings settings_;
+    TerrainTilesSettings settings_;
     std::vector<std::shared_ptr<RasterSource>> elevation_;   // finest first
     std::vector<std::shared_ptr<RasterSource>> imagery_;
     jobs::ThreadPool* pool_;

@@ -1,4 +1,4 @@
-#include "globe/TerrainModel.h"
+#include "globe/TerrainTiles.h"
 
 #include "base/Log.h"
 
@@ -36,6 +36,58 @@ struct SrgbTables {
 const SrgbTables& srgb() {
     static const SrgbTables tables;
     return tables;
+}
+
+/// A tile's heights and gradients from the composited samples `g` ((n + 2)^2, a one-sample
+/// border, NaN where no source had data), holes and border filled from `parent` (the nearest
+/// loaded ancestor, at `sb` within it) or the ellipsoid.
+std::shared_ptr<ElevationData> fillElevation(std::vector<float> g, int n, const ElevationData* parent, const glm::dvec4& sb) {
+    const int m = n + 2;
+    auto data = std::make_shared<ElevationData>();
+    data->size = n;
+    // Holes: the nearest loaded ancestor's heights at the same place, else the ellipsoid.
+    // Never a spike.
+    const auto at = [&](int i, int j) -> float& { return g[size_t((j + 1) * m + (i + 1))]; };   // i, j in -1..n
+    std::vector<float> h(size_t(n) * size_t(n));
+    float lo = std::numeric_limits<float>::max(), hi = -lo;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            float& v = at(i, j);
+            if (!std::isfinite(v)) {
+                const double u = double(i) / (n - 1), w = double(j) / (n - 1);
+                v = parent ? parent->sample(u * sb.x + sb.z, w * sb.y + sb.w) : 0.0f;
+            }
+            h[size_t(j * n + i)] = v;
+            lo = std::min(lo, v);
+            hi = std::max(hi, v);
+        }
+    // Border samples without data: the ancestor's where it reaches them (as for holes), else
+    // (beyond a pole or the antimeridian, past every DEM) extrapolated linearly, which makes the
+    // difference there one-sided.
+    if (parent) {
+        const auto fill = [&](int i, int j) {
+            float& v = at(i, j);
+            const double u = (double(i) / (n - 1)) * sb.x + sb.z, w = (double(j) / (n - 1)) * sb.y + sb.w;
+            if (!std::isfinite(v) && u >= 0.0 && u <= 1.0 && w >= 0.0 && w <= 1.0) v = parent->sample(u, w);
+        };
+        for (int k = 0; k < n; ++k) fill(-1, k), fill(n, k), fill(k, -1), fill(k, n);
+    }
+    for (int k = 0; k < n; ++k) {
+        if (!std::isfinite(at(-1, k))) at(-1, k) = 2.0f * at(0, k) - at(1, k);
+        if (!std::isfinite(at(n, k))) at(n, k) = 2.0f * at(n - 1, k) - at(n - 2, k);
+        if (!std::isfinite(at(k, -1))) at(k, -1) = 2.0f * at(k, 0) - at(k, 1);
+        if (!std::isfinite(at(k, n))) at(k, n) = 2.0f * at(k, n - 1) - at(k, n - 2);
+    }
+    data->gradients.resize(size_t(n) * size_t(n) * 2);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            data->gradients[size_t(j * n + i) * 2] = 0.5f * (at(i + 1, j) - at(i - 1, j));
+            data->gradients[size_t(j * n + i) * 2 + 1] = 0.5f * (at(i, j + 1) - at(i, j - 1));
+        }
+    data->heights = std::move(h);
+    data->minHeight = lo;
+    data->maxHeight = hi;
+    return data;
 }
 
 }  // namespace
@@ -82,7 +134,7 @@ ImageryData buildImageryMips(int size, std::vector<uint8_t> level0) {
     return out;
 }
 
-TerrainModel::TerrainModel(const TerrainModelSettings& settings, std::vector<std::shared_ptr<RasterSource>> elevation,
+TerrainTiles::TerrainTiles(const TerrainTilesSettings& settings, std::vector<std::shared_ptr<RasterSource>> elevation,
                            std::vector<std::shared_ptr<RasterSource>> imagery, jobs::ThreadPool* pool)
     : settings_(settings), elevation_(std::move(elevation)), imagery_(std::move(imagery)), pool_(pool) {
     // Finest first: its samples win, coarser sources only fill its holes.
@@ -90,14 +142,14 @@ TerrainModel::TerrainModel(const TerrainModelSettings& settings, std::vector<std
                      [](const auto& a, const auto& b) { return a->resolutionDeg() < b->resolutionDeg(); });
 }
 
-TerrainModel::~TerrainModel() {
+TerrainTiles::~TerrainTiles() {
     for (auto& [key, e] : entries_)
         if (e.state == DataState::Loading) e.job.cancel();
     for (auto& [key, e] : entries_)
         if (e.state == DataState::Loading) e.job.wait();
 }
 
-uint32_t TerrainModel::maxDataLevel(uint32_t layer) const {
+uint32_t TerrainTiles::maxDataLevel(uint32_t layer) const {
     uint32_t level = 0;
     if (layer == 0) {
         for (const auto& s : elevation_) level = std::max(level, s->maxLevel(settings_.gridSize));
@@ -107,7 +159,7 @@ uint32_t TerrainModel::maxDataLevel(uint32_t layer) const {
     return std::min(level, settings_.maxLevel);
 }
 
-uint32_t TerrainModel::minDataLevel(uint32_t layer) const {
+uint32_t TerrainTiles::minDataLevel(uint32_t layer) const {
     uint32_t level = std::numeric_limits<uint32_t>::max();
     if (layer == 0) {
         for (const auto& s : elevation_) level = std::min(level, s->minLevel());
@@ -117,17 +169,17 @@ uint32_t TerrainModel::minDataLevel(uint32_t layer) const {
     return level == std::numeric_limits<uint32_t>::max() ? 0 : level;
 }
 
-const TerrainModel::Entry* TerrainModel::find(uint32_t layer, const TileKey& tile) const {
+const TerrainTiles::Entry* TerrainTiles::find(uint32_t layer, const TileKey& tile) const {
     const auto it = entries_.find(DataKey{layer, tile});
     return it == entries_.end() ? nullptr : &it->second;
 }
 
-DataState TerrainModel::state(uint32_t layer, const TileKey& tile) const {
+DataState TerrainTiles::state(uint32_t layer, const TileKey& tile) const {
     const Entry* e = find(layer, tile);
     return e ? e->state : DataState::Missing;
 }
 
-std::optional<TileKey> TerrainModel::readyAncestor(uint32_t layer, const TileKey& tile) const {
+std::optional<TileKey> TerrainTiles::readyAncestor(uint32_t layer, const TileKey& tile) const {
     for (int level = int(tile.level); level >= 0; --level) {
         const TileKey k = tile.ancestor(uint32_t(level));
         const Entry* e = find(layer, k);
@@ -136,22 +188,22 @@ std::optional<TileKey> TerrainModel::readyAncestor(uint32_t layer, const TileKey
     return std::nullopt;
 }
 
-std::shared_ptr<const ElevationData> TerrainModel::elevation(const TileKey& tile) const {
+std::shared_ptr<const ElevationData> TerrainTiles::elevation(const TileKey& tile) const {
     const Entry* e = find(0, tile);
     return e && e->state == DataState::Ready ? e->elevation : nullptr;
 }
 
-std::shared_ptr<const ImageryData> TerrainModel::imagery(uint32_t layer, const TileKey& tile) const {
+std::shared_ptr<const ImageryData> TerrainTiles::imagery(uint32_t layer, const TileKey& tile) const {
     const Entry* e = find(layer, tile);
     return e && e->state == DataState::Ready ? e->imagery : nullptr;
 }
 
-void TerrainModel::beginFrame(uint64_t frameNumber) {
+void TerrainTiles::beginFrame(uint64_t frameNumber) {
     frame_ = frameNumber;
     collectFinished();
 }
 
-void TerrainModel::request(uint32_t layer, const TileKey& tile, double distance) {
+void TerrainTiles::request(uint32_t layer, const TileKey& tile, double distance) {
     if (layer >= layerCount() || (layer == 0 && elevation_.empty())) return;
     const uint32_t maxLevel = std::min(tile.level, maxDataLevel(layer));
     // Walk down from the coarsest readable level: touch what is ready, stop at the first level
@@ -179,7 +231,7 @@ void TerrainModel::request(uint32_t layer, const TileKey& tile, double distance)
     }
 }
 
-void TerrainModel::startLoad(const DataKey& key, Entry& entry, double priority) {
+void TerrainTiles::startLoad(const DataKey& key, Entry& entry, double priority) {
     ++stats_.started;
     std::shared_ptr<const ElevationData> parent;
     uint32_t parentLevel = 0;
@@ -204,7 +256,7 @@ void TerrainModel::startLoad(const DataKey& key, Entry& entry, double priority) 
     ++loadingCount_;
 }
 
-void TerrainModel::finishLoad(const DataKey& key, Entry& e, LoadResult r) {
+void TerrainTiles::finishLoad(const DataKey& key, Entry& e, LoadResult r) {
     stats_.loadNanoseconds += r.nanoseconds;
     if (!r.error.empty()) {
         e.state = DataState::Failed;
@@ -228,7 +280,7 @@ void TerrainModel::finishLoad(const DataKey& key, Entry& e, LoadResult r) {
     cpuBytes_ += e.bytes;
 }
 
-void TerrainModel::collectFinished() {
+void TerrainTiles::collectFinished() {
     for (auto it = entries_.begin(); it != entries_.end();) {
         Entry& e = it->second;
         if (e.state == DataState::Loading && e.job.ready()) {
@@ -256,7 +308,7 @@ void TerrainModel::collectFinished() {
     stats_.loading = loadingCount_;
 }
 
-void TerrainModel::endFrame() {
+void TerrainTiles::endFrame() {
     // Loads nobody asked for this frame are no longer wanted: drop them from the queue (a
     // running one finishes and its result is kept if it arrives before the entry is gone).
     for (auto it = entries_.begin(); it != entries_.end();) {
@@ -279,7 +331,7 @@ void TerrainModel::endFrame() {
     trim();
 }
 
-void TerrainModel::trim() {
+void TerrainTiles::trim() {
     if (cpuBytes_ <= settings_.cpuBudgetBytes) return;
     std::vector<std::pair<uint64_t, DataKey>> candidates;
     for (const auto& [key, e] : entries_)
@@ -298,14 +350,14 @@ void TerrainModel::trim() {
     }
 }
 
-std::vector<DataKey> TerrainModel::loadedKeys() const {
+std::vector<DataKey> TerrainTiles::loadedKeys() const {
     std::vector<DataKey> keys;
     for (const auto& [key, e] : entries_)
         if (e.state == DataState::Ready || e.state == DataState::Empty) keys.push_back(key);
     return keys;
 }
 
-void TerrainModel::waitIdle() {
+void TerrainTiles::waitIdle() {
     while (loadingCount_ > 0) {
         for (auto& [key, e] : entries_)
             if (e.state == DataState::Loading) e.job.wait();
@@ -313,7 +365,7 @@ void TerrainModel::waitIdle() {
     }
 }
 
-std::optional<double> TerrainModel::heightAt(double lonDeg, double latDeg) const {
+std::optional<double> TerrainTiles::heightAt(double lonDeg, double latDeg) const {
     if (!std::isfinite(lonDeg) || !std::isfinite(latDeg) || latDeg < -90.0 || latDeg > 90.0) return std::nullopt;
     const double lon = lonDeg >= 180.0 ? lonDeg - 360.0 : lonDeg < -180.0 ? lonDeg + 360.0 : lonDeg;
     for (int level = int(deepestElevation_); level >= 0; --level) {
@@ -329,7 +381,7 @@ std::optional<double> TerrainModel::heightAt(double lonDeg, double latDeg) const
     return std::nullopt;
 }
 
-TileHeightRange TerrainModel::heightRange(const TileKey& tile) const {
+TileHeightRange TerrainTiles::heightRange(const TileKey& tile) const {
     if (elevation_.empty()) return {0.0, 0.0};
     for (int level = int(tile.level); level >= 0; --level) {
         const Entry* e = find(0, tile.ancestor(uint32_t(level)));
@@ -346,7 +398,7 @@ TileHeightRange TerrainModel::heightRange(const TileKey& tile) const {
     return {-500.0, 9000.0};   // nothing known yet: anything from the Dead Sea shore to Everest
 }
 
-TerrainModel::LoadResult TerrainModel::loadElevation(const TileKey& tile, std::shared_ptr<const ElevationData> parent,
+TerrainTiles::LoadResult TerrainTiles::loadElevation(const TileKey& tile, std::shared_ptr<const ElevationData> parent,
                                                      uint32_t parentLevel, const jobs::CancelToken& cancel) const {
     LoadResult out;
     const int n = settings_.gridSize;
@@ -379,56 +431,12 @@ TerrainModel::LoadResult TerrainModel::loadElevation(const TileKey& tile, std::s
         out.empty = true;
         return out;
     }
-    auto data = std::make_shared<ElevationData>();
-    data->size = n;
-    // Holes: the nearest loaded ancestor's heights at the same place, else the ellipsoid.
-    // Never a spike.
     const glm::dvec4 sb = parent ? tile.scaleBiasWithin(tile.ancestor(parentLevel)) : glm::dvec4(1, 1, 0, 0);
-    const auto at = [&](int i, int j) -> float& { return g[size_t((j + 1) * m + (i + 1))]; };   // i, j in -1..n
-    std::vector<float> h(size_t(n) * size_t(n));
-    float lo = std::numeric_limits<float>::max(), hi = -lo;
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            float& v = at(i, j);
-            if (!std::isfinite(v)) {
-                const double u = double(i) / (n - 1), w = double(j) / (n - 1);
-                v = parent ? parent->sample(u * sb.x + sb.z, w * sb.y + sb.w) : 0.0f;
-            }
-            h[size_t(j * n + i)] = v;
-            lo = std::min(lo, v);
-            hi = std::max(hi, v);
-        }
-    // Border samples without data: the ancestor's where it reaches them (as for holes), else
-    // (beyond a pole or the antimeridian, past every DEM) extrapolated linearly, which makes the
-    // difference there one-sided.
-    if (parent) {
-        const auto fill = [&](int i, int j) {
-            float& v = at(i, j);
-            const double u = (double(i) / (n - 1)) * sb.x + sb.z, w = (double(j) / (n - 1)) * sb.y + sb.w;
-            if (!std::isfinite(v) && u >= 0.0 && u <= 1.0 && w >= 0.0 && w <= 1.0) v = parent->sample(u, w);
-        };
-        for (int k = 0; k < n; ++k) fill(-1, k), fill(n, k), fill(k, -1), fill(k, n);
-    }
-    for (int k = 0; k < n; ++k) {
-        if (!std::isfinite(at(-1, k))) at(-1, k) = 2.0f * at(0, k) - at(1, k);
-        if (!std::isfinite(at(n, k))) at(n, k) = 2.0f * at(n - 1, k) - at(n - 2, k);
-        if (!std::isfinite(at(k, -1))) at(k, -1) = 2.0f * at(k, 0) - at(k, 1);
-        if (!std::isfinite(at(k, n))) at(k, n) = 2.0f * at(k, n - 1) - at(k, n - 2);
-    }
-    data->gradients.resize(size_t(n) * size_t(n) * 2);
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            data->gradients[size_t(j * n + i) * 2] = 0.5f * (at(i + 1, j) - at(i - 1, j));
-            data->gradients[size_t(j * n + i) * 2 + 1] = 0.5f * (at(i, j + 1) - at(i, j - 1));
-        }
-    data->heights = std::move(h);
-    data->minHeight = lo;
-    data->maxHeight = hi;
-    out.elevation = std::move(data);
+    out.elevation = fillElevation(std::move(g), n, parent.get(), sb);
     return out;
 }
 
-TerrainModel::LoadResult TerrainModel::loadImagery(uint32_t layer, const TileKey& tile, const jobs::CancelToken& cancel) const {
+TerrainTiles::LoadResult TerrainTiles::loadImagery(uint32_t layer, const TileKey& tile, const jobs::CancelToken& cancel) const {
     LoadResult out;
     const auto& source = imagery_[layer - 1];
     const GeoExtent extent = tile.extent();
@@ -451,7 +459,7 @@ TerrainModel::LoadResult TerrainModel::loadImagery(uint32_t layer, const TileKey
     return out;
 }
 
-void TerrainModel::noteError(const std::string& message) {
+void TerrainTiles::noteError(const std::string& message) {
     if (errors_.size() < 16) {
         errors_.push_back(message);
         log::error(message);
