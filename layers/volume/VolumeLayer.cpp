@@ -197,42 +197,32 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
     linearSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_LINEAR});
     nearestSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_NEAREST});
 
-    const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-    const VkDescriptorSetLayoutBinding bindings[] = {
-        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, cs, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, cs, nullptr},
-        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, nullptr},
-        {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, cs, nullptr},
-        {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, cs, nullptr},
-        {5, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, nullptr},
-        {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-        {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, nullptr},
-        {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, nullptr},
-    };
     const uint32_t frames = services.framesInFlight;
-    descriptors_ = gpu::createDescriptorSets(device, bindings, frames);
+    descriptors_ = gpu::createDescriptorSets(device, shader::kVolumeBindings, frames);
     for (uint32_t f = 0; f < frames; ++f) {
         setVersion_.push_back(0);
         uniformBuffers_.emplace_back(device, sizeof(shader::VolumeUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                      gpu::MemoryUsage::Upload, "volume uniforms");
     }
+    // The shaders' sets in order: the frame's, then the volume's.
+    static_assert(shader::kFrameSet == 0 && shader::kVolumeSet == 1, "setLayouts and the binds list the sets in order");
     const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, descriptors_.layout.vk()};
     layout_ = gpu::createPipelineLayout(device, setLayouts, {});
     gpu::Specialization modes;
-    modes.set<VkBool32>(0, settings_.dvr ? VK_TRUE : VK_FALSE);
-    modes.set<int32_t>(1, int32_t(settings_.isovalues.size()));
-    modes.set<int32_t>(2, int32_t(settings_.slices.size()));
-    modes.set<VkBool32>(3, hitOutput_ ? VK_TRUE : VK_FALSE);
-    modes.set<VkBool32>(4, refine_ ? VK_TRUE : VK_FALSE);
+    modes.set<VkBool32>(shader::kVolumeSpecDvr, settings_.dvr ? VK_TRUE : VK_FALSE);
+    modes.set<int32_t>(shader::kVolumeSpecIsoCount, int32_t(settings_.isovalues.size()));
+    modes.set<int32_t>(shader::kVolumeSpecSliceCount, int32_t(settings_.slices.size()));
+    modes.set<VkBool32>(shader::kVolumeSpecHitOutput, hitOutput_ ? VK_TRUE : VK_FALSE);
+    modes.set<VkBool32>(shader::kVolumeSpecRefine, refine_ ? VK_TRUE : VK_FALSE);
     const bool blends = !moreSteps_.empty() && stepTimes_.size() > 1 && settings_.timeMode == VolumeSettings::TimeMode::Blend;
-    modes.set<VkBool32>(5, blends ? VK_TRUE : VK_FALSE);
+    modes.set<VkBool32>(shader::kVolumeSpecBlendTimeSteps, blends ? VK_TRUE : VK_FALSE);
     // The brick test costs on every sample (~15 % on lavapipe): it is compiled in only when at
     // least 1 brick in 16 can be skipped with the scene's settings (live edits keep the choice).
     size_t visibleBricks = 0;
     for (uint32_t word : occupancy_) visibleBricks += size_t(std::popcount(word));
     skipEmpty_ = settings_.emptySkipping && (bricks_.minMax.size() - visibleBricks) * 16 >= bricks_.minMax.size();
-    modes.set<VkBool32>(7, skipEmpty_ ? VK_TRUE : VK_FALSE);
-    modes.set<int32_t>(6, int32_t((lookups_[0].uniform ? 1 : 0) | (lookups_[1].uniform ? 2 : 0) | (lookups_[2].uniform ? 4 : 0)));
+    modes.set<VkBool32>(shader::kVolumeSpecSkipEmpty, skipEmpty_ ? VK_TRUE : VK_FALSE);
+    modes.set<int32_t>(shader::kVolumeSpecUniformAxes, int32_t((lookups_[0].uniform ? 1 : 0) | (lookups_[1].uniform ? 2 : 0) | (lookups_[2].uniform ? 4 : 0)));
     // Without measurement the hit image is a 1 x 1 stand-in that is never written.
     gpu::ImageDesc hd;
     hd.format = VK_FORMAT_R32_SFLOAT;
@@ -273,35 +263,17 @@ void VolumeLayer::ensureCastImage(uint32_t width, uint32_t height) {
 }
 
 void VolumeLayer::writeDescriptors(uint32_t f) {
-    {
-        const VkDescriptorBufferInfo ubo{uniformBuffers_[f].vk(), 0, sizeof(shader::VolumeUniforms)};
-        const VkDescriptorBufferInfo axes{axisBuffer_.vk(), 0, VK_WHOLE_SIZE};
-        const VkDescriptorImageInfo fieldInfo{linearSampler_.vk(), fieldImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-        const VkDescriptorImageInfo tfInfo{linearSampler_.vk(), transferImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-        const VkDescriptorImageInfo depthInfo{nearestSampler_.vk(), boundDepth_->view(),
-                                              VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-        const VkDescriptorImageInfo storeInfo{VK_NULL_HANDLE, castImage_.view(), VK_IMAGE_LAYOUT_GENERAL};
-        const VkDescriptorImageInfo readInfo{nearestSampler_.vk(), castImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-        const VkDescriptorImageInfo hitInfo{VK_NULL_HANDLE, hitImage_.view(), VK_IMAGE_LAYOUT_GENERAL};
-        const VkDescriptorBufferInfo bricks{occupancyBuffer_.vk(), 0, VK_WHOLE_SIZE};
-        VkWriteDescriptorSet w[9] = {};
-        for (uint32_t b = 0; b < 9; ++b) {
-            w[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-            w[b].dstSet = descriptors_.sets[f];
-            w[b].dstBinding = b;
-            w[b].descriptorCount = 1;
-        }
-        w[0].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, w[0].pBufferInfo = &ubo;
-        w[1].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, w[1].pImageInfo = &fieldInfo;
-        w[2].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, w[2].pBufferInfo = &axes;
-        w[3].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, w[3].pImageInfo = &tfInfo;
-        w[4].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, w[4].pImageInfo = &depthInfo;
-        w[5].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, w[5].pImageInfo = &storeInfo;
-        w[6].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, w[6].pImageInfo = &readInfo;
-        w[7].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, w[7].pImageInfo = &hitInfo;
-        w[8].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, w[8].pBufferInfo = &bricks;
-        vkUpdateDescriptorSets(services_->device->vk(), 9, w, 0, nullptr);
-    }
+    gpu::DescriptorWriter(descriptors_.sets[f])
+        .uniformBuffer(shader::kVolumeBindingUniforms, uniformBuffers_[f], 0, sizeof(shader::VolumeUniforms))
+        .sampledImage(shader::kVolumeBindingField, linearSampler_.vk(), fieldImage_.view())
+        .storageBuffer(shader::kVolumeBindingAxes, axisBuffer_)
+        .sampledImage(shader::kVolumeBindingTransfer, linearSampler_.vk(), transferImage_.view())
+        .sampledImage(shader::kVolumeBindingSceneDepth, nearestSampler_.vk(), boundDepth_->view())
+        .storageImage(shader::kVolumeBindingCastImage, castImage_.view())
+        .sampledImage(shader::kVolumeBindingCastSampled, nearestSampler_.vk(), castImage_.view())
+        .storageImage(shader::kVolumeBindingHits, hitImage_.view())
+        .storageBuffer(shader::kVolumeBindingBricks, occupancyBuffer_)
+        .update(*services_->device);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -437,7 +409,8 @@ void VolumeLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
     gpu::transition(cmd, writes);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, castPipeline_.vk());
     const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), 0, 2, sets, 0, nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), shader::kFrameSet,
+                            uint32_t(std::size(sets)), sets, 0, nullptr);
     const uint32_t g = shader::kVolumeGroupSize;
     vkCmdDispatch(cmd, (frame.width + g - 1) / g, (frame.height + g - 1) / g, 1);
     gpu::transition(cmd, castImage_, gpu::ImageUse::SampledFragment);
@@ -475,7 +448,8 @@ void VolumeLayer::record(scene::Pass, const render::RecordContext& rc) {
     VkCommandBuffer cmd = rc.cmd;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, compositePipeline_.vk());
     const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), shader::kFrameSet,
+                            uint32_t(std::size(sets)), sets, 0, nullptr);
     vkCmdDraw(cmd, 3, 1, 0, 0);
 }
 

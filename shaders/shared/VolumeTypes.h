@@ -1,9 +1,6 @@
-// Volume ray casting (compute, before the volume pass) and its composite (fragment, in the pass).
-// Set 1 bindings: 0 VolumeUniforms (per frame), 1 the field (sampler3D, R32F or R16F, NaN = no data),
-// 2 axis lookup tables (storage buffer), 3 transfer function (sampler1D), 4 scene depth
-// (sampler2D), 5 the ray-cast image (rgba16f storage, premultiplied), 6 the same image sampled
-// by the composite, 7 first-hit distances (measurement), 8 one bit per brick: can it show
-// anything (empty-space skipping).
+// Volume ray casting (compute, before the volume pass) and its composite (fragment, in the pass):
+// every number the GLSL and the C++ must agree on (set, bindings, specialisation constants,
+// workgroup size, the uniform block), and on the C++ side the set's layout as a table.
 #ifndef ORBIS_SHADERS_SHARED_VOLUME_TYPES_H
 #define ORBIS_SHADERS_SHARED_VOLUME_TYPES_H
 
@@ -12,6 +9,26 @@
 ORBIS_NAMESPACE_BEGIN
 
 ORBIS_CONST(uint, kVolumeSet, 1)
+// The set's bindings (kVolumeBindings below is its layout).
+ORBIS_CONST(uint, kVolumeBindingUniforms, 0)     // VolumeUniforms, one buffer per frame in flight
+ORBIS_CONST(uint, kVolumeBindingField, 1)        // sampler3D, R32F or R16F, NaN = no data
+ORBIS_CONST(uint, kVolumeBindingAxes, 2)         // storage buffer: the irregular axes' lookup tables
+ORBIS_CONST(uint, kVolumeBindingTransfer, 3)     // sampler1D: the transfer function
+ORBIS_CONST(uint, kVolumeBindingSceneDepth, 4)   // sampler2D: the scene's depth (rays end there)
+ORBIS_CONST(uint, kVolumeBindingCastImage, 5)    // rgba16f storage image: the ray-cast colour, premultiplied
+ORBIS_CONST(uint, kVolumeBindingCastSampled, 6)  // the same image, sampled by the composite (fragment)
+ORBIS_CONST(uint, kVolumeBindingHits, 7)         // r32f storage image: first-hit distances (measurement)
+ORBIS_CONST(uint, kVolumeBindingBricks, 8)       // storage buffer: one bit per brick, "can show something"
+// The ray caster's specialisation constants: what the scene's modes use is compiled in.
+ORBIS_CONST(uint, kVolumeSpecDvr, 0)             // bool: direct volume rendering
+ORBIS_CONST(uint, kVolumeSpecIsoCount, 1)        // int: isosurfaces (0 .. kVolumeMaxIso)
+ORBIS_CONST(uint, kVolumeSpecSliceCount, 2)      // int: slice planes (0 .. kVolumeMaxSlices)
+ORBIS_CONST(uint, kVolumeSpecHitOutput, 3)       // bool: write first-hit distances (measurement)
+ORBIS_CONST(uint, kVolumeSpecRefine, 4)          // bool: refine isosurface crossings
+ORBIS_CONST(uint, kVolumeSpecBlendTimeSteps, 5)  // bool: blend two time steps per sample
+ORBIS_CONST(uint, kVolumeSpecUniformAxes, 6)     // int: evenly spaced axes, bit 0 lon, 1 lat, 2 height
+ORBIS_CONST(uint, kVolumeSpecSkipEmpty, 7)       // bool: empty-space skipping
+// Sizes.
 ORBIS_CONST(uint, kVolumeAxisTable, 256)   // entries per irregular axis
 ORBIS_CONST(uint, kVolumeGroupSize, 8)     // compute workgroup: 8 x 8 pixels
 ORBIS_CONST(uint, kVolumeMaxIso, 8)        // isovalues per volume
@@ -56,6 +73,21 @@ ORBIS_NAMESPACE_END
 
 #ifdef __cplusplus
 static_assert(sizeof(orbis::shader::VolumeUniforms) == 27 * 16, "VolumeUniforms layout changed");
+
+namespace orbis::shader {
+/// Set kVolumeSet's layout (gpu::createDescriptorSets); the composite reads the cast image.
+inline constexpr DescriptorBinding kVolumeBindings[] = {
+    {kVolumeBindingUniforms, DescriptorKind::UniformBuffer, 1, kStageCompute},
+    {kVolumeBindingField, DescriptorKind::CombinedImageSampler, 1, kStageCompute},
+    {kVolumeBindingAxes, DescriptorKind::StorageBuffer, 1, kStageCompute},
+    {kVolumeBindingTransfer, DescriptorKind::CombinedImageSampler, 1, kStageCompute},
+    {kVolumeBindingSceneDepth, DescriptorKind::CombinedImageSampler, 1, kStageCompute},
+    {kVolumeBindingCastImage, DescriptorKind::StorageImage, 1, kStageCompute},
+    {kVolumeBindingCastSampled, DescriptorKind::CombinedImageSampler, 1, kStageFragment},
+    {kVolumeBindingHits, DescriptorKind::StorageImage, 1, kStageCompute},
+    {kVolumeBindingBricks, DescriptorKind::StorageBuffer, 1, kStageCompute},
+};
+}  // namespace orbis::shader
 #endif
 
 #endif

@@ -11,33 +11,33 @@
 // refined by secant/bisection steps, lit with Phong shading and a normal from central
 // differences. A jittered start, early termination, and an end at the scene depth.
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = kVolumeGroupSize, local_size_y = kVolumeGroupSize) in;
 
 // What the scene's modes use is compiled in; the rest is left out.
-layout(constant_id = 0) const bool kDvr = true;
-layout(constant_id = 1) const int kIsoCount = 0;   // isosurfaces (0 .. kVolumeMaxIso)
-layout(constant_id = 2) const int kSliceCount = 0; // slice planes (0 .. kVolumeMaxSlices)
+layout(constant_id = kVolumeSpecDvr) const bool kDvr = true;
+layout(constant_id = kVolumeSpecIsoCount) const int kIsoCount = 0;     // isosurfaces (0 .. kVolumeMaxIso)
+layout(constant_id = kVolumeSpecSliceCount) const int kSliceCount = 0; // slice planes (0 .. kVolumeMaxSlices)
 // Measurement only (tests, benchmarks): write each ray's first isosurface distance, and find
 // crossings without refinement (at the sample after the sign change).
-layout(constant_id = 3) const bool kHitOutput = false;
-layout(constant_id = 4) const bool kRefine = true;
+layout(constant_id = kVolumeSpecHitOutput) const bool kHitOutput = false;
+layout(constant_id = kVolumeSpecRefine) const bool kRefine = true;
 // Time steps blended at the current time: a second field fetch per sample (only then).
-layout(constant_id = 5) const bool kBlendSteps = false;
+layout(constant_id = kVolumeSpecBlendTimeSteps) const bool kBlendSteps = false;
 // Which axes are evenly spaced (bit 0 lon, 1 lat, 2 height): those map linearly, the others
 // through the lookup table. A constant, not a uniform: CPU devices run both sides of a branch.
-layout(constant_id = 6) const int kUniformAxes = 7;
+layout(constant_id = kVolumeSpecUniformAxes) const int kUniformAxes = 7;
 // Empty-space skipping: rays jump over bricks that show nothing.
-layout(constant_id = 7) const bool kSkipEmpty = true;
+layout(constant_id = kVolumeSpecSkipEmpty) const bool kSkipEmpty = true;
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
-layout(set = 1, binding = 0) uniform VolumeBlock { VolumeUniforms vol; };
-layout(set = 1, binding = 1) uniform sampler3D field;
-layout(set = 1, binding = 2, std430) readonly buffer AxisBlock { float axisTable[]; };
-layout(set = 1, binding = 3) uniform sampler1D transfer;
-layout(set = 1, binding = 4) uniform sampler2D sceneDepth;
-layout(set = 1, binding = 5, rgba16f) uniform writeonly image2D outImage;
-layout(set = 1, binding = 7, r32f) uniform writeonly image2D hitImage;   // kHitOutput only
-layout(set = 1, binding = 8, std430) readonly buffer BrickBlock { uint brickBits[]; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kVolumeSet, binding = kVolumeBindingUniforms) uniform VolumeBlock { VolumeUniforms vol; };
+layout(set = kVolumeSet, binding = kVolumeBindingField) uniform sampler3D field;
+layout(set = kVolumeSet, binding = kVolumeBindingAxes, std430) readonly buffer AxisBlock { float axisTable[]; };
+layout(set = kVolumeSet, binding = kVolumeBindingTransfer) uniform sampler1D transfer;
+layout(set = kVolumeSet, binding = kVolumeBindingSceneDepth) uniform sampler2D sceneDepth;
+layout(set = kVolumeSet, binding = kVolumeBindingCastImage, rgba16f) uniform writeonly image2D outImage;
+layout(set = kVolumeSet, binding = kVolumeBindingHits, r32f) uniform writeonly image2D hitImage;   // kHitOutput only
+layout(set = kVolumeSet, binding = kVolumeBindingBricks, std430) readonly buffer BrickBlock { uint brickBits[]; };
 
 // Shared per ray.
 vec3 gEye, gDir;
