@@ -44,11 +44,11 @@ uint16_t halfFloat(float v) {
 
 }  // namespace
 
-VolumeLayer::VolumeLayer(VolumeField field, VolumeSettings settings, std::vector<std::vector<float>> moreSteps,
-                         std::vector<TimeNs> stepTimes)
-    : field_(std::move(field)), moreSteps_(std::move(moreSteps)), stepTimes_(std::move(stepTimes)),
+VolumeLayer::VolumeLayer(VolumeField field, VolumeSettings settings, std::vector<std::vector<float>> moreTimeSteps,
+                         std::vector<TimeNs> timeStepTimes)
+    : field_(std::move(field)), moreTimeSteps_(std::move(moreTimeSteps)), timeStepTimes_(std::move(timeStepTimes)),
       settings_(std::move(settings)) {
-    if (stepTimes_.size() != 1 + moreSteps_.size()) stepTimes_.clear();   // no time axis to follow
+    if (timeStepTimes_.size() != 1 + moreTimeSteps_.size()) timeStepTimes_.clear();   // no time axis to follow
 }
 
 VolumeLayer::~VolumeLayer() = default;
@@ -69,12 +69,12 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
     const size_t nx = field_.nx(), ny = field_.ny(), nz = field_.nz();
     const bool wrapColumn = field_.lonWraps && lonAxis_.back() < lonAxis_.front() + 360.0 - 1e-9;
     if (wrapColumn) lonAxis_.push_back(lonAxis_.front() + 360.0);
-    const size_t gx = lonAxis_.size(), steps = 1 + moreSteps_.size();
-    // Time steps stacked along z: step s, level k is texel layer s * nz + k.
-    std::vector<float> texels(gx * ny * nz * steps);
-    for (size_t st = 0; st < steps; ++st) {
-        const std::vector<float>& v = st == 0 ? field_.values : moreSteps_[st - 1];
-        float* out = texels.data() + st * gx * ny * nz;
+    const size_t gx = lonAxis_.size(), timeSteps = 1 + moreTimeSteps_.size();
+    // Time steps stacked along z: time step s, level k is texel layer s * nz + k.
+    std::vector<float> texels(gx * ny * nz * timeSteps);
+    for (size_t ts = 0; ts < timeSteps; ++ts) {
+        const std::vector<float>& v = ts == 0 ? field_.values : moreTimeSteps_[ts - 1];
+        float* out = texels.data() + ts * gx * ny * nz;
         for (size_t k = 0; k < nz; ++k)
             for (size_t j = 0; j < ny; ++j)
                 for (size_t i = 0; i < gx; ++i) out[(k * ny + j) * gx + i] = v[(k * ny + j) * nx + (i % nx)];
@@ -96,9 +96,9 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
     while (((gx + brickSize - 1) / brickSize) * ((ny + brickSize - 1) / brickSize) * ((nz + brickSize - 1) / brickSize) >
            size_t(65536) * 8)
         brickSize *= 2;
-    for (size_t st = 0; st < steps && settings_.emptySkipping; ++st) {
-        BrickGrid g = buildBrickGrid(texels.data() + st * gx * ny * nz, gx, ny, nz, brickSize);
-        if (st == 0) bricks_ = std::move(g);
+    for (size_t ts = 0; ts < timeSteps && settings_.emptySkipping; ++ts) {
+        BrickGrid g = buildBrickGrid(texels.data() + ts * gx * ny * nz, gx, ny, nz, brickSize);
+        if (ts == 0) bricks_ = std::move(g);
         else mergeBrickGrid(bricks_, g);
     }
     // Half floats: values relative to the data's range; the bricks widen by the rounding.
@@ -160,7 +160,7 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
     fd.type = VK_IMAGE_TYPE_3D;
     fd.viewType = VK_IMAGE_VIEW_TYPE_3D;
     fd.format = settings_.halfField ? VK_FORMAT_R16_SFLOAT : VK_FORMAT_R32_SFLOAT;
-    fd.extent = {uint32_t(gx), uint32_t(ny), uint32_t(nz * steps)};
+    fd.extent = {uint32_t(gx), uint32_t(ny), uint32_t(nz * timeSteps)};
     fd.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     fd.name = "volume field";
     fieldImage_ = gpu::Image(device, fd);
@@ -214,7 +214,7 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
     modes.set<int32_t>(shader::kVolumeSpecSliceCount, int32_t(settings_.slices.size()));
     modes.set<VkBool32>(shader::kVolumeSpecHitOutput, hitOutput_ ? VK_TRUE : VK_FALSE);
     modes.set<VkBool32>(shader::kVolumeSpecRefine, refine_ ? VK_TRUE : VK_FALSE);
-    const bool blends = !moreSteps_.empty() && stepTimes_.size() > 1 && settings_.timeMode == VolumeSettings::TimeMode::Blend;
+    const bool blends = !moreTimeSteps_.empty() && timeStepTimes_.size() > 1 && settings_.timeMode == VolumeSettings::TimeMode::Blend;
     modes.set<VkBool32>(shader::kVolumeSpecBlendTimeSteps, blends ? VK_TRUE : VK_FALSE);
     // The brick test costs on every sample (~15 % on lavapipe): it is compiled in only when at
     // least 1 brick in 16 can be skipped with the scene's settings (live edits keep the choice).
@@ -281,23 +281,23 @@ void VolumeLayer::writeDescriptors(uint32_t f) {
 
 void VolumeLayer::update(const scene::FrameContext& frame) {
     ++frameCounter_;
-    stepA_ = stepB_ = stepWeight_ = 0.0f;
-    if (stepTimes_.size() < 2 || settings_.timeMode == VolumeSettings::TimeMode::Fixed) return;
+    timeStepA_ = timeStepB_ = timeStepWeight_ = 0.0f;
+    if (timeStepTimes_.size() < 2 || settings_.timeMode == VolumeSettings::TimeMode::Fixed) return;
     const TimeNs t = frame.time;
-    const size_t last = stepTimes_.size() - 1;
-    if (t <= stepTimes_.front()) return;
-    if (t >= stepTimes_.back()) {
-        stepA_ = stepB_ = float(last);
+    const size_t last = timeStepTimes_.size() - 1;
+    if (t <= timeStepTimes_.front()) return;
+    if (t >= timeStepTimes_.back()) {
+        timeStepA_ = timeStepB_ = float(last);
         return;
     }
-    const size_t i = size_t(std::upper_bound(stepTimes_.begin(), stepTimes_.end(), t) - stepTimes_.begin()) - 1;
-    const double w = double(t - stepTimes_[i]) / double(stepTimes_[i + 1] - stepTimes_[i]);
+    const size_t i = size_t(std::upper_bound(timeStepTimes_.begin(), timeStepTimes_.end(), t) - timeStepTimes_.begin()) - 1;
+    const double w = double(t - timeStepTimes_[i]) / double(timeStepTimes_[i + 1] - timeStepTimes_[i]);
     if (settings_.timeMode == VolumeSettings::TimeMode::Nearest) {
-        stepA_ = stepB_ = float(w < 0.5 ? i : i + 1);
+        timeStepA_ = timeStepB_ = float(w < 0.5 ? i : i + 1);
     } else {
-        stepA_ = float(i);
-        stepB_ = float(i + 1);
-        stepWeight_ = float(w);
+        timeStepA_ = float(i);
+        timeStepB_ = float(i + 1);
+        timeStepWeight_ = float(w);
     }
 }
 
@@ -373,7 +373,7 @@ void VolumeLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
         }
     }
     u.sliceInfo = glm::vec4(float(settings_.sliceOpacity), float(jumpLimit_.x), float(jumpLimit_.y), 0.0f);
-    u.timeInfo = glm::vec4(stepA_, stepB_, stepWeight_, float(1 + moreSteps_.size()));
+    u.timeInfo = glm::vec4(timeStepA_, timeStepB_, timeStepWeight_, float(1 + moreTimeSteps_.size()));
     u.shellScale = glm::vec4(float(lowInv.x), float(lowInv.y), float(highInv.x), float(highInv.y));
     // "steps" across the diagonal of the normalised box (as a ray-caster counts samples along a
     // cube's diagonal); opacity is per "opacityUnit" of the normalised box.
@@ -455,7 +455,7 @@ void VolumeLayer::record(scene::Pass, const render::RecordContext& rc) {
 
 uint64_t VolumeLayer::gpuBytes() const {
     uint64_t bytes = uint64_t(lonAxis_.size()) * field_.ny() * field_.nz() * (settings_.halfField ? 2 : 4) *
-                         (1 + moreSteps_.size()) + 256 * 8 +
+                         (1 + moreTimeSteps_.size()) + 256 * 8 +
                      3 * shader::kVolumeAxisTable * 4;
     if (castImage_) bytes += uint64_t(castImage_.extent().width) * castImage_.extent().height * 8;
     return bytes;

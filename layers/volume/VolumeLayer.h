@@ -44,8 +44,8 @@
 namespace orbis::layers {
 
 struct VolumeSettings {
-    /// How virtual time picks the data's time step: "fixed" (timeStep), "nearest" step, or
-    /// "blend" linearly between the two steps around the current time.
+    /// How virtual time picks the data's time step: "fixed" (timeStep), "nearest" time step, or
+    /// "blend" linearly between the two time steps around the current time.
     enum class TimeMode { Fixed, Nearest, Blend } timeMode = TimeMode::Blend;
     bool dvr = true;
     std::vector<double> isovalues;   ///< mode "iso": up to 8 surfaces, coloured by the colour map
@@ -58,7 +58,7 @@ struct VolumeSettings {
     };
     std::vector<Slice> slices;
     double sliceOpacity = 1.0;
-    int steps = 100;
+    int steps = 100;   ///< ray steps along the box's normalised diagonal
     /// The length, in the box's normalised coordinates (each edge 1), over which a sample's
     /// opacity is the transfer function's alpha (VTK's "scalar opacity unit distance", relative
     /// to the box). Default: a hundredth of the normalised diagonal.
@@ -84,7 +84,7 @@ struct SyntheticVolume {
     std::string field = "sphere";
     size_t nx = 64, ny = 64, nz = 64;
     double west = -10, east = 10, south = 40, north = 60, bottom = 0, top = 200000;
-    /// Time steps (UTC); step s holds the field plus s. Empty: one step, no time.
+    /// Time steps (UTC); time step s holds the field plus s. Empty: one time step, no time.
     std::vector<TimeNs> times;
 };
 VolumeField makeSyntheticVolume(const SyntheticVolume& s);
@@ -92,8 +92,8 @@ VolumeField makeSyntheticVolume(const SyntheticVolume& s);
 class VolumeLayer final : public scene::Layer, public scene::LiveSettings, public scene::LayerStats {
 public:
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
-    VolumeLayer(VolumeField field, VolumeSettings settings, std::vector<std::vector<float>> moreSteps = {},
-                std::vector<TimeNs> stepTimes = {});
+    VolumeLayer(VolumeField field, VolumeSettings settings, std::vector<std::vector<float>> moreTimeSteps = {},
+                std::vector<TimeNs> timeStepTimes = {});
     ~VolumeLayer() override;
 
     std::string_view type() const override { return "volume"; }
@@ -133,9 +133,9 @@ public:
     glm::dvec3 voxelAt(const glm::dvec3& ecef) const;
 
     const VolumeField& field() const { return field_; }
-    size_t timeSteps() const { return 1 + moreSteps_.size(); }
-    /// The steps shown now: (A, B, weight of B), from the last update().
-    glm::vec3 timeBlend() const { return {stepA_, stepB_, stepWeight_}; }
+    size_t timeSteps() const { return 1 + moreTimeSteps_.size(); }
+    /// The time steps shown now: (A, B, weight of B), from the last update().
+    glm::vec3 timeBlend() const { return {timeStepA_, timeStepB_, timeStepWeight_}; }
     const VolumeSettings& settings() const { return settings_; }
     /// Whether the ray caster was built with empty-space skipping (after prepare()).
     bool skipsEmptyBricks() const { return skipEmpty_; }
@@ -146,10 +146,10 @@ private:
     void ensureCastImage(uint32_t width, uint32_t height);
     void writeDescriptors(uint32_t frameSlot);
 
-    VolumeField field_;                        // step 0 (or the fixed step), with the grid
-    std::vector<std::vector<float>> moreSteps_;   // the values of steps 1.., when time animates
-    std::vector<TimeNs> stepTimes_;              // one per uploaded step (empty: no time)
-    float stepA_ = 0.0f, stepB_ = 0.0f, stepWeight_ = 0.0f;
+    VolumeField field_;                               // time step 0 (or the fixed one), with the grid
+    std::vector<std::vector<float>> moreTimeSteps_;   // the values of time steps 1.., when time animates
+    std::vector<TimeNs> timeStepTimes_;               // one per uploaded time step (empty: no time)
+    float timeStepA_ = 0.0f, timeStepB_ = 0.0f, timeStepWeight_ = 0.0f;
     VolumeSettings settings_;
     const render::RenderServices* services_ = nullptr;
     render::RenderServices servicesCopy_;

@@ -65,10 +65,10 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
     const std::string where = scene.file.string() + ": " + desc.jsonPath;
     VolumeSettings s;
 
-    // The data: a file or a synthetic field, and how time picks its steps.
+    // The data: a file or a synthetic field, and how time picks its time steps.
     std::optional<VolumeField> field;
-    std::vector<std::vector<float>> moreSteps;
-    std::vector<TimeNs> stepTimes;
+    std::vector<std::vector<float>> moreTimeSteps;
+    std::vector<TimeNs> timeStepTimes;
     if (auto mode = r.string("time", std::string("blend"))) {
         if (*mode == "blend") s.timeMode = VolumeSettings::TimeMode::Blend;
         else if (*mode == "nearest") s.timeMode = VolumeSettings::TimeMode::Nearest;
@@ -115,13 +115,13 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
         }
         if (auto done = sr.finish(); !done) return done.error();
         field = makeSyntheticVolume(sv);
-        for (size_t step = 1; step < sv.times.size(); ++step) {
+        for (size_t ts = 1; ts < sv.times.size(); ++ts) {
             std::vector<float> v = field->values;
-            for (float& x : v) x += float(step);
-            moreSteps.push_back(std::move(v));
+            for (float& x : v) x += float(ts);
+            moreTimeSteps.push_back(std::move(v));
         }
         if (sv.times.size() > 1) field->maxValue += float(sv.times.size() - 1);
-        stepTimes = sv.times;
+        timeStepTimes = sv.times;
     } else if (path && !path->empty() && r.ok()) {
         VolumeReadOptions o;
         o.path = scene.resolve(*path).string();
@@ -137,33 +137,33 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
             auto read = readVolume(o);
             if (!read) return makeError(where + ": " + read.message());
             field = std::move(read).value();
-            // Every step, when virtual time animates the variable (and it fits).
-            const size_t steps = field->times.size();
-            if (s.timeMode != VolumeSettings::TimeMode::Fixed && steps > 1) {
-                const uint64_t stepBytes = uint64_t(field->values.size()) * sizeof(float);
-                if (stepBytes * steps > o.maxBytes || field->nz() * steps > 2048)
-                    return makeError(where + ": " + std::to_string(steps) + " time steps of " +
-                                     std::to_string(stepBytes >> 20) + " MB do not fit (memory budget " +
+            // Every time step, when virtual time animates the variable (and it fits).
+            const size_t timeSteps = field->times.size();
+            if (s.timeMode != VolumeSettings::TimeMode::Fixed && timeSteps > 1) {
+                const uint64_t timeStepBytes = uint64_t(field->values.size()) * sizeof(float);
+                if (timeStepBytes * timeSteps > o.maxBytes || field->nz() * timeSteps > 2048)
+                    return makeError(where + ": " + std::to_string(timeSteps) + " time steps of " +
+                                     std::to_string(timeStepBytes >> 20) + " MB do not fit (memory budget " +
                                      std::to_string(o.maxBytes >> 20) +
                                      " MB, 2048 levels in all): set \"time\": \"fixed\" and pick a \"timeStep\"");
                 const size_t first = o.timeIndex;
-                std::vector<std::vector<float>> all(steps);
-                for (size_t i = 0; i < steps; ++i) {
+                std::vector<std::vector<float>> all(timeSteps);
+                for (size_t i = 0; i < timeSteps; ++i) {
                     if (i == first) continue;
                     VolumeReadOptions oi = o;
                     oi.timeIndex = i;
-                    auto step = readVolume(oi);
-                    if (!step) return makeError(where + ": " + step.message());
-                    field->minValue = std::min(field->minValue, step->minValue);
-                    field->maxValue = std::max(field->maxValue, step->maxValue);
-                    field->validCount += step->validCount;
-                    all[i] = std::move(step->values);
+                    auto timeStep = readVolume(oi);
+                    if (!timeStep) return makeError(where + ": " + timeStep.message());
+                    field->minValue = std::min(field->minValue, timeStep->minValue);
+                    field->maxValue = std::max(field->maxValue, timeStep->maxValue);
+                    field->validCount += timeStep->validCount;
+                    all[i] = std::move(timeStep->values);
                 }
                 all[first] = std::move(field->values);
                 field->values = std::move(all[0]);
-                field->timeIndex = 0;   // the values held are step 0's; the rest follow in order
-                for (size_t i = 1; i < steps; ++i) moreSteps.push_back(std::move(all[i]));
-                stepTimes = field->times;
+                field->timeIndex = 0;   // the values held are time step 0's; the rest follow in order
+                for (size_t i = 1; i < timeSteps; ++i) moreTimeSteps.push_back(std::move(all[i]));
+                timeStepTimes = field->times;
             }
         }
     } else if (r.ok()) {
@@ -262,7 +262,7 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
     }
     if (auto table = buildTransferTable(s.transfer); !table) return makeError(where + ": " + table.message());
     return std::unique_ptr<scene::Layer>(
-        new VolumeLayer(std::move(*field), std::move(s), std::move(moreSteps), std::move(stepTimes)));
+        new VolumeLayer(std::move(*field), std::move(s), std::move(moreTimeSteps), std::move(timeStepTimes)));
 }
 
 }  // namespace orbis::layers

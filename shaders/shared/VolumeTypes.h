@@ -66,7 +66,7 @@ struct VolumeUniforms {
     vec4 sliceA[4];
     vec4 sliceB[4];
     vec4 sliceInfo;         // x: slice opacity; y: longest jump over empty bricks (m), z: the same per metre from the axis
-    vec4 timeInfo;          // x, y: time steps shown (stacked along the texture's z), z: weight of y, w: steps
+    vec4 timeInfo;          // x, y: time steps shown (stacked along the texture's z), z: weight of y, w: time steps
 };
 
 ORBIS_NAMESPACE_END

@@ -22,7 +22,7 @@ layout(constant_id = kVolumeSpecSliceCount) const int kSliceCount = 0; // slice 
 layout(constant_id = kVolumeSpecHitOutput) const bool kHitOutput = false;
 layout(constant_id = kVolumeSpecRefine) const bool kRefine = true;
 // Time steps blended at the current time: a second field fetch per sample (only then).
-layout(constant_id = kVolumeSpecBlendTimeSteps) const bool kBlendSteps = false;
+layout(constant_id = kVolumeSpecBlendTimeSteps) const bool kBlendTimeSteps = false;
 // Which axes are evenly spaced (bit 0 lon, 1 lat, 2 height): those map linearly, the others
 // through the lookup table. A constant, not a uniform: CPU devices run both sides of a branch.
 layout(constant_id = kVolumeSpecUniformAxes) const int kUniformAxes = 7;
@@ -125,12 +125,12 @@ bool sampleGeo(vec3 geo, out float value) {
         gEmpty = gInBox && (brickBits[brick >> 5] & (1u << (brick & 31))) == 0u;
     }
     if (!gInBox) return false;
-    // Time steps are stacked along z: step s occupies [s, s + 1) / steps, and tc.z stays half a
-    // texel inside one step, so filtering never mixes steps.
-    float steps = vol.timeInfo.w;
-    value = textureLod(field, vec3(tc.xy, (vol.timeInfo.x + tc.z) / steps), 0.0).r;
-    if (kBlendSteps && vol.timeInfo.z > 0.0)
-        value = mix(value, textureLod(field, vec3(tc.xy, (vol.timeInfo.y + tc.z) / steps), 0.0).r, vol.timeInfo.z);
+    // Time steps are stacked along z: time step s occupies [s, s + 1) / timeSteps, and tc.z stays
+    // half a texel inside one, so filtering never mixes time steps.
+    float timeSteps = vol.timeInfo.w;
+    value = textureLod(field, vec3(tc.xy, (vol.timeInfo.x + tc.z) / timeSteps), 0.0).r;
+    if (kBlendTimeSteps && vol.timeInfo.z > 0.0)
+        value = mix(value, textureLod(field, vec3(tc.xy, (vol.timeInfo.y + tc.z) / timeSteps), 0.0).r, vol.timeInfo.z);
     value = value * vol.radii.x + vol.radii.y;   // half-float fields are stored relative to the range
     return !isnan(value);
 }
