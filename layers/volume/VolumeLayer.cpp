@@ -325,62 +325,76 @@ void VolumeLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
     const glm::dvec3 forward = -glm::dvec3(view[0][2], view[1][2], view[2][2]);
     const double a = ell.equatorialRadius(), b = ell.polarRadius();
     shader::VolumeUniforms u{};
-    u.eyeFromOrigin = glm::vec4(glm::vec3(eye), float(step));
-    u.originAxis = glm::vec4(float(rho0), float(origin_.z), float(std::atan2(origin_.y, origin_.x)), float(diagonal / 100.0));
-    u.boxMin = glm::vec4(glm::vec3(boxMin_), float(camera.nearPlane()));
-    u.boxMax = glm::vec4(glm::vec3(boxMax_), float(settings_.steps * 4 + 8));   // per segment
-    u.lonRange = glm::vec4(float(lonAxis_.front()), float(lonAxis_.back()), field_.lonWraps ? 1.0f : 0.0f,
-                           float(settings_.verticalExaggeration));
-    u.latRange = glm::vec4(float(field_.latDeg.front()), float(field_.latDeg.back()), float(field_.heightM.front()),
-                           float(field_.heightM.back()));
+    u.eyeFromOrigin = glm::vec3(eye);
+    u.stepLength = float(step);
+    u.forward = glm::vec3(forward);
+    u.nearPlane = float(camera.nearPlane());
+    u.boxMin = glm::vec3(boxMin_);
+    u.maxSteps = float(settings_.steps * 4 + 8);   // per segment
+    u.boxMax = glm::vec3(boxMax_);
+    u.frameIndex = float(frameCounter_ % 65536);
+    u.originRho = float(rho0), u.originZ = float(origin_.z), u.originLon = float(std::atan2(origin_.y, origin_.x));
+    u.verticalExaggeration = float(settings_.verticalExaggeration);
+    u.equatorialRadius = float(a), u.polarRadius = float(b);
+    u.oneMinusE2 = float((1.0 - ell.flattening()) * (1.0 - ell.flattening()));
+    u.lonFirst = float(lonAxis_.front()), u.lonLast = float(lonAxis_.back());
+    u.latFirst = float(field_.latDeg.front()), u.latLast = float(field_.latDeg.back());
+    u.heightFirst = float(field_.heightM.front()), u.heightLast = float(field_.heightM.back());
+    u.valueScale = float(fieldScale_.x), u.valueOffset = float(fieldScale_.y);
+    u.samples = glm::vec3(float(lonAxis_.size()), float(field_.ny()), float(field_.nz()));
+    u.brickSize = float(bricks_.size);
+    u.bricks = glm::vec3(float(bricks_.bx), float(bricks_.by), float(bricks_.bz));
     const double rangeMin = settings_.transfer.rangeMin, rangeMax = settings_.transfer.rangeMax;
-    u.dataRange = glm::vec4(float(rangeMin), float(1.0 / (rangeMax - rangeMin)), 1.0f, float(frameCounter_ % 65536));
-    u.bricks = glm::vec4(float(bricks_.bx), float(bricks_.by), float(bricks_.bz), float(bricks_.size));
-    u.samples = glm::vec4(float(lonAxis_.size()), float(field_.ny()), float(field_.nz()), float((1.0 - ell.flattening()) * (1.0 - ell.flattening())));
-    u.forward = glm::vec4(glm::vec3(forward), float(a));
-    u.radii = glm::vec4(float(fieldScale_.x), float(fieldScale_.y), float(b), float(settings_.isoOpacity));
+    u.rangeMin = float(rangeMin), u.rangeInvSpan = float(1.0 / (rangeMax - rangeMin));
+    u.isoOpacity = float(settings_.isoOpacity), u.sliceOpacity = float(settings_.sliceOpacity);
     const auto shell = [&](double height, glm::vec4& scaled) {
         const glm::dvec3 inv(1.0 / (a + height), 1.0 / (a + height), 1.0 / (b + height));
         const glm::dvec3 os = origin_ * inv;
         scaled = glm::vec4(glm::vec3(os), float(glm::dot(os, os) - 1.0));
         return glm::dvec2(inv.x, inv.z);
     };
-    const glm::dvec2 lowInv = shell(shellLow_, u.shellLo), highInv = shell(shellHigh_, u.shellHi);
+    glm::vec4 lo, hi;
+    u.shellLoInvAxes = glm::vec2(shell(shellLow_, lo)), u.shellHiInvAxes = glm::vec2(shell(shellHigh_, hi));
+    u.shellLoOrigin = glm::vec3(lo), u.shellLoC0 = lo.w;
+    u.shellHiOrigin = glm::vec3(hi), u.shellHiC0 = hi.w;
     const double e2 = 1.0 - (1.0 - ell.flattening()) * (1.0 - ell.flattening());
     for (size_t i = 0; i < settings_.slices.size() && i < shader::kVolumeMaxSlices; ++i) {
         const auto& sl = settings_.slices[i];
-        glm::vec4& A = u.sliceA[i];
-        glm::vec4& B = u.sliceB[i];
+        shader::VolumeSlice& out = u.slices[i];
         if (sl.axis == VolumeSettings::Slice::Axis::Lon) {
             const double lam = glm::radians(sl.value);
             const glm::dvec3 n(-std::sin(lam), std::cos(lam), 0.0);
             const double lon = lonAxis_.front() + std::fmod(std::fmod(sl.value - lonAxis_.front(), 360.0) + 360.0, 360.0);
-            A = glm::vec4(glm::vec3(n), 0.0f);
-            B = glm::vec4(float(glm::dot(n, origin_)), float(lon), 0.0f, 0.0f);
+            out.vector = glm::vec3(n);
+            out.kind = float(shader::kVolumeSliceLon);
+            out.terms = glm::vec4(float(glm::dot(n, origin_)), float(lon), 0.0f, 0.0f);
         } else if (sl.axis == VolumeSettings::Slice::Axis::Lat) {
             const double phi = glm::radians(sl.value), sinPhi = std::sin(phi);
             const double apex = -e2 * a / std::sqrt(1.0 - e2 * sinPhi * sinPhi) * sinPhi;   // normals meet the axis here
             const double k = std::tan(phi) * std::tan(phi);
             const glm::dvec3 o(origin_.x, origin_.y, origin_.z - apex);
-            A = glm::vec4(glm::vec3(o), 1.0f);
-            B = glm::vec4(float(k), float(o.z * o.z - k * (o.x * o.x + o.y * o.y)), float(sl.value), 0.0f);
+            out.vector = glm::vec3(o);
+            out.kind = float(shader::kVolumeSliceLat);
+            out.terms = glm::vec4(float(k), float(o.z * o.z - k * (o.x * o.x + o.y * o.y)), float(sl.value), 0.0f);
         } else {
             const double height = sl.value * settings_.verticalExaggeration;
             glm::vec4 scaled;
             const glm::dvec2 inv = shell(height, scaled);
-            A = glm::vec4(glm::vec3(scaled), 2.0f);
-            B = glm::vec4(scaled.w, float(inv.x), float(inv.y), float(sl.value));
+            out.vector = glm::vec3(scaled);
+            out.kind = float(shader::kVolumeSliceHeight);
+            out.terms = glm::vec4(scaled.w, float(inv.x), float(inv.y), float(sl.value));
         }
     }
-    u.sliceInfo = glm::vec4(float(settings_.sliceOpacity), float(jumpLimit_.x), float(jumpLimit_.y), 0.0f);
-    u.timeInfo = glm::vec4(timeStepA_, timeStepB_, timeStepWeight_, float(1 + moreTimeSteps_.size()));
-    u.shellScale = glm::vec4(float(lowInv.x), float(lowInv.y), float(highInv.x), float(highInv.y));
+    u.jumpMax = float(jumpLimit_.x), u.jumpPerRho = float(jumpLimit_.y);
+    u.timeStepA = timeStepA_, u.timeStepB = timeStepB_, u.timeStepWeight = timeStepWeight_;
+    u.timeStepCount = float(1 + moreTimeSteps_.size());
     // "steps" across the diagonal of the normalised box (as a ray-caster counts samples along a
     // cube's diagonal); opacity is per "opacityUnit" of the normalised box.
     const double unitDiagonal = std::sqrt(3.0);
-    u.march = glm::vec4(float(unitDiagonal / settings_.steps), float(std::max(step / 16384.0, 0.01)),
-                        float(1.0 / settings_.opacityUnit),
-                        float(std::clamp(step * 0.01, 5.0, 2000.0)));
+    u.normalisedStep = float(unitDiagonal / settings_.steps);
+    u.minStep = float(std::max(step / 16384.0, 0.01));
+    u.opacityPerUnit = float(1.0 / settings_.opacityUnit);
+    u.probeLength = float(std::clamp(step * 0.01, 5.0, 2000.0));
     for (size_t i = 0; i < settings_.isovalues.size() && i < shader::kVolumeMaxIso; ++i)
         u.isovalues[i / 4][int(i % 4)] = float(settings_.isovalues[i]);
     uniformBuffers_[rc.slot].write(&u, sizeof(u));

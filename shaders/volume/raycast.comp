@@ -86,59 +86,59 @@ float hash(uvec2 p, uint frameIndex) {
 vec3 geoAt(float t) {
     vec3 d = gEye + t * gDir;   // relative to the origin, ECEF axes
     // Longitude relative to the origin's meridian: no large number is subtracted.
-    float xa = vol.originAxis.x + (d.x * gC0 + d.y * gS0);
+    float xa = vol.originRho + (d.x * gC0 + d.y * gS0);
     float yb = d.y * gC0 - d.x * gS0;
     float rho = length(vec2(xa, yb));
     gRho = rho;
-    float z = vol.originAxis.y + d.z;
-    float lonDeg = degrees(vol.originAxis.z + atan(yb, xa));
-    lonDeg = vol.lonRange.x + mod(lonDeg - vol.lonRange.x, 360.0);
-    float latDeg = degrees(atan(z, rho * vol.samples.w));   // geodetic, near the surface
+    float z = vol.originZ + d.z;
+    float lonDeg = degrees(vol.originLon + atan(yb, xa));
+    lonDeg = vol.lonFirst + mod(lonDeg - vol.lonFirst, 360.0);
+    float latDeg = degrees(atan(z, rho * vol.oneMinusE2));   // geodetic, near the surface
     // Radius of the ellipsoid along the point's direction, without trigonometry:
     // r = a b |p| / sqrt(b^2 rho^2 + a^2 z^2).
-    float a = vol.forward.w, b = vol.radii.z;
+    float a = vol.equatorialRadius, b = vol.polarRadius;
     float r = length(vec2(rho, z));
     float rEll = a * b * r / length(vec2(b * rho, a * z));
-    return vec3(lonDeg, latDeg, (r - rEll) / vol.lonRange.w);
+    return vec3(lonDeg, latDeg, (r - rEll) / vol.verticalExaggeration);
 }
 
 // The position in the box's normalised coordinates (0..1 along lon, lat and height).
 vec3 normalised(vec3 geo) {
-    return vec3((geo.x - vol.lonRange.x) / (vol.lonRange.y - vol.lonRange.x),
-                (geo.y - vol.latRange.x) / (vol.latRange.y - vol.latRange.x),
-                (geo.z - vol.latRange.z) / (vol.latRange.w - vol.latRange.z));
+    return vec3((geo.x - vol.lonFirst) / (vol.lonLast - vol.lonFirst),
+                (geo.y - vol.latFirst) / (vol.latLast - vol.latFirst),
+                (geo.z - vol.heightFirst) / (vol.heightLast - vol.heightFirst));
 }
 
 // The field at a position; false outside the box or where there is no data.
 bool sampleGeo(vec3 geo, out float value) {
     value = 0.0;
-    gInBox = !(geo.x > vol.lonRange.y || geo.y < vol.latRange.x || geo.y > vol.latRange.y || geo.z < vol.latRange.z ||
-               geo.z > vol.latRange.w);
-    vec3 tc = vec3(axisCoord(0, geo.x, vol.lonRange.x, vol.lonRange.y, vol.samples.x, (kUniformAxes & 1) != 0),
-                   axisCoord(1, geo.y, vol.latRange.x, vol.latRange.y, vol.samples.y, (kUniformAxes & 2) != 0),
-                   axisCoord(2, geo.z, vol.latRange.z, vol.latRange.w, vol.samples.z, (kUniformAxes & 4) != 0));
+    gInBox = !(geo.x > vol.lonLast || geo.y < vol.latFirst || geo.y > vol.latLast || geo.z < vol.heightFirst ||
+               geo.z > vol.heightLast);
+    vec3 tc = vec3(axisCoord(0, geo.x, vol.lonFirst, vol.lonLast, vol.samples.x, (kUniformAxes & 1) != 0),
+                   axisCoord(1, geo.y, vol.latFirst, vol.latLast, vol.samples.y, (kUniformAxes & 2) != 0),
+                   axisCoord(2, geo.z, vol.heightFirst, vol.heightLast, vol.samples.z, (kUniformAxes & 4) != 0));
     // Its brick (a brick covers the voxels a linear sample reads): empty-space skipping.
     if (kSkipEmpty) {
-        gVox = clamp(tc * vol.samples.xyz - 0.5, vec3(0.0), vol.samples.xyz - 1.0);
-        ivec3 b = min(ivec3(gVox / vol.bricks.w), ivec3(vol.bricks.xyz) - 1);
+        gVox = clamp(tc * vol.samples - 0.5, vec3(0.0), vol.samples - 1.0);
+        ivec3 b = min(ivec3(gVox / vol.brickSize), ivec3(vol.bricks) - 1);
         int brick = (b.z * int(vol.bricks.y) + b.y) * int(vol.bricks.x) + b.x;
         gEmpty = gInBox && (brickBits[brick >> 5] & (1u << (brick & 31))) == 0u;
     }
     if (!gInBox) return false;
     // Time steps are stacked along z: time step s occupies [s, s + 1) / timeSteps, and tc.z stays
     // half a texel inside one, so filtering never mixes time steps.
-    float timeSteps = vol.timeInfo.w;
-    value = textureLod(field, vec3(tc.xy, (vol.timeInfo.x + tc.z) / timeSteps), 0.0).r;
-    if (kBlendTimeSteps && vol.timeInfo.z > 0.0)
-        value = mix(value, textureLod(field, vec3(tc.xy, (vol.timeInfo.y + tc.z) / timeSteps), 0.0).r, vol.timeInfo.z);
-    value = value * vol.radii.x + vol.radii.y;   // half-float fields are stored relative to the range
+    float timeSteps = vol.timeStepCount;
+    value = textureLod(field, vec3(tc.xy, (vol.timeStepA + tc.z) / timeSteps), 0.0).r;
+    if (kBlendTimeSteps && vol.timeStepWeight > 0.0)
+        value = mix(value, textureLod(field, vec3(tc.xy, (vol.timeStepB + tc.z) / timeSteps), 0.0).r, vol.timeStepWeight);
+    value = value * vol.valueScale + vol.valueOffset;   // half-float fields are stored relative to the range
     return !isnan(value);
 }
 
 bool sampleAt(float t, out float value) { return sampleGeo(geoAt(t), value); }
 
 vec4 transferAt(float value) {
-    float f = clamp((value - vol.dataRange.x) * vol.dataRange.y, 0.0, 1.0);
+    float f = clamp((value - vol.rangeMin) * vol.rangeInvSpan, 0.0, 1.0);
     return textureLod(transfer, (f * 255.0 + 0.5) / 256.0, 0.0);
 }
 
@@ -190,15 +190,16 @@ vec3 normalAt(float t, float e) {
 
 // Ray parameters where the ray meets slice i (up to two; 1e30 where it does not).
 vec2 sliceHits(int i) {
-    vec4 A = vol.sliceA[i], B = vol.sliceB[i];
-    int kind = int(A.w + 0.5);
+    vec3 A = vol.slices[i].vector;
+    vec4 B = vol.slices[i].terms;
+    int kind = int(vol.slices[i].kind + 0.5);
     vec2 none = vec2(1e30);
-    if (kind == 0) {   // meridian plane through the axis: n . (O + eye + t dir) = 0
-        float nd = dot(A.xyz, gDir);
+    if (kind == kVolumeSliceLon) {   // meridian plane through the axis: n . (O + eye + t dir) = 0
+        float nd = dot(A, gDir);
         if (abs(nd) < 1e-12) return none;
-        return vec2(-(B.x + dot(A.xyz, gEye)) / nd, 1e30);
+        return vec2(-(B.x + dot(A, gEye)) / nd, 1e30);
     }
-    if (kind == 1) {   // cone (z - apex)^2 = k rho^2
+    if (kind == kVolumeSliceLat) {   // cone (z - apex)^2 = k rho^2
         float k = B.x;
         vec3 e = gEye;
         float qa = gDir.z * gDir.z - k * dot(gDir.xy, gDir.xy);
@@ -210,7 +211,7 @@ vec2 sliceHits(int i) {
         float q = -(qb + (qb >= 0.0 ? 1.0 : -1.0) * sqrt(disc));
         return vec2(q / qa, q != 0.0 ? qc / q : 1e30);
     }
-    vec2 h = shellHits(A.xyz, B.x, B.yz);   // surface at a height
+    vec2 h = shellHits(A, B.x, B.yz);   // surface at a height
     return h.x < h.y ? h : none;
 }
 
@@ -250,8 +251,8 @@ vec3 gNPrev;
 // of any length is one exp2 (no per-sample log).
 void compositeSample(inout vec4 acc, float value, float ds) {
     vec4 tf = transferAt(value);
-    // Opacity per 1/march.z of the normalised box, whatever the step.
-    float alpha = 1.0 - exp2(tf.a * (min(ds, 2.0) * vol.march.z));
+    // Opacity per 1/opacityPerUnit of the normalised box, whatever the step.
+    float alpha = 1.0 - exp2(tf.a * (min(ds, 2.0) * vol.opacityPerUnit));
     acc.rgb += (1.0 - acc.a) * alpha * tf.rgb;
     acc.a += (1.0 - acc.a) * alpha;
 }
@@ -270,9 +271,9 @@ void advance(int i, float ds, float value, bool ok, vec3 n, float target, float 
     float stepT = gDt;
     if (kSkipEmpty && gEmpty && gPrevIn && i > 0) {
         vec3 dv = (gVox - gVoxPrev) / span;   // voxels per metre
-        vec3 wall = (floor(gVox / vol.bricks.w) + step(0.0, dv)) * vol.bricks.w;
+        vec3 wall = (floor(gVox / vol.brickSize) + step(0.0, dv)) * vol.brickSize;
         vec3 tw = mix(vec3(1e30), (wall - gVox) / dv, greaterThan(abs(dv), vec3(1e-20)));
-        float tJump = min(min(tw.x, tw.y), min(tw.z, min(vol.sliceInfo.y, gRho * vol.sliceInfo.z)));
+        float tJump = min(min(tw.x, tw.y), min(tw.z, min(vol.jumpMax, gRho * vol.jumpPerRho)));
         stepT = (min(floor(max(tJump, 0.0) * 0.98 / gDt), 64.0) + 1.0) * gDt;
     }
     gJumped = stepT > 1.5 * gDt;
@@ -293,22 +294,22 @@ void main() {
     vec2 ndc = (vec2(px) + 0.5) / vec2(size) * 2.0 - 1.0;
     vec4 far = frame.clipToWorldDir * vec4(ndc, 1.0, 1.0);
     gDir = normalize(far.xyz / far.w);
-    gEye = vol.eyeFromOrigin.xyz;
-    gC0 = cos(vol.originAxis.z);
-    gS0 = sin(vol.originAxis.z);
+    gEye = vol.eyeFromOrigin;
+    gC0 = cos(vol.originLon);
+    gS0 = sin(vol.originLon);
 
     // The part of the ray inside the box's bounds and before the scene's surface...
     vec3 inv = 1.0 / gDir;
-    vec3 ta = (vol.boxMin.xyz - gEye) * inv, tb = (vol.boxMax.xyz - gEye) * inv;
+    vec3 ta = (vol.boxMin - gEye) * inv, tb = (vol.boxMax - gEye) * inv;
     vec3 tlo = min(ta, tb), thi = max(ta, tb);
     float tEnter = max(max(tlo.x, tlo.y), max(tlo.z, 0.0));
     float tExit = min(min(thi.x, thi.y), thi.z);
     float depth = texelFetch(sceneDepth, px, 0).r;
-    if (depth > 0.0) tExit = min(tExit, vol.boxMin.w / depth / max(dot(gDir, vol.forward.xyz), 1e-6));
+    if (depth > 0.0) tExit = min(tExit, vol.nearPlane / depth / max(dot(gDir, vol.forward), 1e-6));
     // ...and between the bottom and top surfaces: up to two segments (in through the top and
     // out through the bottom or the top again; or up from below the bottom).
-    vec2 top = shellHits(vol.shellHi.xyz, vol.shellHi.w, vol.shellScale.zw);
-    vec2 bottom = shellHits(vol.shellLo.xyz, vol.shellLo.w, vol.shellScale.xy);
+    vec2 top = shellHits(vol.shellHiOrigin, vol.shellHiC0, vol.shellHiInvAxes);
+    vec2 bottom = shellHits(vol.shellLoOrigin, vol.shellLoC0, vol.shellLoInvAxes);
     vec2 segments[2];
     segments[0] = vec2(top.x, bottom.x > top.x && bottom.x < bottom.y ? min(top.y, bottom.x) : top.y);
     segments[1] = bottom.x < bottom.y && bottom.y > top.x && bottom.y < top.y ? vec2(bottom.y, top.y) : vec2(1e30, -1e30);
@@ -325,13 +326,13 @@ void main() {
             if (!(th >= tEnter && th <= tExit) || th >= 1e29) continue;
             vec3 geo = geoAt(th);
             // The right half-plane or nappe: the hit is at the slice's coordinate.
-            int kind = int(vol.sliceA[i].w + 0.5);
-            if (kind == 0 && abs(geo.x - vol.sliceB[i].y) > 1.0) continue;
-            if (kind == 1 && abs(geo.y - vol.sliceB[i].z) > 1.0) continue;
+            int kind = int(vol.slices[i].kind + 0.5);
+            if (kind == kVolumeSliceLon && abs(geo.x - vol.slices[i].terms.y) > 1.0) continue;
+            if (kind == kVolumeSliceLat && abs(geo.y - vol.slices[i].terms.z) > 1.0) continue;
             float value;
             if (!sampleGeo(geo, value)) continue;
             gSliceT[i * 2 + j] = th;
-            gSliceC[i * 2 + j] = vec4(transferAt(value).rgb, vol.sliceInfo.x);
+            gSliceC[i * 2 + j] = vec4(transferAt(value).rgb, vol.sliceOpacity);
         }
     }
     float nextSlice = nearestSlice();
@@ -339,9 +340,9 @@ void main() {
     vec4 acc = vec4(0.0);
     float firstHit = 1e30;
     bool sunLight = frame.sunDirection.w > 0.5;
-    float dtMax = vol.eyeFromOrigin.w, dtMin = vol.march.y, target = vol.march.x;
-    int maxSteps = int(vol.boxMax.w);
-    float jitter = hash(uvec2(px), uint(vol.dataRange.w));
+    float dtMax = vol.stepLength, dtMin = vol.minStep, target = vol.normalisedStep;
+    int maxSteps = int(vol.maxSteps);
+    float jitter = hash(uvec2(px), uint(vol.frameIndex));
     for (int sgi = 0; sgi < 2 && acc.a < 0.99 && (kDvr || kIsoCount > 0); ++sgi) {
         float t0 = max(segments[sgi].x, tEnter), t1 = min(segments[sgi].y, tExit);
         if (!(t1 > t0)) continue;
@@ -349,7 +350,7 @@ void main() {
         // samples across as a thick box); the rate of change is probed at the entry, then
         // followed from sample to sample.
         gNPrev = normalised(geoAt(t0));
-        gRate = length(normalised(geoAt(t0 + vol.march.w)) - gNPrev) / vol.march.w;
+        gRate = length(normalised(geoAt(t0 + vol.probeLength)) - gNPrev) / vol.probeLength;
         gDt = clamp(target / max(gRate, 1e-20), dtMin, dtMax);
         gT = t0 + jitter * gDt;
         gPrevT = t0;
@@ -407,7 +408,7 @@ void main() {
             vec3 hv = normalize(l - gDir);
             vec3 base = transferAt(c).rgb;
             vec3 lit = base * (0.25 + 0.75 * max(dot(nrm, l), 0.0)) + 0.25 * pow(max(dot(nrm, hv), 0.0), 32.0);
-            float alpha = vol.radii.w;
+            float alpha = vol.isoOpacity;
             acc.rgb += (1.0 - acc.a) * alpha * lit;
             acc.a += (1.0 - acc.a) * alpha;
             if (acc.a >= 0.99) break;
