@@ -60,8 +60,6 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
     servicesCopy_ = services;
     services_ = &servicesCopy_;
     gpu::Device& device = *services.device;
-    const auto& ell = globe::Ellipsoid::wgs84();
-    const double ex = settings_.verticalExaggeration;
 
     // Longitudes: a periodic field gets its first column again at the end (first + 360), so
     // that filtering across the seam is continuous.
@@ -116,45 +114,7 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
         std::vector<float>().swap(texels);
     }
 
-    // The box's frame: origin on the bottom surface at the box's centre; bounds from a dense
-    // sample of its boundary (the top bulges outward between samples: a margin covers it).
-    const double lonC = 0.5 * (lonAxis_.front() + lonAxis_.back()), latC = 0.5 * (field_.latDeg.front() + field_.latDeg.back());
-    const double hLo = field_.heightM.front() * ex, hHi = field_.heightM.back() * ex;
-    origin_ = ell.toEcef(lonC, latC, hLo);
-    boxMin_ = glm::dvec3(std::numeric_limits<double>::max());
-    boxMax_ = -boxMin_;
-    constexpr int kSamples = 48;
-    for (int a = 0; a <= kSamples; ++a)
-        for (int b = 0; b <= kSamples; ++b)
-            for (double h : {hLo, hHi}) {
-                const double lon = lonAxis_.front() + (lonAxis_.back() - lonAxis_.front()) * a / kSamples;
-                const double lat = field_.latDeg.front() + (field_.latDeg.back() - field_.latDeg.front()) * b / kSamples;
-                const glm::dvec3 p = ell.toEcef(lon, lat, h) - origin_;
-                boxMin_ = glm::min(boxMin_, p);
-                boxMax_ = glm::max(boxMax_, p);
-            }
-    const double spanLon = glm::radians(lonAxis_.back() - lonAxis_.front()) / kSamples;
-    const double spanLat = glm::radians(field_.latDeg.back() - field_.latDeg.front()) / kSamples;
-    const double bulge = (ell.equatorialRadius() + hHi) * (1.0 - std::cos(0.5 * std::max(spanLon, spanLat))) + 1.0;
-    boxMin_ -= glm::dvec3(bulge);
-    boxMax_ += glm::dvec3(bulge);
-    // The shell's surfaces, a little outside the data's heights: a scaled ellipsoid's radius
-    // differs from the ellipsoid's radius plus H by up to H times the flattening.
-    const double margin = std::max({1.0, 1e-3 * (hHi - hLo), 0.004 * std::max(std::abs(hLo), std::abs(hHi))});
-    // Jumps over empty bricks extrapolate the voxel coordinates linearly; along a straight ray
-    // height and latitude bend by about L^2 / 2R (longitude by L^2 / 2 rho, rho the distance from
-    // the axis), so a jump of L metres is kept to a quarter of the finest voxel of each axis.
-    const auto finest = [](const std::vector<double>& axis) {
-        double d = std::numeric_limits<double>::max();
-        for (size_t i = 1; i < axis.size(); ++i) d = std::min(d, std::abs(axis[i] - axis[i - 1]));
-        return axis.size() > 1 ? d : 0.0;
-    };
-    const double radius = ell.equatorialRadius() + std::max(0.0, hHi);
-    jumpLimit_ = glm::dvec2(std::min(std::sqrt(0.5 * radius * finest(field_.heightM) * ex),
-                                     radius * std::sqrt(0.5 * glm::radians(finest(field_.latDeg)))),
-                            std::sqrt(0.5 * glm::radians(finest(lonAxis_))));
-    shellLow_ = hLo - margin;
-    shellHigh_ = hHi + margin;
+    box_ = makeVolumeBox(lonAxis_, field_.latDeg, field_.heightM, settings_.verticalExaggeration);
 
     gpu::ImageDesc fd;
     fd.type = VK_IMAGE_TYPE_3D;
@@ -315,88 +275,25 @@ void VolumeLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
         setVersion_[rc.slot] = imagesVersion_;
     }
 
-    const auto& ell = globe::Ellipsoid::wgs84();
     const scene::Camera& camera = *frame.camera;
-    const glm::dvec3 eye = camera.position() - origin_;
-    const double diagonal = glm::length(boxMax_ - boxMin_);
-    const double step = diagonal / double(settings_.steps);
-    const double rho0 = std::hypot(origin_.x, origin_.y);
     const glm::dmat4 view = camera.viewRotation();
-    const glm::dvec3 forward = -glm::dvec3(view[0][2], view[1][2], view[2][2]);
-    const double a = ell.equatorialRadius(), b = ell.polarRadius();
-    shader::VolumeUniforms u{};
-    u.eyeFromOrigin = glm::vec3(eye);
-    u.stepLength = float(step);
-    u.forward = glm::vec3(forward);
-    u.nearPlane = float(camera.nearPlane());
-    u.boxMin = glm::vec3(boxMin_);
-    u.maxSteps = float(settings_.steps * 4 + 8);   // per segment
-    u.boxMax = glm::vec3(boxMax_);
-    u.frameIndex = float(frameCounter_ % 65536);
-    u.originRho = float(rho0), u.originZ = float(origin_.z), u.originLon = float(std::atan2(origin_.y, origin_.x));
-    u.verticalExaggeration = float(settings_.verticalExaggeration);
-    u.equatorialRadius = float(a), u.polarRadius = float(b);
-    u.oneMinusE2 = float((1.0 - ell.flattening()) * (1.0 - ell.flattening()));
-    u.lonFirst = float(lonAxis_.front()), u.lonLast = float(lonAxis_.back());
-    u.latFirst = float(field_.latDeg.front()), u.latLast = float(field_.latDeg.back());
-    u.heightFirst = float(field_.heightM.front()), u.heightLast = float(field_.heightM.back());
-    u.valueScale = float(fieldScale_.x), u.valueOffset = float(fieldScale_.y);
-    u.samples = glm::vec3(float(lonAxis_.size()), float(field_.ny()), float(field_.nz()));
-    u.brickSize = float(bricks_.size);
-    u.bricks = glm::vec3(float(bricks_.bx), float(bricks_.by), float(bricks_.bz));
-    const double rangeMin = settings_.transfer.rangeMin, rangeMax = settings_.transfer.rangeMax;
-    u.rangeMin = float(rangeMin), u.rangeInvSpan = float(1.0 / (rangeMax - rangeMin));
-    u.isoOpacity = float(settings_.isoOpacity), u.sliceOpacity = float(settings_.sliceOpacity);
-    const auto shell = [&](double height, glm::vec4& scaled) {
-        const glm::dvec3 inv(1.0 / (a + height), 1.0 / (a + height), 1.0 / (b + height));
-        const glm::dvec3 os = origin_ * inv;
-        scaled = glm::vec4(glm::vec3(os), float(glm::dot(os, os) - 1.0));
-        return glm::dvec2(inv.x, inv.z);
-    };
-    glm::vec4 lo, hi;
-    u.shellLoInvAxes = glm::vec2(shell(shellLow_, lo)), u.shellHiInvAxes = glm::vec2(shell(shellHigh_, hi));
-    u.shellLoOrigin = glm::vec3(lo), u.shellLoC0 = lo.w;
-    u.shellHiOrigin = glm::vec3(hi), u.shellHiC0 = hi.w;
-    const double e2 = 1.0 - (1.0 - ell.flattening()) * (1.0 - ell.flattening());
-    for (size_t i = 0; i < settings_.slices.size() && i < shader::kVolumeMaxSlices; ++i) {
-        const auto& sl = settings_.slices[i];
-        shader::VolumeSlice& out = u.slices[i];
-        if (sl.axis == VolumeSettings::Slice::Axis::Lon) {
-            const double lam = glm::radians(sl.value);
-            const glm::dvec3 n(-std::sin(lam), std::cos(lam), 0.0);
-            const double lon = lonAxis_.front() + std::fmod(std::fmod(sl.value - lonAxis_.front(), 360.0) + 360.0, 360.0);
-            out.vector = glm::vec3(n);
-            out.kind = float(shader::kVolumeSliceLon);
-            out.terms = glm::vec4(float(glm::dot(n, origin_)), float(lon), 0.0f, 0.0f);
-        } else if (sl.axis == VolumeSettings::Slice::Axis::Lat) {
-            const double phi = glm::radians(sl.value), sinPhi = std::sin(phi);
-            const double apex = -e2 * a / std::sqrt(1.0 - e2 * sinPhi * sinPhi) * sinPhi;   // normals meet the axis here
-            const double k = std::tan(phi) * std::tan(phi);
-            const glm::dvec3 o(origin_.x, origin_.y, origin_.z - apex);
-            out.vector = glm::vec3(o);
-            out.kind = float(shader::kVolumeSliceLat);
-            out.terms = glm::vec4(float(k), float(o.z * o.z - k * (o.x * o.x + o.y * o.y)), float(sl.value), 0.0f);
-        } else {
-            const double height = sl.value * settings_.verticalExaggeration;
-            glm::vec4 scaled;
-            const glm::dvec2 inv = shell(height, scaled);
-            out.vector = glm::vec3(scaled);
-            out.kind = float(shader::kVolumeSliceHeight);
-            out.terms = glm::vec4(scaled.w, float(inv.x), float(inv.y), float(sl.value));
-        }
-    }
-    u.jumpMax = float(jumpLimit_.x), u.jumpPerRho = float(jumpLimit_.y);
-    u.timeStepA = timeStepA_, u.timeStepB = timeStepB_, u.timeStepWeight = timeStepWeight_;
-    u.timeStepCount = float(1 + moreTimeSteps_.size());
-    // "steps" across the diagonal of the normalised box (as a ray-caster counts samples along a
-    // cube's diagonal); opacity is per "opacityUnit" of the normalised box.
-    const double unitDiagonal = std::sqrt(3.0);
-    u.normalisedStep = float(unitDiagonal / settings_.steps);
-    u.minStep = float(std::max(step / 16384.0, 0.01));
-    u.opacityPerUnit = float(1.0 / settings_.opacityUnit);
-    u.probeLength = float(std::clamp(step * 0.01, 5.0, 2000.0));
-    for (size_t i = 0; i < settings_.isovalues.size() && i < shader::kVolumeMaxIso; ++i)
-        u.isovalues[i / 4][int(i % 4)] = float(settings_.isovalues[i]);
+    const shader::VolumeUniforms u = packVolumeUniforms({
+        .settings = settings_,
+        .box = box_,
+        .lonRange = {lonAxis_.front(), lonAxis_.back()},
+        .latRange = {field_.latDeg.front(), field_.latDeg.back()},
+        .heightRange = {field_.heightM.front(), field_.heightM.back()},
+        .samples = glm::uvec3(lonAxis_.size(), field_.ny(), field_.nz()),
+        .bricks = glm::uvec3(bricks_.bx, bricks_.by, bricks_.bz),
+        .brickSize = uint32_t(bricks_.size),
+        .valueScale = fieldScale_,
+        .timeSteps = timeSteps(),
+        .timeBlend = timeBlend(),
+        .eye = camera.position(),
+        .forward = -glm::dvec3(view[0][2], view[1][2], view[2][2]),
+        .nearPlane = camera.nearPlane(),
+        .frame = frameCounter_,
+    });
     uniformBuffers_[rc.slot].write(&u, sizeof(u));
 
     VkCommandBuffer cmd = rc.cmd;

@@ -33,6 +33,8 @@
 #include "engine/scene/SceneDesc.h"
 #include "layers/volume/VolumeData.h"
 #include "layers/volume/VolumeReader.h"
+#include "layers/volume/VolumeSettings.h"
+#include "layers/volume/VolumeUniforms.h"
 
 #include <glm/glm.hpp>
 
@@ -42,38 +44,6 @@
 #include <vector>
 
 namespace orbis::layers {
-
-struct VolumeSettings {
-    /// How virtual time picks the data's time step: "fixed" (timeStep), "nearest" time step, or
-    /// "blend" linearly between the two time steps around the current time.
-    enum class TimeMode { Fixed, Nearest, Blend } timeMode = TimeMode::Blend;
-    bool dvr = true;
-    std::vector<double> isovalues;   ///< mode "iso": up to 8 surfaces, coloured by the colour map
-    double isoOpacity = 1.0;
-    /// Mode "slice": up to 4 surfaces of constant longitude, latitude or height (data metres),
-    /// coloured by the colour map at the field's value.
-    struct Slice {
-        enum class Axis { Lon, Lat, Height } axis = Axis::Lon;
-        double value = 0.0;
-    };
-    std::vector<Slice> slices;
-    double sliceOpacity = 1.0;
-    int steps = 100;   ///< ray steps along the box's normalised diagonal
-    /// The length, in the box's normalised coordinates (each edge 1), over which a sample's
-    /// opacity is the transfer function's alpha (VTK's "scalar opacity unit distance", relative
-    /// to the box). Default: a hundredth of the normalised diagonal.
-    double opacityUnit = 0.017320508075688773;
-    TransferFunctionDesc transfer;
-    bool rangeFromData = true;
-    double verticalExaggeration = 1.0;
-    /// Rays jump over bricks that show nothing under the transfer function and isovalues.
-    bool emptySkipping = true;
-    /// The field on the GPU: "float32" (exact) or "float16": half the memory and ~10 % faster
-    /// on lavapipe; values are stored relative to the data's range (mid-range 0, ends +-1),
-    /// so they keep 11 significant bits of the range (0.05 % at its ends, finer near the middle);
-    /// no data stays NaN.
-    bool halfField = false;
-};
 
 /// A synthetic field for tests and benchmarks: "sphere" is the distance from the grid's centre
 /// in voxel units (known geometry: every isosurface is a sphere in index space), "waves" a
@@ -154,12 +124,8 @@ private:
     const render::RenderServices* services_ = nullptr;
     render::RenderServices servicesCopy_;
 
-    // The curved box in its frame (double on the CPU).
-    glm::dvec3 origin_{0.0};
-    glm::dvec3 boxMin_{0.0}, boxMax_{0.0};
+    VolumeBox box_;                     // the curved box in its frame
     glm::dvec2 fieldScale_{1.0, 0.0};   // value = stored * x + y
-    glm::dvec2 jumpLimit_{0.0};   // longest jump over empty bricks: metres; per metre from the axis
-    double shellLow_ = 0.0, shellHigh_ = 0.0;   // drawn heights of the shell's surfaces (m)
     std::vector<double> lonAxis_;   // with the wrap column when the field is periodic
     std::array<AxisLookup, 3> lookups_;
     uint64_t frameCounter_ = 0;
