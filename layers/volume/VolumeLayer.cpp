@@ -77,9 +77,10 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
             for (size_t j = 0; j < ny; ++j)
                 for (size_t i = 0; i < gx; ++i) out[(k * ny + j) * gx + i] = v[(k * ny + j) * nx + (i % nx)];
     }
-    lookups_ = {AxisLookup::build(lonAxis_, shader::kVolumeAxisTable),
-                AxisLookup::build(field_.latDeg, shader::kVolumeAxisTable),
-                AxisLookup::build(field_.heightM, shader::kVolumeAxisTable)};
+    // In the shader's axis order: lookups_[kVolumeAxisLon] is the longitude's.
+    lookups_[shader::kVolumeAxisLon] = AxisLookup::build(lonAxis_, shader::kVolumeAxisTable);
+    lookups_[shader::kVolumeAxisLat] = AxisLookup::build(field_.latDeg, shader::kVolumeAxisTable);
+    lookups_[shader::kVolumeAxisHeight] = AxisLookup::build(field_.heightM, shader::kVolumeAxisTable);
     std::vector<float> axisTable(3 * shader::kVolumeAxisTable, 0.0f);
     for (size_t a = 0; a < 3; ++a)
         for (size_t t = 0; t < lookups_[a].table.size() && t < shader::kVolumeAxisTable; ++t)
@@ -133,7 +134,7 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
     td.type = VK_IMAGE_TYPE_1D;
     td.viewType = VK_IMAGE_VIEW_TYPE_1D;
     td.format = VK_FORMAT_R16G16B16A16_SFLOAT;
-    td.extent = {256, 1, 1};
+    td.extent = {shader::kVolumeTransferSize, 1, 1};
     td.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     td.name = "volume transfer function";
     transferImage_ = gpu::Image(device, td);
@@ -182,7 +183,9 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
     for (uint32_t word : occupancy_) visibleBricks += size_t(std::popcount(word));
     skipEmpty_ = settings_.emptySkipping && (bricks_.minMax.size() - visibleBricks) * 16 >= bricks_.minMax.size();
     modes.set<VkBool32>(shader::kVolumeSpecSkipEmpty, skipEmpty_ ? VK_TRUE : VK_FALSE);
-    modes.set<int32_t>(shader::kVolumeSpecUniformAxes, int32_t((lookups_[0].uniform ? 1 : 0) | (lookups_[1].uniform ? 2 : 0) | (lookups_[2].uniform ? 4 : 0)));
+    int32_t uniformAxes = 0;
+    for (int axis = 0; axis < 3; ++axis) uniformAxes |= lookups_[size_t(axis)].uniform ? 1 << axis : 0;
+    modes.set<int32_t>(shader::kVolumeSpecUniformAxes, uniformAxes);
     // Without measurement the hit image is a 1 x 1 stand-in that is never written.
     gpu::ImageDesc hd;
     hd.format = VK_FORMAT_R32_SFLOAT;
@@ -348,6 +351,8 @@ glm::dvec3 VolumeLayer::voxelAt(const glm::dvec3& ecef) const {
     const double first = lonAxis_.front();
     const double lon = first + std::fmod(std::fmod(g.lonDeg - first, 360.0) + 360.0, 360.0);
     const double coords[3] = {lon, g.latDeg, g.height / settings_.verticalExaggeration};
+    static_assert(shader::kVolumeAxisLon == 0 && shader::kVolumeAxisLat == 1 && shader::kVolumeAxisHeight == 2,
+                  "lookups_ and the result are in (lon, lat, height) order");
     const std::vector<double>* axes[3] = {&lonAxis_, &field_.latDeg, &field_.heightM};
     glm::dvec3 v(0.0);
     for (int a = 0; a < 3; ++a) v[a] = lookups_[a].exact(*axes[a], coords[a]) * double(axes[a]->size()) - 0.5;
@@ -366,7 +371,7 @@ void VolumeLayer::record(scene::Pass, const render::RecordContext& rc) {
 
 uint64_t VolumeLayer::gpuBytes() const {
     uint64_t bytes = uint64_t(lonAxis_.size()) * field_.ny() * field_.nz() * (settings_.halfField ? 2 : 4) *
-                         (1 + moreTimeSteps_.size()) + 256 * 8 +
+                         (1 + moreTimeSteps_.size()) + shader::kVolumeTransferSize * 8 +
                      3 * shader::kVolumeAxisTable * 4;
     if (castImage_) bytes += uint64_t(castImage_.extent().width) * castImage_.extent().height * 8;
     return bytes;
@@ -487,7 +492,7 @@ std::vector<scene::LayerSetting> VolumeLayer::liveSettings() const {
 }
 
 std::vector<uint16_t> VolumeLayer::transferTexels() {
-    auto table = buildTransferTable(settings_.transfer, 256);
+    auto table = buildTransferTable(settings_.transfer, shader::kVolumeTransferSize);
     if (table) transferTable_ = std::move(table).value();   // (the settings were checked: it builds)
     // Colour, and log2(1 - alpha) for the ray caster's opacity correction (one exp2 a sample).
     std::vector<uint16_t> tf(transferTable_.size() * 4);

@@ -26,13 +26,20 @@ ORBIS_CONST(uint, kVolumeSpecSliceCount, 2)      // int: slice planes (0 .. kVol
 ORBIS_CONST(uint, kVolumeSpecHitOutput, 3)       // bool: write first-hit distances (measurement)
 ORBIS_CONST(uint, kVolumeSpecRefine, 4)          // bool: refine isosurface crossings
 ORBIS_CONST(uint, kVolumeSpecBlendTimeSteps, 5)  // bool: blend two time steps per sample
-ORBIS_CONST(uint, kVolumeSpecUniformAxes, 6)     // int: evenly spaced axes, bit 0 lon, 1 lat, 2 height
+ORBIS_CONST(uint, kVolumeSpecUniformAxes, 6)     // int: evenly spaced axes, bit 1 << kVolumeAxis*
 ORBIS_CONST(uint, kVolumeSpecSkipEmpty, 7)       // bool: empty-space skipping
 // Sizes.
 ORBIS_CONST(uint, kVolumeAxisTable, 256)   // entries per irregular axis
+ORBIS_CONST(uint, kVolumeTransferSize, 256)   // texels of the transfer function (sampler1D)
 ORBIS_CONST(uint, kVolumeGroupSize, 8)     // compute workgroup: 8 x 8 pixels
 ORBIS_CONST(uint, kVolumeMaxIso, 8)        // isovalues per volume
 ORBIS_CONST(uint, kVolumeMaxSlices, 4)     // slice planes per volume
+
+// The grid's axes: their order in the lookup tables (kVolumeBindingAxes, kVolumeAxisTable
+// entries each) and their bits (1 << axis) in kVolumeSpecUniformAxes.
+ORBIS_CONST(int, kVolumeAxisLon, 0)
+ORBIS_CONST(int, kVolumeAxisLat, 1)
+ORBIS_CONST(int, kVolumeAxisHeight, 2)
 
 // Slice kinds (VolumeSlice::kind).
 ORBIS_CONST(int, kVolumeSliceLon, 0)

@@ -23,7 +23,7 @@ layout(constant_id = kVolumeSpecHitOutput) const bool kHitOutput = false;
 layout(constant_id = kVolumeSpecRefine) const bool kRefine = true;
 // Time steps blended at the current time: a second field fetch per sample (only then).
 layout(constant_id = kVolumeSpecBlendTimeSteps) const bool kBlendTimeSteps = false;
-// Which axes are evenly spaced (bit 0 lon, 1 lat, 2 height): those map linearly, the others
+// Which axes are evenly spaced (bit 1 << kVolumeAxis*): those map linearly, the others
 // through the lookup table. A constant, not a uniform: CPU devices run both sides of a branch.
 layout(constant_id = kVolumeSpecUniformAxes) const int kUniformAxes = 7;
 // Empty-space skipping: rays jump over bricks that show nothing.
@@ -48,6 +48,8 @@ float gC0, gS0;
 float gRho;
 vec3 gVox;
 bool gInBox = false, gEmpty = false;
+
+bool uniformAxis(int axis) { return (kUniformAxes & (1 << axis)) != 0; }
 
 // Coordinate -> texture coordinate along one axis (texel centres at the samples).
 float axisCoord(int axis, float x, float first, float last, float n, bool uniformAxis) {
@@ -114,9 +116,10 @@ bool sampleGeo(vec3 geo, out float value) {
     value = 0.0;
     gInBox = !(geo.x > vol.lonLast || geo.y < vol.latFirst || geo.y > vol.latLast || geo.z < vol.heightFirst ||
                geo.z > vol.heightLast);
-    vec3 tc = vec3(axisCoord(0, geo.x, vol.lonFirst, vol.lonLast, vol.samples.x, (kUniformAxes & 1) != 0),
-                   axisCoord(1, geo.y, vol.latFirst, vol.latLast, vol.samples.y, (kUniformAxes & 2) != 0),
-                   axisCoord(2, geo.z, vol.heightFirst, vol.heightLast, vol.samples.z, (kUniformAxes & 4) != 0));
+    vec3 tc = vec3(axisCoord(kVolumeAxisLon, geo.x, vol.lonFirst, vol.lonLast, vol.samples.x, uniformAxis(kVolumeAxisLon)),
+                   axisCoord(kVolumeAxisLat, geo.y, vol.latFirst, vol.latLast, vol.samples.y, uniformAxis(kVolumeAxisLat)),
+                   axisCoord(kVolumeAxisHeight, geo.z, vol.heightFirst, vol.heightLast, vol.samples.z,
+                             uniformAxis(kVolumeAxisHeight)));
     // Its brick (a brick covers the voxels a linear sample reads): empty-space skipping.
     if (kSkipEmpty) {
         gVox = clamp(tc * vol.samples - 0.5, vec3(0.0), vol.samples - 1.0);
@@ -139,7 +142,8 @@ bool sampleAt(float t, out float value) { return sampleGeo(geoAt(t), value); }
 
 vec4 transferAt(float value) {
     float f = clamp((value - vol.rangeMin) * vol.rangeInvSpan, 0.0, 1.0);
-    return textureLod(transfer, (f * 255.0 + 0.5) / 256.0, 0.0);
+    const float n = float(kVolumeTransferSize);
+    return textureLod(transfer, (f * (n - 1.0) + 0.5) / n, 0.0);
 }
 
 float isovalue(int i) { return vol.isovalues[i / 4][i % 4]; }
