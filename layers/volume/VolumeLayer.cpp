@@ -379,7 +379,7 @@ uint64_t VolumeLayer::gpuBytes() const {
 
 bool VolumeLayer::setParameter(std::string_view name, double value) {
     if (name == "steps") {
-        settings_.steps = std::clamp(int(std::lround(value)), 1, 4096);
+        settings_.steps = std::clamp(int(std::lround(value)), int(kStepsRange.min), int(kStepsRange.max));
         return true;
     }
     // Isovalues and slice positions live in the per-frame uniforms: moving them re-uploads
@@ -399,7 +399,7 @@ bool VolumeLayer::setParameter(std::string_view name, double value) {
         return true;
     }
     if (name == "opacityUnit") {
-        if (!(value >= 1e-6 && value <= 10.0)) return false;
+        if (!kOpacityUnitRange.contains(value)) return false;
         settings_.opacityUnit = value;
         return true;
     }
@@ -412,13 +412,13 @@ bool VolumeLayer::setParameter(std::string_view name, double value) {
         return true;
     }
     if (name == "opacityScale") {
-        if (!(value >= 0.0 && value <= 1000.0)) return false;
+        if (!kOpacityScaleRange.contains(value)) return false;
         settings_.transfer.opacityScale = value;
         transferDirty_ = true;
         return true;
     }
     if (name == "isoOpacity" || name == "sliceOpacity") {
-        if (!(value >= 0.0 && value <= 1.0)) return false;
+        if (!kOpacityRange.contains(value)) return false;
         (name == "isoOpacity" ? settings_.isoOpacity : settings_.sliceOpacity) = value;
         return true;
     }
@@ -429,7 +429,7 @@ bool VolumeLayer::setParameter(std::string_view name, double value) {
     }
     if (auto i = indexed("slice", settings_.slices.size())) {
         auto& sl = settings_.slices[*i];
-        sl.value = sl.axis == VolumeSettings::Slice::Axis::Lat ? std::clamp(value, -89.0, 89.0) : value;
+        sl.value = sl.axis == VolumeSettings::Slice::Axis::Lat ? kSliceLatitudeRange.clamp(value) : value;
         return true;
     }
     return false;
@@ -445,11 +445,11 @@ std::vector<scene::LayerSetting> VolumeLayer::liveSettings() const {
     const auto [lo, hi] = span(std::min(dataMin, t.rangeMin), std::max(dataMax, t.rangeMax), t.rangeMin);
     std::vector<scene::LayerSetting> out = {
         {.name = "steps", .label = "Ray steps (per box diagonal)", .kind = Kind::Integer,
-         .value = double(settings_.steps), .min = 1.0, .max = 4096.0, .logarithmic = true},
-        {.name = "opacityScale", .label = "Opacity scale", .kind = Kind::Number, .value = t.opacityScale, .min = 0.0,
-         .max = 1000.0, .logarithmic = true},
+         .value = double(settings_.steps), .min = kStepsRange.min, .max = kStepsRange.max, .logarithmic = true},
+        {.name = "opacityScale", .label = "Opacity scale", .kind = Kind::Number, .value = t.opacityScale,
+         .min = kOpacityScaleRange.min, .max = kOpacityScaleRange.max, .logarithmic = true},
         {.name = "opacityUnit", .label = "Opacity unit distance (box diagonals)", .kind = Kind::Number,
-         .value = settings_.opacityUnit, .min = 1e-6, .max = 10.0, .logarithmic = true},
+         .value = settings_.opacityUnit, .min = kOpacityUnitRange.min, .max = kOpacityUnitRange.max, .logarithmic = true},
         {.name = "rangeMin", .label = "Colour range low", .kind = Kind::Number, .value = t.rangeMin, .min = lo, .max = hi},
         {.name = "rangeMax", .label = "Colour range high", .kind = Kind::Number, .value = t.rangeMax, .min = lo, .max = hi},
         {.name = "colorMap", .label = "Colour map", .kind = Kind::Choice, .choice = t.colorMap, .choices = colorMapNames()},
@@ -463,14 +463,14 @@ std::vector<scene::LayerSetting> VolumeLayer::liveSettings() const {
     }
     if (!settings_.isovalues.empty())
         out.push_back({.name = "isoOpacity", .label = "Isosurface opacity", .kind = Kind::Number,
-                       .value = settings_.isoOpacity, .min = 0.0, .max = 1.0});
+                       .value = settings_.isoOpacity, .min = kOpacityRange.min, .max = kOpacityRange.max});
     for (size_t i = 0; i < settings_.slices.size(); ++i) {
         const VolumeSettings::Slice& sl = settings_.slices[i];
         using Axis = VolumeSettings::Slice::Axis;
         const std::vector<double>& axis = sl.axis == Axis::Lon ? field_.lonDeg : sl.axis == Axis::Lat ? field_.latDeg : field_.heightM;
         auto [a, b] = axis.empty() ? std::pair(sl.value, sl.value)
                                    : span(std::min(axis.front(), axis.back()), std::max(axis.front(), axis.back()), sl.value);
-        if (sl.axis == Axis::Lat) a = std::max(a, -89.0), b = std::min(b, 89.0);
+        if (sl.axis == Axis::Lat) a = std::max(a, kSliceLatitudeRange.min), b = std::min(b, kSliceLatitudeRange.max);
         const char* what = sl.axis == Axis::Lon ? " longitude (deg)" : sl.axis == Axis::Lat ? " latitude (deg)" : " height (m)";
         out.push_back({.name = "slice" + std::to_string(i), .label = "Slice " + std::to_string(i + 1) + what,
                        .kind = Kind::Number, .value = sl.value, .min = a, .max = b});
@@ -487,7 +487,7 @@ std::vector<scene::LayerSetting> VolumeLayer::liveSettings() const {
     out.push_back(std::move(curve));
     if (!settings_.slices.empty())
         out.push_back({.name = "sliceOpacity", .label = "Slice opacity", .kind = Kind::Number,
-                       .value = settings_.sliceOpacity, .min = 0.0, .max = 1.0});
+                       .value = settings_.sliceOpacity, .min = kOpacityRange.min, .max = kOpacityRange.max});
     return out;
 }
 

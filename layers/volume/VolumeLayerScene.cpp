@@ -203,8 +203,9 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
                     break;
                 }
                 sl.value = item.begin().value().get<double>();
-                if (sl.axis == VolumeSettings::Slice::Axis::Lat && !(std::abs(sl.value) <= 89.0))
-                    r.fail("slices", "a latitude slice must be within -89 .. 89 degrees");
+                if (sl.axis == VolumeSettings::Slice::Axis::Lat && !kSliceLatitudeRange.contains(sl.value))
+                    r.fail("slices", "a latitude slice must be within " + std::to_string(int(kSliceLatitudeRange.min)) +
+                                         " .. " + std::to_string(int(kSliceLatitudeRange.max)) + " degrees");
                 s.slices.push_back(sl);
             }
             if (r.ok() && (s.slices.empty() || s.slices.size() > shader::kVolumeMaxSlices))
@@ -213,10 +214,10 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
     } else if (r.has("slices")) {
         r.fail("slices", "only used with mode \"slice\" (add \"slice\" to \"mode\")");
     }
-    s.sliceOpacity = r.number("sliceOpacity", 1.0, 0.0, 1.0).value_or(1.0);
-    s.isoOpacity = r.number("isoOpacity", 1.0, 0.0, 1.0).value_or(1.0);
-    s.steps = int(r.number("steps", s.steps, 1.0, 4096.0).value_or(s.steps));
-    s.opacityUnit = r.number("opacityUnit", s.opacityUnit, 1e-6, 10.0).value_or(s.opacityUnit);
+    s.sliceOpacity = r.number("sliceOpacity", 1.0, kOpacityRange.min, kOpacityRange.max).value_or(1.0);
+    s.isoOpacity = r.number("isoOpacity", 1.0, kOpacityRange.min, kOpacityRange.max).value_or(1.0);
+    s.steps = int(r.number("steps", s.steps, kStepsRange.min, kStepsRange.max).value_or(s.steps));
+    s.opacityUnit = r.number("opacityUnit", s.opacityUnit, kOpacityUnitRange.min, kOpacityUnitRange.max).value_or(s.opacityUnit);
     s.transfer.colorMap = r.string("colorMap", s.transfer.colorMap).value_or(s.transfer.colorMap);
     if (!hasColorMap(s.transfer.colorMap)) {
         std::string names;
@@ -243,7 +244,7 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
             s.transfer.opacity.push_back({p[0].get<double>(), p[1].get<double>()});
         }
     }
-    s.transfer.opacityScale = r.number("opacityScale", 1.0, 0.0, 1000.0).value_or(1.0);
+    s.transfer.opacityScale = r.number("opacityScale", 1.0, kOpacityScaleRange.min, kOpacityScaleRange.max).value_or(1.0);
     s.verticalExaggeration = r.number("verticalExaggeration", 1.0, 0.001, 10000.0).value_or(1.0);
     s.emptySkipping = r.boolean("emptySkipping", true).value_or(true);
     if (auto format = r.string("fieldFormat", std::string("float32"))) {

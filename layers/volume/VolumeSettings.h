@@ -2,11 +2,21 @@
 // The volume layer's settings as the scene file gives them and live edits change them. No
 // Vulkan: the uniform packing (VolumeUniforms.h) and its tests use them without a device.
 
+#include "engine/scene/LayerSetting.h"
 #include "layers/volume/VolumeData.h"
 
 #include <vector>
 
 namespace orbis::layers {
+
+// The ranges of the numeric settings, written once for the scene reader (what a file may give),
+// setParameter (what a live edit may set: "steps" is clamped to its range, the others refused
+// outside theirs) and liveSettings (the panel's sliders).
+constexpr scene::SettingRange kStepsRange{1.0, 4096.0};
+constexpr scene::SettingRange kOpacityUnitRange{1e-6, 10.0};
+constexpr scene::SettingRange kOpacityScaleRange{0.0, 1000.0};
+constexpr scene::SettingRange kOpacityRange{0.0, 1.0};            ///< isoOpacity, sliceOpacity
+constexpr scene::SettingRange kSliceLatitudeRange{-89.0, 89.0};   ///< a latitude slice's cone (deg)
 
 struct VolumeSettings {
     /// How virtual time picks the data's time step: "fixed" (timeStep), "nearest" time step, or
