@@ -60,7 +60,28 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
     servicesCopy_ = services;
     services_ = &servicesCopy_;
     gpu::Device& device = *services.device;
+    std::vector<float> texels = stackTexels();
+    const std::vector<float> axisTable = buildLookups();
+    buildBricks(texels);
+    const std::vector<uint16_t> halves = settings_.halfField ? toHalfFloats(texels) : std::vector<uint16_t>();
+    box_ = makeVolumeBox(lonAxis_, field_.latDeg, field_.heightM, settings_.verticalExaggeration);
+    uploadData(texels, halves, axisTable);
+    createRayCaster();
+    gpu::GraphicsPipelineDesc composite;
+    composite.vertexSpirv = kSpv_volume_composite_vert;
+    composite.fragmentSpirv = kSpv_volume_composite_frag;
+    composite.layout = layout_.vk();
+    composite.cullMode = VK_CULL_MODE_NONE;
+    composite.depthTest = false;
+    composite.depthWrite = false;
+    composite.alphaBlend = true;
+    composite.colorFormat = services.colorFormat;
+    composite.depthFormat = services.depthFormat;
+    composite.name = "volume composite";
+    compositePipeline_ = gpu::createGraphicsPipeline(device, composite);
+}
 
+std::vector<float> VolumeLayer::stackTexels() {
     // Longitudes: a periodic field gets its first column again at the end (first + 360), so
     // that filtering across the seam is continuous.
     lonAxis_ = field_.lonDeg;
@@ -77,6 +98,10 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
             for (size_t j = 0; j < ny; ++j)
                 for (size_t i = 0; i < gx; ++i) out[(k * ny + j) * gx + i] = v[(k * ny + j) * nx + (i % nx)];
     }
+    return texels;
+}
+
+std::vector<float> VolumeLayer::buildLookups() {
     // In the shader's axis order: lookups_[kVolumeAxisLon] is the longitude's.
     lookups_[shader::kVolumeAxisLon] = AxisLookup::build(lonAxis_, shader::kVolumeAxisTable);
     lookups_[shader::kVolumeAxisLat] = AxisLookup::build(field_.latDeg, shader::kVolumeAxisTable);
@@ -85,11 +110,15 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
     for (size_t a = 0; a < 3; ++a)
         for (size_t t = 0; t < lookups_[a].table.size() && t < shader::kVolumeAxisTable; ++t)
             axisTable[a * shader::kVolumeAxisTable + t] = lookups_[a].table[t];
+    return axisTable;
+}
 
+void VolumeLayer::buildBricks(const std::vector<float>& texels) {
     // Min/max bricks over the uploaded texels (the wrap column included), widened over the
     // time steps. The brick size keeps the bits within one vkCmdUpdateBuffer (64 KiB).
     // Bricks of about a sixteenth of the largest dimension (measured on lavapipe: 16-voxel bricks
     // at 256^3 jump further than 8-voxel ones and cost the same per sample).
+    const size_t gx = lonAxis_.size(), ny = field_.ny(), nz = field_.nz(), timeSteps = 1 + moreTimeSteps_.size();
     int brickSize = 4;
     while (brickSize * 32 <= int(std::max({gx, ny, nz}))) brickSize *= 2;
     while (((gx + brickSize - 1) / brickSize) * ((ny + brickSize - 1) / brickSize) * ((nz + brickSize - 1) / brickSize) >
@@ -100,28 +129,30 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
         if (ts == 0) bricks_ = std::move(g);
         else mergeBrickGrid(bricks_, g);
     }
-    // Half floats: values relative to the data's range; the bricks widen by the rounding.
-    std::vector<uint16_t> halves;
-    fieldScale_ = glm::dvec2(1.0, 0.0);
-    if (settings_.halfField) {
-        const double lo = field_.validCount ? field_.minValue : 0.0, hi = field_.validCount ? field_.maxValue : 1.0;
-        fieldScale_ = glm::dvec2(hi > lo ? 0.5 * (hi - lo) : 1.0, 0.5 * (lo + hi));
-        halves.resize(texels.size());
-        for (size_t i = 0; i < texels.size(); ++i)
-            halves[i] = halfFloat(float((double(texels[i]) - fieldScale_.y) / fieldScale_.x));
-        const float widen = float(fieldScale_.x * std::ldexp(1.0, -10));
-        for (auto& mm : bricks_.minMax)
-            if (mm.first <= mm.second) mm.first -= widen, mm.second += widen;
-        std::vector<float>().swap(texels);
-    }
+}
 
-    box_ = makeVolumeBox(lonAxis_, field_.latDeg, field_.heightM, settings_.verticalExaggeration);
+std::vector<uint16_t> VolumeLayer::toHalfFloats(std::vector<float>& texels) {
+    // Values relative to the data's range; the bricks widen by the rounding.
+    const double lo = field_.validCount ? field_.minValue : 0.0, hi = field_.validCount ? field_.maxValue : 1.0;
+    fieldScale_ = glm::dvec2(hi > lo ? 0.5 * (hi - lo) : 1.0, 0.5 * (lo + hi));
+    std::vector<uint16_t> halves(texels.size());
+    for (size_t i = 0; i < texels.size(); ++i)
+        halves[i] = halfFloat(float((double(texels[i]) - fieldScale_.y) / fieldScale_.x));
+    const float widen = float(fieldScale_.x * std::ldexp(1.0, -10));
+    for (auto& mm : bricks_.minMax)
+        if (mm.first <= mm.second) mm.first -= widen, mm.second += widen;
+    std::vector<float>().swap(texels);
+    return halves;
+}
 
+void VolumeLayer::uploadData(const std::vector<float>& texels, const std::vector<uint16_t>& halves,
+                             const std::vector<float>& axisTable) {
+    gpu::Device& device = *services_->device;
     gpu::ImageDesc fd;
     fd.type = VK_IMAGE_TYPE_3D;
     fd.viewType = VK_IMAGE_VIEW_TYPE_3D;
     fd.format = settings_.halfField ? VK_FORMAT_R16_SFLOAT : VK_FORMAT_R32_SFLOAT;
-    fd.extent = {uint32_t(gx), uint32_t(ny), uint32_t(nz * timeSteps)};
+    fd.extent = {uint32_t(lonAxis_.size()), uint32_t(field_.ny()), uint32_t(field_.nz() * timeSteps())};
     fd.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     fd.name = "volume field";
     fieldImage_ = gpu::Image(device, fd);
@@ -141,12 +172,13 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
     axisBuffer_ = gpu::Buffer(device, axisTable.size() * sizeof(float),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                               gpu::MemoryUsage::GpuOnly, "volume axis tables");
+    gpu::Uploader& uploader = *services_->uploader;
     device.runOnce([&](VkCommandBuffer cmd) {
-        if (settings_.halfField) services.uploader->toImage(cmd, fieldImage_, halves.data(), halves.size() * sizeof(uint16_t));
-        else services.uploader->toImage(cmd, fieldImage_, texels.data(), texels.size() * sizeof(float));
-        services.uploader->toImage(cmd, transferImage_, tf.data(), tf.size() * sizeof(uint16_t));
-        services.uploader->toBuffer(cmd, axisBuffer_, axisTable.data(), axisTable.size() * sizeof(float));
-        services.uploader->toBuffer(cmd, occupancyBuffer_, occupancy_.data(), occupancy_.size() * sizeof(uint32_t));
+        if (settings_.halfField) uploader.toImage(cmd, fieldImage_, halves.data(), halves.size() * sizeof(uint16_t));
+        else uploader.toImage(cmd, fieldImage_, texels.data(), texels.size() * sizeof(float));
+        uploader.toImage(cmd, transferImage_, tf.data(), tf.size() * sizeof(uint16_t));
+        uploader.toBuffer(cmd, axisBuffer_, axisTable.data(), axisTable.size() * sizeof(float));
+        uploader.toBuffer(cmd, occupancyBuffer_, occupancy_.data(), occupancy_.size() * sizeof(uint32_t));
         gpu::bufferBarrier(cmd, occupancyBuffer_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                            VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
         gpu::transition(cmd, fieldImage_, gpu::ImageUse::SampledCompute);
@@ -154,21 +186,9 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
         gpu::bufferBarrier(cmd, axisBuffer_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                            VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     });
+}
 
-    linearSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_LINEAR});
-    nearestSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_NEAREST});
-
-    const uint32_t frames = services.framesInFlight;
-    descriptors_ = gpu::createDescriptorSets(device, shader::kVolumeBindings, frames);
-    for (uint32_t f = 0; f < frames; ++f) {
-        setVersion_.push_back(0);
-        uniformBuffers_.emplace_back(device, sizeof(shader::VolumeUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
-                                     gpu::MemoryUsage::Upload, "volume uniforms");
-    }
-    // The shaders' sets in order: the frame's, then the volume's.
-    static_assert(shader::kFrameSet == 0 && shader::kVolumeSet == 1, "setLayouts and the binds list the sets in order");
-    const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, descriptors_.layout.vk()};
-    layout_ = gpu::createPipelineLayout(device, setLayouts, {});
+gpu::Specialization VolumeLayer::rayCasterModes() {
     gpu::Specialization modes;
     modes.set<VkBool32>(shader::kVolumeSpecDvr, settings_.dvr ? VK_TRUE : VK_FALSE);
     modes.set<int32_t>(shader::kVolumeSpecIsoCount, int32_t(settings_.isovalues.size()));
@@ -186,25 +206,32 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
     int32_t uniformAxes = 0;
     for (int axis = 0; axis < 3; ++axis) uniformAxes |= lookups_[size_t(axis)].uniform ? 1 << axis : 0;
     modes.set<int32_t>(shader::kVolumeSpecUniformAxes, uniformAxes);
+    return modes;
+}
+
+void VolumeLayer::createRayCaster() {
+    gpu::Device& device = *services_->device;
+    linearSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_LINEAR});
+    nearestSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_NEAREST});
+    const uint32_t frames = services_->framesInFlight;
+    descriptors_ = gpu::createDescriptorSets(device, shader::kVolumeBindings, frames);
+    for (uint32_t f = 0; f < frames; ++f) {
+        setVersion_.push_back(0);
+        uniformBuffers_.emplace_back(device, sizeof(shader::VolumeUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                     gpu::MemoryUsage::Upload, "volume uniforms");
+    }
+    // The shaders' sets in order: the frame's, then the volume's.
+    static_assert(shader::kFrameSet == 0 && shader::kVolumeSet == 1, "setLayouts and the binds list the sets in order");
+    const VkDescriptorSetLayout setLayouts[] = {services_->frameSetLayout, descriptors_.layout.vk()};
+    layout_ = gpu::createPipelineLayout(device, setLayouts, {});
     // Without measurement the hit image is a 1 x 1 stand-in that is never written.
     gpu::ImageDesc hd;
     hd.format = VK_FORMAT_R32_SFLOAT;
     hd.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     hd.name = "volume hit distances";
     hitImage_ = gpu::Image(device, hd);
+    const gpu::Specialization modes = rayCasterModes();
     castPipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_volume_raycast_comp, &modes, "volume ray cast");
-    gpu::GraphicsPipelineDesc composite;
-    composite.vertexSpirv = kSpv_volume_composite_vert;
-    composite.fragmentSpirv = kSpv_volume_composite_frag;
-    composite.layout = layout_.vk();
-    composite.cullMode = VK_CULL_MODE_NONE;
-    composite.depthTest = false;
-    composite.depthWrite = false;
-    composite.alphaBlend = true;
-    composite.colorFormat = services.colorFormat;
-    composite.depthFormat = services.depthFormat;
-    composite.name = "volume composite";
-    compositePipeline_ = gpu::createGraphicsPipeline(device, composite);
 }
 
 void VolumeLayer::ensureCastImage(uint32_t width, uint32_t height) {
@@ -277,10 +304,27 @@ void VolumeLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
         writeDescriptors(rc.slot);
         setVersion_[rc.slot] = imagesVersion_;
     }
+    const shader::VolumeUniforms u = packVolumeUniforms(frameInputs(*frame.camera));
+    uniformBuffers_[rc.slot].write(&u, sizeof(u));
 
-    const scene::Camera& camera = *frame.camera;
+    VkCommandBuffer cmd = rc.cmd;
+    recordEdits(cmd);
+    const gpu::ImageTransition writes[] = {{&castImage_, gpu::ImageUse::StorageCompute},
+                                           {&hitImage_, gpu::ImageUse::StorageCompute}};
+    gpu::transition(cmd, writes);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, castPipeline_.vk());
+    const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), shader::kFrameSet,
+                            uint32_t(std::size(sets)), sets, 0, nullptr);
+    const uint32_t g = shader::kVolumeGroupSize;
+    vkCmdDispatch(cmd, (frame.width + g - 1) / g, (frame.height + g - 1) / g, 1);
+    gpu::transition(cmd, castImage_, gpu::ImageUse::SampledFragment);
+    if (hitOutput_) recordHitReadback(cmd, frame.width, frame.height);
+}
+
+VolumeFrameInputs VolumeLayer::frameInputs(const scene::Camera& camera) const {
     const glm::dmat4 view = camera.viewRotation();
-    const shader::VolumeUniforms u = packVolumeUniforms({
+    return {
         .settings = settings_,
         .box = box_,
         .lonRange = {lonAxis_.front(), lonAxis_.back()},
@@ -296,10 +340,10 @@ void VolumeLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
         .forward = -glm::dvec3(view[0][2], view[1][2], view[2][2]),
         .nearPlane = camera.nearPlane(),
         .frame = frameCounter_,
-    });
-    uniformBuffers_[rc.slot].write(&u, sizeof(u));
+    };
+}
 
-    VkCommandBuffer cmd = rc.cmd;
+void VolumeLayer::recordEdits(VkCommandBuffer cmd) {
     if (transferDirty_) {
         // After the earlier frames' reads (the transitions wait for them); before this frame's.
         const std::vector<uint16_t> tf = transferTexels();
@@ -318,25 +362,16 @@ void VolumeLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
         gpu::bufferBarrier(cmd, occupancyBuffer_, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                            VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     }
-    const gpu::ImageTransition writes[] = {{&castImage_, gpu::ImageUse::StorageCompute},
-                                           {&hitImage_, gpu::ImageUse::StorageCompute}};
-    gpu::transition(cmd, writes);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, castPipeline_.vk());
-    const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), shader::kFrameSet,
-                            uint32_t(std::size(sets)), sets, 0, nullptr);
-    const uint32_t g = shader::kVolumeGroupSize;
-    vkCmdDispatch(cmd, (frame.width + g - 1) / g, (frame.height + g - 1) / g, 1);
-    gpu::transition(cmd, castImage_, gpu::ImageUse::SampledFragment);
-    if (hitOutput_) {
-        gpu::transition(cmd, hitImage_, gpu::ImageUse::TransferSrc);
-        VkBufferImageCopy region{};
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        region.imageExtent = {frame.width, frame.height, 1};
-        vkCmdCopyImageToBuffer(cmd, hitImage_.vk(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, hitReadback_.vk(), 1, &region);
-        gpu::bufferBarrier(cmd, hitReadback_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                           VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
-    }
+}
+
+void VolumeLayer::recordHitReadback(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
+    gpu::transition(cmd, hitImage_, gpu::ImageUse::TransferSrc);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {width, height, 1};
+    vkCmdCopyImageToBuffer(cmd, hitImage_.vk(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, hitReadback_.vk(), 1, &region);
+    gpu::bufferBarrier(cmd, hitReadback_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
 }
 
 std::vector<float> VolumeLayer::hitDistances() const {

@@ -28,6 +28,7 @@
 #include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Handle.h"
 #include "engine/gpu/Image.h"
+#include "engine/gpu/Pipeline.h"
 #include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/SceneDesc.h"
@@ -112,9 +113,24 @@ public:
 
 private:
     void onPrepare(const render::RenderServices& services) override;
-    void computeFrame();
+    // prepare(), in order: the field's texels (time steps stacked along z, with the wrap column
+    // of a periodic field), the axis lookups (returns their table), the brick grid, half floats
+    // (sets fieldScale_, releases the floats), the GPU objects and their upload, the ray caster.
+    std::vector<float> stackTexels();
+    std::vector<float> buildLookups();
+    void buildBricks(const std::vector<float>& texels);
+    std::vector<uint16_t> toHalfFloats(std::vector<float>& texels);
+    void uploadData(const std::vector<float>& texels, const std::vector<uint16_t>& halves,
+                    const std::vector<float>& axisTable);
+    void createRayCaster();
+    gpu::Specialization rayCasterModes();   // also decides skipEmpty_
+    // recordCompute(), in order: the cast image and the descriptors, the uniforms, the live
+    // edits (transfer function, brick bits), the dispatch, the hit distances' readback.
     void ensureCastImage(uint32_t width, uint32_t height);
     void writeDescriptors(uint32_t frameSlot);
+    VolumeFrameInputs frameInputs(const scene::Camera& camera) const;
+    void recordEdits(VkCommandBuffer cmd);
+    void recordHitReadback(VkCommandBuffer cmd, uint32_t width, uint32_t height);
 
     VolumeField field_;                               // time step 0 (or the fixed one), with the grid
     std::vector<std::vector<float>> moreTimeSteps_;   // the values of time steps 1.., when time animates
