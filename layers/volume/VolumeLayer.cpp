@@ -44,11 +44,11 @@ uint16_t halfFloat(float v) {
 
 }  // namespace
 
-VolumeLayer::VolumeLayer(VolumeField field, VolumeSettings settings, std::vector<std::vector<float>> moreSteps,
-                         std::vector<TimeNs> stepTimes)
-    : field_(std::move(field)), moreSteps_(std::move(moreSteps)), stepTimes_(std::move(stepTimes)),
+VolumeLayer::VolumeLayer(VolumeField field, VolumeSettings settings, std::vector<std::vector<float>> moreTimeSteps,
+                         std::vector<TimeNs> timeStepTimes)
+    : field_(std::move(field)), moreTimeSteps_(std::move(moreTimeSteps)), timeStepTimes_(std::move(timeStepTimes)),
       settings_(std::move(settings)) {
-    if (stepTimes_.size() != 1 + moreSteps_.size()) stepTimes_.clear();   // no time axis to follow
+    if (timeStepTimes_.size() != 1 + moreTimeSteps_.size()) timeStepTimes_.clear();   // no time axis to follow
 }
 
 VolumeLayer::~VolumeLayer() = default;
@@ -60,186 +60,13 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
     servicesCopy_ = services;
     services_ = &servicesCopy_;
     gpu::Device& device = *services.device;
-    const auto& ell = globe::Ellipsoid::wgs84();
-    const double ex = settings_.verticalExaggeration;
-
-    // Longitudes: a periodic field gets its first column again at the end (first + 360), so
-    // that filtering across the seam is continuous.
-    lonAxis_ = field_.lonDeg;
-    const size_t nx = field_.nx(), ny = field_.ny(), nz = field_.nz();
-    const bool wrapColumn = field_.lonWraps && lonAxis_.back() < lonAxis_.front() + 360.0 - 1e-9;
-    if (wrapColumn) lonAxis_.push_back(lonAxis_.front() + 360.0);
-    const size_t gx = lonAxis_.size(), steps = 1 + moreSteps_.size();
-    // Time steps stacked along z: step s, level k is texel layer s * nz + k.
-    std::vector<float> texels(gx * ny * nz * steps);
-    for (size_t st = 0; st < steps; ++st) {
-        const std::vector<float>& v = st == 0 ? field_.values : moreSteps_[st - 1];
-        float* out = texels.data() + st * gx * ny * nz;
-        for (size_t k = 0; k < nz; ++k)
-            for (size_t j = 0; j < ny; ++j)
-                for (size_t i = 0; i < gx; ++i) out[(k * ny + j) * gx + i] = v[(k * ny + j) * nx + (i % nx)];
-    }
-    lookups_ = {AxisLookup::build(lonAxis_, shader::kVolumeAxisTable),
-                AxisLookup::build(field_.latDeg, shader::kVolumeAxisTable),
-                AxisLookup::build(field_.heightM, shader::kVolumeAxisTable)};
-    std::vector<float> axisTable(3 * shader::kVolumeAxisTable, 0.0f);
-    for (size_t a = 0; a < 3; ++a)
-        for (size_t t = 0; t < lookups_[a].table.size() && t < shader::kVolumeAxisTable; ++t)
-            axisTable[a * shader::kVolumeAxisTable + t] = lookups_[a].table[t];
-
-    // Min/max bricks over the uploaded texels (the wrap column included), widened over the
-    // time steps. The brick size keeps the bits within one vkCmdUpdateBuffer (64 KiB).
-    // Bricks of about a sixteenth of the largest dimension (measured on lavapipe: 16-voxel bricks
-    // at 256^3 jump further than 8-voxel ones and cost the same per sample).
-    int brickSize = 4;
-    while (brickSize * 32 <= int(std::max({gx, ny, nz}))) brickSize *= 2;
-    while (((gx + brickSize - 1) / brickSize) * ((ny + brickSize - 1) / brickSize) * ((nz + brickSize - 1) / brickSize) >
-           size_t(65536) * 8)
-        brickSize *= 2;
-    for (size_t st = 0; st < steps && settings_.emptySkipping; ++st) {
-        BrickGrid g = buildBrickGrid(texels.data() + st * gx * ny * nz, gx, ny, nz, brickSize);
-        if (st == 0) bricks_ = std::move(g);
-        else mergeBrickGrid(bricks_, g);
-    }
-    // Half floats: values relative to the data's range; the bricks widen by the rounding.
-    std::vector<uint16_t> halves;
-    fieldScale_ = glm::dvec2(1.0, 0.0);
-    if (settings_.halfField) {
-        const double lo = field_.validCount ? field_.minValue : 0.0, hi = field_.validCount ? field_.maxValue : 1.0;
-        fieldScale_ = glm::dvec2(hi > lo ? 0.5 * (hi - lo) : 1.0, 0.5 * (lo + hi));
-        halves.resize(texels.size());
-        for (size_t i = 0; i < texels.size(); ++i)
-            halves[i] = halfFloat(float((double(texels[i]) - fieldScale_.y) / fieldScale_.x));
-        const float widen = float(fieldScale_.x * std::ldexp(1.0, -10));
-        for (auto& mm : bricks_.minMax)
-            if (mm.first <= mm.second) mm.first -= widen, mm.second += widen;
-        std::vector<float>().swap(texels);
-    }
-
-    // The box's frame: origin on the bottom surface at the box's centre; bounds from a dense
-    // sample of its boundary (the top bulges outward between samples: a margin covers it).
-    const double lonC = 0.5 * (lonAxis_.front() + lonAxis_.back()), latC = 0.5 * (field_.latDeg.front() + field_.latDeg.back());
-    const double hLo = field_.heightM.front() * ex, hHi = field_.heightM.back() * ex;
-    origin_ = ell.toEcef(lonC, latC, hLo);
-    boxMin_ = glm::dvec3(std::numeric_limits<double>::max());
-    boxMax_ = -boxMin_;
-    constexpr int kSamples = 48;
-    for (int a = 0; a <= kSamples; ++a)
-        for (int b = 0; b <= kSamples; ++b)
-            for (double h : {hLo, hHi}) {
-                const double lon = lonAxis_.front() + (lonAxis_.back() - lonAxis_.front()) * a / kSamples;
-                const double lat = field_.latDeg.front() + (field_.latDeg.back() - field_.latDeg.front()) * b / kSamples;
-                const glm::dvec3 p = ell.toEcef(lon, lat, h) - origin_;
-                boxMin_ = glm::min(boxMin_, p);
-                boxMax_ = glm::max(boxMax_, p);
-            }
-    const double spanLon = glm::radians(lonAxis_.back() - lonAxis_.front()) / kSamples;
-    const double spanLat = glm::radians(field_.latDeg.back() - field_.latDeg.front()) / kSamples;
-    const double bulge = (ell.equatorialRadius() + hHi) * (1.0 - std::cos(0.5 * std::max(spanLon, spanLat))) + 1.0;
-    boxMin_ -= glm::dvec3(bulge);
-    boxMax_ += glm::dvec3(bulge);
-    // The shell's surfaces, a little outside the data's heights: a scaled ellipsoid's radius
-    // differs from the ellipsoid's radius plus H by up to H times the flattening.
-    const double margin = std::max({1.0, 1e-3 * (hHi - hLo), 0.004 * std::max(std::abs(hLo), std::abs(hHi))});
-    // Jumps over empty bricks extrapolate the voxel coordinates linearly; along a straight ray
-    // height and latitude bend by about L^2 / 2R (longitude by L^2 / 2 rho, rho the distance from
-    // the axis), so a jump of L metres is kept to a quarter of the finest voxel of each axis.
-    const auto finest = [](const std::vector<double>& axis) {
-        double d = std::numeric_limits<double>::max();
-        for (size_t i = 1; i < axis.size(); ++i) d = std::min(d, std::abs(axis[i] - axis[i - 1]));
-        return axis.size() > 1 ? d : 0.0;
-    };
-    const double radius = ell.equatorialRadius() + std::max(0.0, hHi);
-    jumpLimit_ = glm::dvec2(std::min(std::sqrt(0.5 * radius * finest(field_.heightM) * ex),
-                                     radius * std::sqrt(0.5 * glm::radians(finest(field_.latDeg)))),
-                            std::sqrt(0.5 * glm::radians(finest(lonAxis_))));
-    shellLow_ = hLo - margin;
-    shellHigh_ = hHi + margin;
-
-    gpu::ImageDesc fd;
-    fd.type = VK_IMAGE_TYPE_3D;
-    fd.viewType = VK_IMAGE_VIEW_TYPE_3D;
-    fd.format = settings_.halfField ? VK_FORMAT_R16_SFLOAT : VK_FORMAT_R32_SFLOAT;
-    fd.extent = {uint32_t(gx), uint32_t(ny), uint32_t(nz * steps)};
-    fd.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-    fd.name = "volume field";
-    fieldImage_ = gpu::Image(device, fd);
-    std::vector<uint16_t> tf = transferTexels();
-    updateOccupancy();
-    occupancyBuffer_ = gpu::Buffer(device, occupancy_.size() * sizeof(uint32_t),
-                                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                   gpu::MemoryUsage::GpuOnly, "volume brick bits");
-    gpu::ImageDesc td;
-    td.type = VK_IMAGE_TYPE_1D;
-    td.viewType = VK_IMAGE_VIEW_TYPE_1D;
-    td.format = VK_FORMAT_R16G16B16A16_SFLOAT;
-    td.extent = {256, 1, 1};
-    td.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-    td.name = "volume transfer function";
-    transferImage_ = gpu::Image(device, td);
-    axisBuffer_ = gpu::Buffer(device, axisTable.size() * sizeof(float),
-                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                              gpu::MemoryUsage::GpuOnly, "volume axis tables");
-    device.runOnce([&](VkCommandBuffer cmd) {
-        if (settings_.halfField) services.uploader->toImage(cmd, fieldImage_, halves.data(), halves.size() * sizeof(uint16_t));
-        else services.uploader->toImage(cmd, fieldImage_, texels.data(), texels.size() * sizeof(float));
-        services.uploader->toImage(cmd, transferImage_, tf.data(), tf.size() * sizeof(uint16_t));
-        services.uploader->toBuffer(cmd, axisBuffer_, axisTable.data(), axisTable.size() * sizeof(float));
-        services.uploader->toBuffer(cmd, occupancyBuffer_, occupancy_.data(), occupancy_.size() * sizeof(uint32_t));
-        gpu::bufferBarrier(cmd, occupancyBuffer_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                           VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-        gpu::transition(cmd, fieldImage_, gpu::ImageUse::SampledCompute);
-        gpu::transition(cmd, transferImage_, gpu::ImageUse::SampledCompute);
-        gpu::bufferBarrier(cmd, axisBuffer_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                           VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-    });
-
-    linearSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_LINEAR});
-    nearestSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_NEAREST});
-
-    const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-    const VkDescriptorSetLayoutBinding bindings[] = {
-        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, cs, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, cs, nullptr},
-        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, nullptr},
-        {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, cs, nullptr},
-        {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, cs, nullptr},
-        {5, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, nullptr},
-        {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-        {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, cs, nullptr},
-        {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, cs, nullptr},
-    };
-    const uint32_t frames = services.framesInFlight;
-    descriptors_ = gpu::createDescriptorSets(device, bindings, frames);
-    for (uint32_t f = 0; f < frames; ++f) {
-        setVersion_.push_back(0);
-        uniformBuffers_.emplace_back(device, sizeof(shader::VolumeUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
-                                     gpu::MemoryUsage::Upload, "volume uniforms");
-    }
-    const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, descriptors_.layout.vk()};
-    layout_ = gpu::createPipelineLayout(device, setLayouts, {});
-    gpu::Specialization modes;
-    modes.set<VkBool32>(0, settings_.dvr ? VK_TRUE : VK_FALSE);
-    modes.set<int32_t>(1, int32_t(settings_.isovalues.size()));
-    modes.set<int32_t>(2, int32_t(settings_.slices.size()));
-    modes.set<VkBool32>(3, hitOutput_ ? VK_TRUE : VK_FALSE);
-    modes.set<VkBool32>(4, refine_ ? VK_TRUE : VK_FALSE);
-    const bool blends = !moreSteps_.empty() && stepTimes_.size() > 1 && settings_.timeMode == VolumeSettings::TimeMode::Blend;
-    modes.set<VkBool32>(5, blends ? VK_TRUE : VK_FALSE);
-    // The brick test costs on every sample (~15 % on lavapipe): it is compiled in only when at
-    // least 1 brick in 16 can be skipped with the scene's settings (live edits keep the choice).
-    size_t visibleBricks = 0;
-    for (uint32_t word : occupancy_) visibleBricks += size_t(std::popcount(word));
-    skipEmpty_ = settings_.emptySkipping && (bricks_.minMax.size() - visibleBricks) * 16 >= bricks_.minMax.size();
-    modes.set<VkBool32>(7, skipEmpty_ ? VK_TRUE : VK_FALSE);
-    modes.set<int32_t>(6, int32_t((lookups_[0].uniform ? 1 : 0) | (lookups_[1].uniform ? 2 : 0) | (lookups_[2].uniform ? 4 : 0)));
-    // Without measurement the hit image is a 1 x 1 stand-in that is never written.
-    gpu::ImageDesc hd;
-    hd.format = VK_FORMAT_R32_SFLOAT;
-    hd.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    hd.name = "volume hit distances";
-    hitImage_ = gpu::Image(device, hd);
-    castPipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_volume_raycast_comp, &modes, "volume ray cast");
+    std::vector<float> texels = stackTexels();
+    const std::vector<float> axisTable = buildLookups();
+    buildBricks(texels);
+    const std::vector<uint16_t> halves = settings_.halfField ? toHalfFloats(texels) : std::vector<uint16_t>();
+    box_ = makeVolumeBox(lonAxis_, field_.latDeg, field_.heightM, settings_.verticalExaggeration);
+    uploadData(texels, halves, axisTable);
+    createRayCaster();
     gpu::GraphicsPipelineDesc composite;
     composite.vertexSpirv = kSpv_common_fullscreen_vert;
     composite.fragmentSpirv = kSpv_common_composite_frag;
@@ -252,6 +79,159 @@ void VolumeLayer::onPrepare(const render::RenderServices& services) {
     composite.depthFormat = services.depthFormat;
     composite.name = "volume composite";
     compositePipeline_ = gpu::createGraphicsPipeline(device, composite);
+}
+
+std::vector<float> VolumeLayer::stackTexels() {
+    // Longitudes: a periodic field gets its first column again at the end (first + 360), so
+    // that filtering across the seam is continuous.
+    lonAxis_ = field_.lonDeg;
+    const size_t nx = field_.nx(), ny = field_.ny(), nz = field_.nz();
+    const bool wrapColumn = field_.lonWraps && lonAxis_.back() < lonAxis_.front() + 360.0 - 1e-9;
+    if (wrapColumn) lonAxis_.push_back(lonAxis_.front() + 360.0);
+    const size_t gx = lonAxis_.size(), timeSteps = 1 + moreTimeSteps_.size();
+    // Time steps stacked along z: time step s, level k is texel layer s * nz + k.
+    std::vector<float> texels(gx * ny * nz * timeSteps);
+    for (size_t ts = 0; ts < timeSteps; ++ts) {
+        const std::vector<float>& v = ts == 0 ? field_.values : moreTimeSteps_[ts - 1];
+        float* out = texels.data() + ts * gx * ny * nz;
+        for (size_t k = 0; k < nz; ++k)
+            for (size_t j = 0; j < ny; ++j)
+                for (size_t i = 0; i < gx; ++i) out[(k * ny + j) * gx + i] = v[(k * ny + j) * nx + (i % nx)];
+    }
+    return texels;
+}
+
+std::vector<float> VolumeLayer::buildLookups() {
+    // In the shader's axis order: lookups_[kVolumeAxisLon] is the longitude's.
+    lookups_[shader::kVolumeAxisLon] = AxisLookup::build(lonAxis_, shader::kVolumeAxisTable);
+    lookups_[shader::kVolumeAxisLat] = AxisLookup::build(field_.latDeg, shader::kVolumeAxisTable);
+    lookups_[shader::kVolumeAxisHeight] = AxisLookup::build(field_.heightM, shader::kVolumeAxisTable);
+    std::vector<float> axisTable(3 * shader::kVolumeAxisTable, 0.0f);
+    for (size_t a = 0; a < 3; ++a)
+        for (size_t t = 0; t < lookups_[a].table.size() && t < shader::kVolumeAxisTable; ++t)
+            axisTable[a * shader::kVolumeAxisTable + t] = lookups_[a].table[t];
+    return axisTable;
+}
+
+void VolumeLayer::buildBricks(const std::vector<float>& texels) {
+    // Min/max bricks over the uploaded texels (the wrap column included), widened over the
+    // time steps. The brick size keeps the bits within one vkCmdUpdateBuffer (64 KiB).
+    // Bricks of about a sixteenth of the largest dimension (measured on lavapipe: 16-voxel bricks
+    // at 256^3 jump further than 8-voxel ones and cost the same per sample).
+    const size_t gx = lonAxis_.size(), ny = field_.ny(), nz = field_.nz(), timeSteps = 1 + moreTimeSteps_.size();
+    int brickSize = 4;
+    while (brickSize * 32 <= int(std::max({gx, ny, nz}))) brickSize *= 2;
+    while (((gx + brickSize - 1) / brickSize) * ((ny + brickSize - 1) / brickSize) * ((nz + brickSize - 1) / brickSize) >
+           size_t(65536) * 8)
+        brickSize *= 2;
+    for (size_t ts = 0; ts < timeSteps && settings_.emptySkipping; ++ts) {
+        BrickGrid g = buildBrickGrid(texels.data() + ts * gx * ny * nz, gx, ny, nz, brickSize);
+        if (ts == 0) bricks_ = std::move(g);
+        else mergeBrickGrid(bricks_, g);
+    }
+}
+
+std::vector<uint16_t> VolumeLayer::toHalfFloats(std::vector<float>& texels) {
+    // Values relative to the data's range; the bricks widen by the rounding.
+    const double lo = field_.validCount ? field_.minValue : 0.0, hi = field_.validCount ? field_.maxValue : 1.0;
+    fieldScale_ = glm::dvec2(hi > lo ? 0.5 * (hi - lo) : 1.0, 0.5 * (lo + hi));
+    std::vector<uint16_t> halves(texels.size());
+    for (size_t i = 0; i < texels.size(); ++i)
+        halves[i] = halfFloat(float((double(texels[i]) - fieldScale_.y) / fieldScale_.x));
+    const float widen = float(fieldScale_.x * std::ldexp(1.0, -10));
+    for (auto& mm : bricks_.minMax)
+        if (mm.first <= mm.second) mm.first -= widen, mm.second += widen;
+    std::vector<float>().swap(texels);
+    return halves;
+}
+
+void VolumeLayer::uploadData(const std::vector<float>& texels, const std::vector<uint16_t>& halves,
+                             const std::vector<float>& axisTable) {
+    gpu::Device& device = *services_->device;
+    gpu::ImageDesc fd;
+    fd.type = VK_IMAGE_TYPE_3D;
+    fd.viewType = VK_IMAGE_VIEW_TYPE_3D;
+    fd.format = settings_.halfField ? VK_FORMAT_R16_SFLOAT : VK_FORMAT_R32_SFLOAT;
+    fd.extent = {uint32_t(lonAxis_.size()), uint32_t(field_.ny()), uint32_t(field_.nz() * timeSteps())};
+    fd.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    fd.name = "volume field";
+    fieldImage_ = gpu::Image(device, fd);
+    std::vector<uint16_t> tf = transferTexels();
+    updateOccupancy();
+    occupancyBuffer_ = gpu::Buffer(device, occupancy_.size() * sizeof(uint32_t),
+                                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                   gpu::MemoryUsage::GpuOnly, "volume brick bits");
+    gpu::ImageDesc td;
+    td.type = VK_IMAGE_TYPE_1D;
+    td.viewType = VK_IMAGE_VIEW_TYPE_1D;
+    td.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    td.extent = {shader::kVolumeTransferSize, 1, 1};
+    td.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    td.name = "volume transfer function";
+    transferImage_ = gpu::Image(device, td);
+    axisBuffer_ = gpu::Buffer(device, axisTable.size() * sizeof(float),
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                              gpu::MemoryUsage::GpuOnly, "volume axis tables");
+    gpu::Uploader& uploader = *services_->uploader;
+    device.runOnce([&](VkCommandBuffer cmd) {
+        if (settings_.halfField) uploader.toImage(cmd, fieldImage_, halves.data(), halves.size() * sizeof(uint16_t));
+        else uploader.toImage(cmd, fieldImage_, texels.data(), texels.size() * sizeof(float));
+        uploader.toImage(cmd, transferImage_, tf.data(), tf.size() * sizeof(uint16_t));
+        uploader.toBuffer(cmd, axisBuffer_, axisTable.data(), axisTable.size() * sizeof(float));
+        uploader.toBuffer(cmd, occupancyBuffer_, occupancy_.data(), occupancy_.size() * sizeof(uint32_t));
+        gpu::bufferBarrier(cmd, occupancyBuffer_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+        gpu::transition(cmd, fieldImage_, gpu::ImageUse::SampledCompute);
+        gpu::transition(cmd, transferImage_, gpu::ImageUse::SampledCompute);
+        gpu::bufferBarrier(cmd, axisBuffer_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    });
+}
+
+gpu::Specialization VolumeLayer::rayCasterModes() {
+    gpu::Specialization modes;
+    modes.set<VkBool32>(shader::kVolumeSpecDvr, settings_.dvr ? VK_TRUE : VK_FALSE);
+    modes.set<int32_t>(shader::kVolumeSpecIsoCount, int32_t(settings_.isovalues.size()));
+    modes.set<int32_t>(shader::kVolumeSpecSliceCount, int32_t(settings_.slices.size()));
+    modes.set<VkBool32>(shader::kVolumeSpecHitOutput, hitOutput_ ? VK_TRUE : VK_FALSE);
+    modes.set<VkBool32>(shader::kVolumeSpecRefine, refine_ ? VK_TRUE : VK_FALSE);
+    const bool blends = !moreTimeSteps_.empty() && timeStepTimes_.size() > 1 && settings_.timeMode == VolumeSettings::TimeMode::Blend;
+    modes.set<VkBool32>(shader::kVolumeSpecBlendTimeSteps, blends ? VK_TRUE : VK_FALSE);
+    // The brick test costs on every sample (~15 % on lavapipe): it is compiled in only when at
+    // least 1 brick in 16 can be skipped with the scene's settings (live edits keep the choice).
+    size_t visibleBricks = 0;
+    for (uint32_t word : occupancy_) visibleBricks += size_t(std::popcount(word));
+    skipEmpty_ = settings_.emptySkipping && (bricks_.minMax.size() - visibleBricks) * 16 >= bricks_.minMax.size();
+    modes.set<VkBool32>(shader::kVolumeSpecSkipEmpty, skipEmpty_ ? VK_TRUE : VK_FALSE);
+    int32_t uniformAxes = 0;
+    for (int axis = 0; axis < 3; ++axis) uniformAxes |= lookups_[size_t(axis)].uniform ? 1 << axis : 0;
+    modes.set<int32_t>(shader::kVolumeSpecUniformAxes, uniformAxes);
+    return modes;
+}
+
+void VolumeLayer::createRayCaster() {
+    gpu::Device& device = *services_->device;
+    linearSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_LINEAR});
+    nearestSampler_ = gpu::createSampler(device, {.filter = VK_FILTER_NEAREST});
+    const uint32_t frames = services_->framesInFlight;
+    descriptors_ = gpu::createDescriptorSets(device, shader::kVolumeBindings, frames);
+    for (uint32_t f = 0; f < frames; ++f) {
+        setVersion_.push_back(0);
+        uniformBuffers_.emplace_back(device, sizeof(shader::VolumeUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                     gpu::MemoryUsage::Upload, "volume uniforms");
+    }
+    // The shaders' sets in order: the frame's, then the volume's.
+    static_assert(shader::kFrameSet == 0 && shader::kVolumeSet == 1, "setLayouts and the binds list the sets in order");
+    const VkDescriptorSetLayout setLayouts[] = {services_->frameSetLayout, descriptors_.layout.vk()};
+    layout_ = gpu::createPipelineLayout(device, setLayouts, {});
+    // Without measurement the hit image is a 1 x 1 stand-in that is never written.
+    gpu::ImageDesc hd;
+    hd.format = VK_FORMAT_R32_SFLOAT;
+    hd.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    hd.name = "volume hit distances";
+    hitImage_ = gpu::Image(device, hd);
+    const gpu::Specialization modes = rayCasterModes();
+    castPipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_volume_raycast_comp, &modes, "volume ray cast");
 }
 
 void VolumeLayer::ensureCastImage(uint32_t width, uint32_t height) {
@@ -273,35 +253,17 @@ void VolumeLayer::ensureCastImage(uint32_t width, uint32_t height) {
 }
 
 void VolumeLayer::writeDescriptors(uint32_t f) {
-    {
-        const VkDescriptorBufferInfo ubo{uniformBuffers_[f].vk(), 0, sizeof(shader::VolumeUniforms)};
-        const VkDescriptorBufferInfo axes{axisBuffer_.vk(), 0, VK_WHOLE_SIZE};
-        const VkDescriptorImageInfo fieldInfo{linearSampler_.vk(), fieldImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-        const VkDescriptorImageInfo tfInfo{linearSampler_.vk(), transferImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-        const VkDescriptorImageInfo depthInfo{nearestSampler_.vk(), boundDepth_->view(),
-                                              VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-        const VkDescriptorImageInfo storeInfo{VK_NULL_HANDLE, castImage_.view(), VK_IMAGE_LAYOUT_GENERAL};
-        const VkDescriptorImageInfo readInfo{nearestSampler_.vk(), castImage_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-        const VkDescriptorImageInfo hitInfo{VK_NULL_HANDLE, hitImage_.view(), VK_IMAGE_LAYOUT_GENERAL};
-        const VkDescriptorBufferInfo bricks{occupancyBuffer_.vk(), 0, VK_WHOLE_SIZE};
-        VkWriteDescriptorSet w[9] = {};
-        for (uint32_t b = 0; b < 9; ++b) {
-            w[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-            w[b].dstSet = descriptors_.sets[f];
-            w[b].dstBinding = b;
-            w[b].descriptorCount = 1;
-        }
-        w[0].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, w[0].pBufferInfo = &ubo;
-        w[1].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, w[1].pImageInfo = &fieldInfo;
-        w[2].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, w[2].pBufferInfo = &axes;
-        w[3].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, w[3].pImageInfo = &tfInfo;
-        w[4].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, w[4].pImageInfo = &depthInfo;
-        w[5].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, w[5].pImageInfo = &storeInfo;
-        w[6].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, w[6].pImageInfo = &readInfo;
-        w[7].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, w[7].pImageInfo = &hitInfo;
-        w[8].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, w[8].pBufferInfo = &bricks;
-        vkUpdateDescriptorSets(services_->device->vk(), 9, w, 0, nullptr);
-    }
+    gpu::DescriptorWriter(descriptors_.sets[f])
+        .uniformBuffer(shader::kVolumeBindingUniforms, uniformBuffers_[f], 0, sizeof(shader::VolumeUniforms))
+        .sampledImage(shader::kVolumeBindingField, linearSampler_.vk(), fieldImage_.view())
+        .storageBuffer(shader::kVolumeBindingAxes, axisBuffer_)
+        .sampledImage(shader::kVolumeBindingTransfer, linearSampler_.vk(), transferImage_.view())
+        .sampledImage(shader::kVolumeBindingSceneDepth, nearestSampler_.vk(), boundDepth_->view())
+        .storageImage(shader::kVolumeBindingCastImage, castImage_.view())
+        .sampledImage(shader::kVolumeBindingCastSampled, nearestSampler_.vk(), castImage_.view())
+        .storageImage(shader::kVolumeBindingHits, hitImage_.view())
+        .storageBuffer(shader::kVolumeBindingBricks, occupancyBuffer_)
+        .update(*services_->device);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -309,23 +271,23 @@ void VolumeLayer::writeDescriptors(uint32_t f) {
 
 void VolumeLayer::update(const scene::FrameContext& frame) {
     ++frameCounter_;
-    stepA_ = stepB_ = stepWeight_ = 0.0f;
-    if (stepTimes_.size() < 2 || settings_.timeMode == VolumeSettings::TimeMode::Fixed) return;
+    timeStepA_ = timeStepB_ = timeStepWeight_ = 0.0f;
+    if (timeStepTimes_.size() < 2 || settings_.timeMode == VolumeSettings::TimeMode::Fixed) return;
     const TimeNs t = frame.time;
-    const size_t last = stepTimes_.size() - 1;
-    if (t <= stepTimes_.front()) return;
-    if (t >= stepTimes_.back()) {
-        stepA_ = stepB_ = float(last);
+    const size_t last = timeStepTimes_.size() - 1;
+    if (t <= timeStepTimes_.front()) return;
+    if (t >= timeStepTimes_.back()) {
+        timeStepA_ = timeStepB_ = float(last);
         return;
     }
-    const size_t i = size_t(std::upper_bound(stepTimes_.begin(), stepTimes_.end(), t) - stepTimes_.begin()) - 1;
-    const double w = double(t - stepTimes_[i]) / double(stepTimes_[i + 1] - stepTimes_[i]);
+    const size_t i = size_t(std::upper_bound(timeStepTimes_.begin(), timeStepTimes_.end(), t) - timeStepTimes_.begin()) - 1;
+    const double w = double(t - timeStepTimes_[i]) / double(timeStepTimes_[i + 1] - timeStepTimes_[i]);
     if (settings_.timeMode == VolumeSettings::TimeMode::Nearest) {
-        stepA_ = stepB_ = float(w < 0.5 ? i : i + 1);
+        timeStepA_ = timeStepB_ = float(w < 0.5 ? i : i + 1);
     } else {
-        stepA_ = float(i);
-        stepB_ = float(i + 1);
-        stepWeight_ = float(w);
+        timeStepA_ = float(i);
+        timeStepB_ = float(i + 1);
+        timeStepWeight_ = float(w);
     }
 }
 
@@ -342,78 +304,46 @@ void VolumeLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
         writeDescriptors(rc.slot);
         setVersion_[rc.slot] = imagesVersion_;
     }
-
-    const auto& ell = globe::Ellipsoid::wgs84();
-    const scene::Camera& camera = *frame.camera;
-    const glm::dvec3 eye = camera.position() - origin_;
-    const double diagonal = glm::length(boxMax_ - boxMin_);
-    const double step = diagonal / double(settings_.steps);
-    const double rho0 = std::hypot(origin_.x, origin_.y);
-    const glm::dmat4 view = camera.viewRotation();
-    const glm::dvec3 forward = -glm::dvec3(view[0][2], view[1][2], view[2][2]);
-    const double a = ell.equatorialRadius(), b = ell.polarRadius();
-    shader::VolumeUniforms u{};
-    u.eyeFromOrigin = glm::vec4(glm::vec3(eye), float(step));
-    u.originAxis = glm::vec4(float(rho0), float(origin_.z), float(std::atan2(origin_.y, origin_.x)), float(diagonal / 100.0));
-    u.boxMin = glm::vec4(glm::vec3(boxMin_), float(camera.nearPlane()));
-    u.boxMax = glm::vec4(glm::vec3(boxMax_), float(settings_.steps * 4 + 8));   // per segment
-    u.lonRange = glm::vec4(float(lonAxis_.front()), float(lonAxis_.back()), field_.lonWraps ? 1.0f : 0.0f,
-                           float(settings_.verticalExaggeration));
-    u.latRange = glm::vec4(float(field_.latDeg.front()), float(field_.latDeg.back()), float(field_.heightM.front()),
-                           float(field_.heightM.back()));
-    const double rangeMin = settings_.transfer.rangeMin, rangeMax = settings_.transfer.rangeMax;
-    u.dataRange = glm::vec4(float(rangeMin), float(1.0 / (rangeMax - rangeMin)), 1.0f, float(frameCounter_ % 65536));
-    u.bricks = glm::vec4(float(bricks_.bx), float(bricks_.by), float(bricks_.bz), float(bricks_.size));
-    u.samples = glm::vec4(float(lonAxis_.size()), float(field_.ny()), float(field_.nz()), float((1.0 - ell.flattening()) * (1.0 - ell.flattening())));
-    u.forward = glm::vec4(glm::vec3(forward), float(a));
-    u.radii = glm::vec4(float(fieldScale_.x), float(fieldScale_.y), float(b), float(settings_.isoOpacity));
-    const auto shell = [&](double height, glm::vec4& scaled) {
-        const glm::dvec3 inv(1.0 / (a + height), 1.0 / (a + height), 1.0 / (b + height));
-        const glm::dvec3 os = origin_ * inv;
-        scaled = glm::vec4(glm::vec3(os), float(glm::dot(os, os) - 1.0));
-        return glm::dvec2(inv.x, inv.z);
-    };
-    const glm::dvec2 lowInv = shell(shellLow_, u.shellLo), highInv = shell(shellHigh_, u.shellHi);
-    const double e2 = 1.0 - (1.0 - ell.flattening()) * (1.0 - ell.flattening());
-    for (size_t i = 0; i < settings_.slices.size() && i < shader::kVolumeMaxSlices; ++i) {
-        const auto& sl = settings_.slices[i];
-        glm::vec4& A = u.sliceA[i];
-        glm::vec4& B = u.sliceB[i];
-        if (sl.axis == VolumeSettings::Slice::Axis::Lon) {
-            const double lam = glm::radians(sl.value);
-            const glm::dvec3 n(-std::sin(lam), std::cos(lam), 0.0);
-            const double lon = lonAxis_.front() + std::fmod(std::fmod(sl.value - lonAxis_.front(), 360.0) + 360.0, 360.0);
-            A = glm::vec4(glm::vec3(n), 0.0f);
-            B = glm::vec4(float(glm::dot(n, origin_)), float(lon), 0.0f, 0.0f);
-        } else if (sl.axis == VolumeSettings::Slice::Axis::Lat) {
-            const double phi = glm::radians(sl.value), sinPhi = std::sin(phi);
-            const double apex = -e2 * a / std::sqrt(1.0 - e2 * sinPhi * sinPhi) * sinPhi;   // normals meet the axis here
-            const double k = std::tan(phi) * std::tan(phi);
-            const glm::dvec3 o(origin_.x, origin_.y, origin_.z - apex);
-            A = glm::vec4(glm::vec3(o), 1.0f);
-            B = glm::vec4(float(k), float(o.z * o.z - k * (o.x * o.x + o.y * o.y)), float(sl.value), 0.0f);
-        } else {
-            const double height = sl.value * settings_.verticalExaggeration;
-            glm::vec4 scaled;
-            const glm::dvec2 inv = shell(height, scaled);
-            A = glm::vec4(glm::vec3(scaled), 2.0f);
-            B = glm::vec4(scaled.w, float(inv.x), float(inv.y), float(sl.value));
-        }
-    }
-    u.sliceInfo = glm::vec4(float(settings_.sliceOpacity), float(jumpLimit_.x), float(jumpLimit_.y), 0.0f);
-    u.timeInfo = glm::vec4(stepA_, stepB_, stepWeight_, float(1 + moreSteps_.size()));
-    u.shellScale = glm::vec4(float(lowInv.x), float(lowInv.y), float(highInv.x), float(highInv.y));
-    // "steps" across the diagonal of the normalised box (as a ray-caster counts samples along a
-    // cube's diagonal); opacity is per "opacityUnit" of the normalised box.
-    const double unitDiagonal = std::sqrt(3.0);
-    u.march = glm::vec4(float(unitDiagonal / settings_.steps), float(std::max(step / 16384.0, 0.01)),
-                        float(1.0 / settings_.opacityUnit),
-                        float(std::clamp(step * 0.01, 5.0, 2000.0)));
-    for (size_t i = 0; i < settings_.isovalues.size() && i < shader::kVolumeMaxIso; ++i)
-        u.isovalues[i / 4][int(i % 4)] = float(settings_.isovalues[i]);
+    const shader::VolumeUniforms u = packVolumeUniforms(frameInputs(*frame.camera));
     uniformBuffers_[rc.slot].write(&u, sizeof(u));
 
     VkCommandBuffer cmd = rc.cmd;
+    recordEdits(cmd);
+    const gpu::ImageTransition writes[] = {{&castImage_, gpu::ImageUse::StorageCompute},
+                                           {&hitImage_, gpu::ImageUse::StorageCompute}};
+    gpu::transition(cmd, writes);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, castPipeline_.vk());
+    const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), shader::kFrameSet,
+                            uint32_t(std::size(sets)), sets, 0, nullptr);
+    const uint32_t g = shader::kVolumeGroupSize;
+    vkCmdDispatch(cmd, (frame.width + g - 1) / g, (frame.height + g - 1) / g, 1);
+    gpu::transition(cmd, castImage_, gpu::ImageUse::SampledFragment);
+    if (hitOutput_) recordHitReadback(cmd, frame.width, frame.height);
+}
+
+VolumeFrameInputs VolumeLayer::frameInputs(const scene::Camera& camera) const {
+    const glm::dmat4 view = camera.viewRotation();
+    return {
+        .settings = settings_,
+        .box = box_,
+        .lonRange = {lonAxis_.front(), lonAxis_.back()},
+        .latRange = {field_.latDeg.front(), field_.latDeg.back()},
+        .heightRange = {field_.heightM.front(), field_.heightM.back()},
+        .samples = glm::uvec3(lonAxis_.size(), field_.ny(), field_.nz()),
+        .bricks = glm::uvec3(bricks_.bx, bricks_.by, bricks_.bz),
+        .brickSize = uint32_t(bricks_.size),
+        .valueScale = fieldScale_,
+        .timeSteps = timeSteps(),
+        .timeBlend = timeBlend(),
+        .eye = camera.position(),
+        .forward = -glm::dvec3(view[0][2], view[1][2], view[2][2]),
+        .nearPlane = camera.nearPlane(),
+        .frame = frameCounter_,
+    };
+}
+
+void VolumeLayer::recordEdits(VkCommandBuffer cmd) {
     if (transferDirty_) {
         // After the earlier frames' reads (the transitions wait for them); before this frame's.
         const std::vector<uint16_t> tf = transferTexels();
@@ -432,24 +362,16 @@ void VolumeLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
         gpu::bufferBarrier(cmd, occupancyBuffer_, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                            VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     }
-    const gpu::ImageTransition writes[] = {{&castImage_, gpu::ImageUse::StorageCompute},
-                                           {&hitImage_, gpu::ImageUse::StorageCompute}};
-    gpu::transition(cmd, writes);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, castPipeline_.vk());
-    const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), 0, 2, sets, 0, nullptr);
-    const uint32_t g = shader::kVolumeGroupSize;
-    vkCmdDispatch(cmd, (frame.width + g - 1) / g, (frame.height + g - 1) / g, 1);
-    gpu::transition(cmd, castImage_, gpu::ImageUse::SampledFragment);
-    if (hitOutput_) {
-        gpu::transition(cmd, hitImage_, gpu::ImageUse::TransferSrc);
-        VkBufferImageCopy region{};
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        region.imageExtent = {frame.width, frame.height, 1};
-        vkCmdCopyImageToBuffer(cmd, hitImage_.vk(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, hitReadback_.vk(), 1, &region);
-        gpu::bufferBarrier(cmd, hitReadback_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                           VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
-    }
+}
+
+void VolumeLayer::recordHitReadback(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
+    gpu::transition(cmd, hitImage_, gpu::ImageUse::TransferSrc);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {width, height, 1};
+    vkCmdCopyImageToBuffer(cmd, hitImage_.vk(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, hitReadback_.vk(), 1, &region);
+    gpu::bufferBarrier(cmd, hitReadback_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
 }
 
 std::vector<float> VolumeLayer::hitDistances() const {
@@ -464,6 +386,8 @@ glm::dvec3 VolumeLayer::voxelAt(const glm::dvec3& ecef) const {
     const double first = lonAxis_.front();
     const double lon = first + std::fmod(std::fmod(g.lonDeg - first, 360.0) + 360.0, 360.0);
     const double coords[3] = {lon, g.latDeg, g.height / settings_.verticalExaggeration};
+    static_assert(shader::kVolumeAxisLon == 0 && shader::kVolumeAxisLat == 1 && shader::kVolumeAxisHeight == 2,
+                  "lookups_ and the result are in (lon, lat, height) order");
     const std::vector<double>* axes[3] = {&lonAxis_, &field_.latDeg, &field_.heightM};
     glm::dvec3 v(0.0);
     for (int a = 0; a < 3; ++a) v[a] = lookups_[a].exact(*axes[a], coords[a]) * double(axes[a]->size()) - 0.5;
@@ -475,13 +399,14 @@ void VolumeLayer::record(scene::Pass, const render::RecordContext& rc) {
     VkCommandBuffer cmd = rc.cmd;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, compositePipeline_.vk());
     const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), shader::kFrameSet,
+                            uint32_t(std::size(sets)), sets, 0, nullptr);
     vkCmdDraw(cmd, 3, 1, 0, 0);
 }
 
 uint64_t VolumeLayer::gpuBytes() const {
     uint64_t bytes = uint64_t(lonAxis_.size()) * field_.ny() * field_.nz() * (settings_.halfField ? 2 : 4) *
-                         (1 + moreSteps_.size()) + 256 * 8 +
+                         (1 + moreTimeSteps_.size()) + shader::kVolumeTransferSize * 8 +
                      3 * shader::kVolumeAxisTable * 4;
     if (castImage_) bytes += uint64_t(castImage_.extent().width) * castImage_.extent().height * 8;
     return bytes;
@@ -489,7 +414,7 @@ uint64_t VolumeLayer::gpuBytes() const {
 
 bool VolumeLayer::setParameter(std::string_view name, double value) {
     if (name == "steps") {
-        settings_.steps = std::clamp(int(std::lround(value)), 1, 4096);
+        settings_.steps = std::clamp(int(std::lround(value)), int(kStepsRange.min), int(kStepsRange.max));
         return true;
     }
     // Isovalues and slice positions live in the per-frame uniforms: moving them re-uploads
@@ -509,7 +434,7 @@ bool VolumeLayer::setParameter(std::string_view name, double value) {
         return true;
     }
     if (name == "opacityUnit") {
-        if (!(value >= 1e-6 && value <= 10.0)) return false;
+        if (!kOpacityUnitRange.contains(value)) return false;
         settings_.opacityUnit = value;
         return true;
     }
@@ -522,13 +447,13 @@ bool VolumeLayer::setParameter(std::string_view name, double value) {
         return true;
     }
     if (name == "opacityScale") {
-        if (!(value >= 0.0 && value <= 1000.0)) return false;
+        if (!kOpacityScaleRange.contains(value)) return false;
         settings_.transfer.opacityScale = value;
         transferDirty_ = true;
         return true;
     }
     if (name == "isoOpacity" || name == "sliceOpacity") {
-        if (!(value >= 0.0 && value <= 1.0)) return false;
+        if (!kOpacityRange.contains(value)) return false;
         (name == "isoOpacity" ? settings_.isoOpacity : settings_.sliceOpacity) = value;
         return true;
     }
@@ -539,7 +464,7 @@ bool VolumeLayer::setParameter(std::string_view name, double value) {
     }
     if (auto i = indexed("slice", settings_.slices.size())) {
         auto& sl = settings_.slices[*i];
-        sl.value = sl.axis == VolumeSettings::Slice::Axis::Lat ? std::clamp(value, -89.0, 89.0) : value;
+        sl.value = sl.axis == VolumeSettings::Slice::Axis::Lat ? kSliceLatitudeRange.clamp(value) : value;
         return true;
     }
     return false;
@@ -555,11 +480,11 @@ std::vector<scene::LayerSetting> VolumeLayer::liveSettings() const {
     const auto [lo, hi] = span(std::min(dataMin, t.rangeMin), std::max(dataMax, t.rangeMax), t.rangeMin);
     std::vector<scene::LayerSetting> out = {
         {.name = "steps", .label = "Ray steps (per box diagonal)", .kind = Kind::Integer,
-         .value = double(settings_.steps), .min = 1.0, .max = 4096.0, .logarithmic = true},
-        {.name = "opacityScale", .label = "Opacity scale", .kind = Kind::Number, .value = t.opacityScale, .min = 0.0,
-         .max = 1000.0, .logarithmic = true},
+         .value = double(settings_.steps), .min = kStepsRange.min, .max = kStepsRange.max, .logarithmic = true},
+        {.name = "opacityScale", .label = "Opacity scale", .kind = Kind::Number, .value = t.opacityScale,
+         .min = kOpacityScaleRange.min, .max = kOpacityScaleRange.max, .logarithmic = true},
         {.name = "opacityUnit", .label = "Opacity unit distance (box diagonals)", .kind = Kind::Number,
-         .value = settings_.opacityUnit, .min = 1e-6, .max = 10.0, .logarithmic = true},
+         .value = settings_.opacityUnit, .min = kOpacityUnitRange.min, .max = kOpacityUnitRange.max, .logarithmic = true},
         {.name = "rangeMin", .label = "Colour range low", .kind = Kind::Number, .value = t.rangeMin, .min = lo, .max = hi,
          .pointer = "/range/0"},
         {.name = "rangeMax", .label = "Colour range high", .kind = Kind::Number, .value = t.rangeMax, .min = lo, .max = hi,
@@ -576,14 +501,14 @@ std::vector<scene::LayerSetting> VolumeLayer::liveSettings() const {
     }
     if (!settings_.isovalues.empty())
         out.push_back({.name = "isoOpacity", .label = "Isosurface opacity", .kind = Kind::Number,
-                       .value = settings_.isoOpacity, .min = 0.0, .max = 1.0});
+                       .value = settings_.isoOpacity, .min = kOpacityRange.min, .max = kOpacityRange.max});
     for (size_t i = 0; i < settings_.slices.size(); ++i) {
         const VolumeSettings::Slice& sl = settings_.slices[i];
         using Axis = VolumeSettings::Slice::Axis;
         const std::vector<double>& axis = sl.axis == Axis::Lon ? field_.lonDeg : sl.axis == Axis::Lat ? field_.latDeg : field_.heightM;
         auto [a, b] = axis.empty() ? std::pair(sl.value, sl.value)
                                    : span(std::min(axis.front(), axis.back()), std::max(axis.front(), axis.back()), sl.value);
-        if (sl.axis == Axis::Lat) a = std::max(a, -89.0), b = std::min(b, 89.0);
+        if (sl.axis == Axis::Lat) a = std::max(a, kSliceLatitudeRange.min), b = std::min(b, kSliceLatitudeRange.max);
         const char* what = sl.axis == Axis::Lon ? " longitude (deg)" : sl.axis == Axis::Lat ? " latitude (deg)" : " height (m)";
         const char* key = sl.axis == Axis::Lon ? "lon" : sl.axis == Axis::Lat ? "lat" : "height";   // {"lat": 45}
         out.push_back({.name = "slice" + std::to_string(i), .label = "Slice " + std::to_string(i + 1) + what,
@@ -602,12 +527,12 @@ std::vector<scene::LayerSetting> VolumeLayer::liveSettings() const {
     out.push_back(std::move(curve));
     if (!settings_.slices.empty())
         out.push_back({.name = "sliceOpacity", .label = "Slice opacity", .kind = Kind::Number,
-                       .value = settings_.sliceOpacity, .min = 0.0, .max = 1.0});
+                       .value = settings_.sliceOpacity, .min = kOpacityRange.min, .max = kOpacityRange.max});
     return out;
 }
 
 std::vector<uint16_t> VolumeLayer::transferTexels() {
-    auto table = buildTransferTable(settings_.transfer, 256);
+    auto table = buildTransferTable(settings_.transfer, shader::kVolumeTransferSize);
     if (table) transferTable_ = std::move(table).value();   // (the settings were checked: it builds)
     // Colour, and log2(1 - alpha) for the ray caster's opacity correction (one exp2 a sample).
     std::vector<uint16_t> tf(transferTable_.size() * 4);

@@ -28,12 +28,15 @@
 #include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Handle.h"
 #include "engine/gpu/Image.h"
+#include "engine/gpu/Pipeline.h"
 #include "engine/render/RenderContext.h"
 #include "engine/scene/Layer.h"
 #include "engine/scene/LayerRegistry.h"
 #include "engine/scene/SceneDesc.h"
 #include "layers/volume/VolumeData.h"
 #include "layers/volume/VolumeReader.h"
+#include "layers/volume/VolumeSettings.h"
+#include "layers/volume/VolumeUniforms.h"
 
 #include <glm/glm.hpp>
 
@@ -44,38 +47,6 @@
 
 namespace orbis::layers {
 
-struct VolumeSettings {
-    /// How virtual time picks the data's time step: "fixed" (timeStep), "nearest" step, or
-    /// "blend" linearly between the two steps around the current time.
-    enum class TimeMode { Fixed, Nearest, Blend } timeMode = TimeMode::Blend;
-    bool dvr = true;
-    std::vector<double> isovalues;   ///< mode "iso": up to 8 surfaces, coloured by the colour map
-    double isoOpacity = 1.0;
-    /// Mode "slice": up to 4 surfaces of constant longitude, latitude or height (data metres),
-    /// coloured by the colour map at the field's value.
-    struct Slice {
-        enum class Axis { Lon, Lat, Height } axis = Axis::Lon;
-        double value = 0.0;
-    };
-    std::vector<Slice> slices;
-    double sliceOpacity = 1.0;
-    int steps = 100;
-    /// The length, in the box's normalised coordinates (each edge 1), over which a sample's
-    /// opacity is the transfer function's alpha (VTK's "scalar opacity unit distance", relative
-    /// to the box). Default: a hundredth of the normalised diagonal.
-    double opacityUnit = 0.017320508075688773;
-    TransferFunctionDesc transfer;
-    bool rangeFromData = true;
-    double verticalExaggeration = 1.0;
-    /// Rays jump over bricks that show nothing under the transfer function and isovalues.
-    bool emptySkipping = true;
-    /// The field on the GPU: "float32" (exact) or "float16": half the memory and ~10 % faster
-    /// on lavapipe; values are stored relative to the data's range (mid-range 0, ends +-1),
-    /// so they keep 11 significant bits of the range (0.05 % at its ends, finer near the middle);
-    /// no data stays NaN.
-    bool halfField = false;
-};
-
 /// A synthetic field for tests and benchmarks: "sphere" is the distance from the grid's centre
 /// in voxel units (known geometry: every isosurface is a sphere in index space), "waves" a
 /// smooth product of sines, "constant" 1 everywhere (zero gradient), "empty" all no data,
@@ -85,7 +56,7 @@ struct SyntheticVolume {
     std::string field = "sphere";
     size_t nx = 64, ny = 64, nz = 64;
     double west = -10, east = 10, south = 40, north = 60, bottom = 0, top = 200000;
-    /// Time steps (UTC); step s holds the field plus s. Empty: one step, no time.
+    /// Time steps (UTC); time step s holds the field plus s. Empty: one time step, no time.
     std::vector<TimeNs> times;
 };
 VolumeField makeSyntheticVolume(const SyntheticVolume& s);
@@ -95,8 +66,8 @@ public:
     /// The scene type: its name, description, factory (create) and the files its object names.
     static scene::LayerType layerType();
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
-    VolumeLayer(VolumeField field, VolumeSettings settings, std::vector<std::vector<float>> moreSteps = {},
-                std::vector<TimeNs> stepTimes = {});
+    VolumeLayer(VolumeField field, VolumeSettings settings, std::vector<std::vector<float>> moreTimeSteps = {},
+                std::vector<TimeNs> timeStepTimes = {});
     ~VolumeLayer() override;
 
     std::string_view type() const override { return "volume"; }
@@ -136,33 +107,44 @@ public:
     glm::dvec3 voxelAt(const glm::dvec3& ecef) const;
 
     const VolumeField& field() const { return field_; }
-    size_t timeSteps() const { return 1 + moreSteps_.size(); }
-    /// The steps shown now: (A, B, weight of B), from the last update().
-    glm::vec3 timeBlend() const { return {stepA_, stepB_, stepWeight_}; }
+    size_t timeSteps() const { return 1 + moreTimeSteps_.size(); }
+    /// The time steps shown now: (A, B, weight of B), from the last update().
+    glm::vec3 timeBlend() const { return {timeStepA_, timeStepB_, timeStepWeight_}; }
     const VolumeSettings& settings() const { return settings_; }
     /// Whether the ray caster was built with empty-space skipping (after prepare()).
     bool skipsEmptyBricks() const { return skipEmpty_; }
 
 private:
     void onPrepare(const render::RenderServices& services) override;
-    void computeFrame();
+    // prepare(), in order: the field's texels (time steps stacked along z, with the wrap column
+    // of a periodic field), the axis lookups (returns their table), the brick grid, half floats
+    // (sets fieldScale_, releases the floats), the GPU objects and their upload, the ray caster.
+    std::vector<float> stackTexels();
+    std::vector<float> buildLookups();
+    void buildBricks(const std::vector<float>& texels);
+    std::vector<uint16_t> toHalfFloats(std::vector<float>& texels);
+    void uploadData(const std::vector<float>& texels, const std::vector<uint16_t>& halves,
+                    const std::vector<float>& axisTable);
+    void createRayCaster();
+    gpu::Specialization rayCasterModes();   // also decides skipEmpty_
+    // recordCompute(), in order: the cast image and the descriptors, the uniforms, the live
+    // edits (transfer function, brick bits), the dispatch, the hit distances' readback.
     void ensureCastImage(uint32_t width, uint32_t height);
     void writeDescriptors(uint32_t frameSlot);
+    VolumeFrameInputs frameInputs(const scene::Camera& camera) const;
+    void recordEdits(VkCommandBuffer cmd);
+    void recordHitReadback(VkCommandBuffer cmd, uint32_t width, uint32_t height);
 
-    VolumeField field_;                        // step 0 (or the fixed step), with the grid
-    std::vector<std::vector<float>> moreSteps_;   // the values of steps 1.., when time animates
-    std::vector<TimeNs> stepTimes_;              // one per uploaded step (empty: no time)
-    float stepA_ = 0.0f, stepB_ = 0.0f, stepWeight_ = 0.0f;
+    VolumeField field_;                               // time step 0 (or the fixed one), with the grid
+    std::vector<std::vector<float>> moreTimeSteps_;   // the values of time steps 1.., when time animates
+    std::vector<TimeNs> timeStepTimes_;               // one per uploaded time step (empty: no time)
+    float timeStepA_ = 0.0f, timeStepB_ = 0.0f, timeStepWeight_ = 0.0f;
     VolumeSettings settings_;
     const render::RenderServices* services_ = nullptr;
     render::RenderServices servicesCopy_;
 
-    // The curved box in its frame (double on the CPU).
-    glm::dvec3 origin_{0.0};
-    glm::dvec3 boxMin_{0.0}, boxMax_{0.0};
+    VolumeBox box_;                     // the curved box in its frame
     glm::dvec2 fieldScale_{1.0, 0.0};   // value = stored * x + y
-    glm::dvec2 jumpLimit_{0.0};   // longest jump over empty bricks: metres; per metre from the axis
-    double shellLow_ = 0.0, shellHigh_ = 0.0;   // drawn heights of the shell's surfaces (m)
     std::vector<double> lonAxis_;   // with the wrap column when the field is periodic
     std::array<AxisLookup, 3> lookups_;
     uint64_t frameCounter_ = 0;

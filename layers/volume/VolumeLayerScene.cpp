@@ -59,16 +59,129 @@ VolumeField makeSyntheticVolume(const SyntheticVolume& s) {
 // ---------------------------------------------------------------------------------------------
 // Scene file
 
-Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc& desc, const scene::SceneDesc& scene) {
-    scene::JsonReader r(desc.settings, scene.file.string(), desc.jsonPath);
-    for (const char* common : {"type", "name", "visible", "viewpoint"}) r.accept(common);
-    const std::string where = scene.file.string() + ": " + desc.jsonPath;
-    VolumeSettings s;
+namespace {
 
-    // The data: a file or a synthetic field, and how time picks its steps.
+/// The data a volume shows: the field (time step 0, or the fixed one) with its grid, and the
+/// values of the other time steps when virtual time animates it.
+struct LoadedVolume {
     std::optional<VolumeField> field;
-    std::vector<std::vector<float>> moreSteps;
-    std::vector<TimeNs> stepTimes;
+    std::vector<std::vector<float>> moreTimeSteps;
+    std::vector<TimeNs> timeStepTimes;
+};
+
+/// "synthetic": {"field", "size", "lon", "lat", "height", "times"}.
+SyntheticVolume readSyntheticKeys(scene::JsonReader& sr) {
+    SyntheticVolume sv;
+    sv.field = sr.string("field", sv.field).value_or(sv.field);
+    if (sv.field != "sphere" && sv.field != "waves" && sv.field != "constant" && sv.field != "empty" && sv.field != "peer")
+        sr.fail("field", "expected \"sphere\", \"waves\", \"constant\", \"empty\" (all no data) or \"peer\"");
+    if (auto size = sr.numbers("size", 3, std::vector<double>{64, 64, 64}); size && size->size() == 3) {
+        for (double n : *size)
+            if (n < 2 || n > 1024 || n != std::floor(n)) sr.fail("size", "each size is an integer from 2 to 1024");
+        sv.nx = size_t((*size)[0]), sv.ny = size_t((*size)[1]), sv.nz = size_t((*size)[2]);
+    }
+    const auto pair = [&](const char* key, double& lo, double& hi, double min, double max) {
+        if (auto v = sr.numbers(key, 2, std::vector<double>{lo, hi}); v && v->size() == 2) {
+            if (!((*v)[0] < (*v)[1]) || (*v)[0] < min || (*v)[1] > max)
+                sr.fail(key, "must be [low, high] with low < high within " + std::to_string(int(min)) + " .. " +
+                                 std::to_string(int(max)));
+            lo = (*v)[0], hi = (*v)[1];
+        }
+    };
+    pair("lon", sv.west, sv.east, -360, 360);
+    pair("lat", sv.south, sv.north, -90, 90);
+    pair("height", sv.bottom, sv.top, -1e6, 1e7);
+    if (sv.east - sv.west > 360.0) sr.fail("lon", "spans more than 360 degrees");
+    if (const nlohmann::json* times = sr.array("times")) {
+        for (const auto& t : *times) {
+            auto parsed = t.is_string() ? parseIso8601(t.get<std::string>()) : Result<TimeNs>(makeError("not a string"));
+            if (!parsed) {
+                sr.fail("times", "each time is an ISO 8601 instant");
+                break;
+            }
+            if (!sv.times.empty() && *parsed <= sv.times.back()) sr.fail("times", "times must increase");
+            sv.times.push_back(*parsed);
+        }
+    }
+    return sv;
+}
+
+/// A synthetic field; time step s holds the field plus s.
+Result<LoadedVolume> loadSynthetic(const nlohmann::json& synthetic, const scene::LayerDesc& desc,
+                                   const scene::SceneDesc& scene) {
+    scene::JsonReader sr(synthetic, scene.file.string(), desc.jsonPath + "/synthetic");
+    const SyntheticVolume sv = readSyntheticKeys(sr);
+    if (auto done = sr.finish(); !done) return done.error();
+    LoadedVolume out;
+    out.field = makeSyntheticVolume(sv);
+    for (size_t ts = 1; ts < sv.times.size(); ++ts) {
+        std::vector<float> v = out.field->values;
+        for (float& x : v) x += float(ts);
+        out.moreTimeSteps.push_back(std::move(v));
+    }
+    if (sv.times.size() > 1) out.field->maxValue += float(sv.times.size() - 1);
+    out.timeStepTimes = sv.times;
+    return out;
+}
+
+/// Every time step of the file's variable after `first` (already in out.field), when they fit:
+/// out.field becomes time step 0 and the others follow in order.
+Result<void> loadAllTimeSteps(const VolumeReadOptions& o, const std::string& where, LoadedVolume& out) {
+    VolumeField& field = *out.field;
+    const size_t timeSteps = field.times.size();
+    const uint64_t timeStepBytes = uint64_t(field.values.size()) * sizeof(float);
+    if (timeStepBytes * timeSteps > o.maxBytes || field.nz() * timeSteps > 2048)
+        return makeError(where + ": " + std::to_string(timeSteps) + " time steps of " + std::to_string(timeStepBytes >> 20) +
+                         " MB do not fit (memory budget " + std::to_string(o.maxBytes >> 20) +
+                         " MB, 2048 levels in all): set \"time\": \"fixed\" and pick a \"timeStep\"");
+    const size_t first = o.timeIndex;
+    std::vector<std::vector<float>> all(timeSteps);
+    for (size_t i = 0; i < timeSteps; ++i) {
+        if (i == first) continue;
+        VolumeReadOptions oi = o;
+        oi.timeIndex = i;
+        auto timeStep = readVolume(oi);
+        if (!timeStep) return makeError(where + ": " + timeStep.message());
+        field.minValue = std::min(field.minValue, timeStep->minValue);
+        field.maxValue = std::max(field.maxValue, timeStep->maxValue);
+        field.validCount += timeStep->validCount;
+        all[i] = std::move(timeStep->values);
+    }
+    all[first] = std::move(field.values);
+    field.values = std::move(all[0]);
+    field.timeIndex = 0;   // the values held are time step 0's; the rest follow in order
+    for (size_t i = 1; i < timeSteps; ++i) out.moreTimeSteps.push_back(std::move(all[i]));
+    out.timeStepTimes = field.times;
+    return {};
+}
+
+/// A variable of a file ("path", "variable", "timeStep", "pressureToHeight"): one time step, or
+/// all of them when virtual time animates it. An empty field when a key is wrong (r holds why).
+Result<LoadedVolume> loadFile(scene::JsonReader& r, const std::string& path, const scene::SceneDesc& scene,
+                              const std::string& where, VolumeSettings::TimeMode timeMode) {
+    VolumeReadOptions o;
+    o.path = scene.resolve(path).string();
+    o.variable = r.string("variable", std::string()).value_or("");
+    if (r.ok() && o.variable.empty()) r.fail("variable", "name the variable to show");
+    o.timeIndex = size_t(r.number("timeStep", 0.0, 0.0, 1e9).value_or(0.0));
+    if (auto p = r.string("pressureToHeight", std::string("standard"))) {
+        if (*p == "standard") o.pressureToHeight = PressureToHeight::StandardAtmosphere;
+        else if (*p == "scaleHeight") o.pressureToHeight = PressureToHeight::ScaleHeight;
+        else r.fail("pressureToHeight", "expected \"standard\" or \"scaleHeight\"");
+    }
+    LoadedVolume out;
+    if (!r.ok()) return out;
+    auto read = readVolume(o);
+    if (!read) return makeError(where + ": " + read.message());
+    out.field = std::move(read).value();
+    if (timeMode != VolumeSettings::TimeMode::Fixed && out.field->times.size() > 1)
+        if (auto all = loadAllTimeSteps(o, where, out); !all) return all.error();
+    return out;
+}
+
+/// "time", then the data: "path" (with "variable") or "synthetic".
+Result<LoadedVolume> loadData(scene::JsonReader& r, const scene::LayerDesc& desc, const scene::SceneDesc& scene,
+                              const std::string& where, VolumeSettings& s) {
     if (auto mode = r.string("time", std::string("blend"))) {
         if (*mode == "blend") s.timeMode = VolumeSettings::TimeMode::Blend;
         else if (*mode == "nearest") s.timeMode = VolumeSettings::TimeMode::Nearest;
@@ -78,98 +191,39 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
     const auto path = r.string("path", std::string());
     const nlohmann::json* synthetic = r.object("synthetic");
     if (path && !path->empty() && synthetic) r.fail("synthetic", "give either \"path\" or \"synthetic\", not both");
-    if (synthetic && r.ok()) {
-        scene::JsonReader sr(*synthetic, scene.file.string(), desc.jsonPath + "/synthetic");
-        SyntheticVolume sv;
-        sv.field = sr.string("field", sv.field).value_or(sv.field);
-        if (sv.field != "sphere" && sv.field != "waves" && sv.field != "constant" && sv.field != "empty" &&
-            sv.field != "peer")
-            sr.fail("field", "expected \"sphere\", \"waves\", \"constant\", \"empty\" (all no data) or \"peer\"");
-        if (auto size = sr.numbers("size", 3, std::vector<double>{64, 64, 64}); size && size->size() == 3) {
-            for (double n : *size)
-                if (n < 2 || n > 1024 || n != std::floor(n)) sr.fail("size", "each size is an integer from 2 to 1024");
-            sv.nx = size_t((*size)[0]), sv.ny = size_t((*size)[1]), sv.nz = size_t((*size)[2]);
-        }
-        const auto pair = [&](const char* key, double& lo, double& hi, double min, double max) {
-            if (auto v = sr.numbers(key, 2, std::vector<double>{lo, hi}); v && v->size() == 2) {
-                if (!((*v)[0] < (*v)[1]) || (*v)[0] < min || (*v)[1] > max)
-                    sr.fail(key, "must be [low, high] with low < high within " + std::to_string(int(min)) + " .. " +
-                                     std::to_string(int(max)));
-                lo = (*v)[0], hi = (*v)[1];
-            }
-        };
-        pair("lon", sv.west, sv.east, -360, 360);
-        pair("lat", sv.south, sv.north, -90, 90);
-        pair("height", sv.bottom, sv.top, -1e6, 1e7);
-        if (sv.east - sv.west > 360.0) sr.fail("lon", "spans more than 360 degrees");
-        if (const nlohmann::json* times = sr.array("times")) {
-            for (const auto& t : *times) {
-                auto parsed = t.is_string() ? parseIso8601(t.get<std::string>()) : Result<TimeNs>(makeError("not a string"));
-                if (!parsed) {
-                    sr.fail("times", "each time is an ISO 8601 instant");
-                    break;
-                }
-                if (!sv.times.empty() && *parsed <= sv.times.back()) sr.fail("times", "times must increase");
-                sv.times.push_back(*parsed);
-            }
-        }
-        if (auto done = sr.finish(); !done) return done.error();
-        field = makeSyntheticVolume(sv);
-        for (size_t step = 1; step < sv.times.size(); ++step) {
-            std::vector<float> v = field->values;
-            for (float& x : v) x += float(step);
-            moreSteps.push_back(std::move(v));
-        }
-        if (sv.times.size() > 1) field->maxValue += float(sv.times.size() - 1);
-        stepTimes = sv.times;
-    } else if (path && !path->empty() && r.ok()) {
-        VolumeReadOptions o;
-        o.path = scene.resolve(*path).string();
-        o.variable = r.string("variable", std::string()).value_or("");
-        if (r.ok() && o.variable.empty()) r.fail("variable", "name the variable to show");
-        o.timeIndex = size_t(r.number("timeStep", 0.0, 0.0, 1e9).value_or(0.0));
-        if (auto p = r.string("pressureToHeight", std::string("standard"))) {
-            if (*p == "standard") o.pressureToHeight = PressureToHeight::StandardAtmosphere;
-            else if (*p == "scaleHeight") o.pressureToHeight = PressureToHeight::ScaleHeight;
-            else r.fail("pressureToHeight", "expected \"standard\" or \"scaleHeight\"");
-        }
-        if (r.ok()) {
-            auto read = readVolume(o);
-            if (!read) return makeError(where + ": " + read.message());
-            field = std::move(read).value();
-            // Every step, when virtual time animates the variable (and it fits).
-            const size_t steps = field->times.size();
-            if (s.timeMode != VolumeSettings::TimeMode::Fixed && steps > 1) {
-                const uint64_t stepBytes = uint64_t(field->values.size()) * sizeof(float);
-                if (stepBytes * steps > o.maxBytes || field->nz() * steps > 2048)
-                    return makeError(where + ": " + std::to_string(steps) + " time steps of " +
-                                     std::to_string(stepBytes >> 20) + " MB do not fit (memory budget " +
-                                     std::to_string(o.maxBytes >> 20) +
-                                     " MB, 2048 levels in all): set \"time\": \"fixed\" and pick a \"timeStep\"");
-                const size_t first = o.timeIndex;
-                std::vector<std::vector<float>> all(steps);
-                for (size_t i = 0; i < steps; ++i) {
-                    if (i == first) continue;
-                    VolumeReadOptions oi = o;
-                    oi.timeIndex = i;
-                    auto step = readVolume(oi);
-                    if (!step) return makeError(where + ": " + step.message());
-                    field->minValue = std::min(field->minValue, step->minValue);
-                    field->maxValue = std::max(field->maxValue, step->maxValue);
-                    field->validCount += step->validCount;
-                    all[i] = std::move(step->values);
-                }
-                all[first] = std::move(field->values);
-                field->values = std::move(all[0]);
-                field->timeIndex = 0;   // the values held are step 0's; the rest follow in order
-                for (size_t i = 1; i < steps; ++i) moreSteps.push_back(std::move(all[i]));
-                stepTimes = field->times;
-            }
-        }
-    } else if (r.ok()) {
-        r.fail("path", "give the data: \"path\" (with \"variable\") or \"synthetic\"");
-    }
+    if (synthetic && r.ok()) return loadSynthetic(*synthetic, desc, scene);
+    if (path && !path->empty() && r.ok()) return loadFile(r, *path, scene, where, s.timeMode);
+    if (r.ok()) r.fail("path", "give the data: \"path\" (with \"variable\") or \"synthetic\"");
+    return LoadedVolume{};
+}
 
+/// "slices": [{"lon": deg}, {"lat": deg}, {"height": m}] (mode "slice").
+void readSlices(scene::JsonReader& r, VolumeSettings& s) {
+    const nlohmann::json* list = r.array("slices", true);
+    if (!list) return;
+    for (const auto& item : *list) {
+        VolumeSettings::Slice sl;
+        const bool one = item.is_object() && item.size() == 1 && item.begin().value().is_number();
+        const std::string key = one ? item.begin().key() : std::string();
+        if (key == "lon") sl.axis = VolumeSettings::Slice::Axis::Lon;
+        else if (key == "lat") sl.axis = VolumeSettings::Slice::Axis::Lat;
+        else if (key == "height") sl.axis = VolumeSettings::Slice::Axis::Height;
+        else {
+            r.fail("slices", "each slice is {\"lon\": deg}, {\"lat\": deg} or {\"height\": m}");
+            break;
+        }
+        sl.value = item.begin().value().get<double>();
+        if (sl.axis == VolumeSettings::Slice::Axis::Lat && !kSliceLatitudeRange.contains(sl.value))
+            r.fail("slices", "a latitude slice must be within " + std::to_string(int(kSliceLatitudeRange.min)) + " .. " +
+                                 std::to_string(int(kSliceLatitudeRange.max)) + " degrees");
+        s.slices.push_back(sl);
+    }
+    if (r.ok() && (s.slices.empty() || s.slices.size() > shader::kVolumeMaxSlices))
+        r.fail("slices", "mode \"slice\" needs 1 to " + std::to_string(shader::kVolumeMaxSlices) + " slices");
+}
+
+/// "mode" and what the modes use: "isovalues" (iso), "slices" (slice).
+void readModes(scene::JsonReader& r, VolumeSettings& s) {
     bool iso = false, slice = false;
     if (const nlohmann::json* modes = r.array("mode")) {
         s.dvr = false;
@@ -189,34 +243,12 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
     } else if (r.has("isovalues")) {
         r.fail("isovalues", "only used with mode \"iso\" (add \"iso\" to \"mode\")");
     }
-    if (slice) {
-        if (const nlohmann::json* list = r.array("slices", true)) {
-            for (const auto& item : *list) {
-                VolumeSettings::Slice sl;
-                const bool one = item.is_object() && item.size() == 1 && item.begin().value().is_number();
-                const std::string key = one ? item.begin().key() : std::string();
-                if (key == "lon") sl.axis = VolumeSettings::Slice::Axis::Lon;
-                else if (key == "lat") sl.axis = VolumeSettings::Slice::Axis::Lat;
-                else if (key == "height") sl.axis = VolumeSettings::Slice::Axis::Height;
-                else {
-                    r.fail("slices", "each slice is {\"lon\": deg}, {\"lat\": deg} or {\"height\": m}");
-                    break;
-                }
-                sl.value = item.begin().value().get<double>();
-                if (sl.axis == VolumeSettings::Slice::Axis::Lat && !(std::abs(sl.value) <= 89.0))
-                    r.fail("slices", "a latitude slice must be within -89 .. 89 degrees");
-                s.slices.push_back(sl);
-            }
-            if (r.ok() && (s.slices.empty() || s.slices.size() > shader::kVolumeMaxSlices))
-                r.fail("slices", "mode \"slice\" needs 1 to " + std::to_string(shader::kVolumeMaxSlices) + " slices");
-        }
-    } else if (r.has("slices")) {
-        r.fail("slices", "only used with mode \"slice\" (add \"slice\" to \"mode\")");
-    }
-    s.sliceOpacity = r.number("sliceOpacity", 1.0, 0.0, 1.0).value_or(1.0);
-    s.isoOpacity = r.number("isoOpacity", 1.0, 0.0, 1.0).value_or(1.0);
-    s.steps = int(r.number("steps", s.steps, 1.0, 4096.0).value_or(s.steps));
-    s.opacityUnit = r.number("opacityUnit", s.opacityUnit, 1e-6, 10.0).value_or(s.opacityUnit);
+    if (slice) readSlices(r, s);
+    else if (r.has("slices")) r.fail("slices", "only used with mode \"slice\" (add \"slice\" to \"mode\")");
+}
+
+/// "colorMap", "range" and the "opacity" curve.
+void readTransfer(scene::JsonReader& r, VolumeSettings& s) {
     s.transfer.colorMap = r.string("colorMap", s.transfer.colorMap).value_or(s.transfer.colorMap);
     if (!hasColorMap(s.transfer.colorMap)) {
         std::string names;
@@ -243,26 +275,53 @@ Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc
             s.transfer.opacity.push_back({p[0].get<double>(), p[1].get<double>()});
         }
     }
-    s.transfer.opacityScale = r.number("opacityScale", 1.0, 0.0, 1000.0).value_or(1.0);
+}
+
+/// How the volume is drawn: opacities, steps, the transfer function, exaggeration, skipping,
+/// the field's format.
+void readLook(scene::JsonReader& r, VolumeSettings& s) {
+    s.sliceOpacity = r.number("sliceOpacity", 1.0, kOpacityRange.min, kOpacityRange.max).value_or(1.0);
+    s.isoOpacity = r.number("isoOpacity", 1.0, kOpacityRange.min, kOpacityRange.max).value_or(1.0);
+    s.steps = int(r.number("steps", s.steps, kStepsRange.min, kStepsRange.max).value_or(s.steps));
+    s.opacityUnit = r.number("opacityUnit", s.opacityUnit, kOpacityUnitRange.min, kOpacityUnitRange.max).value_or(s.opacityUnit);
+    readTransfer(r, s);
+    s.transfer.opacityScale = r.number("opacityScale", 1.0, kOpacityScaleRange.min, kOpacityScaleRange.max).value_or(1.0);
     s.verticalExaggeration = r.number("verticalExaggeration", 1.0, 0.001, 10000.0).value_or(1.0);
     s.emptySkipping = r.boolean("emptySkipping", true).value_or(true);
     if (auto format = r.string("fieldFormat", std::string("float32"))) {
         if (*format == "float16") s.halfField = true;
         else if (*format != "float32") r.fail("fieldFormat", "expected \"float32\" or \"float16\"");
     }
+}
+
+/// Without "range": the data's (any range when there is no data to show).
+void rangeFromData(VolumeSettings& s, const VolumeField& field) {
+    if (!s.rangeFromData) return;
+    if (field.validCount == 0) {
+        s.transfer.rangeMin = 0.0, s.transfer.rangeMax = 1.0;
+    } else {
+        s.transfer.rangeMin = field.minValue;
+        s.transfer.rangeMax = field.maxValue > field.minValue ? double(field.maxValue) : field.minValue + 1.0;
+    }
+}
+
+}  // namespace
+
+Result<std::unique_ptr<scene::Layer>> VolumeLayer::create(const scene::LayerDesc& desc, const scene::SceneDesc& scene) {
+    scene::JsonReader r(desc.settings, scene.file.string(), desc.jsonPath);
+    for (const char* common : {"type", "name", "visible", "viewpoint"}) r.accept(common);
+    const std::string where = scene.file.string() + ": " + desc.jsonPath;
+    VolumeSettings s;
+    auto data = loadData(r, desc, scene, where, s);
+    if (!data) return data.error();
+    readModes(r, s);
+    readLook(r, s);
     if (auto done = r.finish(); !done) return done.error();
 
-    if (s.rangeFromData) {
-        if (field->validCount == 0) {
-            s.transfer.rangeMin = 0.0, s.transfer.rangeMax = 1.0;   // nothing to show; any range
-        } else {
-            s.transfer.rangeMin = field->minValue;
-            s.transfer.rangeMax = field->maxValue > field->minValue ? double(field->maxValue) : field->minValue + 1.0;
-        }
-    }
+    rangeFromData(s, *data->field);
     if (auto table = buildTransferTable(s.transfer); !table) return makeError(where + ": " + table.message());
-    return std::unique_ptr<scene::Layer>(
-        new VolumeLayer(std::move(*field), std::move(s), std::move(moreSteps), std::move(stepTimes)));
+    return std::unique_ptr<scene::Layer>(new VolumeLayer(std::move(*data->field), std::move(s),
+                                                         std::move(data->moreTimeSteps), std::move(data->timeStepTimes)));
 }
 
 scene::LayerType VolumeLayer::layerType() {

@@ -269,6 +269,20 @@ struct Context {
     Error error(const std::string& what) const { return makeError(file + ": variable \"" + variable + "\": " + what); }
 };
 
+/// The variable's dimensions, each placed on an axis, and which one is lon, lat, vertical, time.
+struct Dimensions {
+    std::vector<Placed> placed;   ///< in the file's order
+    int index[5] = {-1, -1, -1, -1, -1};   ///< by Axis: the dimension's position, -1 for none
+    bool has(Axis a) const { return index[int(a)] >= 0; }
+    const Placed& of(Axis a) const { return placed[size_t(index[int(a)])]; }
+};
+
+/// An axis's coordinates in ascending order, and whether the file had them so.
+struct Coordinates {
+    std::vector<double> values;
+    bool ascending = true;
+};
+
 Result<std::shared_ptr<GDALMDArray>> openVariable(GDALDataset& ds, const std::string& file, const std::string& variable,
                                                   std::string* fullName) {
     const auto root = ds.GetRootGroup();
@@ -309,6 +323,235 @@ GDALDatasetUniquePtr openMultidim(const std::string& path, std::string* error) {
     return ds;
 }
 
+/// Places every dimension of the variable on an axis; errors for two dimensions on one axis, a
+/// dimension that cannot be placed, or a missing lon, lat or vertical.
+Result<Dimensions> placeDimensions(const GDALMDArray& array, const Context& ctx) {
+    const auto& dims = array.GetDimensions();
+    if (dims.size() < 3)
+        return ctx.error("has " + std::to_string(dims.size()) +
+                         " dimension(s): a volume needs longitude, latitude and a vertical dimension");
+    Dimensions out;
+    for (size_t d = 0; d < dims.size(); ++d) {
+        Placed p{classify(*dims[d]), dims[d], size_t(dims[d]->GetSize())};
+        const int a = int(p.axis);
+        if (p.axis != Axis::Other && out.index[a] >= 0)
+            return ctx.error("dimensions \"" + dims[size_t(out.index[a])]->GetName() + "\" and \"" + dims[d]->GetName() +
+                             "\" both look like " + axisName(p.axis));
+        if (p.axis == Axis::Other && p.size > 1)
+            return ctx.error("cannot place dimension \"" + dims[d]->GetName() + "\" (size " + std::to_string(p.size) +
+                             "): it is not longitude, latitude, vertical or time by its CF attributes");
+        if (p.axis != Axis::Other) out.index[a] = int(d);
+        out.placed.push_back(p);
+    }
+    for (Axis need : {Axis::Lon, Axis::Lat, Axis::Vertical})
+        if (!out.has(need)) {
+            std::string names;
+            for (const auto& d : dims) names += (names.empty() ? "" : ", ") + d->GetName();
+            return ctx.error(std::string("has no ") + axisName(need) + " dimension (dimensions: " + names + ")");
+        }
+    return out;
+}
+
+/// The coordinate variable of an axis's dimension, unpacked (packed coordinates are rare but legal).
+Result<std::vector<double>> readCoordinate(const Dimensions& dims, Axis a, const Context& ctx) {
+    const auto& dim = dims.of(a).dim;
+    const auto var = dim->GetIndexingVariable();
+    if (!var) return ctx.error("dimension \"" + dim->GetName() + "\" has no coordinate variable");
+    auto v = readAll1d(*var);
+    if (!v) return ctx.error("cannot read coordinate \"" + dim->GetName() + "\": " + QuietGdal::last("read failed"));
+    bool hasScale = false, hasOffset = false;
+    const double scale = var->GetScale(&hasScale), offset = var->GetOffset(&hasOffset);
+    if (hasScale || hasOffset)
+        for (double& x : *v) x = x * (hasScale ? scale : 1.0) + (hasOffset ? offset : 0.0);
+    return *v;
+}
+
+/// Longitudes, ascending and continuous (each step forward by 0 < d <= 360, starting in
+/// [-180, 180)); `wraps` when they cover the whole circle.
+Result<Coordinates> readLongitudes(const Dimensions& dims, const Context& ctx, bool* wraps) {
+    auto lon = readCoordinate(dims, Axis::Lon, ctx);
+    if (!lon) return lon.error();
+    std::vector<double>& v = *lon;
+    const bool ascending = !(v.size() > 1 && v[1] < v[0]);
+    if (!ascending) std::reverse(v.begin(), v.end());
+    for (double x : v)
+        if (!std::isfinite(x)) return ctx.error("longitude has non-finite values");
+    v[0] = std::remainder(v[0], 360.0);
+    if (v[0] >= 180.0) v[0] -= 360.0;
+    for (size_t i = 1; i < v.size(); ++i) {
+        double d = std::remainder(v[i] - v[i - 1], 360.0);
+        if (d <= 0.0) d += 360.0;
+        v[i] = v[i - 1] + d;
+    }
+    const double span = v.back() - v.front();
+    if (span > 360.0 + 1e-9) return ctx.error("longitudes span more than 360 degrees (not monotonic?)");
+    *wraps = false;
+    if (v.size() > 1) *wraps = span + span / double(v.size() - 1) >= 360.0 - 1e-6 * 360.0;
+    return Coordinates{std::move(v), ascending};
+}
+
+/// Latitudes, ascending, within the poles.
+Result<Coordinates> readLatitudes(const Dimensions& dims, const Context& ctx) {
+    auto lat = readCoordinate(dims, Axis::Lat, ctx);
+    if (!lat) return lat.error();
+    bool ascending = true;
+    if (!strictlyMonotonic(*lat, &ascending)) return ctx.error("latitudes are not strictly monotonic");
+    if (!ascending) std::reverse(lat->begin(), lat->end());
+    if (lat->front() < -90.0 - 1e-9 || lat->back() > 90.0 + 1e-9) return ctx.error("latitudes outside -90 .. 90");
+    return Coordinates{std::move(*lat), ascending};
+}
+
+/// The vertical levels as heights (m), ascending: pressures through `pressureToHeight`, depths
+/// negated, kilometres scaled. Sets out.verticalSource, verticalUnits and verticalRaw (the
+/// file's values in the order of the heights).
+Result<Coordinates> readVertical(const Dimensions& dims, const Context& ctx, PressureToHeight pressureToHeight,
+                                 VolumeField& out) {
+    const auto& vdim = dims.of(Axis::Vertical).dim;
+    auto vert = readCoordinate(dims, Axis::Vertical, ctx);
+    if (!vert) return vert.error();
+    const auto vvar = vdim->GetIndexingVariable();
+    std::string vunits = lower(trim(vvar->GetUnit()));
+    if (vunits.empty()) vunits = lower(trim(stringAttribute(*vvar, "units")));
+    out.verticalUnits = vvar->GetUnit();
+    std::vector<double> heights(vert->size());
+    if (isPressureUnit(vunits)) {
+        out.verticalSource = VerticalSource::Pressure;
+        const double toPa = vunits == "pa" ? 1.0 : vunits == "kpa" ? 1000.0 : 100.0;
+        for (size_t k = 0; k < vert->size(); ++k) {
+            const double p = (*vert)[k] * toPa;
+            if (!(p > 0.0)) return ctx.error("pressure level " + std::to_string((*vert)[k]) + " " + vvar->GetUnit() + " is not positive");
+            heights[k] = pressureToHeight == PressureToHeight::StandardAtmosphere ? standardAtmosphereHeight(p)
+                                                                                  : 7000.0 * std::log(101325.0 / p);
+        }
+    } else if (isLengthUnit(vunits)) {
+        const double toM = vunits == "km" ? 1000.0 : 1.0;
+        const bool down = lower(stringAttribute(*vvar, "positive")) == "down" ||
+                          lower(stringAttribute(*vvar, "standard_name")) == "depth";
+        out.verticalSource = down ? VerticalSource::Depth : VerticalSource::Height;
+        for (size_t k = 0; k < vert->size(); ++k) heights[k] = (down ? -1.0 : 1.0) * (*vert)[k] * toM;
+    } else {
+        return ctx.error("cannot place the vertical dimension \"" + vdim->GetName() + "\": units \"" +
+                         vvar->GetUnit() + "\" are neither a pressure (Pa, hPa) nor a length (m, km)");
+    }
+    bool ascending = true;
+    if (!strictlyMonotonic(heights, &ascending)) return ctx.error("vertical levels are not strictly monotonic");
+    if (!ascending) {
+        std::reverse(heights.begin(), heights.end());
+        std::reverse(vert->begin(), vert->end());
+    }
+    out.verticalRaw = std::move(*vert);
+    return Coordinates{std::move(heights), ascending};
+}
+
+/// The time dimension, if any: out.timeSteps, timeIndex and the steps' UTC instants (CF units on
+/// the standard/Gregorian calendars; none otherwise).
+Result<void> readTimes(const Dimensions& dims, const Context& ctx, size_t timeIndex, VolumeField& out) {
+    if (!dims.has(Axis::Time)) return {};
+    const Placed& tdim = dims.of(Axis::Time);
+    out.timeSteps = tdim.size;
+    if (timeIndex >= tdim.size)
+        return ctx.error("time step " + std::to_string(timeIndex) + " does not exist (" + std::to_string(tdim.size) +
+                         " steps)");
+    out.timeIndex = timeIndex;
+    const auto tvar = tdim.dim->GetIndexingVariable();
+    if (!tvar) return {};
+    std::string tunits = tvar->GetUnit();
+    if (tunits.empty()) tunits = stringAttribute(*tvar, "units");
+    const std::string calendar = lower(stringAttribute(*tvar, "calendar"));
+    const bool gregorian = calendar.empty() || calendar == "standard" || calendar == "gregorian" ||
+                           calendar == "proleptic_gregorian";
+    auto cf = parseCfTimeUnits(tunits);
+    auto values = readAll1d(*tvar);
+    if (cf && gregorian && values)
+        for (double v : *values) out.times.push_back(cf->reference + fromSeconds(v * cf->secondsPerUnit));
+    return {};
+}
+
+/// One time step of the whole variable in the file's order, as doubles (after a size check).
+Result<std::vector<double>> readRaw(const GDALMDArray& array, const Dimensions& dims, const Context& ctx,
+                                    const VolumeReadOptions& options, size_t nx, size_t ny, size_t nz) {
+    const long double bytes = (long double)nx * ny * nz * (sizeof(double) + sizeof(float));
+    if (bytes > (long double)options.maxBytes)
+        return ctx.error("needs " + std::to_string(uint64_t(bytes / 1048576.0L)) + " MB to read (" + std::to_string(nx) +
+                         " x " + std::to_string(ny) + " x " + std::to_string(nz) + "), more than the budget of " +
+                         std::to_string(options.maxBytes >> 20) + " MB");
+    std::vector<GUInt64> start(dims.placed.size(), 0);
+    std::vector<size_t> count(dims.placed.size(), 1);
+    for (size_t d = 0; d < dims.placed.size(); ++d) {
+        if (dims.placed[d].axis == Axis::Time) start[d] = options.timeIndex;
+        else count[d] = dims.placed[d].size;
+    }
+    std::vector<double> raw;
+    try {
+        raw.resize(nx * ny * nz);
+    } catch (const std::bad_alloc&) {
+        return ctx.error("out of memory for " + std::to_string(nx * ny * nz) + " values");
+    }
+    if (!array.Read(start.data(), count.data(), nullptr, nullptr, GDALExtendedDataType::Create(GDT_Float64), raw.data()))
+        return ctx.error("cannot be read (truncated or corrupt?): " + QuietGdal::last("read failed"));
+    return raw;
+}
+
+/// The variable's no-data rules (tested in the packed, file space) and its packing.
+struct Packing {
+    bool hasNoData = false;
+    double noData = 0.0;
+    std::vector<double> missing;
+    double lo = -HUGE_VAL, hi = HUGE_VAL;   // valid_range / valid_min / valid_max
+    double scale = 1.0, offset = 0.0;
+
+    explicit Packing(const GDALMDArray& array) {
+        noData = array.GetNoDataValueAsDouble(&hasNoData);
+        missing = doubleAttribute(array, "missing_value");
+        const std::vector<double> range = doubleAttribute(array, "valid_range");
+        const std::vector<double> vmin = doubleAttribute(array, "valid_min"), vmax = doubleAttribute(array, "valid_max");
+        lo = range.size() == 2 ? range[0] : vmin.empty() ? -HUGE_VAL : vmin[0];
+        hi = range.size() == 2 ? range[1] : vmax.empty() ? HUGE_VAL : vmax[0];
+        bool hasScale = false, hasOffset = false;
+        const double s = array.GetScale(&hasScale), o = array.GetOffset(&hasOffset);
+        scale = hasScale ? s : 1.0, offset = hasOffset ? o : 0.0;
+    }
+    /// The value of a raw number: NaN for no data.
+    float unpack(double r) const {
+        bool valid = std::isfinite(r) && !(hasNoData && r == noData) && r >= lo && r <= hi;
+        for (double m : missing) valid = valid && r != m;
+        if (!valid) return std::numeric_limits<float>::quiet_NaN();
+        const float v = float(r * scale + offset);
+        return std::isfinite(v) ? v : std::numeric_limits<float>::quiet_NaN();
+    }
+};
+
+/// Scatters `raw` (the file's order) into out.values (lon fastest, then lat, then height, each
+/// ascending), unpacked, with the range and count of the valid values.
+void storeValues(const std::vector<double>& raw, const Dimensions& dims, const Packing& packing,
+                 const bool ascending[3], VolumeField& out) {
+    const size_t nx = out.nx(), ny = out.ny(), nz = out.nz();
+    std::vector<size_t> stride(dims.placed.size(), 1);
+    for (size_t d = dims.placed.size(); d-- > 1;)
+        stride[d - 1] = stride[d] * (dims.placed[d].axis == Axis::Time ? 1 : dims.placed[d].size);
+    const size_t sLon = stride[size_t(dims.index[int(Axis::Lon)])], sLat = stride[size_t(dims.index[int(Axis::Lat)])],
+                 sVert = stride[size_t(dims.index[int(Axis::Vertical)])];
+    out.values.resize(nx * ny * nz);
+    float vMin = std::numeric_limits<float>::max(), vMax = -vMin;
+    for (size_t k = 0; k < nz; ++k) {
+        const size_t fk = ascending[2] ? k : nz - 1 - k;
+        for (size_t j = 0; j < ny; ++j) {
+            const size_t fj = ascending[1] ? j : ny - 1 - j;
+            for (size_t i = 0; i < nx; ++i) {
+                const size_t fi = ascending[0] ? i : nx - 1 - i;
+                const float v = packing.unpack(raw[fk * sVert + fj * sLat + fi * sLon]);
+                if (std::isfinite(v)) {
+                    vMin = std::min(vMin, v);
+                    vMax = std::max(vMax, v);
+                    ++out.validCount;
+                }
+                out.values[(k * ny + j) * nx + i] = v;
+            }
+        }
+    }
+    if (out.validCount) out.minValue = vMin, out.maxValue = vMax;
+}
+
 }  // namespace
 
 Result<VolumeField> readVolume(const VolumeReadOptions& options) {
@@ -320,211 +563,28 @@ Result<VolumeField> readVolume(const VolumeReadOptions& options) {
     VolumeField out;
     auto opened = openVariable(*ds, options.path, options.variable, &out.variable);
     if (!opened) return opened.error();
-    const std::shared_ptr<GDALMDArray> array = *opened;
+    const GDALMDArray& array = **opened;
     const Context ctx{options.path, out.variable};
 
-    // Place every dimension.
-    const auto& dims = array->GetDimensions();
-    if (dims.size() < 3)
-        return ctx.error("has " + std::to_string(dims.size()) +
-                         " dimension(s): a volume needs longitude, latitude and a vertical dimension");
-    std::vector<Placed> placed;
-    int index[5] = {-1, -1, -1, -1, -1};
-    for (size_t d = 0; d < dims.size(); ++d) {
-        Placed p{classify(*dims[d]), dims[d], size_t(dims[d]->GetSize())};
-        const int a = int(p.axis);
-        if (p.axis != Axis::Other && index[a] >= 0)
-            return ctx.error("dimensions \"" + dims[size_t(index[a])]->GetName() + "\" and \"" + dims[d]->GetName() +
-                             "\" both look like " + axisName(p.axis));
-        if (p.axis == Axis::Other && p.size > 1)
-            return ctx.error("cannot place dimension \"" + dims[d]->GetName() + "\" (size " + std::to_string(p.size) +
-                             "): it is not longitude, latitude, vertical or time by its CF attributes");
-        if (p.axis != Axis::Other) index[a] = int(d);
-        placed.push_back(p);
-    }
-    for (Axis need : {Axis::Lon, Axis::Lat, Axis::Vertical})
-        if (index[int(need)] < 0)
-            return ctx.error(std::string("has no ") + axisName(need) + " dimension (dimensions: " + [&] {
-                std::string s;
-                for (const auto& d : dims) s += (s.empty() ? "" : ", ") + d->GetName();
-                return s;
-            }() + ")");
-
-    const auto coordinate = [&](Axis a) -> Result<std::vector<double>> {
-        const auto& dim = placed[size_t(index[int(a)])].dim;
-        const auto var = dim->GetIndexingVariable();
-        if (!var) return ctx.error("dimension \"" + dim->GetName() + "\" has no coordinate variable");
-        auto v = readAll1d(*var);
-        if (!v) return ctx.error("cannot read coordinate \"" + dim->GetName() + "\": " + QuietGdal::last("read failed"));
-        // Packed coordinates are rare but legal.
-        bool hasScale = false, hasOffset = false;
-        const double scale = var->GetScale(&hasScale), offset = var->GetOffset(&hasOffset);
-        if (hasScale || hasOffset)
-            for (double& x : *v) x = x * (hasScale ? scale : 1.0) + (hasOffset ? offset : 0.0);
-        return *v;
-    };
-
-    // Longitude: ascending and continuous.
-    auto lon = coordinate(Axis::Lon);
+    auto dims = placeDimensions(array, ctx);
+    if (!dims) return dims.error();
+    auto lon = readLongitudes(*dims, ctx, &out.lonWraps);
     if (!lon) return lon.error();
-    bool lonAscending = true;
-    if (lon->size() > 1 && (*lon)[1] < (*lon)[0]) lonAscending = false;
-    if (!lonAscending) std::reverse(lon->begin(), lon->end());
-    for (double& x : *lon)
-        if (!std::isfinite(x)) return ctx.error("longitude has non-finite values");
-    (*lon)[0] = std::remainder((*lon)[0], 360.0);
-    if ((*lon)[0] >= 180.0) (*lon)[0] -= 360.0;
-    for (size_t i = 1; i < lon->size(); ++i) {   // each step forward by 0 < d <= 360
-        double d = std::remainder((*lon)[i] - (*lon)[i - 1], 360.0);
-        if (d <= 0.0) d += 360.0;
-        (*lon)[i] = (*lon)[i - 1] + d;
-    }
-    const double lonSpan = lon->back() - lon->front();
-    if (lonSpan > 360.0 + 1e-9) return ctx.error("longitudes span more than 360 degrees (not monotonic?)");
-    if (lon->size() > 1) {
-        const double step = lonSpan / double(lon->size() - 1);
-        out.lonWraps = lonSpan + step >= 360.0 - 1e-6 * 360.0;
-    }
-
-    // Latitude: ascending, within the poles.
-    auto lat = coordinate(Axis::Lat);
+    auto lat = readLatitudes(*dims, ctx);
     if (!lat) return lat.error();
-    bool latAscending = true;
-    if (!strictlyMonotonic(*lat, &latAscending)) return ctx.error("latitudes are not strictly monotonic");
-    if (!latAscending) std::reverse(lat->begin(), lat->end());
-    if (lat->front() < -90.0 - 1e-9 || lat->back() > 90.0 + 1e-9) return ctx.error("latitudes outside -90 .. 90");
+    auto heights = readVertical(*dims, ctx, options.pressureToHeight, out);
+    if (!heights) return heights.error();
+    if (auto times = readTimes(*dims, ctx, options.timeIndex, out); !times) return times.error();
 
-    // Vertical: heights, ascending.
-    const auto& vdim = placed[size_t(index[int(Axis::Vertical)])].dim;
-    auto vert = coordinate(Axis::Vertical);
-    if (!vert) return vert.error();
-    const auto vvar = vdim->GetIndexingVariable();
-    std::string vunits = lower(trim(vvar->GetUnit()));
-    if (vunits.empty()) vunits = lower(trim(stringAttribute(*vvar, "units")));
-    const std::string positive = lower(stringAttribute(*vvar, "positive"));
-    const std::string vstandard = lower(stringAttribute(*vvar, "standard_name"));
-    out.verticalUnits = vvar->GetUnit();
-    std::vector<double> heights(vert->size());
-    if (isPressureUnit(vunits)) {
-        out.verticalSource = VerticalSource::Pressure;
-        const double toPa = vunits == "pa" ? 1.0 : vunits == "kpa" ? 1000.0 : 100.0;
-        for (size_t k = 0; k < vert->size(); ++k) {
-            const double p = (*vert)[k] * toPa;
-            if (!(p > 0.0)) return ctx.error("pressure level " + std::to_string((*vert)[k]) + " " + vvar->GetUnit() + " is not positive");
-            heights[k] = options.pressureToHeight == PressureToHeight::StandardAtmosphere
-                             ? standardAtmosphereHeight(p)
-                             : 7000.0 * std::log(101325.0 / p);
-        }
-    } else if (isLengthUnit(vunits)) {
-        const double toM = vunits == "km" ? 1000.0 : 1.0;
-        const bool down = positive == "down" || vstandard == "depth";
-        out.verticalSource = down ? VerticalSource::Depth : VerticalSource::Height;
-        for (size_t k = 0; k < vert->size(); ++k) heights[k] = (down ? -1.0 : 1.0) * (*vert)[k] * toM;
-    } else {
-        return ctx.error("cannot place the vertical dimension \"" + vdim->GetName() + "\": units \"" +
-                         vvar->GetUnit() + "\" are neither a pressure (Pa, hPa) nor a length (m, km)");
-    }
-    bool heightAscending = true;
-    if (!strictlyMonotonic(heights, &heightAscending)) return ctx.error("vertical levels are not strictly monotonic");
-    if (!heightAscending) {
-        std::reverse(heights.begin(), heights.end());
-        std::reverse(vert->begin(), vert->end());
-    }
-
-    // Time.
-    if (index[int(Axis::Time)] >= 0) {
-        const auto& tdim = placed[size_t(index[int(Axis::Time)])];
-        out.timeSteps = tdim.size;
-        if (options.timeIndex >= tdim.size)
-            return ctx.error("time step " + std::to_string(options.timeIndex) + " does not exist (" +
-                             std::to_string(tdim.size) + " steps)");
-        out.timeIndex = options.timeIndex;
-        if (const auto tvar = tdim.dim->GetIndexingVariable()) {
-            std::string tunits = tvar->GetUnit();
-            if (tunits.empty()) tunits = stringAttribute(*tvar, "units");
-            const std::string calendar = lower(stringAttribute(*tvar, "calendar"));
-            const bool gregorian = calendar.empty() || calendar == "standard" || calendar == "gregorian" ||
-                                   calendar == "proleptic_gregorian";
-            auto cf = parseCfTimeUnits(tunits);
-            auto values = readAll1d(*tvar);
-            if (cf && gregorian && values) {
-                for (double v : *values) out.times.push_back(cf->reference + fromSeconds(v * cf->secondsPerUnit));
-            }
-        }
-    }
-
-    // Size, before any allocation.
-    const size_t nx = lon->size(), ny = lat->size(), nz = heights.size();
-    const long double bytes = (long double)nx * ny * nz * (sizeof(double) + sizeof(float));
-    if (bytes > (long double)options.maxBytes)
-        return ctx.error("needs " + std::to_string(uint64_t(bytes / 1048576.0L)) + " MB to read (" + std::to_string(nx) +
-                         " x " + std::to_string(ny) + " x " + std::to_string(nz) + "), more than the budget of " +
-                         std::to_string(options.maxBytes >> 20) + " MB");
-
-    // Read in the file's order, one time step.
-    std::vector<GUInt64> start(dims.size(), 0);
-    std::vector<size_t> count(dims.size(), 1);
-    for (size_t d = 0; d < dims.size(); ++d) {
-        if (placed[d].axis == Axis::Time) start[d] = options.timeIndex;
-        else count[d] = placed[d].size;
-    }
-    std::vector<double> raw;
-    try {
-        raw.resize(nx * ny * nz);
-    } catch (const std::bad_alloc&) {
-        return ctx.error("out of memory for " + std::to_string(nx * ny * nz) + " values");
-    }
-    if (!array->Read(start.data(), count.data(), nullptr, nullptr, GDALExtendedDataType::Create(GDT_Float64), raw.data()))
-        return ctx.error("cannot be read (truncated or corrupt?): " + QuietGdal::last("read failed"));
-
-    // No-data tests in the packed (file) space, then unpacking.
-    bool hasNoData = false;
-    const double noData = array->GetNoDataValueAsDouble(&hasNoData);
-    const std::vector<double> missing = doubleAttribute(*array, "missing_value");
-    const std::vector<double> range = doubleAttribute(*array, "valid_range");
-    const std::vector<double> vmin = doubleAttribute(*array, "valid_min"), vmax = doubleAttribute(*array, "valid_max");
-    const double lo = range.size() == 2 ? range[0] : vmin.empty() ? -HUGE_VAL : vmin[0];
-    const double hi = range.size() == 2 ? range[1] : vmax.empty() ? HUGE_VAL : vmax[0];
-    bool hasScale = false, hasOffset = false;
-    const double scale = array->GetScale(&hasScale), offset = array->GetOffset(&hasOffset);
-    out.units = array->GetUnit();
-    out.longName = stringAttribute(*array, "long_name");
-
-    // Strides of the file's order, then the scatter into (lon, lat, height) with flips.
-    std::vector<size_t> stride(dims.size(), 1);
-    for (size_t d = dims.size(); d-- > 1;) stride[d - 1] = stride[d] * count[d];
-    const size_t sLon = stride[size_t(index[int(Axis::Lon)])], sLat = stride[size_t(index[int(Axis::Lat)])],
-                 sVert = stride[size_t(index[int(Axis::Vertical)])];
-    out.values.resize(nx * ny * nz);
-    float vMin = std::numeric_limits<float>::max(), vMax = -vMin;
-    for (size_t k = 0; k < nz; ++k) {
-        const size_t fk = heightAscending ? k : nz - 1 - k;
-        for (size_t j = 0; j < ny; ++j) {
-            const size_t fj = latAscending ? j : ny - 1 - j;
-            for (size_t i = 0; i < nx; ++i) {
-                const size_t fi = lonAscending ? i : nx - 1 - i;
-                const double r = raw[fk * sVert + fj * sLat + fi * sLon];
-                bool valid = std::isfinite(r) && !(hasNoData && r == noData) && r >= lo && r <= hi;
-                for (double m : missing) valid = valid && r != m;
-                float v = std::numeric_limits<float>::quiet_NaN();
-                if (valid) {
-                    v = float(r * (hasScale ? scale : 1.0) + (hasOffset ? offset : 0.0));
-                    if (!std::isfinite(v)) v = std::numeric_limits<float>::quiet_NaN();
-                }
-                if (std::isfinite(v)) {
-                    vMin = std::min(vMin, v);
-                    vMax = std::max(vMax, v);
-                    ++out.validCount;
-                }
-                out.values[(k * ny + j) * nx + i] = v;
-            }
-        }
-    }
-    if (out.validCount) out.minValue = vMin, out.maxValue = vMax;
-    out.lonDeg = std::move(*lon);
-    out.latDeg = std::move(*lat);
-    out.heightM = std::move(heights);
-    out.verticalRaw = std::move(*vert);
+    auto raw = readRaw(array, *dims, ctx, options, lon->values.size(), lat->values.size(), heights->values.size());
+    if (!raw) return raw.error();
+    out.units = array.GetUnit();
+    out.longName = stringAttribute(array, "long_name");
+    const bool ascending[3] = {lon->ascending, lat->ascending, heights->ascending};
+    out.lonDeg = std::move(lon->values);
+    out.latDeg = std::move(lat->values);
+    out.heightM = std::move(heights->values);
+    storeValues(*raw, *dims, Packing(array), ascending, out);
     return out;
 }
 
@@ -544,6 +604,61 @@ bool looksLikeVolumeFile(const std::string& path) {
     return any;
 }
 
+namespace {
+
+/// One variable as describeVolumeJson lists it: name, type, units, dimensions, packing, range.
+nlohmann::json describeArray(const GDALMDArray& a) {
+    nlohmann::json v;
+    v["name"] = a.GetFullName();
+    v["type"] = GDALGetDataTypeName(a.GetDataType().GetNumericDataType());
+    if (!a.GetUnit().empty()) v["units"] = a.GetUnit();
+    if (const auto ln = stringAttribute(a, "long_name"); !ln.empty()) v["longName"] = ln;
+    nlohmann::json dims = nlohmann::json::array();
+    for (const auto& d : a.GetDimensions())
+        dims.push_back({{"name", d->GetName()}, {"size", d->GetSize()}, {"axis", axisName(classify(*d))}});
+    v["dimensions"] = dims;
+    bool has = false;
+    const double nd = a.GetNoDataValueAsDouble(&has);
+    if (has) v["fillValue"] = nd;
+    const double scale = a.GetScale(&has);
+    if (has) v["scale"] = scale;
+    const double offset = a.GetOffset(&has);
+    if (has) v["offset"] = offset;
+    if (a.GetDimensionCount() == 1)
+        if (auto values = readAll1d(a); values && !values->empty()) {
+            const auto [mn, mx] = std::minmax_element(values->begin(), values->end());
+            v["range"] = {*mn, *mx};
+        }
+    return v;
+}
+
+/// What readVolume makes of a volume variable's first time step.
+nlohmann::json describeVolume(const std::string& path, const std::string& name) {
+    VolumeReadOptions o;
+    o.path = path;
+    o.variable = name;
+    o.maxBytes = uint64_t(512) << 20;
+    auto f = readVolume(o);
+    if (!f) return {{"readable", false}, {"error", f.message()}};
+    nlohmann::json vol = {{"readable", true},
+                          {"grid", {f->nx(), f->ny(), f->nz()}},
+                          {"lon", {f->lonDeg.front(), f->lonDeg.back()}},
+                          {"lat", {f->latDeg.front(), f->latDeg.back()}},
+                          {"heightM", {f->heightM.front(), f->heightM.back()}},
+                          {"lonWraps", f->lonWraps},
+                          {"vertical", f->verticalSource == VerticalSource::Pressure ? "pressure"
+                                       : f->verticalSource == VerticalSource::Depth  ? "depth"
+                                                                                      : "height"},
+                          {"timeSteps", f->timeSteps},
+                          {"validValues", f->validCount},
+                          {"noDataValues", f->values.size() - f->validCount}};
+    if (f->validCount) vol["range"] = {f->minValue, f->maxValue};
+    if (!f->times.empty()) vol["times"] = {formatIso8601(f->times.front(), 0), formatIso8601(f->times.back(), 0)};
+    return vol;
+}
+
+}  // namespace
+
 Result<std::string> describeVolumeJson(const std::string& path) {
     registerGdalOnce();
     QuietGdal quiet;
@@ -555,58 +670,13 @@ Result<std::string> describeVolumeJson(const std::string& path) {
     nlohmann::json variables = nlohmann::json::array();
     std::vector<std::string> volumes;
     forEachArray(root, [&](const std::shared_ptr<GDALMDArray>& a) {
-        nlohmann::json v;
-        v["name"] = a->GetFullName();
-        v["type"] = GDALGetDataTypeName(a->GetDataType().GetNumericDataType());
-        if (!a->GetUnit().empty()) v["units"] = a->GetUnit();
-        if (const auto ln = stringAttribute(*a, "long_name"); !ln.empty()) v["longName"] = ln;
-        nlohmann::json dims = nlohmann::json::array();
-        for (const auto& d : a->GetDimensions())
-            dims.push_back({{"name", d->GetName()}, {"size", d->GetSize()}, {"axis", axisName(classify(*d))}});
-        v["dimensions"] = dims;
-        bool has = false;
-        const double nd = a->GetNoDataValueAsDouble(&has);
-        if (has) v["fillValue"] = nd;
-        const double scale = a->GetScale(&has);
-        if (has) v["scale"] = scale;
-        const double offset = a->GetOffset(&has);
-        if (has) v["offset"] = offset;
+        variables.push_back(describeArray(*a));
         if (a->GetDimensionCount() >= 3) volumes.push_back(a->GetFullName());
-        else if (a->GetDimensionCount() == 1)
-            if (auto values = readAll1d(*a); values && !values->empty()) {
-                const auto [mn, mx] = std::minmax_element(values->begin(), values->end());
-                v["range"] = {*mn, *mx};
-            }
-        variables.push_back(v);
     });
     // Volume variables: what readVolume makes of their first time step.
     for (auto& v : variables) {
         const std::string name = v["name"];
-        if (std::find(volumes.begin(), volumes.end(), name) == volumes.end()) continue;
-        VolumeReadOptions o;
-        o.path = path;
-        o.variable = name;
-        o.maxBytes = uint64_t(512) << 20;
-        auto f = readVolume(o);
-        if (!f) {
-            v["volume"] = {{"readable", false}, {"error", f.message()}};
-            continue;
-        }
-        nlohmann::json vol = {{"readable", true},
-                              {"grid", {f->nx(), f->ny(), f->nz()}},
-                              {"lon", {f->lonDeg.front(), f->lonDeg.back()}},
-                              {"lat", {f->latDeg.front(), f->latDeg.back()}},
-                              {"heightM", {f->heightM.front(), f->heightM.back()}},
-                              {"lonWraps", f->lonWraps},
-                              {"vertical", f->verticalSource == VerticalSource::Pressure ? "pressure"
-                                           : f->verticalSource == VerticalSource::Depth  ? "depth"
-                                                                                          : "height"},
-                              {"timeSteps", f->timeSteps},
-                              {"validValues", f->validCount},
-                              {"noDataValues", f->values.size() - f->validCount}};
-        if (f->validCount) vol["range"] = {f->minValue, f->maxValue};
-        if (!f->times.empty()) vol["times"] = {formatIso8601(f->times.front(), 0), formatIso8601(f->times.back(), 0)};
-        v["volume"] = vol;
+        if (std::find(volumes.begin(), volumes.end(), name) != volumes.end()) v["volume"] = describeVolume(path, name);
     }
     nlohmann::json out = {{"file", path}, {"driver", ds->GetDriver() ? ds->GetDriver()->GetDescription() : "?"},
                           {"variables", variables}};

@@ -11,43 +11,74 @@
 // refined by secant/bisection steps, lit with Phong shading and a normal from central
 // differences. A jittered start, early termination, and an end at the scene depth.
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = kVolumeGroupSize, local_size_y = kVolumeGroupSize) in;
 
 // What the scene's modes use is compiled in; the rest is left out.
-layout(constant_id = 0) const bool kDvr = true;
-layout(constant_id = 1) const int kIsoCount = 0;   // isosurfaces (0 .. kVolumeMaxIso)
-layout(constant_id = 2) const int kSliceCount = 0; // slice planes (0 .. kVolumeMaxSlices)
+layout(constant_id = kVolumeSpecDvr) const bool kDvr = true;
+layout(constant_id = kVolumeSpecIsoCount) const int kIsoCount = 0;     // isosurfaces (0 .. kVolumeMaxIso)
+layout(constant_id = kVolumeSpecSliceCount) const int kSliceCount = 0; // slice planes (0 .. kVolumeMaxSlices)
 // Measurement only (tests, benchmarks): write each ray's first isosurface distance, and find
 // crossings without refinement (at the sample after the sign change).
-layout(constant_id = 3) const bool kHitOutput = false;
-layout(constant_id = 4) const bool kRefine = true;
+layout(constant_id = kVolumeSpecHitOutput) const bool kHitOutput = false;
+layout(constant_id = kVolumeSpecRefine) const bool kRefine = true;
 // Time steps blended at the current time: a second field fetch per sample (only then).
-layout(constant_id = 5) const bool kBlendSteps = false;
-// Which axes are evenly spaced (bit 0 lon, 1 lat, 2 height): those map linearly, the others
+layout(constant_id = kVolumeSpecBlendTimeSteps) const bool kBlendTimeSteps = false;
+// Which axes are evenly spaced (bit 1 << kVolumeAxis*): those map linearly, the others
 // through the lookup table. A constant, not a uniform: CPU devices run both sides of a branch.
-layout(constant_id = 6) const int kUniformAxes = 7;
+layout(constant_id = kVolumeSpecUniformAxes) const int kUniformAxes = 7;
 // Empty-space skipping: rays jump over bricks that show nothing.
-layout(constant_id = 7) const bool kSkipEmpty = true;
+layout(constant_id = kVolumeSpecSkipEmpty) const bool kSkipEmpty = true;
 
-layout(set = 0, binding = 0) uniform FrameBlock { FrameUniforms frame; };
-layout(set = 1, binding = 0) uniform VolumeBlock { VolumeUniforms vol; };
-layout(set = 1, binding = 1) uniform sampler3D field;
-layout(set = 1, binding = 2, std430) readonly buffer AxisBlock { float axisTable[]; };
-layout(set = 1, binding = 3) uniform sampler1D transfer;
-layout(set = 1, binding = 4) uniform sampler2D sceneDepth;
-layout(set = 1, binding = 5, rgba16f) uniform writeonly image2D outImage;
-layout(set = 1, binding = 7, r32f) uniform writeonly image2D hitImage;   // kHitOutput only
-layout(set = 1, binding = 8, std430) readonly buffer BrickBlock { uint brickBits[]; };
+layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
+layout(set = kVolumeSet, binding = kVolumeBindingUniforms) uniform VolumeBlock { VolumeUniforms vol; };
+layout(set = kVolumeSet, binding = kVolumeBindingField) uniform sampler3D field;
+layout(set = kVolumeSet, binding = kVolumeBindingAxes, std430) readonly buffer AxisBlock { float axisTable[]; };
+layout(set = kVolumeSet, binding = kVolumeBindingTransfer) uniform sampler1D transfer;
+layout(set = kVolumeSet, binding = kVolumeBindingSceneDepth) uniform sampler2D sceneDepth;
+layout(set = kVolumeSet, binding = kVolumeBindingCastImage, rgba16f) uniform writeonly image2D outImage;
+layout(set = kVolumeSet, binding = kVolumeBindingHits, r32f) uniform writeonly image2D hitImage;   // kHitOutput only
+layout(set = kVolumeSet, binding = kVolumeBindingBricks, std430) readonly buffer BrickBlock { uint brickBits[]; };
 
-// Shared per ray.
-vec3 gEye, gDir;
-float gC0, gS0;
+// One ray, marched relative to the volume's origin in ECEF axes (float, small numbers): its
+// eye, its unit direction, and the cosine and sine of the origin's longitude (longitudes are
+// taken relative to the origin's meridian).
+struct Ray {
+    vec3 eye;
+    vec3 dir;
+    float c0, s0;
+};
 
-// The last sample: distance from the polar axis (m), voxel coordinates, inside the box, and
-// whether its brick shows nothing.
-float gRho;
-vec3 gVox;
-bool gInBox = false, gEmpty = false;
+// One sample of the field, as the march and the refinement see it.
+struct Sample {
+    vec3 geo;      // (lon, lat, height): degrees, degrees, metres of data height
+    float rho;     // distance from the polar axis (m)
+    float value;   // the field (0 outside the box; NaN where there is no data)
+    bool ok;       // inside the box, with data
+    bool inBox;
+    // Empty-space skipping only (kSkipEmpty): voxel coordinates, and whether the sample's brick
+    // shows nothing.
+    vec3 vox;
+    bool empty;
+};
+
+// The march along one segment: where the next sample is (t), the step (dt), the rate at which
+// the box's normalised coordinates change per metre, and the previous sample (its t, its
+// normalised position, the sample itself).
+struct March {
+    float t, dt, rate;
+    bool jumped;   // the last advance jumped: the sample stands for one step, not the jump
+    float prevT;
+    vec3 prevN;
+    Sample prev;
+};
+
+// This ray's slice hits, two per slice: ray parameter (1e30: none) and colour.
+struct SliceHits {
+    float t[2 * kVolumeMaxSlices];
+    vec4 c[2 * kVolumeMaxSlices];
+};
+
+bool uniformAxis(int axis) { return (kUniformAxes & (1 << axis)) != 0; }
 
 // Coordinate -> texture coordinate along one axis (texel centres at the samples).
 float axisCoord(int axis, float x, float first, float last, float n, bool uniformAxis) {
@@ -62,9 +93,9 @@ float axisCoord(int axis, float x, float first, float last, float n, bool unifor
 // Where the ray meets the surface at height H (semi-axes a + H, a + H, b + H): t entering and
 // leaving. `os` is the origin scaled by 1 / axes, c0 = |os|^2 - 1 (from doubles on the CPU), so
 // the quadratic's constant term is small numbers only.
-vec2 shellHits(vec3 os, float c0, vec2 invAxes) {
+vec2 shellHits(Ray ray, vec3 os, float c0, vec2 invAxes) {
     vec3 sc = vec3(invAxes.x, invAxes.x, invAxes.y);
-    vec3 es = gEye * sc, w = gDir * sc;
+    vec3 es = ray.eye * sc, w = ray.dir * sc;
     float qa = dot(w, w);
     float qb = dot(os + es, w);
     float qc = c0 + 2.0 * dot(os, es) + dot(es, es);
@@ -82,79 +113,92 @@ float hash(uvec2 p, uint frameIndex) {
     return float(h & 0xffffu) / 65536.0;
 }
 
-// (lon, lat, height) of the point at ray parameter t: degrees, degrees, metres of data height.
-vec3 geoAt(float t) {
-    vec3 d = gEye + t * gDir;   // relative to the origin, ECEF axes
+// (lon, lat, height) of the point at ray parameter t: degrees, degrees, metres of data height;
+// `rho` its distance from the polar axis.
+vec3 geoAt(Ray ray, float t, out float rho) {
+    vec3 d = ray.eye + t * ray.dir;   // relative to the origin, ECEF axes
     // Longitude relative to the origin's meridian: no large number is subtracted.
-    float xa = vol.originAxis.x + (d.x * gC0 + d.y * gS0);
-    float yb = d.y * gC0 - d.x * gS0;
-    float rho = length(vec2(xa, yb));
-    gRho = rho;
-    float z = vol.originAxis.y + d.z;
-    float lonDeg = degrees(vol.originAxis.z + atan(yb, xa));
-    lonDeg = vol.lonRange.x + mod(lonDeg - vol.lonRange.x, 360.0);
-    float latDeg = degrees(atan(z, rho * vol.samples.w));   // geodetic, near the surface
+    float xa = vol.originRho + (d.x * ray.c0 + d.y * ray.s0);
+    float yb = d.y * ray.c0 - d.x * ray.s0;
+    rho = length(vec2(xa, yb));
+    float z = vol.originZ + d.z;
+    float lonDeg = degrees(vol.originLon + atan(yb, xa));
+    lonDeg = vol.lonFirst + mod(lonDeg - vol.lonFirst, 360.0);
+    float latDeg = degrees(atan(z, rho * vol.oneMinusE2));   // geodetic, near the surface
     // Radius of the ellipsoid along the point's direction, without trigonometry:
     // r = a b |p| / sqrt(b^2 rho^2 + a^2 z^2).
-    float a = vol.forward.w, b = vol.radii.z;
+    float a = vol.equatorialRadius, b = vol.polarRadius;
     float r = length(vec2(rho, z));
     float rEll = a * b * r / length(vec2(b * rho, a * z));
-    return vec3(lonDeg, latDeg, (r - rEll) / vol.lonRange.w);
+    return vec3(lonDeg, latDeg, (r - rEll) / vol.verticalExaggeration);
 }
 
 // The position in the box's normalised coordinates (0..1 along lon, lat and height).
 vec3 normalised(vec3 geo) {
-    return vec3((geo.x - vol.lonRange.x) / (vol.lonRange.y - vol.lonRange.x),
-                (geo.y - vol.latRange.x) / (vol.latRange.y - vol.latRange.x),
-                (geo.z - vol.latRange.z) / (vol.latRange.w - vol.latRange.z));
+    return vec3((geo.x - vol.lonFirst) / (vol.lonLast - vol.lonFirst),
+                (geo.y - vol.latFirst) / (vol.latLast - vol.latFirst),
+                (geo.z - vol.heightFirst) / (vol.heightLast - vol.heightFirst));
 }
 
-// The field at a position; false outside the box or where there is no data.
-bool sampleGeo(vec3 geo, out float value) {
-    value = 0.0;
-    gInBox = !(geo.x > vol.lonRange.y || geo.y < vol.latRange.x || geo.y > vol.latRange.y || geo.z < vol.latRange.z ||
-               geo.z > vol.latRange.w);
-    vec3 tc = vec3(axisCoord(0, geo.x, vol.lonRange.x, vol.lonRange.y, vol.samples.x, (kUniformAxes & 1) != 0),
-                   axisCoord(1, geo.y, vol.latRange.x, vol.latRange.y, vol.samples.y, (kUniformAxes & 2) != 0),
-                   axisCoord(2, geo.z, vol.latRange.z, vol.latRange.w, vol.samples.z, (kUniformAxes & 4) != 0));
+// The field at a position (`rho` from geoAt); not ok outside the box or where there is no data.
+Sample sampleGeo(vec3 geo, float rho) {
+    Sample s;
+    s.geo = geo;
+    s.rho = rho;
+    s.value = 0.0;
+    s.vox = vec3(0.0);
+    s.empty = false;
+    s.inBox = !(geo.x > vol.lonLast || geo.y < vol.latFirst || geo.y > vol.latLast || geo.z < vol.heightFirst ||
+                geo.z > vol.heightLast);
+    vec3 tc = vec3(axisCoord(kVolumeAxisLon, geo.x, vol.lonFirst, vol.lonLast, vol.samples.x, uniformAxis(kVolumeAxisLon)),
+                   axisCoord(kVolumeAxisLat, geo.y, vol.latFirst, vol.latLast, vol.samples.y, uniformAxis(kVolumeAxisLat)),
+                   axisCoord(kVolumeAxisHeight, geo.z, vol.heightFirst, vol.heightLast, vol.samples.z,
+                             uniformAxis(kVolumeAxisHeight)));
     // Its brick (a brick covers the voxels a linear sample reads): empty-space skipping.
     if (kSkipEmpty) {
-        gVox = clamp(tc * vol.samples.xyz - 0.5, vec3(0.0), vol.samples.xyz - 1.0);
-        ivec3 b = min(ivec3(gVox / vol.bricks.w), ivec3(vol.bricks.xyz) - 1);
+        s.vox = clamp(tc * vol.samples - 0.5, vec3(0.0), vol.samples - 1.0);
+        ivec3 b = min(ivec3(s.vox / vol.brickSize), ivec3(vol.bricks) - 1);
         int brick = (b.z * int(vol.bricks.y) + b.y) * int(vol.bricks.x) + b.x;
-        gEmpty = gInBox && (brickBits[brick >> 5] & (1u << (brick & 31))) == 0u;
+        s.empty = s.inBox && (brickBits[brick >> 5] & (1u << (brick & 31))) == 0u;
     }
-    if (!gInBox) return false;
-    // Time steps are stacked along z: step s occupies [s, s + 1) / steps, and tc.z stays half a
-    // texel inside one step, so filtering never mixes steps.
-    float steps = vol.timeInfo.w;
-    value = textureLod(field, vec3(tc.xy, (vol.timeInfo.x + tc.z) / steps), 0.0).r;
-    if (kBlendSteps && vol.timeInfo.z > 0.0)
-        value = mix(value, textureLod(field, vec3(tc.xy, (vol.timeInfo.y + tc.z) / steps), 0.0).r, vol.timeInfo.z);
-    value = value * vol.radii.x + vol.radii.y;   // half-float fields are stored relative to the range
-    return !isnan(value);
+    s.ok = false;
+    if (!s.inBox) return s;
+    // Time steps are stacked along z: time step s occupies [s, s + 1) / timeSteps, and tc.z stays
+    // half a texel inside one, so filtering never mixes time steps.
+    float timeSteps = vol.timeStepCount;
+    float value = textureLod(field, vec3(tc.xy, (vol.timeStepA + tc.z) / timeSteps), 0.0).r;
+    if (kBlendTimeSteps && vol.timeStepWeight > 0.0)
+        value = mix(value, textureLod(field, vec3(tc.xy, (vol.timeStepB + tc.z) / timeSteps), 0.0).r, vol.timeStepWeight);
+    s.value = value * vol.valueScale + vol.valueOffset;   // half-float fields are stored relative to the range
+    s.ok = !isnan(s.value);
+    return s;
 }
 
-bool sampleAt(float t, out float value) { return sampleGeo(geoAt(t), value); }
+Sample sampleAt(Ray ray, float t) {
+    float rho;
+    vec3 geo = geoAt(ray, t, rho);
+    return sampleGeo(geo, rho);
+}
 
 vec4 transferAt(float value) {
-    float f = clamp((value - vol.dataRange.x) * vol.dataRange.y, 0.0, 1.0);
-    return textureLod(transfer, (f * 255.0 + 0.5) / 256.0, 0.0);
+    float f = clamp((value - vol.rangeMin) * vol.rangeInvSpan, 0.0, 1.0);
+    const float n = float(kVolumeTransferSize);
+    return textureLod(transfer, (f * (n - 1.0) + 0.5) / n, 0.0);
 }
 
 float isovalue(int i) { return vol.isovalues[i / 4][i % 4]; }
 
 // Where the field crosses `c` between ta (value va) and tb (value vb): regula falsi, with a
 // bisection step whenever the secant lands badly or a sample has no data.
-float refineCrossing(float ta, float va, float tb, float vb, float c) {
+float refineCrossing(Ray ray, float ta, float va, float tb, float vb, float c) {
     for (int k = 0; k < 8; ++k) {
         float denom = vb - va;
         float tm = abs(denom) > 1e-20 ? ta + (c - va) * (tb - ta) / denom : 0.5 * (ta + tb);
         if (!(tm > ta && tm < tb) || k % 3 == 2) tm = 0.5 * (ta + tb);   // keep the bracket shrinking
-        float vm;
-        if (!sampleAt(tm, vm)) return tm;
-        if ((va - c) * (vm - c) <= 0.0) { tb = tm; vb = vm; }
-        else { ta = tm; va = vm; }
+        Sample m = sampleAt(ray, tm);
+        if (!m.ok) return tm;
+        if ((va - c) * (m.value - c) <= 0.0) { tb = tm; vb = m.value; }
+        else { ta = tm; va = m.value; }
     }
     float denom = vb - va;
     return abs(denom) > 1e-20 ? ta + (c - va) * (tb - ta) / denom : 0.5 * (ta + tb);
@@ -163,46 +207,44 @@ float refineCrossing(float ta, float va, float tb, float vb, float c) {
 // Unit gradient direction of the field at t (world axes), by central differences over `e`
 // metres (one-sided at the box's faces); zero gradients (constant fields) fall back to facing
 // the eye.
-vec3 normalAt(float t, float e) {
+vec3 normalAt(Ray ray, float t, float e) {
     vec3 g = vec3(0.0);
-    float v0;
-    bool ok0 = sampleAt(t, v0);
+    Sample s0 = sampleAt(ray, t);
     for (int axis = 0; axis < 3; ++axis) {
         vec3 off = vec3(0.0);
         off[axis] = e;
-        // Sample along the ray's frame by moving the eye: the same position function is used.
-        vec3 saveEye = gEye;
-        float vp, vm;
-        gEye = saveEye + off;
-        bool okP = sampleAt(t, vp);
-        gEye = saveEye - off;
-        bool okM = sampleAt(t, vm);
-        gEye = saveEye;
+        // Sample along the ray's frame with the eye moved: the same position function is used.
+        Ray moved = ray;
+        moved.eye = ray.eye + off;
+        Sample p = sampleAt(moved, t);
+        moved.eye = ray.eye - off;
+        Sample m = sampleAt(moved, t);
         // Central where both neighbours have data; one-sided at the box's faces and next to
         // no-data cells.
-        if (okP && okM) g[axis] = (vp - vm) / (2.0 * e);
-        else if (okP && ok0) g[axis] = (vp - v0) / e;
-        else if (okM && ok0) g[axis] = (v0 - vm) / e;
+        if (p.ok && m.ok) g[axis] = (p.value - m.value) / (2.0 * e);
+        else if (p.ok && s0.ok) g[axis] = (p.value - s0.value) / e;
+        else if (m.ok && s0.ok) g[axis] = (s0.value - m.value) / e;
     }
     float len = length(g);
-    return len > 1e-30 ? -g / len : -gDir;   // pointing toward lower values
+    return len > 1e-30 ? -g / len : -ray.dir;   // pointing toward lower values
 }
 
 // Ray parameters where the ray meets slice i (up to two; 1e30 where it does not).
-vec2 sliceHits(int i) {
-    vec4 A = vol.sliceA[i], B = vol.sliceB[i];
-    int kind = int(A.w + 0.5);
+vec2 sliceHits(Ray ray, int i) {
+    vec3 A = vol.slices[i].vector;
+    vec4 B = vol.slices[i].terms;
+    int kind = int(vol.slices[i].kind + 0.5);
     vec2 none = vec2(1e30);
-    if (kind == 0) {   // meridian plane through the axis: n . (O + eye + t dir) = 0
-        float nd = dot(A.xyz, gDir);
+    vec3 e = ray.eye, dir = ray.dir;
+    if (kind == kVolumeSliceLon) {   // meridian plane through the axis: n . (O + eye + t dir) = 0
+        float nd = dot(A, dir);
         if (abs(nd) < 1e-12) return none;
-        return vec2(-(B.x + dot(A.xyz, gEye)) / nd, 1e30);
+        return vec2(-(B.x + dot(A, e)) / nd, 1e30);
     }
-    if (kind == 1) {   // cone (z - apex)^2 = k rho^2
+    if (kind == kVolumeSliceLat) {   // cone (z - apex)^2 = k rho^2
         float k = B.x;
-        vec3 e = gEye;
-        float qa = gDir.z * gDir.z - k * dot(gDir.xy, gDir.xy);
-        float qb = (A.z + e.z) * gDir.z - k * dot(A.xy + e.xy, gDir.xy);
+        float qa = dir.z * dir.z - k * dot(dir.xy, dir.xy);
+        float qb = (A.z + e.z) * dir.z - k * dot(A.xy + e.xy, dir.xy);
         float qc = B.y + 2.0 * (A.z * e.z - k * dot(A.xy, e.xy)) + (e.z * e.z - k * dot(e.xy, e.xy));
         if (abs(qa) < 1e-20) return abs(qb) > 1e-20 ? vec2(-0.5 * qc / qb, 1e30) : none;
         float disc = qb * qb - qa * qc;
@@ -210,217 +252,234 @@ vec2 sliceHits(int i) {
         float q = -(qb + (qb >= 0.0 ? 1.0 : -1.0) * sqrt(disc));
         return vec2(q / qa, q != 0.0 ? qc / q : 1e30);
     }
-    vec2 h = shellHits(A.xyz, B.x, B.yz);   // surface at a height
+    vec2 h = shellHits(ray, A, B.x, B.yz);   // surface at a height
     return h.x < h.y ? h : none;
 }
 
-// This ray's slice hits: parameter (1e30: none) and colour, two per slice.
-float gSliceT[8];
-vec4 gSliceC[8];
+// The slices' hits in front of the scene (tEnter .. tExit), inside the box. The arrays are only
+// ever indexed with loop counters of constant trip count, unrolled on request ([[unroll]]:
+// lavapipe leaves loops this large rolled), never with data: dynamic indexing is very slow on
+// CPU rasterisers (slices 143 -> 50 ms at 960x540 with the loops unrolled).
+SliceHits findSliceHits(Ray ray, float tEnter, float tExit) {
+    SliceHits hits;
+    [[unroll]] for (int k = 0; k < 2 * kVolumeMaxSlices; ++k) hits.t[k] = 1e30;
+    [[unroll]] for (int i = 0; i < kSliceCount; ++i) {
+        vec2 ts = sliceHits(ray, i);
+        [[unroll]] for (int j = 0; j < 2; ++j) {
+            float th = ts[j];
+            if (!(th >= tEnter && th <= tExit) || th >= 1e29) continue;
+            float rho;
+            vec3 geo = geoAt(ray, th, rho);
+            // The right half-plane or nappe: the hit is at the slice's coordinate.
+            int kind = int(vol.slices[i].kind + 0.5);
+            if (kind == kVolumeSliceLon && abs(geo.x - vol.slices[i].terms.y) > 1.0) continue;
+            if (kind == kVolumeSliceLat && abs(geo.y - vol.slices[i].terms.z) > 1.0) continue;
+            Sample s = sampleGeo(geo, rho);
+            if (!s.ok) continue;
+            hits.t[i * 2 + j] = th;
+            hits.c[i * 2 + j] = vec4(transferAt(s.value).rgb, vol.sliceOpacity);
+        }
+    }
+    return hits;
+}
 
-float nearestSlice() {
+float nearestSlice(SliceHits hits) {
     float t = 1e30;
-    [[unroll]] for (int k = 0; k < 2 * kSliceCount; ++k) t = min(t, gSliceT[k]);
+    [[unroll]] for (int k = 0; k < 2 * kSliceCount; ++k) t = min(t, hits.t[k]);
     return t;
 }
 
 // Composites the nearest remaining slice hit over `acc`, removes it, returns the next one's t.
-float compositeNearestSlice(inout vec4 acc) {
-    float t = nearestSlice();
+float compositeNearestSlice(inout SliceHits hits, inout vec4 acc) {
+    float t = nearestSlice(hits);
     bool done = false;
     [[unroll]] for (int k = 0; k < 2 * kSliceCount; ++k) {
-        if (!done && gSliceT[k] == t) {
-            vec4 c = gSliceC[k];
+        if (!done && hits.t[k] == t) {
+            vec4 c = hits.c[k];
             acc.rgb += (1.0 - acc.a) * c.a * c.rgb;
             acc.a += (1.0 - acc.a) * c.a;
-            gSliceT[k] = 1e30;
+            hits.t[k] = 1e30;
             done = true;
         }
     }
-    return nearestSlice();
+    return nearestSlice(hits);
 }
-
-// The march along one segment: the sample position, step and the previous sample.
-float gT, gDt, gRate, gPrevT, gPrevV;
-bool gPrevOk;
-vec3 gNPrev;
 
 // Front-to-back compositing of one DVR sample standing for `ds` of the normalised box. The
 // table's alpha channel holds log2(1 - alpha) (alpha clamped to 0.9999): the opacity of a step
 // of any length is one exp2 (no per-sample log).
 void compositeSample(inout vec4 acc, float value, float ds) {
     vec4 tf = transferAt(value);
-    // Opacity per 1/march.z of the normalised box, whatever the step.
-    float alpha = 1.0 - exp2(tf.a * (min(ds, 2.0) * vol.march.z));
+    // Opacity per 1/opacityPerUnit of the normalised box, whatever the step.
+    float alpha = 1.0 - exp2(tf.a * (min(ds, 2.0) * vol.opacityPerUnit));
     acc.rgb += (1.0 - acc.a) * alpha * tf.rgb;
     acc.a += (1.0 - acc.a) * alpha;
 }
 
-// Next sample: the step follows the rate at which the box's coordinates change along the ray.
-// From a brick that shows nothing the ray jumps, in whole steps, to the first sample past the
-// brick (its exit extrapolated from the last two samples' voxel coordinates; the jump is kept
-// short enough that the curvature of (lon, lat, height) along the ray moves it < 1/4 voxel).
-bool gJumped;   // the last advance jumped: the sample stands for one step, not the jump
-vec3 gVoxPrev;
-bool gPrevIn;
-void advance(int i, float ds, float value, bool ok, vec3 n, float target, float dtMin, float dtMax) {
-    float span = max(gT - gPrevT, 1e-6);
-    if (i > 0) gRate = ds / span;
-    gDt = clamp(target / max(gRate, 1e-20), dtMin, min(dtMax, 2.0 * gDt));
-    float stepT = gDt;
-    if (kSkipEmpty && gEmpty && gPrevIn && i > 0) {
-        vec3 dv = (gVox - gVoxPrev) / span;   // voxels per metre
-        vec3 wall = (floor(gVox / vol.bricks.w) + step(0.0, dv)) * vol.bricks.w;
-        vec3 tw = mix(vec3(1e30), (wall - gVox) / dv, greaterThan(abs(dv), vec3(1e-20)));
-        float tJump = min(min(tw.x, tw.y), min(tw.z, min(vol.sliceInfo.y, gRho * vol.sliceInfo.z)));
-        stepT = (min(floor(max(tJump, 0.0) * 0.98 / gDt), 64.0) + 1.0) * gDt;
+// The march at the entry t0 of a segment. Steps are of equal length in the box's normalised
+// coordinates (a thin shell gets as many samples across as a thick box); the rate of change is
+// probed at the entry, then followed from sample to sample.
+March startMarch(Ray ray, float t0, float jitter, float target, float dtMin, float dtMax) {
+    March m;
+    float rho;
+    m.prevN = normalised(geoAt(ray, t0, rho));
+    m.rate = length(normalised(geoAt(ray, t0 + vol.probeLength, rho)) - m.prevN) / vol.probeLength;
+    m.dt = clamp(target / max(m.rate, 1e-20), dtMin, dtMax);
+    m.t = t0 + jitter * m.dt;
+    m.prevT = t0;
+    m.prev = Sample(vec3(0.0), 0.0, 0.0, false, false, vec3(0.0), false);   // none yet
+    m.jumped = false;
+    return m;
+}
+
+// Next sample, after sample `s` (the march's i-th, at normalised position n, `ds` of the
+// normalised box after the previous one): the step follows the rate at which the box's
+// coordinates change along the ray. From a brick that shows nothing the ray jumps, in whole
+// steps, to the first sample past the brick (its exit extrapolated from the last two samples'
+// voxel coordinates; the jump is kept short enough that the curvature of (lon, lat, height)
+// along the ray moves it < 1/4 voxel).
+void advance(inout March m, Sample s, vec3 n, int i, float ds, float target, float dtMin, float dtMax) {
+    float span = max(m.t - m.prevT, 1e-6);
+    if (i > 0) m.rate = ds / span;
+    m.dt = clamp(target / max(m.rate, 1e-20), dtMin, min(dtMax, 2.0 * m.dt));
+    float stepT = m.dt;
+    if (kSkipEmpty && s.empty && m.prev.inBox && i > 0) {
+        vec3 dv = (s.vox - m.prev.vox) / span;   // voxels per metre
+        vec3 wall = (floor(s.vox / vol.brickSize) + step(0.0, dv)) * vol.brickSize;
+        vec3 tw = mix(vec3(1e30), (wall - s.vox) / dv, greaterThan(abs(dv), vec3(1e-20)));
+        float tJump = min(min(tw.x, tw.y), min(tw.z, min(vol.jumpMax, s.rho * vol.jumpPerRho)));
+        stepT = (min(floor(max(tJump, 0.0) * 0.98 / m.dt), 64.0) + 1.0) * m.dt;
     }
-    gJumped = stepT > 1.5 * gDt;
-    gPrevT = gT;
-    gPrevV = value;
-    gPrevOk = ok;
-    gNPrev = n;
-    gVoxPrev = gVox;
-    gPrevIn = gInBox;
-    gT += stepT;
+    m.jumped = stepT > 1.5 * m.dt;
+    m.prevT = m.t;
+    m.prevN = n;
+    m.prev = s;
+    m.t += stepT;
+}
+
+// An isosurface hit at tHit (isovalue c), Phong-shaded with the field's gradient over `e` metres.
+vec3 shadeIsosurface(Ray ray, float tHit, float c, float e) {
+    vec3 nrm = normalAt(ray, tHit, e);
+    if (dot(nrm, ray.dir) > 0.0) nrm = -nrm;   // the side facing the eye
+    bool sunLight = frame.sunDirection.w > 0.5;
+    vec3 l = sunLight ? frame.sunDirection.xyz : -ray.dir;
+    vec3 hv = normalize(l - ray.dir);
+    vec3 base = transferAt(c).rgb;
+    return base * (0.25 + 0.75 * max(dot(nrm, l), 0.0)) + 0.25 * pow(max(dot(nrm, hv), 0.0), 32.0);
+}
+
+Ray pixelRay(ivec2 px, ivec2 size) {
+    vec2 ndc = (vec2(px) + 0.5) / vec2(size) * 2.0 - 1.0;
+    vec4 far = frame.clipToWorldDir * vec4(ndc, 1.0, 1.0);
+    Ray ray;
+    ray.dir = normalize(far.xyz / far.w);
+    ray.eye = vol.eyeFromOrigin;
+    ray.c0 = cos(vol.originLon);
+    ray.s0 = sin(vol.originLon);
+    return ray;
+}
+
+// The part of the ray inside the box's bounds and before the scene's surface: (tEnter, tExit).
+vec2 boxSpan(Ray ray, ivec2 px) {
+    vec3 inv = 1.0 / ray.dir;
+    vec3 ta = (vol.boxMin - ray.eye) * inv, tb = (vol.boxMax - ray.eye) * inv;
+    vec3 tlo = min(ta, tb), thi = max(ta, tb);
+    float tEnter = max(max(tlo.x, tlo.y), max(tlo.z, 0.0));
+    float tExit = min(min(thi.x, thi.y), thi.z);
+    float depth = texelFetch(sceneDepth, px, 0).r;
+    if (depth > 0.0) tExit = min(tExit, vol.nearPlane / depth / max(dot(ray.dir, vol.forward), 1e-6));
+    return vec2(tEnter, tExit);
+}
+
+// The parts of the ray between the bottom and top surfaces: up to two segments (in through the
+// top and out through the bottom or the top again; or up from below the bottom).
+void shellSegments(Ray ray, out vec2 segments[2]) {
+    vec2 top = shellHits(ray, vol.shellHiOrigin, vol.shellHiC0, vol.shellHiInvAxes);
+    vec2 bottom = shellHits(ray, vol.shellLoOrigin, vol.shellLoC0, vol.shellLoInvAxes);
+    segments[0] = vec2(top.x, bottom.x > top.x && bottom.x < bottom.y ? min(top.y, bottom.x) : top.y);
+    segments[1] = bottom.x < bottom.y && bottom.y > top.x && bottom.y < top.y ? vec2(bottom.y, top.y) : vec2(1e30, -1e30);
+}
+
+// Marches the segment t0 .. t1 front to back into `acc`: DVR samples, isosurface crossings, and
+// the slice hits on the way.
+void marchSegment(Ray ray, float t0, float t1, float jitter, inout vec4 acc, inout SliceHits slices,
+                  inout float nextSlice, inout float firstHit) {
+    float dtMax = vol.stepLength, dtMin = vol.minStep, target = vol.normalisedStep;
+    int maxSteps = int(vol.maxSteps);
+    March m = startMarch(ray, t0, jitter, target, dtMin, dtMax);
+    int i = 0;
+    // The march stops at each isosurface crossing, which is refined and shaded outside the
+    // marching loop, then goes on. On SIMD devices (CPU rasterisers) every lane pays for what
+    // any lane executes inside the loop: this way the expensive work runs once a hit instead of
+    // at every step.
+    for (;;) {
+        bool found = false;
+        int hitIso = 0;
+        vec3 n = m.prevN;
+        float ds = target;
+        Sample s = m.prev;   // (the loop's first sample replaces it)
+        for (; i < maxSteps && m.t < t1; ++i) {
+            while (kSliceCount > 0 && nextSlice <= m.t) nextSlice = compositeNearestSlice(slices, acc);
+            if (acc.a >= 0.99) break;
+            s = sampleAt(ray, m.t);
+            n = normalised(s.geo);
+            ds = i == 0 ? target : length(n - m.prevN);
+            float dsSample = m.jumped ? target : ds;
+            if (kIsoCount > 0 && s.ok && m.prev.ok) {
+                // The nearest crossing in this step over all isovalues (by linear interpolation;
+                // the chosen one is refined below).
+                float best = 2.0;
+                [[unroll]] for (int k = 0; k < kIsoCount; ++k) {
+                    float c = isovalue(k);
+                    if ((m.prev.value - c) * (s.value - c) < 0.0 || (s.value == c && m.prev.value != c)) {
+                        float f = (c - m.prev.value) / (s.value - m.prev.value);
+                        if (f < best) { best = f; hitIso = k; }
+                    }
+                }
+                if (best <= 1.0) { found = true; break; }
+            }
+            if (kDvr && s.ok) compositeSample(acc, s.value, dsSample);
+            if (acc.a >= 0.99) break;
+            advance(m, s, n, i, ds, target, dtMin, dtMax);
+        }
+        if (!found) break;
+        // The crossing between the previous sample and this one, shaded.
+        float c = isovalue(hitIso);
+        float tHit = kRefine ? refineCrossing(ray, m.prevT, m.prev.value, m.t, s.value, c) : m.t;
+        if (kHitOutput && firstHit >= 1e29) firstHit = tHit;
+        vec3 lit = shadeIsosurface(ray, tHit, c, max(0.25 * m.dt, 0.5));
+        float alpha = vol.isoOpacity;
+        acc.rgb += (1.0 - acc.a) * alpha * lit;
+        acc.a += (1.0 - acc.a) * alpha;
+        if (acc.a >= 0.99) break;
+        // This sample's own contribution, then on.
+        if (kDvr && s.ok) compositeSample(acc, s.value, m.jumped ? target : ds);
+        if (acc.a >= 0.99) break;
+        advance(m, s, n, i, ds, target, dtMin, dtMax);
+        ++i;
+    }
 }
 
 void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(outImage);
     if (any(greaterThanEqual(px, size))) return;
-
-    vec2 ndc = (vec2(px) + 0.5) / vec2(size) * 2.0 - 1.0;
-    vec4 far = frame.clipToWorldDir * vec4(ndc, 1.0, 1.0);
-    gDir = normalize(far.xyz / far.w);
-    gEye = vol.eyeFromOrigin.xyz;
-    gC0 = cos(vol.originAxis.z);
-    gS0 = sin(vol.originAxis.z);
-
-    // The part of the ray inside the box's bounds and before the scene's surface...
-    vec3 inv = 1.0 / gDir;
-    vec3 ta = (vol.boxMin.xyz - gEye) * inv, tb = (vol.boxMax.xyz - gEye) * inv;
-    vec3 tlo = min(ta, tb), thi = max(ta, tb);
-    float tEnter = max(max(tlo.x, tlo.y), max(tlo.z, 0.0));
-    float tExit = min(min(thi.x, thi.y), thi.z);
-    float depth = texelFetch(sceneDepth, px, 0).r;
-    if (depth > 0.0) tExit = min(tExit, vol.boxMin.w / depth / max(dot(gDir, vol.forward.xyz), 1e-6));
-    // ...and between the bottom and top surfaces: up to two segments (in through the top and
-    // out through the bottom or the top again; or up from below the bottom).
-    vec2 top = shellHits(vol.shellHi.xyz, vol.shellHi.w, vol.shellScale.zw);
-    vec2 bottom = shellHits(vol.shellLo.xyz, vol.shellLo.w, vol.shellScale.xy);
+    Ray ray = pixelRay(px, size);
+    vec2 span = boxSpan(ray, px);
     vec2 segments[2];
-    segments[0] = vec2(top.x, bottom.x > top.x && bottom.x < bottom.y ? min(top.y, bottom.x) : top.y);
-    segments[1] = bottom.x < bottom.y && bottom.y > top.x && bottom.y < top.y ? vec2(bottom.y, top.y) : vec2(1e30, -1e30);
-
-    // Slice hits in front of the scene, inside the box. The arrays are only ever indexed with
-    // loop counters of constant trip count, unrolled on request ([[unroll]]: lavapipe leaves
-    // loops this large rolled), never with data: dynamic indexing is very slow on CPU
-    // rasterisers (slices 143 -> 50 ms at 960x540 with the loops unrolled).
-    [[unroll]] for (int k = 0; k < 8; ++k) gSliceT[k] = 1e30;
-    [[unroll]] for (int i = 0; i < kSliceCount; ++i) {
-        vec2 hits = sliceHits(i);
-        [[unroll]] for (int j = 0; j < 2; ++j) {
-            float th = hits[j];
-            if (!(th >= tEnter && th <= tExit) || th >= 1e29) continue;
-            vec3 geo = geoAt(th);
-            // The right half-plane or nappe: the hit is at the slice's coordinate.
-            int kind = int(vol.sliceA[i].w + 0.5);
-            if (kind == 0 && abs(geo.x - vol.sliceB[i].y) > 1.0) continue;
-            if (kind == 1 && abs(geo.y - vol.sliceB[i].z) > 1.0) continue;
-            float value;
-            if (!sampleGeo(geo, value)) continue;
-            gSliceT[i * 2 + j] = th;
-            gSliceC[i * 2 + j] = vec4(transferAt(value).rgb, vol.sliceInfo.x);
-        }
-    }
-    float nextSlice = nearestSlice();
+    shellSegments(ray, segments);
+    SliceHits slices = findSliceHits(ray, span.x, span.y);
+    float nextSlice = nearestSlice(slices);
 
     vec4 acc = vec4(0.0);
     float firstHit = 1e30;
-    bool sunLight = frame.sunDirection.w > 0.5;
-    float dtMax = vol.eyeFromOrigin.w, dtMin = vol.march.y, target = vol.march.x;
-    int maxSteps = int(vol.boxMax.w);
-    float jitter = hash(uvec2(px), uint(vol.dataRange.w));
+    float jitter = hash(uvec2(px), uint(vol.frameIndex));
     for (int sgi = 0; sgi < 2 && acc.a < 0.99 && (kDvr || kIsoCount > 0); ++sgi) {
-        float t0 = max(segments[sgi].x, tEnter), t1 = min(segments[sgi].y, tExit);
-        if (!(t1 > t0)) continue;
-        // Steps of equal length in the box's normalised coordinates (a thin shell gets as many
-        // samples across as a thick box); the rate of change is probed at the entry, then
-        // followed from sample to sample.
-        gNPrev = normalised(geoAt(t0));
-        gRate = length(normalised(geoAt(t0 + vol.march.w)) - gNPrev) / vol.march.w;
-        gDt = clamp(target / max(gRate, 1e-20), dtMin, dtMax);
-        gT = t0 + jitter * gDt;
-        gPrevT = t0;
-        gPrevV = 0.0;
-        gPrevOk = false;
-        gPrevIn = false;
-        gJumped = false;
-        int i = 0;
-        // The march stops at each isosurface crossing, which is refined and shaded outside the
-        // marching loop, then goes on. On SIMD devices (CPU rasterisers) every lane pays for
-        // what any lane executes inside the loop: this way the expensive work runs once a hit
-        // instead of at every step.
-        for (;;) {
-            bool found = false;
-            int hitIso = 0;
-            vec3 n = gNPrev;
-            float ds = target, value = 0.0;
-            bool ok = false;
-            for (; i < maxSteps && gT < t1; ++i) {
-                while (kSliceCount > 0 && nextSlice <= gT) nextSlice = compositeNearestSlice(acc);
-                if (acc.a >= 0.99) break;
-                vec3 geo = geoAt(gT);
-                n = normalised(geo);
-                ds = i == 0 ? target : length(n - gNPrev);
-                float dsSample = gJumped ? target : ds;
-                ok = sampleGeo(geo, value);
-                if (kIsoCount > 0 && ok && gPrevOk) {
-                    // The nearest crossing in this step over all isovalues (by linear
-                    // interpolation; the chosen one is refined below).
-                    float best = 2.0;
-                    [[unroll]] for (int k = 0; k < kIsoCount; ++k) {
-                        float c = isovalue(k);
-                        if ((gPrevV - c) * (value - c) < 0.0 || (value == c && gPrevV != c)) {
-                            float f = (c - gPrevV) / (value - gPrevV);
-                            if (f < best) { best = f; hitIso = k; }
-                        }
-                    }
-                    if (best <= 1.0) { found = true; break; }
-                }
-                if (kDvr && ok) compositeSample(acc, value, dsSample);
-                if (acc.a >= 0.99) break;
-                advance(i, ds, value, ok, n, target, dtMin, dtMax);
-            }
-            if (!found) break;
-            // The crossing between the previous sample and this one.
-            float c = isovalue(hitIso);
-            vec3 saveVox = gVox;   // (the refinement and the normal sample elsewhere)
-            bool saveIn = gInBox, saveEmpty = gEmpty;
-            float saveRho = gRho;
-            float tHit = kRefine ? refineCrossing(gPrevT, gPrevV, gT, value, c) : gT;
-            if (kHitOutput && firstHit >= 1e29) firstHit = tHit;
-            vec3 nrm = normalAt(tHit, max(0.25 * gDt, 0.5));
-            if (dot(nrm, gDir) > 0.0) nrm = -nrm;   // the side facing the eye
-            vec3 l = sunLight ? frame.sunDirection.xyz : -gDir;
-            vec3 hv = normalize(l - gDir);
-            vec3 base = transferAt(c).rgb;
-            vec3 lit = base * (0.25 + 0.75 * max(dot(nrm, l), 0.0)) + 0.25 * pow(max(dot(nrm, hv), 0.0), 32.0);
-            float alpha = vol.radii.w;
-            acc.rgb += (1.0 - acc.a) * alpha * lit;
-            acc.a += (1.0 - acc.a) * alpha;
-            if (acc.a >= 0.99) break;
-            gVox = saveVox, gInBox = saveIn, gEmpty = saveEmpty, gRho = saveRho;
-            // This sample's own contribution, then on.
-            if (kDvr && ok) compositeSample(acc, value, gJumped ? target : ds);
-            if (acc.a >= 0.99) break;
-            advance(i, ds, value, ok, n, target, dtMin, dtMax);
-            ++i;
-        }
+        float t0 = max(segments[sgi].x, span.x), t1 = min(segments[sgi].y, span.y);
+        if (t1 > t0) marchSegment(ray, t0, t1, jitter, acc, slices, nextSlice, firstHit);
     }
     // Slices beyond the last sample (or all of them when only slices are drawn).
-    while (kSliceCount > 0 && nextSlice < 1e29 && acc.a < 0.99) nextSlice = compositeNearestSlice(acc);
+    while (kSliceCount > 0 && nextSlice < 1e29 && acc.a < 0.99) nextSlice = compositeNearestSlice(slices, acc);
     imageStore(outImage, px, acc);
     if (kHitOutput) imageStore(hitImage, px, vec4(firstHit < 1e29 ? firstHit : -1.0));
 }
