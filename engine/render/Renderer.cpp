@@ -96,15 +96,21 @@ void Renderer::writeFrameUniforms(uint32_t slot, const scene::Scene& scene, cons
     u.projection = glm::mat4(proj);
     u.clipToWorldDir = glm::mat4(glm::inverse(proj * view));
     const double height = ctx.cameraHeight;
-    u.eyeEcef = glm::vec4(glm::vec3(cam.position()), static_cast<float>(height));
-    u.sunDirection = glm::vec4(glm::vec3(globe::sunDirectionEcef(ctx.time)), 1.0f);
-    u.viewport = glm::vec4(ctx.width, ctx.height, 1.0f / ctx.width, 1.0f / ctx.height);
+    u.eyeEcef = glm::vec3(cam.position());
+    u.eyeHeight = static_cast<float>(height);
+    u.sunDirection = glm::vec3(globe::sunDirectionEcef(ctx.time));
+    u.sunLighting = 1.0f;
+    u.viewportSize = glm::vec2(ctx.width, ctx.height);
+    u.invViewportSize = glm::vec2(1.0f / ctx.width, 1.0f / ctx.height);
     const double a = ell.equatorialRadius(), b = ell.polarRadius();
-    u.ellipsoid = glm::vec4(a, b, 1.0 / (a * a), 1.0 / (b * b));
+    u.equatorialRadius = static_cast<float>(a);
+    u.polarRadius = static_cast<float>(b);
+    u.invEquatorialRadius2 = static_cast<float>(1.0 / (a * a));
+    u.invPolarRadius2 = static_cast<float>(1.0 / (b * b));
     const glm::dvec3 bg = scene.desc().background;
+    u.background = glm::vec3(srgbToLinear(bg.r), srgbToLinear(bg.g), srgbToLinear(bg.b));
     const double secondsOfDay = std::fmod(toSeconds(ctx.time), 86400.0);
-    u.background = glm::vec4(srgbToLinear(bg.r), srgbToLinear(bg.g), srgbToLinear(bg.b),
-                             secondsOfDay < 0 ? secondsOfDay + 86400.0 : secondsOfDay);
+    u.secondsOfDay = static_cast<float>(secondsOfDay < 0 ? secondsOfDay + 86400.0 : secondsOfDay);
     frameUniforms_[slot].write(&u, sizeof(u));
 }
 

@@ -26,7 +26,7 @@ void main() {
     vec3 n = normalize(vNormal);
     vec3 toEye = normalize(-vFromEye);
     bool sun = pc.sunLighting != 0u;
-    vec3 toLight = sun ? frame.sunDirection.xyz : toEye;
+    vec3 toLight = sun ? frame.sunDirection : toEye;
 
     float ndl = dot(n, toLight);
     float day = smoothstep(-0.10, 0.15, ndl);           // soft terminator (twilight)

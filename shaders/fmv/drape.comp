@@ -32,7 +32,7 @@ void main() {
     for (uint i = 0u; i < fu.hullEdges; ++i) inside = inside && dot(fu.hull[i].xy, centre) + fu.hull[i].z >= 0.0;
     float depth = inside ? texelFetch(sceneDepth, px, 0).r : 0.0;
     if (depth > 0.0 && fu.frameShown != 0u) {
-        vec2 ndc = (vec2(px) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
+        vec2 ndc = (vec2(px) + 0.5) * frame.invViewportSize * 2.0 - 1.0;
         vec4 w = frame.clipToWorldDir * vec4(ndc, depth, 1.0);
         vec3 q = w.xyz / w.w - fu.originFromEye;   // relative to O
         vec3 s = sensorImage(q);

@@ -29,7 +29,7 @@ void main() {
         vec3 toEye = normalize(-vFromEye);
         if (dot(n, toEye) < 0.0) n = -n;   // the back face of a double-sided surface
         bool sun = pc.sunLighting != 0u;
-        vec3 toLight = sun ? frame.sunDirection.xyz : toEye;
+        vec3 toLight = sun ? frame.sunDirection : toEye;
         float diffuse = max(dot(n, toLight), 0.0);
         // A constant sky ambient keeps the faces turned away from the light readable.
         float ambient = sun ? 0.22 : 0.3;

@@ -57,7 +57,7 @@ void main() {
     vec3 n = normalize(vNormal);
     vec3 toEye = normalize(-vFromEye);
     bool sun = pc.sunLighting != 0u;
-    vec3 toLight = sun ? frame.sunDirection.xyz : toEye;
+    vec3 toLight = sun ? frame.sunDirection : toEye;
     float ndl = dot(n, toLight);
     float lit = sun ? 0.06 + 0.94 * max(ndl, 0.0) : 0.25 + 0.75 * max(ndl, 0.0);
     color *= lit;
@@ -68,7 +68,7 @@ void main() {
     float cosZenith = max(dot(n, toEye), 0.03);
     float opticalDepth = 0.12 * min(dist / 8000.0, 1.0 / cosZenith);
     float haze = 1.0 - exp(-opticalDepth);
-    float day = sun ? smoothstep(-0.1, 0.2, dot(normalize(vFromEye + frame.eyeEcef.xyz), frame.sunDirection.xyz)) : 1.0;
+    float day = sun ? smoothstep(-0.1, 0.2, dot(normalize(vFromEye + frame.eyeEcef), frame.sunDirection)) : 1.0;
     color = mix(color, vec3(0.32, 0.52, 0.85) * 0.55 * day, haze);
 
     if (pc.tileBorders != 0u) {   // debug: tile borders

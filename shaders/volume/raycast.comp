@@ -361,8 +361,8 @@ void advance(inout March m, Sample s, vec3 n, int i, float ds, float target, flo
 vec3 shadeIsosurface(Ray ray, float tHit, float c, float e) {
     vec3 nrm = normalAt(ray, tHit, e);
     if (dot(nrm, ray.dir) > 0.0) nrm = -nrm;   // the side facing the eye
-    bool sunLight = frame.sunDirection.w > 0.5;
-    vec3 l = sunLight ? frame.sunDirection.xyz : -ray.dir;
+    bool sunLight = frame.sunLighting > 0.5;
+    vec3 l = sunLight ? frame.sunDirection : -ray.dir;
     vec3 hv = normalize(l - ray.dir);
     vec3 base = transferAt(c).rgb;
     return base * (0.25 + 0.75 * max(dot(nrm, l), 0.0)) + 0.25 * pow(max(dot(nrm, hv), 0.0), 32.0);
