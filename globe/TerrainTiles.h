@@ -1,8 +1,9 @@
 #pragma once
 // The terrain's tiles on the CPU: the raster sources, the tile pager (loads on the engine's
-// worker pool with priorities and cancellation) and the LRU tile cache with a byte budget. It knows which tile data is ready, which ancestor stands in for missing data
-// (scale/bias fallback), the height range of a tile for culling, and answers heightAt() over
-// the loaded data. No Vulkan: the terrain layer uploads what this holds.
+// worker pool with priorities and cancellation) and the LRU tile cache with a byte budget. It
+// knows which tile data is ready, which ancestor stands in for missing data (scale/bias
+// fallback), the height range of a tile for culling, and answers heightAt() over the loaded
+// data. No Vulkan: the terrain layer uploads what this holds.
 //
 // Data layers: layer 0 is elevation (every DEM composited: the finest source wins, its holes
 // are filled by coarser sources, then by the parent tile, then by the ellipsoid); layers

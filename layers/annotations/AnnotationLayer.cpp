@@ -5,6 +5,7 @@
 #include "engine/gpu/Pipeline.h"
 #include "engine/render/RenderContext.h"
 #include "engine/scene/JsonReader.h"
+#include "shared/FrameUniforms.h"
 #include "shared/PolylineTypes.h"
 
 // The model layer's screen-space shader (kScreen): clip-space positions, premultiplied colour.
@@ -103,7 +104,7 @@ void AnnotationLayer::record(scene::Pass pass, const render::RecordContext& rc) 
     if (pass != scene::Pass::Overlay || vertexCount_ == 0) return;
     const VkDeviceSize zero = 0;
     vkCmdBindPipeline(rc.cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.vk());
-    vkCmdBindDescriptorSets(rc.cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 1, &rc.frameSet, 0, nullptr);
+    vkCmdBindDescriptorSets(rc.cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), shader::kFrameSet, 1, &rc.frameSet, 0, nullptr);
     const VkBuffer b = vertices_[rc.slot].vk();
     vkCmdBindVertexBuffers(rc.cmd, 0, 1, &b, &zero);
     vkCmdDraw(rc.cmd, vertexCount_, 1, 0, 0);

@@ -10,6 +10,7 @@
 #include "engine/scene/JsonReader.h"
 #include "globe/Culling.h"
 #include "shared/EarthTypes.h"
+#include "shared/FrameUniforms.h"
 
 #include "spv/earth/ellipsoid.frag.h"
 #include "spv/earth/ellipsoid.vert.h"
@@ -86,7 +87,7 @@ void EarthLayer::record(scene::Pass, const render::RecordContext& rc) {
     const scene::Camera& camera = *rc.frame->camera;
     const double aspect = rc.frame->aspect();
     const glm::dmat4 proj = camera.projection(aspect);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 1, &rc.frameSet, 0, nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), shader::kFrameSet, 1, &rc.frameSet, 0, nullptr);
 
     shader::EarthPush push{};
     push.graticuleDeg = float(settings_.graticuleDeg);

@@ -9,6 +9,7 @@
 #include "engine/render/RenderContext.h"
 #include "globe/Ellipsoid.h"
 #include "shared/FmvTypes.h"
+#include "shared/FrameUniforms.h"
 #include "spv/common/composite.frag.h"
 #include "spv/common/fullscreen.vert.h"
 #include "spv/fmv/drape.comp.h"
@@ -23,6 +24,10 @@
 #include <cstdio>
 
 namespace orbis::layers {
+
+// The pipeline layouts list the sets in order: the frame's, then the layer's.
+static_assert(shader::kFmvSet == shader::kFrameSet + 1);
+
 namespace {
 
 constexpr double kMapFovPad = 1.05;        // the distance map sees a little more than the video
@@ -488,7 +493,7 @@ void FmvLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
     }
     if (setVersion_[rc.slot] != imagesVersion_) writeDescriptors(rc.slot);
     const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), 0, 2, sets, 0, nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), shader::kFrameSet, 2, sets, 0, nullptr);
     if (!mapPose_ || !(*mapPose_ == pose_) || mapBuilds_ != heightfieldBuilds_) {
         renderDistanceMap(cmd);
         // The footprint: after the last frame's lines read it.
@@ -518,7 +523,7 @@ void FmvLayer::record(scene::Pass, const render::RecordContext& rc) {
     if (!active_ || !decalImage_ || !boundDepth_) return;
     VkCommandBuffer cmd = rc.cmd;
     const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), shader::kFrameSet, 2, sets, 0, nullptr);
     if (rect_.z > 0 && rect_.w > 0) {   // only where the video can be (the decal is stale elsewhere)
         const VkRect2D area{{int32_t(rect_.x), int32_t(rect_.y)}, {rect_.z, rect_.w}};
         vkCmdSetScissor(cmd, 0, 1, &area);

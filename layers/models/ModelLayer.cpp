@@ -11,6 +11,7 @@
 #include "formats/motion/Attitude.h"
 #include "globe/Culling.h"
 #include "globe/Ellipsoid.h"
+#include "shared/FrameUniforms.h"
 #include "shared/ModelTypes.h"
 #include "shared/PolylineTypes.h"
 
@@ -29,6 +30,10 @@
 #include <limits>
 
 namespace orbis::layers {
+
+// The pipeline layouts list the sets in order: the frame's, then the layer's.
+static_assert(shader::kModelSet == shader::kFrameSet + 1 && shader::kModelMaterialSet == shader::kModelSet + 1);
+
 namespace {
 
 constexpr uint32_t kLabelMaxVertices = 6 * 2048;
@@ -478,7 +483,7 @@ void ModelLayer::record(scene::Pass pass, const render::RecordContext& rc) {
     if (pass == scene::Pass::Overlay) {
         if (labelVertices_ == 0) return;
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, label_.vk());
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, lineLayout_.vk(), 0, 1, &rc.frameSet, 0, nullptr);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, lineLayout_.vk(), shader::kFrameSet, 1, &rc.frameSet, 0, nullptr);
         const VkBuffer b = labelBuffers_[rc.slot].vk();
         vkCmdBindVertexBuffers(cmd, 0, 1, &b, &zero);
         vkCmdDraw(cmd, labelVertices_, 1, 0, 0);
@@ -496,7 +501,7 @@ void ModelLayer::record(scene::Pass pass, const render::RecordContext& rc) {
     }
     if (pathVertices_ > 1) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, path_.vk());
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, lineLayout_.vk(), 0, 1, &rc.frameSet, 0, nullptr);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, lineLayout_.vk(), shader::kFrameSet, 1, &rc.frameSet, 0, nullptr);
         const VkBuffer b = pathBuffers_[rc.slot].vk();
         vkCmdBindVertexBuffers(cmd, 0, 1, &b, &zero);
         vkCmdDraw(cmd, pathVertices_, 1, 0, 0);
@@ -510,7 +515,7 @@ void ModelLayer::drawCopies(const render::RecordContext& rc, const gpu::Pipeline
     const VkBuffer vb = vertices_.vk();
     const bool translucent = settings_.opacity < 1.0;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.vk());
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), shader::kFrameSet, 2, sets, 0, nullptr);
     vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
     if (poser_) {
         const VkBuffer sb = skinVertices_.vk();
@@ -527,7 +532,7 @@ void ModelLayer::drawCopies(const render::RecordContext& rc, const gpu::Pipeline
         const int tex = mat ? mat->baseColorTexture : -1;
         const VkDescriptorSet set = textures_[tex >= 0 ? size_t(tex) : textures_.size() - 1].set;
         if (set != boundMaterial) {
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 2, 1, &set, 0, nullptr);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), shader::kModelMaterialSet, 1, &set, 0, nullptr);
             boundMaterial = set;
         }
         const shader::ModelPush push = drawPush(di, mat);

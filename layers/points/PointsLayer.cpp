@@ -9,6 +9,7 @@
 #include "engine/gpu/Uploader.h"
 #include "engine/render/RenderContext.h"
 #include "globe/Culling.h"
+#include "shared/FrameUniforms.h"
 #include "shared/PointTypes.h"
 #include "spv/common/fullscreen.vert.h"
 #include "spv/points/pointlist.frag.h"
@@ -24,6 +25,10 @@
 #include <queue>
 
 namespace orbis::layers {
+
+// The pipeline layouts list the sets in order: the frame's, then the layer's.
+static_assert(shader::kPointSet == shader::kFrameSet + 1);
+
 namespace {
 
 // The colour modes are the shader's kPointSpecColorMode values.
@@ -398,7 +403,7 @@ void PointsLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
     const gpu::Pipeline* bound = nullptr;
     for (const Dispatch& d : dispatches_) {
         const uint32_t offsets[2] = {pageOffset(d.page), pageOffset(d.page)};
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), 0, 2, sets, 2, offsets);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), shader::kFrameSet, 2, sets, 2, offsets);
         gpu::Pipeline& p = splatPipeline(splatRadius(settings_.pointSize), d.quantised);
         if (&p != bound) vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.vk());
         bound = &p;
@@ -418,7 +423,7 @@ void PointsLayer::record(scene::Pass, const render::RecordContext& rc) {
         if (!screen_) return;
         const uint32_t offsets[2] = {0, 0};   // the resolve reads only the screen buffer
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolvePipeline().vk());
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 2, offsets);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), shader::kFrameSet, 2, sets, 2, offsets);
         vkCmdDraw(cmd, 3, 1, 0, 0);
         return;
     }
@@ -429,7 +434,7 @@ void PointsLayer::record(scene::Pass, const render::RecordContext& rc) {
         if (nodePage_[k] != boundPage) {
             boundPage = nodePage_[k];
             const uint32_t offsets[2] = {pageOffset(boundPage), pageOffset(boundPage)};
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 2, offsets);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), shader::kFrameSet, 2, sets, 2, offsets);
         }
         if (int(n.step > 0.0) != bound) {
             bound = int(n.step > 0.0);

@@ -12,6 +12,7 @@
 #include "engine/render/SkyPipeline.h"
 #include "globe/Ellipsoid.h"
 #include "globe/TileMesh.h"
+#include "shared/FrameUniforms.h"
 #include "shared/TerrainTypes.h"
 
 #include "spv/terrain/terrain.frag.h"
@@ -23,6 +24,10 @@
 #include <sstream>
 
 namespace orbis::layers {
+
+// The pipeline layouts list the sets in order: the frame's, then the layer's.
+static_assert(shader::kTerrainSet == shader::kFrameSet + 1);
+
 namespace {
 
 constexpr uint32_t kMeshLayer = 0xffffffffu;   // DataKey layer used for tile meshes
@@ -306,7 +311,7 @@ void TerrainLayer::recordTransfers(const render::RecordContext& rc) {
 void TerrainLayer::record(scene::Pass, const render::RecordContext& rc) {
     VkCommandBuffer cmd = rc.cmd;
     const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), 0, 2, sets, 0, nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), shader::kFrameSet, 2, sets, 0, nullptr);
     shader::TerrainPush push{};
     push.baseColor = glm::vec3(srgbToLinear(settings_.color.r), srgbToLinear(settings_.color.g), srgbToLinear(settings_.color.b));
     push.verticalExaggeration = float(settings_.verticalExaggeration);

@@ -23,6 +23,9 @@
 
 namespace orbis::layers {
 
+// The pipeline layouts list the sets in order: the frame's, then the layer's.
+static_assert(shader::kVolumeSet == shader::kFrameSet + 1);
+
 namespace {
 
 /// IEEE half from a float, rounded to nearest even; NaN stays NaN, overflow becomes infinity,
