@@ -18,6 +18,7 @@ namespace orbis::cli {
 namespace {
 const char* kHelp =
     "usage: orbis bench SCENE [options]    or    orbis bench --video FILE [--seeks N]    or    orbis bench --poses FILE\n"
+    "       or    orbis bench --labels N [--frames F] [--margin PX]\n"
     "Renders SCENE repeatedly and reports frame times: CPU (update + record + submit), whole frame\n"
     "(until the GPU is done) and GPU time per pass, as min / median / p95 in milliseconds. A fixed\n"
     "view is measured after everything it shows has loaded.\n"
@@ -25,6 +26,9 @@ const char* kHelp =
     "                     (--seeks N random frames, default 50): median and p95\n"
     "  --poses FILE       glTF poses on the CPU, no scene: microseconds per pose of each animation\n"
     "                     (what an animated model layer pays per distinct animation time a frame)\n"
+    "  --labels N         label placement on the CPU, no scene: N labels over a panning 1920x1080\n"
+    "                     view (--frames, default 300; --margin PX, the hysteresis, default 4): ms/frame,\n"
+    "                     labels placed, labels in or out per frame\n"
     "  --frames N         frames measured (default 100)\n"
     "  --warmup N         frames rendered first and not measured (default 5)\n"
     "  --size WxH         image size (default 1920x1080)\n"
@@ -93,13 +97,13 @@ void printTable(const Args& args, const gpu::PhysicalDeviceInfo& info, const Fra
 Args parseBenchArgs(const std::vector<std::string>& argv) {
     std::set<std::string> valued = gpuValuedOptions();
     valued.insert({"--frames", "--warmup", "--size", "--time", "--camera-path", "--sweep", "--plot", "--tiles", "--threads",
-                   "--iso-error", "--video", "--seeks", "--poses"});
+                   "--iso-error", "--video", "--seeks", "--poses", "--labels", "--margin"});
     std::set<std::string> flags = gpuFlagOptions();
     flags.insert({"--help", "--json"});
     return Args(argv, valued, flags, {{"-h", "--help"}});
 }
 
-/// The modes that need no scene: --video, --poses.
+/// The modes that need no scene: --video, --poses, --labels.
 std::optional<int> sceneFreeBench(const Args& args) {
     if (auto video = args.value("--video")) {
         if (!args.positional().empty()) throw UsageError{"bench --video takes no SCENE"};
@@ -108,6 +112,10 @@ std::optional<int> sceneFreeBench(const Args& args) {
     if (auto poses = args.value("--poses")) {
         if (!args.positional().empty()) throw UsageError{"bench --poses takes no SCENE"};
         return poseBench(*poses);
+    }
+    if (auto labels = args.integer("--labels", 1, 10000000)) {
+        if (!args.positional().empty()) throw UsageError{"bench --labels takes no SCENE"};
+        return labelBench(*labels, args.integer("--frames", 1, 1000000).value_or(300), args.number("--margin", 0.0, 1000.0).value_or(4.0));
     }
     return std::nullopt;
 }

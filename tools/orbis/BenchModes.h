@@ -24,5 +24,7 @@ int tileBench(const Args& args, scene::Scene& scene, long level, unsigned thread
 int videoBench(const std::string& file, long seeks);
 /// `orbis bench --poses FILE` (PoseBench.cpp).
 int poseBench(const std::string& file);
+/// `orbis bench --labels N [--frames F] [--margin PX]` (LabelBench.cpp).
+int labelBench(long count, long frames, double marginPx);
 
 }  // namespace orbis::cli

@@ -1,0 +1,75 @@
+#pragma once
+// Choosing which labels to draw this frame: no two drawn labels overlap, and the choice is
+// stable while the camera moves. No Vulkan, no fonts: a label is a screen rectangle with a
+// priority and a stable id; the caller has already dropped labels hidden behind the globe or
+// the terrain.
+//
+// Greedy by rank, over a uniform grid of the screen (one cell list per 64 x 64 pixels), so a
+// frame of N candidates costs O(N log N) for the sort plus O(N) overlap tests of a few
+// neighbours each.
+//
+// Hysteresis, so that labels do not flicker:
+//   - A label drawn last frame ranks above every label that was not (within the same priority
+//     plus `priorityHysteresis`): a new label displaces an old one only when it is clearly more
+//     important.
+//   - An old label stays while its own rectangle is clear and on screen. A new label appears
+//     only when its rectangle grown by `marginPx` on every side is clear of the labels placed
+//     so far and inside the screen by `marginPx`. A label that moves slowly therefore changes
+//     its state only when a gap or the screen edge passes the margin, not at every pixel of
+//     motion where two rectangles touch.
+// The placer keeps last frame's set: one LabelPlacer per view.
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace orbis::vector {
+
+/// One label that could be drawn.
+struct LabelCandidate {
+    uint64_t id = 0;          ///< stable across frames (e.g. the layer's index << 40 | the feature's)
+    double priority = 0.0;    ///< larger first (e.g. population, rank, rule order)
+    glm::dvec2 min{0.0};      ///< the label's box in pixels (x right, y down), icon and halo included
+    glm::dvec2 max{0.0};
+};
+
+struct LabelPlacementOptions {
+    glm::dvec2 screen{0.0};          ///< the viewport (pixels): a label is drawn only if inside it
+    double marginPx = 4.0;           ///< clear space a new label needs around it (the hysteresis)
+    double priorityHysteresis = 0.0; ///< how much more important a new label must be to rank above an old one
+    double cellPx = 64.0;            ///< grid cell (pixels)
+};
+
+struct LabelPlacementStats {
+    size_t candidates = 0, placed = 0, kept = 0, appeared = 0, rejectedOverlap = 0, rejectedOffscreen = 0;
+};
+
+class LabelPlacer {
+public:
+    /// The candidates to draw this frame, by index into `candidates`, in rank order. Ids must be
+    /// unique within a call (a repeated id is placed at most once).
+    std::vector<uint32_t> place(std::span<const LabelCandidate> candidates, const LabelPlacementOptions& options);
+
+    const LabelPlacementStats& stats() const { return stats_; }
+    /// Forgets last frame (a new scene, a jump of the camera).
+    void reset() { shown_.clear(); }
+
+private:
+    struct Box {
+        glm::dvec2 min, max;
+    };
+    bool overlapsPlaced(const Box& box) const;
+    void insert(const Box& box);
+
+    std::vector<uint64_t> shown_;   ///< ids drawn last frame, sorted
+    LabelPlacementStats stats_;
+    // The grid of the current frame: for each cell, the placed boxes that touch it.
+    glm::ivec2 cells_{0};
+    double cellPx_ = 64.0;
+    std::vector<std::vector<uint32_t>> grid_;
+    std::vector<Box> placed_;
+};
+
+}  // namespace orbis::vector
