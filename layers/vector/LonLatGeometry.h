@@ -1,0 +1,40 @@
+#pragma once
+// Longitudes on a circle: unwrapping lines and rings across the antimeridian, rings that wind
+// around a pole, and the shortest longitude interval covering several boxes. Pure arithmetic,
+// no GDAL; the vector reader's geometry rules live here so they are tested on their own.
+
+#include "layers/vector/VectorReader.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <span>
+
+namespace orbis::vector {
+
+/// `lonDeg` moved by whole turns into [-180, 180).
+double normalizeLonDeg(double lonDeg);
+
+/// Makes a line's or ring's longitudes continuous: the first is moved into [-180, 180], each
+/// next one by whole turns so that it differs from its predecessor by at most 180 degrees.
+void unwrapLongitudes(std::span<glm::dvec3> part);
+
+/// For an unwrapped ring: +1 when it winds once around the North Pole, -1 around the South
+/// Pole, 0 when it does not (its longitude, closed back to the start, changes by 0, not 360).
+/// Which pole: the one a vertex touches (|lat| = 90), else the side of the equator its mean
+/// latitude is on. A ring around a pole cannot say by itself which side it encloses; real data
+/// (Antarctica in Natural Earth) runs along the pole, and a cap's ring lies near its pole.
+int8_t ringPoleWinding(std::span<const glm::dvec3> ring);
+
+/// The box of one unwrapped part: every longitude when the part spans a whole turn.
+LonLatBounds partBounds(std::span<const glm::dvec3> part);
+
+/// The box of a ring around a pole: every longitude, from the pole to the ring's far latitude.
+LonLatBounds poleCapBounds(std::span<const glm::dvec3> ring, int8_t pole);
+
+/// The smallest box covering all `boxes` (empty ones ignored): latitudes from the lowest to the
+/// highest, longitudes the shortest interval on the circle that covers every box's interval
+/// (the complement of the widest gap between them).
+LonLatBounds coverBounds(std::span<const LonLatBounds> boxes);
+
+}  // namespace orbis::vector
