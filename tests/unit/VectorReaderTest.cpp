@@ -344,10 +344,12 @@ TEST(VectorReader, StatePlaneFeetAreTransformedToLonLat) {
     const glm::dvec3 origin = layer.features[0].coords[0];
     EXPECT_NEAR(origin.x, -79.0, 1e-5);
     EXPECT_NEAR(origin.y, 33.75, 1e-5);
-    // On the central meridian, 200 km north: 656 168 ftUS = 200 000.4 m, about 1.80 degrees.
+    // On the central meridian, 200 km north: 656 168 ftUS = 200 000.4 m of grid. The meridian arc
+    // of GRS 1980 near 34.65 N is 110 934 m per degree, and the projection's scale there is within
+    // 1e-4 of 1 (20 m): 50 m of tolerance; feet read as metres would be 139 km short.
     const glm::dvec3 north = layer.features[1].coords[0];
     EXPECT_NEAR(north.x, -79.0, 1e-5);
-    EXPECT_NEAR((north.y - 33.75) * 110.9e3, 200000.4, 300.0);   // 110.9 km/deg near 34.7 N (±0.15%)
+    EXPECT_NEAR((north.y - 33.75) * 110934.0, 200000.4, 50.0);
 }
 
 }  // namespace
