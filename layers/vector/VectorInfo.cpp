@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
 
 namespace orbis::vector {
@@ -23,7 +24,10 @@ nlohmann::ordered_json extentJson(OGRLayer& layer, OGRCoordinateTransformation* 
     double west = e.MinX, south = e.MinY, east = e.MaxX, north = e.MaxY;
     if (transform && !transform->TransformBounds(e.MinX, e.MinY, e.MaxX, e.MaxY, &west, &south, &east, &north, 21))
         return nullptr;
-    return {{"west", west}, {"south", south}, {"east", east}, {"north", north}};
+    // PROJ's densified edges may overshoot the globe's edges by a rounding error.
+    const auto lon = [](double v) { return std::clamp(v, -180.0, 180.0); };
+    const auto lat = [](double v) { return std::clamp(v, -90.0, 90.0); };
+    return {{"west", lon(west)}, {"south", lat(south)}, {"east", lon(east)}, {"north", lat(north)}};
 }
 
 nlohmann::ordered_json layerJson(OGRLayer& layer, const std::string& source) {
