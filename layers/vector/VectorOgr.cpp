@@ -33,13 +33,15 @@ GdalErrorScope::~GdalErrorScope() { CPLPopErrorHandler(); }
 void GdalErrorScope::handler(CPLErr level, CPLErrorNum, const char* message) {
     auto* self = static_cast<GdalErrorScope*>(CPLGetErrorHandlerUserData());
     if (!self || !message) return;
+    // One line per message (OGR's SQL parser points at the error on a second line).
+    std::string text(message);
+    std::replace(text.begin(), text.end(), '\n', ' ');
     if (level >= CE_Failure) {
         // A driver may repeat itself; a few distinct messages say enough.
-        if (self->failures_.size() < 4 &&
-            std::find(self->failures_.begin(), self->failures_.end(), message) == self->failures_.end())
-            self->failures_.emplace_back(message);
+        if (self->failures_.size() < 4 && std::find(self->failures_.begin(), self->failures_.end(), text) == self->failures_.end())
+            self->failures_.push_back(std::move(text));
     } else if (level == CE_Warning) {
-        self->lastWarning_ = message;
+        self->lastWarning_ = std::move(text);
     }
 }
 
