@@ -43,6 +43,20 @@ void unwrapLongitudes(std::span<glm::dvec3> part) {
     }
 }
 
+double lonMidpoint(std::span<const glm::dvec3> part) {
+    if (part.empty()) return 0.0;
+    const auto [lo, hi] = std::minmax_element(part.begin(), part.end(),
+                                              [](const glm::dvec3& a, const glm::dvec3& b) { return a.x < b.x; });
+    return 0.5 * (lo->x + hi->x);
+}
+
+void moveNextTo(std::span<glm::dvec3> part, double lonDeg) {
+    if (part.empty()) return;
+    const double turns = std::round((lonDeg - part[0].x) / 360.0);
+    if (turns == 0.0) return;
+    for (glm::dvec3& v : part) v.x += 360.0 * turns;
+}
+
 int8_t ringPoleWinding(std::span<const glm::dvec3> ring) {
     if (ring.size() < 3) return 0;
     // The unwrapped ring's change in longitude, plus the step that closes it (if the source did

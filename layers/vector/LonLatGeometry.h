@@ -19,6 +19,14 @@ double normalizeLonDeg(double lonDeg);
 /// next one by whole turns so that it differs from its predecessor by at most 180 degrees.
 void unwrapLongitudes(std::span<glm::dvec3> part);
 
+/// The middle of an unwrapped part's longitude range.
+double lonMidpoint(std::span<const glm::dvec3> part);
+
+/// Moves an unwrapped part by whole turns so that its first longitude is within 180 degrees of
+/// `lonDeg`: a hole unwrapped on its own lands next to its outer ring (a polygon across 180 whose
+/// hole lies at -179.5 gets the hole at 180.5).
+void moveNextTo(std::span<glm::dvec3> part, double lonDeg);
+
 /// For an unwrapped ring: +1 when it winds once around the North Pole, -1 around the South
 /// Pole, 0 when it does not (its longitude, closed back to the start, changes by 0, not 360).
 /// Which pole: the one a vertex touches (|lat| = 90), else the side of the equator its mean

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 
@@ -117,11 +118,15 @@ bool toLonLat(std::vector<glm::dvec3>& coords, OGRCoordinateTransformation* tran
     return true;
 }
 
-/// Unwraps lines and rings, flags pole rings and computes the bounds.
+/// Unwraps lines and rings (holes next to their outer ring), flags pole rings and computes the
+/// bounds.
 void finish(Feature& f) {
     std::vector<LonLatBounds> boxes;
     boxes.reserve(f.parts.size());
-    if (f.kind == GeometryKind::Polygons) f.containsPole.assign(f.parts.size(), 0);
+    const bool polygons = f.kind == GeometryKind::Polygons;
+    if (polygons) f.containsPole.assign(f.parts.size(), 0);
+    size_t nextPolygon = 0;
+    double outerMidLon = 0.0;
     for (size_t p = 0; p < f.parts.size(); ++p) {
         const std::span<glm::dvec3> part(f.coords.data() + f.parts[p], f.partEnd(p) - f.parts[p]);
         if (f.kind == GeometryKind::Points) {
@@ -130,8 +135,14 @@ void finish(Feature& f) {
             continue;
         }
         unwrapLongitudes(part);
-        const int8_t pole = f.kind == GeometryKind::Polygons ? ringPoleWinding(part) : int8_t(0);
-        if (f.kind == GeometryKind::Polygons) f.containsPole[p] = pole;
+        int8_t pole = 0;
+        if (polygons) {
+            const bool outer = nextPolygon < f.polygons.size() && f.polygons[nextPolygon] == p;
+            nextPolygon += outer;
+            if (outer) outerMidLon = lonMidpoint(part);
+            else moveNextTo(part, outerMidLon);
+            pole = f.containsPole[p] = ringPoleWinding(part);
+        }
         boxes.push_back(pole ? poleCapBounds(part, pole) : partBounds(part));
     }
     f.bounds = coverBounds(boxes);
@@ -187,7 +198,7 @@ ConvertedFeature convertFeature(const OGRFeature& feature, OGRCoordinateTransfor
         return out;
     }
     Gathered g;
-    g.maxVertices = maxVertices;
+    g.maxVertices = std::min<uint64_t>(maxVertices, UINT32_MAX);   // Feature indexes with uint32_t
     g.points.kind = GeometryKind::Points;
     g.lines.kind = GeometryKind::Lines;
     g.polygons.kind = GeometryKind::Polygons;

@@ -67,7 +67,8 @@ using AttributeValue = std::variant<std::monostate, int64_t, double, std::string
 /// from polygons[k] to polygons[k + 1] (or parts.size()): the first is the outer ring, the rest
 /// its holes. Rings are closed as stored (the first vertex repeated last, when the source did).
 /// Longitudes within a part are continuous (unwrapped across the antimeridian), so they may lie
-/// outside [-180, 180]; each part starts in [-180, 180].
+/// outside [-180, 180]. Each line, point and outer ring starts in [-180, 180]; a hole is moved by
+/// whole turns next to its outer ring.
 struct Feature {
     int64_t fid = -1;   ///< OGR's feature id (-1 when the source has none)
     GeometryKind kind = GeometryKind::Points;

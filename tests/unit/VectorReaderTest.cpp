@@ -106,6 +106,22 @@ TEST(VectorReader, PolygonWithAHoleKeepsItsRings) {
     EXPECT_DOUBLE_EQ(f.bounds.north, 10.0);
 }
 
+TEST(VectorReader, HoleAcrossTheAntimeridianStaysInsideItsOuterRing) {
+    // The outer ring starts at 179 and crosses 180; the hole lies wholly at -179.8 .. -179.2.
+    const auto file = writeGeoJson(
+        "dateline-hole", {feature(R"({"type": "Polygon", "coordinates": [[[179,-1],[-179,-1],[-179,1],[179,1],[179,-1]],
+                                     [[-179.8,-0.5],[-179.2,-0.5],[-179.2,0.5],[-179.8,0.5],[-179.8,-0.5]]]})")});
+    auto data = read(file);
+    ASSERT_TRUE(data) << data.message();
+    const Feature& f = data->layers[0].features.at(0);
+    ASSERT_EQ(f.parts, (std::vector<uint32_t>{0, 5}));
+    EXPECT_DOUBLE_EQ(f.coords[1].x, 181.0);
+    EXPECT_NEAR(f.coords[5].x, 180.2, 1e-12);
+    EXPECT_NEAR(f.coords[6].x, 180.8, 1e-12);
+    EXPECT_DOUBLE_EQ(f.bounds.west, 179.0);
+    EXPECT_DOUBLE_EQ(f.bounds.east, 181.0);
+}
+
 TEST(VectorReader, MultiGeometriesAndCollectionsAreFlattened) {
     const auto file = writeGeoJson(
         "multi", {feature(R"({"type": "MultiPoint", "coordinates": [[1,2],[3,4],[5,6]]})"),
