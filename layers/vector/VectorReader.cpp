@@ -34,7 +34,7 @@ struct ReadBudget {
 
 class LayerReader {
 public:
-    LayerReader(VectorLayer& out, ReadBudget& budget) : out_(out), budget_(budget) {}
+    LayerReader(VectorLayer& out, ReadBudget& budget) : out_(out), budget_(budget), warningCount_(out.warnings.size()) {}
 
     void warn(std::string text) {
         ++warningCount_;
@@ -45,6 +45,7 @@ public:
         layer.ResetReading();
         std::unique_ptr<OGRFeature> feature;
         std::vector<LonLatBounds> boxes;
+        if (budget_.exhausted) warn("not read: the limits of this read were reached in an earlier layer");
         while (!budget_.exhausted) {
             feature.reset(layer.GetNextFeature());
             if (!feature) break;

@@ -237,9 +237,17 @@ TEST(VectorReader, NanCoordinatesAreSkippedWithAWarning) {
     EXPECT_DOUBLE_EQ(layer.features[0].coords[0].x, 3.0);
     EXPECT_EQ(layer.warnings, (std::vector<std::string>{"skipped feature 0: a coordinate is NaN or infinite",
                                                         "skipped feature 2: a coordinate is NaN or infinite"}));
+    // Past the cap, warnings are counted, not listed.
+    VectorReadOptions o;
+    o.source = file.string();
+    o.limits.maxWarnings = 1;
+    auto capped = readVector(o);
+    ASSERT_TRUE(capped) << capped.message();
+    EXPECT_EQ(capped->layers[0].warnings, (std::vector<std::string>{"skipped feature 0: a coordinate is NaN or infinite",
+                                                                     "1 more warnings not listed"}));
 }
 
-TEST(VectorReader, FeatureOverTheVertexLimitIsSkippedWithAWarning) {
+TEST(VectorReader, FeatureOverTheVertexLimitIsSkippedAndTheReadLimitsStopTheRead) {
     const auto file = writeGeoJson("long", {feature(R"({"type": "LineString", "coordinates": [[0,0],[1,1],[2,2],[3,3],[4,4]]})"),
                                             feature(R"({"type": "LineString", "coordinates": [[0,0],[1,1]]})")});
     VectorReadOptions o;
@@ -259,6 +267,13 @@ TEST(VectorReader, FeatureOverTheVertexLimitIsSkippedWithAWarning) {
     ASSERT_TRUE(total) << total.message();
     EXPECT_EQ(total->layers[0].features.size(), 1u);
     EXPECT_TRUE(contains(total->layers[0].warnings.at(0), "limit of 6 vertices")) << total->layers[0].warnings.at(0);
+    // So does the feature limit.
+    o.limits.maxTotalVertices = 100;
+    o.limits.maxFeatures = 1;
+    auto one = readVector(o);
+    ASSERT_TRUE(one) << one.message();
+    EXPECT_EQ(one->layers[0].features.size(), 1u);
+    EXPECT_EQ(one->layers[0].warnings, (std::vector<std::string>{"reading stopped at feature 1: the limit of 1 features was reached"}));
 }
 
 TEST(VectorReader, MissingFileUnknownLayerAndUnreadableFileAreErrorsNamingThem) {
