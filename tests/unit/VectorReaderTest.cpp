@@ -291,6 +291,10 @@ TEST(VectorReader, MissingFileUnknownLayerAndUnreadableFileAreErrorsNamingThem) 
     auto bad = read(garbage);
     ASSERT_FALSE(bad);
     EXPECT_TRUE(contains(bad.message(), garbage.string() + ": OGR cannot open it as vector data")) << bad.message();
+    // A connection string goes to OGR (not "no such file"); nothing listens on port 1.
+    auto wfs = read("WFS:http://127.0.0.1:1/wfs");
+    ASSERT_FALSE(wfs);
+    EXPECT_TRUE(contains(wfs.message(), "WFS:http://127.0.0.1:1/wfs: OGR cannot open it as vector data")) << wfs.message();
 }
 
 TEST(VectorReader, EmptyLayerIsNotAnError) {
