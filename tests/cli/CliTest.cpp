@@ -109,6 +109,43 @@ TEST(Cli, InfoOnNetcdfListsVolumeVariables) {
         EXPECT_NE(r.output.find(s), std::string::npos) << s << "\n" << r.output;
 }
 
+// Vector data: a GeoJSON written here, and North Carolina's NAD27 counties when ../shared is there.
+TEST(Cli, InfoOnVectorFileListsLayers) {
+    const auto file = tempFile("towns.geojson", R"({"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"name": "a", "pop": 10}, "geometry": {"type": "Point", "coordinates": [170, -40]}},
+        {"type": "Feature", "properties": {"name": "b", "pop": 20}, "geometry": {"type": "Point", "coordinates": [175, -38]}}]})");
+    const CliRun r = run("info " + file.string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const auto j = nlohmann::json::parse(r.output);
+    EXPECT_EQ(j["kind"], "vector");
+    ASSERT_EQ(j["layers"].size(), 1u);
+    const auto& layer = j["layers"][0];
+    EXPECT_EQ(layer["name"], "towns");
+    EXPECT_EQ(layer["geometryType"], "Point");
+    EXPECT_EQ(layer["featureCount"], 2);
+    EXPECT_EQ(layer["crs"]["epsg"], 4326);
+    EXPECT_EQ(layer["fields"][1]["name"], "pop");
+    EXPECT_EQ(layer["fields"][1]["type"], "Integer");
+    EXPECT_NEAR(layer["extent"]["west"].get<double>(), 170.0, 1e-9);
+    EXPECT_NEAR(layer["extent"]["north"].get<double>(), -38.0, 1e-9);
+
+    const std::string nc = std::string(ORBIS_SOURCE_DIR) + "/../shared/data/vector/nc.gpkg";
+    if (!std::filesystem::exists(nc)) GTEST_SKIP() << "no " << nc << " (../shared/data is optional)";
+    const CliRun n = run("info " + nc);
+    ASSERT_EQ(n.exitCode, 0) << n.output;
+    const auto counties = nlohmann::json::parse(n.output)["layers"][0];
+    EXPECT_EQ(counties["featureCount"], 100);
+    EXPECT_EQ(counties["geometryType"], "Multi Polygon");
+    EXPECT_EQ(counties["crs"]["name"], "NAD27");
+    EXPECT_EQ(counties["crs"]["epsg"], 4267);
+    // North Carolina in WGS84: 84.32 W .. 75.46 W, 33.88 N .. 36.59 N (0.01 degrees: the bounds of
+    // a reprojected box, densified).
+    EXPECT_NEAR(counties["extent"]["west"].get<double>(), -84.32, 0.01);
+    EXPECT_NEAR(counties["extent"]["east"].get<double>(), -75.46, 0.01);
+    EXPECT_NEAR(counties["extent"]["south"].get<double>(), 33.88, 0.01);
+    EXPECT_NEAR(counties["extent"]["north"].get<double>(), 36.59, 0.01);
+}
+
 TEST(Cli, InfoOnSceneListsLayers) {
     const CliRun r = run(std::string("info ") + ORBIS_DEFAULT_SCENE);
     EXPECT_EQ(r.exitCode, 0) << r.output;

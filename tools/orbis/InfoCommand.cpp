@@ -10,6 +10,7 @@
 #include "formats/fmv/PoseCsv.h"
 #include "layers/fmv/VideoFile.h"
 #include "layers/points/PointCloud.h"
+#include "layers/vector/VectorReader.h"
 #include "layers/volume/VolumeReader.h"
 
 #include <nlohmann/json.hpp>
@@ -27,7 +28,9 @@ const char* kHelp =
     "Without FILE: the Vulkan devices, the one Orbis would pick, its driver and the features used.\n"
     "With FILE: what the file holds, as JSON. Readers so far: scene files (.json), point clouds (LAS\n"
     "1.0-1.4: header, VLRs, CRS, bounds on the globe, first points), volumes (netCDF and other\n"
-    "multidimensional files: variables, dimensions, ranges), rasters (GDAL), and FMV metadata:\n"
+    "multidimensional files: variables, dimensions, ranges), rasters (GDAL), vector data (anything OGR\n"
+    "opens that is not a raster: Shapefile, GeoPackage, GeoJSON, ...: layers, geometry types, counts,\n"
+    "CRS, fields, extents in WGS84), and FMV metadata:\n"
     "raw MISB ST 0601 KLV streams (.bin, .klv, or a file that starts with the ST 0601 key) and pose\n"
     "CSV sidecars (.csv), printed as JSON lines, one per packet or row; videos (.ts, .mpg, .mp4, ...):\n"
     "a line on the video stream, then one per ST 0601 packet of its KLV stream with its time.\n";
@@ -239,11 +242,14 @@ int infoCommand(const std::vector<std::string>& argv) {
         std::printf("%s\n", raster->c_str());
         return kOk;
     }
+    // Then as vector data (Shapefile, GeoPackage, GeoJSON, CSV with geometry, ...): only files
+    // no reader above took, and only with a layer that has a geometry.
+    if (vector::looksLikeVectorFile(file)) return printDescription(vector::describeVectorJson(file));
     if (!klvProblem.empty()) std::fprintf(stderr, "orbis: %s\n", klvProblem.c_str());
     std::fprintf(stderr, "orbis: %s\n", raster.message().c_str());
     std::fprintf(stderr,
                  "orbis: %s: no reader for this file (readers: scene .json, LAS point clouds, netCDF volumes, rasters GDAL opens, "
-                 "ST 0601 KLV .bin/.klv, pose .csv)\n",
+                 "vector data OGR opens, ST 0601 KLV .bin/.klv, pose .csv)\n",
                  file.c_str());
     return kBadInput;
 }

@@ -1,0 +1,129 @@
+#include "layers/vector/VectorOgr.h"
+
+#include <cpl_error.h>
+#include <ogrsf_frmts.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <mutex>
+
+namespace orbis::vector::detail {
+namespace {
+
+void registerGdalOnce() {
+    static std::once_flag once;
+    std::call_once(once, [] { GDALAllRegister(); });
+}
+
+/// A source that names a driver or a server ("WFS:http://...", "PG:dbname=...") is not a path.
+bool looksLikeConnection(const std::string& source) {
+    const auto colon = source.find(':');
+    return colon != std::string::npos && colon > 1 && source.find('/') > colon;
+}
+
+}  // namespace
+
+GdalErrorScope::GdalErrorScope() {
+    CPLPushErrorHandlerEx(&GdalErrorScope::handler, this);
+    CPLErrorReset();
+}
+
+GdalErrorScope::~GdalErrorScope() { CPLPopErrorHandler(); }
+
+void GdalErrorScope::handler(CPLErr level, CPLErrorNum, const char* message) {
+    auto* self = static_cast<GdalErrorScope*>(CPLGetErrorHandlerUserData());
+    if (!self || !message) return;
+    // One line per message (OGR's SQL parser points at the error on a second line).
+    std::string text(message);
+    std::replace(text.begin(), text.end(), '\n', ' ');
+    if (level >= CE_Failure) {
+        // A driver may repeat itself; a few distinct messages say enough.
+        if (self->failures_.size() < 4 && std::find(self->failures_.begin(), self->failures_.end(), text) == self->failures_.end())
+            self->failures_.push_back(std::move(text));
+    } else if (level == CE_Warning) {
+        self->lastWarning_ = std::move(text);
+    }
+}
+
+std::string GdalErrorScope::message(const char* fallback) const {
+    std::string out;
+    for (const std::string& f : failures_) out.append(out.empty() ? "" : "; ").append(f);
+    if (out.empty()) out = lastWarning_.empty() ? std::string(fallback) : lastWarning_;
+    return out;
+}
+
+void GdalErrorScope::clear() {
+    failures_.clear();
+    lastWarning_.clear();
+    CPLErrorReset();
+}
+
+Result<DatasetPtr> openVectorSource(const std::string& source) {
+    registerGdalOnce();
+    std::error_code ec;
+    if (source.empty()) return makeError("vector source: no path or connection string given");
+    if (!looksLikeConnection(source) && !std::filesystem::exists(source, ec)) return makeError(source + ": no such file");
+    GdalErrorScope errors;
+    DatasetPtr dataset(GDALDataset::Open(source.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+    if (!dataset) {
+        const std::string why = errors.message("no vector driver recognises it");
+        return makeError(source + ": OGR cannot open it as vector data (" + why + ")");
+    }
+    return dataset;
+}
+
+std::string crsLabel(const OGRSpatialReference& srs, int* epsg) {
+    *epsg = 0;
+    const char* name = srs.GetName();
+    const char* authority = srs.GetAuthorityName(nullptr);
+    const char* code = srs.GetAuthorityCode(nullptr);
+    OGRSpatialReference identified;
+    if (!authority || !code) {
+        // A Shapefile's .prj names no authority; the common CRSs are recognised by their WKT.
+        identified = srs;
+        if (identified.AutoIdentifyEPSG() == OGRERR_NONE) {
+            authority = identified.GetAuthorityName(nullptr);
+            code = identified.GetAuthorityCode(nullptr);
+        }
+    }
+    if (authority && code) {
+        if (std::string(authority) == "EPSG") *epsg = std::atoi(code);
+        return std::string(authority) + ":" + code;
+    }
+    return name ? std::string(name) : std::string("unnamed CRS");
+}
+
+Result<LayerCrs> layerCrs(OGRLayer& layer, const std::string& source) {
+    LayerCrs out;
+    const std::string where = source + ": layer '" + layer.GetName() + "'";
+    const OGRSpatialReference* layerSrs = layer.GetSpatialRef();
+    if (!layerSrs) {
+        OGREnvelope e;
+        GdalErrorScope quiet;
+        const bool known = layer.GetExtent(&e, TRUE) == OGRERR_NONE;
+        if (known && (e.MinX < -180.0 || e.MaxX > 360.0 || e.MinY < -90.0 || e.MaxY > 90.0)) {
+            char range[160];
+            std::snprintf(range, sizeof range, "x %.6g .. %.6g, y %.6g .. %.6g", e.MinX, e.MaxX, e.MinY, e.MaxY);
+            return makeError(where + ": no coordinate reference system, and the coordinates (" + range +
+                             ") are not longitudes and latitudes");
+        }
+        out.crs = "none (taken as WGS84 lon/lat)";
+        out.warning = "no coordinate reference system: coordinates taken as WGS84 longitude/latitude";
+        return out;
+    }
+    OGRSpatialReference from(*layerSrs), to;
+    from.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    to.SetWellKnownGeogCS("WGS84");
+    to.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    out.crs = crsLabel(from, &out.epsg);
+    out.crsName = from.GetName() ? from.GetName() : "";
+    GdalErrorScope errors;
+    out.transform.reset(OGRCreateCoordinateTransformation(&from, &to));
+    if (!out.transform)
+        return makeError(where + ": no transformation from its CRS " + out.crs +
+                         (out.crsName.empty() || out.crsName == out.crs ? "" : " (" + out.crsName + ")") +
+                         " to WGS84 (" + errors.message("PROJ found none") + ")");
+    return out;
+}
+
+}  // namespace orbis::vector::detail

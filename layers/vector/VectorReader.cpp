@@ -1,0 +1,192 @@
+#include "layers/vector/VectorReader.h"
+
+#include "layers/vector/LonLatGeometry.h"
+#include "layers/vector/VectorFeature.h"
+#include "layers/vector/VectorOgr.h"
+
+#include <ogrsf_frmts.h>
+
+#include <memory>
+
+namespace orbis::vector {
+namespace {
+
+using detail::GdalErrorScope;
+
+/// An ExecuteSQL result set, released through its dataset.
+struct SqlResult {
+    GDALDataset* dataset = nullptr;
+    OGRLayer* layer = nullptr;
+    SqlResult() = default;
+    SqlResult(const SqlResult&) = delete;
+    SqlResult& operator=(const SqlResult&) = delete;
+    ~SqlResult() {
+        if (layer) dataset->ReleaseResultSet(layer);
+    }
+};
+
+/// How far a read has come across layers (the total limits are per read).
+struct ReadBudget {
+    const VectorLimits& limits;
+    uint64_t features = 0, vertices = 0;
+    bool exhausted = false;
+};
+
+class LayerReader {
+public:
+    LayerReader(VectorLayer& out, ReadBudget& budget) : out_(out), budget_(budget), warningCount_(out.warnings.size()) {}
+
+    void warn(std::string text) {
+        ++warningCount_;
+        if (out_.warnings.size() < budget_.limits.maxWarnings) out_.warnings.push_back(std::move(text));
+    }
+
+    void read(OGRLayer& layer, OGRCoordinateTransformation* transform) {
+        layer.ResetReading();
+        std::unique_ptr<OGRFeature> feature;
+        std::vector<LonLatBounds> boxes;
+        if (budget_.exhausted) warn("not read: the limits of this read were reached in an earlier layer");
+        while (!budget_.exhausted) {
+            feature.reset(layer.GetNextFeature());
+            if (!feature) break;
+            if (budget_.features >= budget_.limits.maxFeatures) {
+                warn("reading stopped at feature " + std::to_string(feature->GetFID()) + ": the limit of " +
+                     std::to_string(budget_.limits.maxFeatures) + " features was reached");
+                budget_.exhausted = true;
+                break;
+            }
+            ++budget_.features;
+            ++out_.featuresRead;
+            take(detail::convertFeature(*feature, transform, budget_.limits.maxVerticesPerFeature), boxes);
+        }
+        out_.bounds = coverBounds(boxes);
+        if (warningCount_ > out_.warnings.size())
+            out_.warnings.push_back(std::to_string(warningCount_ - out_.warnings.size()) + " more warnings not listed");
+    }
+
+private:
+    void take(detail::ConvertedFeature converted, std::vector<LonLatBounds>& boxes) {
+        if (!converted.skipped.empty()) {
+            ++out_.featuresSkipped;
+            warn("skipped " + converted.skipped);
+            return;
+        }
+        uint64_t vertices = 0;
+        for (const Feature& f : converted.features) vertices += f.coords.size();
+        if (budget_.vertices + vertices > budget_.limits.maxTotalVertices) {
+            ++out_.featuresSkipped;
+            warn("reading stopped at feature " + std::to_string(converted.features[0].fid) + ": the limit of " +
+                 std::to_string(budget_.limits.maxTotalVertices) + " vertices in all was reached");
+            budget_.exhausted = true;
+            return;
+        }
+        budget_.vertices += vertices;
+        out_.vertexCount += vertices;
+        for (Feature& f : converted.features) {
+            boxes.push_back(f.bounds);
+            out_.features.push_back(std::move(f));
+        }
+    }
+
+    VectorLayer& out_;
+    ReadBudget& budget_;
+    size_t warningCount_ = 0;
+};
+
+/// `filter` names the where filter or SQL statement for errors that only show when reading
+/// (SQLite-based drivers check a filter at the first feature).
+Result<VectorLayer> readLayer(OGRLayer& layer, const std::string& source, const std::string& filter, ReadBudget& budget) {
+    VectorLayer out;
+    out.name = layer.GetName();
+    out.geometryType = OGRGeometryTypeToName(layer.GetGeomType());
+    out.fields = detail::readFields(*layer.GetLayerDefn());
+    auto crs = detail::layerCrs(layer, source);
+    if (!crs) return crs.error();
+    out.crs = crs->crs;
+    out.crsName = crs->crsName;
+    if (!crs->warning.empty()) out.warnings.push_back(crs->warning);
+    GdalErrorScope errors;   // a driver's complaints about single features stay out of the log
+    LayerReader(out, budget).read(layer, crs->transform.get());
+    if (errors.failed() && out.featuresRead == 0)
+        return makeError(source + ": layer '" + out.name + "': cannot read its features" +
+                         (filter.empty() ? "" : " with \"" + filter + "\"") + " (" + errors.message() + ")");
+    return out;
+}
+
+Result<void> checkOptions(const VectorReadOptions& o) {
+    if (!o.sql.empty() && !o.layers.empty())
+        return makeError(o.source + ": give either an SQL statement or layer names, not both");
+    if (!o.sql.empty() && !o.where.empty())
+        return makeError(o.source + ": give either an SQL statement or a where filter, not both");
+    return {};
+}
+
+Result<std::vector<OGRLayer*>> chooseLayers(GDALDataset& dataset, const VectorReadOptions& o) {
+    std::vector<OGRLayer*> layers;
+    if (o.layers.empty()) {
+        for (int i = 0; i < dataset.GetLayerCount(); ++i) layers.push_back(dataset.GetLayer(i));
+        return layers;
+    }
+    for (const std::string& name : o.layers) {
+        OGRLayer* layer = dataset.GetLayerByName(name.c_str());
+        if (!layer) {
+            std::string known;
+            for (int i = 0; i < dataset.GetLayerCount() && i < 20; ++i)
+                known.append(known.empty() ? "" : ", ").append(dataset.GetLayer(i)->GetName());
+            return makeError(o.source + ": no layer '" + name + "' (layers: " + (known.empty() ? "none" : known) + ")");
+        }
+        layers.push_back(layer);
+    }
+    return layers;
+}
+
+Result<void> applyWhere(OGRLayer& layer, const VectorReadOptions& o) {
+    GdalErrorScope errors;
+    if (layer.SetAttributeFilter(o.where.empty() ? nullptr : o.where.c_str()) == OGRERR_NONE) return {};
+    return makeError(o.source + ": layer '" + layer.GetName() + "': bad where filter \"" + o.where + "\" (" +
+                     errors.message("OGR rejected it") + ")");
+}
+
+Result<VectorData> readSql(GDALDataset& dataset, const VectorReadOptions& o) {
+    SqlResult result;
+    result.dataset = &dataset;
+    {
+        GdalErrorScope errors;
+        result.layer = dataset.ExecuteSQL(o.sql.c_str(), nullptr, "OGRSQL");
+        if (!result.layer) {
+            const std::string why = errors.message("");
+            return makeError(o.source + ": bad SQL statement \"" + o.sql + "\" (" +
+                             (why.empty() ? "it selects no layer" : why) + ")");
+        }
+    }
+    ReadBudget budget{o.limits};
+    auto layer = readLayer(*result.layer, o.source, o.sql, budget);
+    if (!layer) return layer.error();
+    VectorData data;
+    data.source = o.source;
+    data.layers.push_back(std::move(*layer));
+    return data;
+}
+
+}  // namespace
+
+Result<VectorData> readVector(const VectorReadOptions& options) {
+    if (auto ok = checkOptions(options); !ok) return ok.error();
+    auto dataset = detail::openVectorSource(options.source);
+    if (!dataset) return dataset.error();
+    if (!options.sql.empty()) return readSql(**dataset, options);
+    auto layers = chooseLayers(**dataset, options);
+    if (!layers) return layers.error();
+    VectorData data;
+    data.source = options.source;
+    ReadBudget budget{options.limits};
+    for (OGRLayer* layer : *layers) {
+        if (auto ok = applyWhere(*layer, options); !ok) return ok.error();
+        auto read = readLayer(*layer, options.source, options.where, budget);
+        if (!read) return read.error();
+        data.layers.push_back(std::move(*read));
+    }
+    return data;
+}
+
+}  // namespace orbis::vector
