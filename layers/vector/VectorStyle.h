@@ -1,0 +1,132 @@
+#pragma once
+// How a vector layer's features look: a default style plus rules matched on attributes, read
+// from the layer's "style" object in the scene. No Vulkan.
+//
+//   "style": {
+//     "color": [1, 0.8, 0], "opacity": 1, "width": 2,          lines, outlines, markers (px)
+//     "fill": [0.2, 0.4, 1], "fillOpacity": 0.5, "outline": true,
+//     "icon": "icons/city.png", "iconSize": 16,                  points (px)
+//     "extrude": 30 | "height" | {"field": "levels", "scale": 3, "add": 0},   metres
+//     "label": "{name} ({pop_est})", "labelColor": [1, 1, 1], "labelSize": 14,
+//     "minRange": 0, "maxRange": 2e7,                            camera distance (m)
+//     "rules": [
+//       {"name": "capitals", "when": {"featurecla": "Admin-0 capital"}, "color": [1, 0, 0]},
+//       {"when": {"pop_max": {"min": 1e6}}, "iconSize": 24},
+//       {"when": {"continent": ["Asia", "Europe"]}, "visible": false}
+//     ]
+//   }
+//
+// A colour is [r, g, b] from 0 to 1 (sRGB) or "#rrggbb". Rules apply in order: each rule whose
+// conditions all hold sets the properties it names, over the defaults and the rules before it.
+// A condition is an equality (a number, a string, a boolean as 1/0, or null), a list (any of
+// its values), or a range {"min": a, "max": b} (min included, max excluded; numbers only). A
+// label is a template: "{field}" is the field's value, "{{" and "}}" are braces.
+//
+// The style is read without the data (VectorStyle::read), then bound to the layer's fields
+// (bind): a rule, label or extrusion that names a field the layer does not have is an error
+// naming the rule and the field.
+
+#include "base/Result.h"
+#include "layers/vector/VectorReader.h"
+
+#include <nlohmann/json.hpp>
+
+#include <glm/glm.hpp>
+
+#include <limits>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace orbis::vector {
+
+/// Extruded height (m) = constant, or the field's number * scale + add.
+struct Extrusion {
+    double constant = 0.0;
+    std::string field;   ///< empty: the constant
+    double scale = 1.0, add = 0.0;
+};
+
+/// The look of one feature, every property resolved.
+struct FeatureStyle {
+    bool visible = true;
+    glm::dvec3 color{1.0, 0.85, 0.0};
+    double opacity = 1.0;
+    double widthPx = 2.0;
+    glm::dvec3 fill{0.2, 0.45, 0.9};
+    double fillOpacity = 0.4;
+    bool outline = true;
+    std::string icon;          ///< a PNG's path (resolved against the scene's folder), empty: a marker
+    double iconSizePx = 12.0;
+    std::optional<double> extrudeM;   ///< height of an extruded polygon; none: flat
+    std::string label;         ///< the text, the template filled in; empty: no label
+    glm::dvec3 labelColor{1.0, 1.0, 1.0};
+    double labelSizePx = 14.0;
+    double minRangeM = 0.0, maxRangeM = std::numeric_limits<double>::infinity();
+};
+
+class VectorStyle {
+public:
+    /// Reads `style` (may be null: the defaults). `path` is its JSON pointer for messages
+    /// ("/layers/2/style").
+    static Result<VectorStyle> read(const nlohmann::json* style, const std::string& file, const std::string& path);
+
+    /// Resolves field names against the layer's fields.
+    Result<void> bind(std::span<const FieldInfo> fields, const std::string& layerName);
+
+    /// The style of a feature with these attributes (one per field, as bound).
+    FeatureStyle evaluate(std::span<const AttributeValue> attributes) const;
+
+    size_t ruleCount() const { return rules_.size(); }
+    const std::string& ruleName(size_t i) const { return rules_[i].name; }
+    bool ruleEnabled(size_t i) const { return rules_[i].enabled; }
+    /// A disabled rule is skipped (a live setting: "show this rule").
+    void setRuleEnabled(size_t i, bool enabled) { rules_[i].enabled = enabled; }
+
+private:
+    /// A label template's pieces: literal text, or a field (index after bind).
+    struct Piece {
+        std::string text;
+        bool isField = false;
+        size_t index = 0;
+    };
+    /// The properties a rule sets (the defaults: the ones the style names).
+    struct Patch {
+        std::optional<bool> visible, outline;
+        std::optional<glm::dvec3> color, fill, labelColor;
+        std::optional<double> opacity, widthPx, fillOpacity, iconSizePx, labelSizePx, minRangeM, maxRangeM;
+        std::optional<std::string> icon;
+        std::optional<std::vector<Piece>> label;
+        std::optional<Extrusion> extrude;
+        size_t extrudeIndex = 0;   ///< the extrusion's field, after bind
+        bool noExtrude = false;    ///< "extrude": null
+    };
+    struct Condition {
+        std::string field;
+        size_t index = 0;                       ///< after bind
+        std::vector<AttributeValue> anyOf;      ///< equality or list
+        std::optional<double> min, max;         ///< a range
+    };
+    struct Rule {
+        std::string name, path;   ///< its name ("rule 3" when unnamed) and JSON pointer
+        std::vector<Condition> when;
+        Patch patch;
+        bool enabled = true;
+    };
+
+    static Result<Patch> readPatch(const nlohmann::json& object, const std::string& file, const std::string& path,
+                                   Rule* rule);
+    static bool matches(const Condition& c, std::span<const AttributeValue> attributes);
+    void apply(const Patch& p, std::span<const AttributeValue> attributes, FeatureStyle& s) const;
+
+    Patch defaults_;
+    std::vector<Rule> rules_;
+    std::string file_, path_;
+};
+
+/// A field value as text (labels, the feature panel): integers as they are, reals with up to
+/// 6 significant digits, null as "".
+std::string attributeText(const AttributeValue& value);
+
+}  // namespace orbis::vector

@@ -1,0 +1,145 @@
+#include "layers/vector/VectorStyle.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+namespace orbis::vector {
+namespace {
+
+using nlohmann::json;
+
+const std::vector<FieldInfo> kFields = {{"name", "String"}, {"pop", "Integer64"}, {"height", "Real"}, {"kind", "String"}};
+
+std::vector<AttributeValue> attrs(std::string name, int64_t pop, AttributeValue height, std::string kind) {
+    return {AttributeValue{std::move(name)}, AttributeValue{pop}, std::move(height), AttributeValue{std::move(kind)}};
+}
+
+Result<VectorStyle> styleFrom(const std::string& text) {
+    static json keep;   // the reader keeps no reference after read()
+    keep = json::parse(text);
+    auto style = VectorStyle::read(&keep, "scene.json", "/layers/1/style");
+    if (!style) return style.error();
+    if (auto bound = style->bind(kFields, "cities"); !bound) return bound.error();
+    return style;
+}
+
+TEST(VectorStyle, DefaultsWithoutAStyleObject) {
+    auto style = VectorStyle::read(nullptr, "scene.json", "/layers/0/style");
+    ASSERT_TRUE(style) << style.message();
+    ASSERT_TRUE(style->bind(kFields, "cities"));
+    const FeatureStyle s = style->evaluate(attrs("Recife", 1600000, 10.0, "city"));
+    EXPECT_TRUE(s.visible);
+    EXPECT_TRUE(s.label.empty());
+    EXPECT_FALSE(s.extrudeM);
+    EXPECT_EQ(s.widthPx, FeatureStyle{}.widthPx);
+}
+
+TEST(VectorStyle, RulesApplyInOrderOverTheDefaults) {
+    auto style = styleFrom(R"J({
+        "color": "#ff8000", "width": 3, "label": "{name} ({pop})",
+        "rules": [
+            {"name": "big", "when": {"pop": {"min": 1000000}}, "width": 6, "iconSize": 24},
+            {"when": {"kind": ["town", "village"]}, "color": [0, 0, 1], "label": "{name}"},
+            {"name": "hidden", "when": {"name": "Atlantis"}, "visible": false}
+        ]})J");
+    ASSERT_TRUE(style) << style.message();
+    ASSERT_EQ(style->ruleCount(), 3u);
+    EXPECT_EQ(style->ruleName(0), "big");
+    EXPECT_EQ(style->ruleName(1), "rule 2");
+
+    FeatureStyle s = style->evaluate(attrs("Recife", 1600000, 10.0, "city"));
+    EXPECT_EQ(s.color, glm::dvec3(1.0, 128.0 / 255.0, 0.0));
+    EXPECT_EQ(s.widthPx, 6.0);
+    EXPECT_EQ(s.iconSizePx, 24.0);
+    EXPECT_EQ(s.label, "Recife (1600000)");
+
+    s = style->evaluate(attrs("Olinda", 390000, 5.0, "town"));
+    EXPECT_EQ(s.widthPx, 3.0);   // below the range
+    EXPECT_EQ(s.color, glm::dvec3(0, 0, 1));
+    EXPECT_EQ(s.label, "Olinda");
+
+    EXPECT_FALSE(style->evaluate(attrs("Atlantis", 0, 0.0, "city")).visible);
+    // A rule switched off (a live setting) no longer applies.
+    style->setRuleEnabled(2, false);
+    EXPECT_TRUE(style->evaluate(attrs("Atlantis", 0, 0.0, "city")).visible);
+}
+
+TEST(VectorStyle, RangesIncludeTheirMinAndExcludeTheirMaxAndSkipNonNumbers) {
+    auto style = styleFrom(R"J({"rules": [{"when": {"height": {"min": 10, "max": 20}}, "visible": false}]})J");
+    ASSERT_TRUE(style) << style.message();
+    EXPECT_TRUE(style->evaluate(attrs("a", 0, 9.999, "x")).visible);
+    EXPECT_FALSE(style->evaluate(attrs("a", 0, 10.0, "x")).visible);
+    EXPECT_FALSE(style->evaluate(attrs("a", 0, int64_t(19), "x")).visible);
+    EXPECT_TRUE(style->evaluate(attrs("a", 0, 20.0, "x")).visible);
+    EXPECT_TRUE(style->evaluate(attrs("a", 0, AttributeValue{}, "x")).visible);            // null
+    EXPECT_TRUE(style->evaluate(attrs("a", 0, AttributeValue{"15"}, "x")).visible);        // text
+}
+
+TEST(VectorStyle, EqualityComparesNumbersByValueAndNullOnlyWithNull) {
+    auto style = styleFrom(R"J({"rules": [{"when": {"pop": 5, "height": null}, "visible": false}]})J");
+    ASSERT_TRUE(style) << style.message();
+    EXPECT_FALSE(style->evaluate(attrs("a", 5, AttributeValue{}, "x")).visible);
+    EXPECT_TRUE(style->evaluate(attrs("a", 5, 0.0, "x")).visible);   // both conditions must hold
+    EXPECT_TRUE(style->evaluate(attrs("a", 6, AttributeValue{}, "x")).visible);
+}
+
+TEST(VectorStyle, ExtrusionByConstantFieldOrScaledField) {
+    auto constant = styleFrom(R"J({"extrude": 30})J");
+    ASSERT_TRUE(constant);
+    EXPECT_EQ(constant->evaluate(attrs("a", 0, 5.0, "x")).extrudeM, 30.0);
+    auto field = styleFrom(R"J({"extrude": "height"})J");
+    ASSERT_TRUE(field);
+    EXPECT_EQ(field->evaluate(attrs("a", 0, 12.5, "x")).extrudeM, 12.5);
+    EXPECT_FALSE(field->evaluate(attrs("a", 0, AttributeValue{}, "x")).extrudeM);   // no height: flat
+    auto scaled = styleFrom(R"J({"extrude": {"field": "pop", "scale": 3, "add": 1},
+                               "rules": [{"when": {"kind": "park"}, "extrude": null}]})J");
+    ASSERT_TRUE(scaled) << scaled.message();
+    EXPECT_EQ(scaled->evaluate(attrs("a", 4, 0.0, "house")).extrudeM, 13.0);
+    EXPECT_FALSE(scaled->evaluate(attrs("a", 4, 0.0, "park")).extrudeM);
+}
+
+TEST(VectorStyle, LabelTemplatesFormatValuesAndEscapeBraces) {
+    auto style = styleFrom(R"J({"label": "{{{name}}}: {height} m, {pop}"})J");
+    ASSERT_TRUE(style) << style.message();
+    EXPECT_EQ(style->evaluate(attrs("Pico", 7, 2351.123456789, "x")).label, "{Pico}: 2351.12 m, 7");
+    EXPECT_EQ(style->evaluate(attrs("Pico", 7, AttributeValue{}, "x")).label, "{Pico}:  m, 7");
+}
+
+TEST(VectorStyle, ErrorsNameTheFileTheKeyAndTheProblem) {
+    const auto message = [](const std::string& text) {
+        auto s = styleFrom(text);
+        return s ? std::string("(no error)") : s.message();
+    };
+    EXPECT_EQ(message(R"J({"rules": [{"when": {"popp": 5}}]})J"),
+              "scene.json: /layers/1/style/rules/0/when/popp: layer 'cities' has no field 'popp' (its fields: name, pop, height, kind)");
+    EXPECT_EQ(message(R"J({"label": "{nme}"})J"),
+              "scene.json: /layers/1/style/label: layer 'cities' has no field 'nme' (its fields: name, pop, height, kind)");
+    EXPECT_EQ(message(R"J({"extrude": "levels"})J"),
+              "scene.json: /layers/1/style/extrude: layer 'cities' has no field 'levels' (its fields: name, pop, height, kind)");
+    EXPECT_NE(message(R"J({"colour": [1, 0, 0]})J").find("/layers/1/style/colour"), std::string::npos);   // unknown key
+    EXPECT_NE(message(R"J({"color": "red"})J").find("\"#rrggbb\""), std::string::npos);
+    EXPECT_NE(message(R"J({"color": [1, 2, 0]})J").find("from 0 to 1"), std::string::npos);
+    EXPECT_NE(message(R"J({"opacity": 2})J").find("/layers/1/style/opacity"), std::string::npos);
+    EXPECT_NE(message(R"J({"label": "{name"})J").find("without a field name"), std::string::npos);
+    EXPECT_NE(message(R"J({"label": "a}b"})J").find("'}' without its '{'"), std::string::npos);
+    EXPECT_NE(message(R"J({"rules": [{"when": {"pop": {"min": 5, "max": 1}}}]})J").find("min is above its max"), std::string::npos);
+    EXPECT_NE(message(R"J({"rules": [{"when": {"pop": {}}}]})J").find("\"min\", \"max\" or both"), std::string::npos);
+    EXPECT_NE(message(R"J({"rules": {"when": {}}})J").find("/layers/1/style/rules: expected an array"), std::string::npos);
+    EXPECT_NE(message(R"J({"rules": [{"name": "x", "colr": [0, 0, 0]}]})J").find("/layers/1/style/rules/0/colr"), std::string::npos);
+    EXPECT_NE(message(R"J({"minRange": 10, "maxRange": 5})J").find("minRange is above maxRange"), std::string::npos);
+    EXPECT_NE(message(R"J({"extrude": -3})J").find("0 or more"), std::string::npos);
+    EXPECT_NE(message(R"J([1, 2])J").find("expected an object"), std::string::npos);
+}
+
+TEST(VectorStyle, AttributeTextOfEachType) {
+    EXPECT_EQ(attributeText(AttributeValue{}), "");
+    EXPECT_EQ(attributeText(AttributeValue{int64_t(-42)}), "-42");
+    EXPECT_EQ(attributeText(AttributeValue{0.1 + 0.2}), "0.3");
+    EXPECT_EQ(attributeText(AttributeValue{1e20}), "1e+20");
+    EXPECT_EQ(attributeText(AttributeValue{std::string("São Paulo")}), "São Paulo");
+}
+
+}  // namespace
+}  // namespace orbis::vector
