@@ -1,6 +1,7 @@
 #include "layers/vector/LabelPlacement.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <unordered_set>
@@ -8,12 +9,48 @@
 namespace orbis::vector {
 namespace {
 
+/// An integer whose ascending order is the descending order of `rank` (not NaN).
+uint64_t descendingKey(double rank) {
+    const auto bits = std::bit_cast<uint64_t>(rank);
+    const uint64_t ascending = (bits >> 63) ? ~bits : bits | (uint64_t(1) << 63);
+    return ~ascending;
+}
+
 bool finiteBox(const LabelCandidate& c) {
     return std::isfinite(c.min.x) && std::isfinite(c.min.y) && std::isfinite(c.max.x) && std::isfinite(c.max.y) &&
            c.min.x <= c.max.x && c.min.y <= c.max.y;
 }
 
 }  // namespace
+
+uint64_t LabelPlacer::IdSet::slotOf(uint64_t id) const {
+    // A 64-bit mix (splitmix64's finaliser), then linear probing.
+    uint64_t h = id;
+    h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
+    h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
+    return (h ^ (h >> 31)) & (ids_.size() - 1);
+}
+
+void LabelPlacer::IdSet::assign(std::span<const uint64_t> ids) {
+    size_t size = 16;
+    while (size < 2 * ids.size()) size *= 2;
+    ids_.assign(size, 0);
+    used_.assign(size, 0);
+    for (uint64_t id : ids) {
+        uint64_t k = slotOf(id);
+        while (used_[k] && ids_[k] != id) k = (k + 1) & (size - 1);
+        ids_[k] = id;
+        used_[k] = 1;
+    }
+}
+
+bool LabelPlacer::IdSet::contains(uint64_t id) const {
+    if (ids_.empty()) return false;
+    for (uint64_t k = slotOf(id);; k = (k + 1) & (ids_.size() - 1)) {
+        if (!used_[k]) return false;
+        if (ids_[k] == id) return true;
+    }
+}
 
 bool LabelPlacer::overlapsPlaced(const Box& box) const {
     const glm::ivec2 lo = glm::clamp(glm::ivec2(glm::floor(box.min / cellPx_)), glm::ivec2(0), cells_ - 1);
@@ -43,7 +80,7 @@ std::vector<uint32_t> LabelPlacer::place(std::span<const LabelCandidate> candida
     std::vector<uint32_t> out;
     const glm::dvec2 screen = options.screen;
     if (!(screen.x > 0.0 && screen.y > 0.0 && std::isfinite(screen.x) && std::isfinite(screen.y))) {
-        shown_.clear();
+        shown_.assign({});
         return out;
     }
 
@@ -56,11 +93,11 @@ std::vector<uint32_t> LabelPlacer::place(std::span<const LabelCandidate> candida
 
     // The candidates that can be drawn at all (a finite box on the screen; a new label needs
     // the margin inside), with their rank: last frame's labels first within the priority
-    // hysteresis, then by id (stable).
+    // hysteresis, then by id (stable). The rank is sorted as one integer key; equal keys fall
+    // back to the full order.
     struct Entry {
-        double rank;
-        uint64_t id;
-        uint32_t index;
+        uint64_t key;     // descending rank as an ascending integer
+        uint32_t index;   // into candidates
         bool wasShown;
     };
     const double margin = std::max(0.0, options.marginPx);
@@ -68,7 +105,7 @@ std::vector<uint32_t> LabelPlacer::place(std::span<const LabelCandidate> candida
     entries.reserve(candidates.size());
     for (size_t i = 0; i < candidates.size(); ++i) {
         const LabelCandidate& c = candidates[i];
-        const bool wasShown = std::binary_search(shown_.begin(), shown_.end(), c.id);
+        const bool wasShown = shown_.contains(c.id);
         const double grow = wasShown ? 0.0 : margin;
         if (!finiteBox(c) || c.min.x - grow < 0.0 || c.min.y - grow < 0.0 || c.max.x + grow > screen.x ||
             c.max.y + grow > screen.y) {
@@ -77,14 +114,31 @@ std::vector<uint32_t> LabelPlacer::place(std::span<const LabelCandidate> candida
         }
         double rank = c.priority + (wasShown ? options.priorityHysteresis : 0.0);
         if (!std::isfinite(rank)) rank = -std::numeric_limits<double>::infinity();
-        entries.push_back({rank, c.id, uint32_t(i), wasShown});
+        entries.push_back({descendingKey(rank), uint32_t(i), wasShown});
     }
-    std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
-        if (a.rank != b.rank) return a.rank > b.rank;
-        if (a.wasShown != b.wasShown) return a.wasShown;
-        if (a.id != b.id) return a.id < b.id;
-        return a.index < b.index;
-    });
+    // By key, least significant byte first (stable; bytes every key shares are skipped), then
+    // the rare runs of equal keys by the rest of the order.
+    std::vector<Entry> scratch(entries.size());
+    for (int shift = 0; shift < 64; shift += 8) {
+        size_t counts[257] = {};
+        for (const Entry& e : entries) ++counts[((e.key >> shift) & 0xff) + 1];
+        if (std::any_of(std::begin(counts) + 1, std::end(counts), [&](size_t n) { return n == entries.size(); })) continue;
+        for (int b = 0; b < 256; ++b) counts[b + 1] += counts[b];
+        for (const Entry& e : entries) scratch[counts[(e.key >> shift) & 0xff]++] = e;
+        entries.swap(scratch);
+    }
+    for (size_t i = 0; i < entries.size();) {
+        size_t j = i + 1;
+        while (j < entries.size() && entries[j].key == entries[i].key) ++j;
+        if (j - i > 1)
+            std::sort(entries.begin() + ptrdiff_t(i), entries.begin() + ptrdiff_t(j), [&](const Entry& a, const Entry& b) {
+                if (a.wasShown != b.wasShown) return a.wasShown;
+                const uint64_t ida = candidates[a.index].id, idb = candidates[b.index].id;
+                if (ida != idb) return ida < idb;
+                return a.index < b.index;
+            });
+        i = j;
+    }
 
     // Greedy: an old label needs its own box clear, a new one its box grown by the margin.
     std::vector<uint64_t> shownNow;
@@ -106,8 +160,7 @@ std::vector<uint32_t> LabelPlacer::place(std::span<const LabelCandidate> candida
         ++(e.wasShown ? stats_.kept : stats_.appeared);
     }
     stats_.placed = out.size();
-    std::sort(shownNow.begin(), shownNow.end());
-    shown_ = std::move(shownNow);
+    shown_.assign(shownNow);
     return out;
 }
 

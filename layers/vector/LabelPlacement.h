@@ -54,7 +54,7 @@ public:
 
     const LabelPlacementStats& stats() const { return stats_; }
     /// Forgets last frame (a new scene, a jump of the camera).
-    void reset() { shown_.clear(); }
+    void reset() { shown_.assign({}); }
 
 private:
     struct Box {
@@ -63,7 +63,19 @@ private:
     bool overlapsPlaced(const Box& box) const;
     void insert(const Box& box);
 
-    std::vector<uint64_t> shown_;   ///< ids drawn last frame, sorted
+    /// A set of ids: open addressing, at most half full.
+    class IdSet {
+    public:
+        void assign(std::span<const uint64_t> ids);
+        bool contains(uint64_t id) const;
+
+    private:
+        uint64_t slotOf(uint64_t id) const;
+        std::vector<uint64_t> ids_;
+        std::vector<uint8_t> used_;
+    };
+
+    IdSet shown_;   ///< ids drawn last frame
     LabelPlacementStats stats_;
     // The grid of the current frame: for each cell, the placed boxes that touch it.
     glm::ivec2 cells_{0};

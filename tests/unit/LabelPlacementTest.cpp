@@ -179,3 +179,19 @@ TEST(LabelPlacement, BadCandidatesAreLeftOutWithoutHarm) {
     // No screen: nothing placed, and last frame forgotten.
     EXPECT_TRUE(placer.place(labels, LabelPlacementOptions{}).empty());
 }
+
+TEST(LabelPlacement, EqualPrioritiesAreBrokenByIdWhateverTheOrder) {
+    // Every label has the same priority and each overlaps the next: the lower id wins each pair.
+    std::vector<LabelCandidate> labels;
+    for (uint64_t id = 0; id < 200; ++id) labels.push_back(box(1000 - id, 7.0, 10.0 + 30.0 * double(id), 100.0));
+    LabelPlacer a, b;
+    const auto first = ids(labels, a.place(labels, kHd));
+    std::mt19937 rng(5);
+    std::shuffle(labels.begin(), labels.end(), rng);
+    EXPECT_EQ(ids(labels, b.place(labels, kHd)), first);
+    // Boxes 40 wide every 30 px, ids falling to the right: the rightmost box that fits with its
+    // margin (x = 1870, id 938) goes first, then every other box leftwards: 32 labels.
+    EXPECT_EQ(first.size(), 32u);
+    for (uint64_t id : first) EXPECT_EQ((id - 938) % 2, 0u) << id;
+    EXPECT_EQ(*first.begin(), 938u);
+}
