@@ -7,6 +7,8 @@
 #include <ogrsf_frmts.h>
 
 #include <memory>
+#include <string>
+#include <unordered_map>
 
 namespace orbis::vector {
 namespace {
@@ -34,7 +36,9 @@ struct ReadBudget {
 
 class LayerReader {
 public:
-    LayerReader(VectorLayer& out, ReadBudget& budget) : out_(out), budget_(budget), warningCount_(out.warnings.size()) {}
+    /// `datasetStyles`: the source's named styles (KML's shared styles), may be null.
+    LayerReader(VectorLayer& out, ReadBudget& budget, OGRStyleTable* datasetStyles)
+        : out_(out), budget_(budget), warningCount_(out.warnings.size()), datasetStyles_(datasetStyles) {}
 
     void warn(std::string text) {
         ++warningCount_;
@@ -57,7 +61,10 @@ public:
             }
             ++budget_.features;
             ++out_.featuresRead;
-            take(detail::convertFeature(*feature, transform, budget_.limits.maxVerticesPerFeature), boxes);
+            auto converted = detail::convertFeature(*feature, transform, budget_.limits.maxVerticesPerFeature);
+            if (const int32_t style = styleOf(*feature, layer); style >= 0)
+                for (Feature& f : converted.features) f.style = style;
+            take(std::move(converted), boxes);
         }
         out_.bounds = coverBounds(boxes);
         if (warningCount_ > out_.warnings.size())
@@ -65,6 +72,27 @@ public:
     }
 
 private:
+    /// The feature's own style string ("@name": a named style of the layer or the source),
+    /// read once per distinct string.
+    int32_t styleOf(OGRFeature& feature, OGRLayer& layer) {
+        const char* text = feature.GetStyleString();
+        if (!text || !*text) return -1;
+        std::string style = text;
+        if (style[0] == '@') {
+            const char* named = nullptr;
+            if (OGRStyleTable* table = layer.GetStyleTable()) named = table->Find(style.c_str() + 1);
+            if (!named && datasetStyles_) named = datasetStyles_->Find(style.c_str() + 1);
+            if (!named) return -1;
+            style = named;
+        }
+        if (auto it = styleIndex_.find(style); it != styleIndex_.end()) return it->second;
+        SourceStyle parsed = parseOgrStyle(style);
+        const int32_t index = parsed.empty() ? -1 : int32_t(out_.styles.size());
+        if (index >= 0) out_.styles.push_back(std::move(parsed));
+        styleIndex_.emplace(std::move(style), index);
+        return index;
+    }
+
     void take(detail::ConvertedFeature converted, std::vector<LonLatBounds>& boxes) {
         if (!converted.skipped.empty()) {
             ++out_.featuresSkipped;
@@ -91,11 +119,14 @@ private:
     VectorLayer& out_;
     ReadBudget& budget_;
     size_t warningCount_ = 0;
+    OGRStyleTable* datasetStyles_ = nullptr;
+    std::unordered_map<std::string, int32_t> styleIndex_;
 };
 
 /// `filter` names the where filter or SQL statement for errors that only show when reading
 /// (SQLite-based drivers check a filter at the first feature).
-Result<VectorLayer> readLayer(OGRLayer& layer, const std::string& source, const std::string& filter, ReadBudget& budget) {
+Result<VectorLayer> readLayer(OGRLayer& layer, const std::string& source, const std::string& filter, ReadBudget& budget,
+                              OGRStyleTable* datasetStyles) {
     VectorLayer out;
     out.name = layer.GetName();
     out.geometryType = OGRGeometryTypeToName(layer.GetGeomType());
@@ -106,7 +137,7 @@ Result<VectorLayer> readLayer(OGRLayer& layer, const std::string& source, const 
     out.crsName = crs->crsName;
     if (!crs->warning.empty()) out.warnings.push_back(crs->warning);
     GdalErrorScope errors;   // a driver's complaints about single features stay out of the log
-    LayerReader(out, budget).read(layer, crs->transform.get());
+    LayerReader(out, budget, datasetStyles).read(layer, crs->transform.get());
     if (errors.failed() && out.featuresRead == 0)
         return makeError(source + ": layer '" + out.name + "': cannot read its features" +
                          (filter.empty() ? "" : " with \"" + filter + "\"") + " (" + errors.message() + ")");
@@ -160,7 +191,7 @@ Result<VectorData> readSql(GDALDataset& dataset, const VectorReadOptions& o) {
         }
     }
     ReadBudget budget{o.limits};
-    auto layer = readLayer(*result.layer, o.source, o.sql, budget);
+    auto layer = readLayer(*result.layer, o.source, o.sql, budget, dataset.GetStyleTable());
     if (!layer) return layer.error();
     VectorData data;
     data.source = o.source;
@@ -182,7 +213,7 @@ Result<VectorData> readVector(const VectorReadOptions& options) {
     ReadBudget budget{options.limits};
     for (OGRLayer* layer : *layers) {
         if (auto ok = applyWhere(*layer, options); !ok) return ok.error();
-        auto read = readLayer(*layer, options.source, options.where, budget);
+        auto read = readLayer(*layer, options.source, options.where, budget, (*dataset)->GetStyleTable());
         if (!read) return read.error();
         data.layers.push_back(std::move(*read));
     }

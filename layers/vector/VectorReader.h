@@ -24,6 +24,7 @@
 // cannot be transformed, or one over the vertex limit is skipped with a warning naming its fid.
 
 #include "base/Result.h"
+#include "layers/vector/SourceStyle.h"
 
 #include <glm/glm.hpp>
 
@@ -82,6 +83,7 @@ struct Feature {
     std::vector<AttributeValue> attributes;   ///< one per field of the layer, in field order
     LonLatBounds bounds;
     bool hasZ = false;
+    int32_t style = -1;   ///< its own style in VectorLayer::styles (KML), -1: none
 
     uint32_t partEnd(size_t p) const { return p + 1 < parts.size() ? parts[p + 1] : uint32_t(coords.size()); }
     uint32_t polygonEnd(size_t k) const { return k + 1 < polygons.size() ? polygons[k + 1] : uint32_t(parts.size()); }
@@ -104,6 +106,7 @@ struct VectorLayer {
     uint64_t featuresSkipped = 0;
     uint64_t vertexCount = 0;       ///< in `features`
     std::vector<std::string> warnings;   ///< at most VectorLimits::maxWarnings, then a summary
+    std::vector<SourceStyle> styles;     ///< the features' own styles, each distinct one once
 };
 
 struct VectorLimits {

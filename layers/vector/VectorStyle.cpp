@@ -337,8 +337,18 @@ void VectorStyle::apply(const Patch& p, std::span<const AttributeValue> attribut
     }
 }
 
-FeatureStyle VectorStyle::evaluate(std::span<const AttributeValue> attributes) const {
+FeatureStyle VectorStyle::evaluate(std::span<const AttributeValue> attributes, const SourceStyle* own) const {
     FeatureStyle s;
+    if (own) {
+        const FeatureStyle builtIn;
+        if (own->lineColor) s.color = glm::dvec3(*own->lineColor), s.opacity = own->lineColor->a;
+        if (own->lineWidthPx) s.widthPx = *own->lineWidthPx;
+        if (own->fillColor) s.fill = glm::dvec3(*own->fillColor), s.fillOpacity = own->fillColor->a;
+        if (own->icon) s.icon = *own->icon;
+        if (own->iconScale) s.iconSizePx = builtIn.iconSizePx * *own->iconScale;
+        if (own->labelColor) s.labelColor = glm::dvec3(*own->labelColor);
+        if (own->labelScale) s.labelSizePx = builtIn.labelSizePx * *own->labelScale;
+    }
     apply(defaults_, attributes, s);
     for (const Rule& rule : rules_) {
         if (!rule.enabled) continue;

@@ -22,6 +22,9 @@
 // its values), or a range {"min": a, "max": b} (min included, max excluded; numbers only). A
 // label is a template: "{field}" is the field's value, "{{" and "}}" are braces.
 //
+// A feature's own style (KML's styles, VectorLayer::styles) sits between the built-in defaults
+// and the scene's: the scene overrides only what it names.
+//
 // The style is read without the data (VectorStyle::read), then bound to the layer's fields
 // (bind): a rule, label or extrusion that names a field the layer does not have is an error
 // naming the rule and the field.
@@ -75,8 +78,10 @@ public:
     /// Resolves field names against the layer's fields.
     Result<void> bind(std::span<const FieldInfo> fields, const std::string& layerName);
 
-    /// The style of a feature with these attributes (one per field, as bound).
-    FeatureStyle evaluate(std::span<const AttributeValue> attributes) const;
+    /// The style of a feature with these attributes (one per field, as bound) and, when the
+    /// source gave it one (KML), its own style: the built-in defaults, then the feature's own
+    /// style, then what the scene's style names, then the rules.
+    FeatureStyle evaluate(std::span<const AttributeValue> attributes, const SourceStyle* own = nullptr) const;
 
     size_t ruleCount() const { return rules_.size(); }
     const std::string& ruleName(size_t i) const { return rules_[i].name; }

@@ -1,7 +1,10 @@
 #include "layers/vector/VectorStyle.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -139,6 +142,66 @@ TEST(VectorStyle, AttributeTextOfEachType) {
     EXPECT_EQ(attributeText(AttributeValue{0.1 + 0.2}), "0.3");
     EXPECT_EQ(attributeText(AttributeValue{1e20}), "1e+20");
     EXPECT_EQ(attributeText(AttributeValue{std::string("São Paulo")}), "São Paulo");
+}
+
+}  // namespace
+}  // namespace orbis::vector
+
+namespace orbis::vector {
+namespace {
+
+TEST(VectorStyle, AKmlKeepsItsOwnStylesUnlessTheSceneNamesTheProperty) {
+    // Shared and inline KML styles, read through OGR (LIBKML), then styled with and without the
+    // scene's word.
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("orbis-kml-style-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::filesystem::path kml = dir / "styled.kml";
+    std::ofstream(kml) << R"KML(<?xml version="1.0" encoding="UTF-8"?>
+<kml xmlns="http://www.opengis.net/kml/2.2"><Document>
+  <Style id="red"><LineStyle><color>ff0000ff</color><width>4</width></LineStyle>
+    <PolyStyle><color>7f00ff00</color></PolyStyle>
+    <IconStyle><scale>1.5</scale><Icon><href>pin.png</href></Icon></IconStyle>
+    <LabelStyle><color>ffffff00</color><scale>2</scale></LabelStyle></Style>
+  <Placemark><name>A</name><styleUrl>#red</styleUrl><Point><coordinates>9,46,0</coordinates></Point></Placemark>
+  <Placemark><name>B</name><Style><LineStyle><color>ff00ff00</color><width>2</width></LineStyle></Style>
+    <LineString><coordinates>9,46,0 9.1,46.1,0</coordinates></LineString></Placemark>
+  <Placemark><name>C</name><Polygon><outerBoundaryIs><LinearRing><coordinates>9,46 9.1,46 9.1,46.1 9,46</coordinates></LinearRing></outerBoundaryIs></Polygon></Placemark>
+</Document></kml>)KML";
+    VectorReadOptions options;
+    options.source = kml.string();
+    auto data = readVector(options);
+    std::filesystem::remove_all(dir);
+    ASSERT_TRUE(data) << data.message();
+    const VectorLayer& layer = data->layers.at(0);
+    ASSERT_EQ(layer.features.size(), 3u);
+    ASSERT_EQ(layer.styles.size(), 2u);
+    const auto ownStyle = [&](size_t i) { return layer.features[i].style < 0 ? nullptr : &layer.styles[size_t(layer.features[i].style)]; };
+    ASSERT_TRUE(ownStyle(0) && ownStyle(1));
+    EXPECT_EQ(ownStyle(2), nullptr);
+
+    auto plain = VectorStyle::read(nullptr, "scene.json", "/layers/0/style");
+    ASSERT_TRUE(plain && plain->bind(layer.fields, layer.name));
+    const FeatureStyle a = plain->evaluate(layer.features[0].attributes, ownStyle(0));
+    EXPECT_EQ(a.color, glm::dvec3(1, 0, 0));   // KML's aabbggrr
+    EXPECT_EQ(a.widthPx, 4.0);
+    EXPECT_EQ(a.fill, glm::dvec3(0, 1, 0));
+    EXPECT_NEAR(a.fillOpacity, 127.0 / 255.0, 1e-12);
+    EXPECT_EQ(a.icon, "pin.png");
+    EXPECT_DOUBLE_EQ(a.iconSizePx, 1.5 * FeatureStyle{}.iconSizePx);
+    EXPECT_EQ(a.labelColor, glm::dvec3(0, 1, 1));
+    EXPECT_DOUBLE_EQ(a.labelSizePx, 2.0 * FeatureStyle{}.labelSizePx);
+    EXPECT_EQ(plain->evaluate(layer.features[1].attributes, ownStyle(1)).color, glm::dvec3(0, 1, 0));
+    EXPECT_EQ(plain->evaluate(layer.features[2].attributes, ownStyle(2)).color, FeatureStyle{}.color);
+
+    // The scene names the width and, for B, the colour: the rest stays the file's.
+    json scene = json::parse(R"({"width": 7, "rules": [{"when": {"Name": "B"}, "color": [0, 0, 1]}]})");
+    auto overridden = VectorStyle::read(&scene, "scene.json", "/layers/0/style");
+    ASSERT_TRUE(overridden) << overridden.message();
+    ASSERT_TRUE(overridden->bind(layer.fields, layer.name));
+    const FeatureStyle a2 = overridden->evaluate(layer.features[0].attributes, ownStyle(0));
+    EXPECT_EQ(a2.widthPx, 7.0);
+    EXPECT_EQ(a2.color, glm::dvec3(1, 0, 0));
+    EXPECT_EQ(overridden->evaluate(layer.features[1].attributes, ownStyle(1)).color, glm::dvec3(0, 0, 1));
 }
 
 }  // namespace
