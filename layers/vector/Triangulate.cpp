@@ -56,19 +56,21 @@ public:
         size_t remaining = count(start);
         if (remaining < 3) return;
         indexReflex(start, remaining);
-        // The work is bounded: past this many ear tests the rest is cut without them.
-        size_t budget = 64 * remaining + 100000;
-        bool forced = false;
+        // A ring with no clean ear (self-intersecting) gets one ear cut without the containment
+        // test, then the search goes on. The work is bounded: past this many ear tests every
+        // remaining ear is cut that way.
+        size_t budget = 8 * remaining + 100000;
+        bool forceOne = false, exhausted = false;
         uint32_t cur = start, stop = start;
         while (remaining > 3) {
             const uint32_t prev = nodes_[cur].prev, next = nodes_[cur].next;
+            const bool forced = forceOne || exhausted;
             bool ear = false;
             if (forced) {
-                ear = isConvex(cur) || next == stop;   // after a pass without a convex vertex, any
+                ear = isConvex(cur) || next == stop;   // no convex vertex in a whole pass: any
             } else {
                 ear = isEar(cur);
-                if (budget == 0) forced = true;
-                else --budget;
+                exhausted = --budget == 0;
             }
             if (ear) {
                 emit(prev, cur, next, out);
@@ -77,15 +79,16 @@ public:
                 --remaining;
                 updateReflex(prev);
                 updateReflex(next);
+                forceOne = false;
                 cur = next;
                 stop = prev;
                 continue;
             }
             cur = next;
-            if (cur == stop) forced = true;   // a whole pass without an ear: self-intersecting
+            if (cur == stop) forceOne = true;   // a whole pass without an ear
         }
         emit(nodes_[cur].prev, cur, nodes_[cur].next, out);
-        ++(forced ? stats.forced : stats.clean);
+        ++(forceOne || exhausted ? stats.forced : stats.clean);
     }
 
 private:

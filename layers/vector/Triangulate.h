@@ -7,8 +7,9 @@
 // it can see, then ears are cut. Only reflex vertices can lie in an ear, so they are kept in
 // a uniform grid and an ear test looks at the grid cells its box covers: close to O(n) for the
 // polygons of real data instead of O(n^2). Repeated and collinear points are dropped. A ring
-// that cannot be cut cleanly (a self-intersecting polygon) still ends: the remaining ring is cut
-// where it is least wrong, so bad input gives overlapping triangles, never a hang or a crash.
+// with no clean ear left (a self-intersecting polygon) has one ear cut without the containment
+// test and the search goes on; past a work budget (8 ear tests a point) every remaining ear is
+// cut that way. So bad input gives overlapping triangles, counted in the stats, never a hang.
 
 #include "base/Result.h"
 

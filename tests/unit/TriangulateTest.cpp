@@ -195,3 +195,28 @@ TEST(Triangulate, BadInputIsAnErrorThatSaysWhat) {
     const std::vector<uint32_t> badStarts = {0, 5};
     EXPECT_NE(triangulate(p.points, badStarts, kLimit).message().find("ring 1 starts at point 5"), std::string::npos);
 }
+
+TEST(Triangulate, GarbageRingsAndHolesNeverHangOrCrash) {
+    // Random outer rings and holes anywhere (outside, crossing, touching, repeated points): each
+    // call ends, and every index it returns is a point of the input.
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::uniform_int_distribution<int> count(0, 40), holes(0, 4), snap(0, 3);
+    for (int trial = 0; trial < 300; ++trial) {
+        Polygon p;
+        for (int r = 0, rings = 1 + holes(rng); r < rings; ++r) {
+            std::vector<glm::dvec2> ring;
+            for (int i = 0, n = count(rng); i < n; ++i) {
+                glm::dvec2 q{u(rng), u(rng)};
+                if (snap(rng) == 0) q = glm::round(q * 4.0) / 4.0;   // repeated and collinear points
+                ring.push_back(q);
+            }
+            if (!ring.empty()) p.ring(ring);
+        }
+        TriangulateStats stats;
+        const auto tris = triangulate(p.points, p.starts, kLimit, &stats);
+        ASSERT_TRUE(tris.ok()) << trial;
+        for (uint32_t i : *tris) ASSERT_LT(i, p.points.size()) << trial;
+        EXPECT_LE(tris->size(), 3 * (p.points.size() + 2 * p.starts.size())) << trial;
+    }
+}
