@@ -17,6 +17,11 @@ bool inTriangle(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec2 p) {
     return cross(a, b, p) >= 0.0 && cross(b, c, p) >= 0.0 && cross(c, a, p) >= 0.0;
 }
 
+/// Inside the counter-clockwise triangle abc, not on its edges.
+bool inTriangleStrictly(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec2 p) {
+    return cross(a, b, p) > 0.0 && cross(b, c, p) > 0.0 && cross(c, a, p) > 0.0;
+}
+
 /// The rings as one linked ring per ring, then one ring once the holes are bridged in, then cut.
 class EarCutter {
 public:
@@ -56,20 +61,23 @@ public:
         size_t remaining = count(start);
         if (remaining < 3) return;
         indexReflex(start, remaining);
-        // A ring with no clean ear (self-intersecting) gets one ear cut without the containment
-        // test, then the search goes on. The work is bounded: past this many ear tests every
-        // remaining ear is cut that way.
+        // A ring with no clean ear left first loses the points that cuts left on a line with
+        // their neighbours, then gets a pass that lets reflex vertices lie on an ear's edges (the zero-width seams a clip leaves along a tile's edge), then one ear cut
+        // without the containment test (a self-intersecting ring); after each cut the search is
+        // clean again. The work is bounded: past this many ear tests every remaining ear is cut
+        // without the test.
         size_t budget = 8 * remaining + 100000;
-        bool forceOne = false, exhausted = false;
+        enum class Stage { Clean, Relaxed, Force } stage = Stage::Clean;
+        bool exhausted = false;
         uint32_t cur = start, stop = start;
         while (remaining > 3) {
             const uint32_t prev = nodes_[cur].prev, next = nodes_[cur].next;
-            const bool forced = forceOne || exhausted;
+            const bool forced = stage == Stage::Force || exhausted;
             bool ear = false;
             if (forced) {
                 ear = isConvex(cur) || next == stop;   // no convex vertex in a whole pass: any
             } else {
-                ear = isEar(cur);
+                ear = isEar(cur, stage == Stage::Relaxed);
                 exhausted = --budget == 0;
             }
             if (ear) {
@@ -79,16 +87,24 @@ public:
                 --remaining;
                 updateReflex(prev);
                 updateReflex(next);
-                forceOne = false;
+                stage = Stage::Clean;
                 cur = next;
                 stop = prev;
                 continue;
             }
             cur = next;
-            if (cur == stop) forceOne = true;   // a whole pass without an ear
+            if (cur == stop) {   // a whole pass without an ear
+                // Cuts can leave points on a line with their new neighbours (zero-width spikes
+                // and seams): drop them and search again before relaxing the test.
+                const size_t before = remaining;
+                cur = stop = dropCollinear(cur);
+                remaining = count(cur);
+                if (remaining < 3) return;
+                if (remaining == before) stage = stage == Stage::Clean ? Stage::Relaxed : Stage::Force;
+            }
         }
         emit(nodes_[cur].prev, cur, nodes_[cur].next, out);
-        ++(forceOne || exhausted ? stats.forced : stats.clean);
+        ++(stage == Stage::Force || exhausted ? stats.forced : stats.clean);
     }
 
 private:
@@ -259,7 +275,8 @@ private:
         if (nodes_[n].reflex && isConvex(n)) nodes_[n].reflex = false;
     }
 
-    bool isEar(uint32_t n) const {
+    /// `onEdgesAllowed`: a reflex vertex on the ear's boundary does not block it.
+    bool isEar(uint32_t n, bool onEdgesAllowed) const {
         const uint32_t ia = nodes_[n].prev, ic = nodes_[n].next;
         const glm::dvec2 a = nodes_[ia].p, b = nodes_[n].p, c = nodes_[ic].p;
         if (cross(a, b, c) <= 0.0) return false;
@@ -270,7 +287,7 @@ private:
                     const Node& r = nodes_[k];
                     if (r.removed || !r.reflex || k == ia || k == ic || k == n) continue;
                     if (r.p == a || r.p == b || r.p == c) continue;   // a bridge's copy
-                    if (inTriangle(a, b, c, r.p)) return false;
+                    if (onEdgesAllowed ? inTriangleStrictly(a, b, c, r.p) : inTriangle(a, b, c, r.p)) return false;
                 }
         return true;
     }
