@@ -18,7 +18,7 @@ namespace orbis::cli {
 namespace {
 const char* kHelp =
     "usage: orbis bench SCENE [options]    or    orbis bench --video FILE [--seeks N]    or    orbis bench --poses FILE\n"
-    "       or    orbis bench --labels N [--frames F] [--margin PX]\n"
+    "       or    orbis bench --labels N [--frames F] [--margin PX]    or    orbis bench --vector FILE [--level L]\n"
     "Renders SCENE repeatedly and reports frame times: CPU (update + record + submit), whole frame\n"
     "(until the GPU is done) and GPU time per pass, as min / median / p95 in milliseconds. A fixed\n"
     "view is measured after everything it shows has loaded.\n"
@@ -29,6 +29,8 @@ const char* kHelp =
     "  --labels N         label placement on the CPU, no scene: N labels over a panning 1920x1080\n"
     "                     view (--frames, default 300; --margin PX, the hysteresis, default 4): ms/frame,\n"
     "                     labels placed, labels in or out per frame\n"
+    "  --vector FILE      vector data on the CPU, no scene: reading it through OGR, triangulating its\n"
+    "                     polygons, cutting it into tiles of --level L (default 14); --runs N (default 3)\n"
     "  --frames N         frames measured (default 100)\n"
     "  --warmup N         frames rendered first and not measured (default 5)\n"
     "  --size WxH         image size (default 1920x1080)\n"
@@ -97,13 +99,13 @@ void printTable(const Args& args, const gpu::PhysicalDeviceInfo& info, const Fra
 Args parseBenchArgs(const std::vector<std::string>& argv) {
     std::set<std::string> valued = gpuValuedOptions();
     valued.insert({"--frames", "--warmup", "--size", "--time", "--camera-path", "--sweep", "--plot", "--tiles", "--threads",
-                   "--iso-error", "--video", "--seeks", "--poses", "--labels", "--margin"});
+                   "--iso-error", "--video", "--seeks", "--poses", "--labels", "--margin", "--vector", "--level", "--runs"});
     std::set<std::string> flags = gpuFlagOptions();
     flags.insert({"--help", "--json"});
     return Args(argv, valued, flags, {{"-h", "--help"}});
 }
 
-/// The modes that need no scene: --video, --poses, --labels.
+/// The modes that need no scene: --video, --poses, --labels, --vector.
 std::optional<int> sceneFreeBench(const Args& args) {
     if (auto video = args.value("--video")) {
         if (!args.positional().empty()) throw UsageError{"bench --video takes no SCENE"};
@@ -116,6 +118,10 @@ std::optional<int> sceneFreeBench(const Args& args) {
     if (auto labels = args.integer("--labels", 1, 10000000)) {
         if (!args.positional().empty()) throw UsageError{"bench --labels takes no SCENE"};
         return labelBench(*labels, args.integer("--frames", 1, 1000000).value_or(300), args.number("--margin", 0.0, 1000.0).value_or(4.0));
+    }
+    if (auto file = args.value("--vector")) {
+        if (!args.positional().empty()) throw UsageError{"bench --vector takes no SCENE"};
+        return vectorBench(*file, args.integer("--level", 0, 22).value_or(14), args.integer("--runs", 1, 100).value_or(3));
     }
     return std::nullopt;
 }

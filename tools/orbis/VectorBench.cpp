@@ -1,0 +1,107 @@
+// orbis bench --vector FILE [--level L] [--runs N]: the vector layer's CPU work on a file, no
+// GPU: reading every feature through OGR into lon/lat features, triangulating every polygon (a
+// ring around a pole closed through it),
+// and cutting every feature into the quadtree's tiles of level L (default 14). Each step is
+// run N times (default 3): median and spread in ms, the counts, and the memory the features
+// hold (resident set growth after the read).
+#include "tools/orbis/BenchModes.h"
+
+#include "layers/vector/FeatureClip.h"
+#include "layers/vector/Triangulate.h"
+#include "layers/vector/VectorReader.h"
+#include "tools/orbis/BenchMemory.h"
+#include "tools/orbis/Session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <vector>
+
+namespace orbis::cli {
+namespace {
+
+struct Timing {
+    double median = 0.0, min = 0.0, max = 0.0;
+};
+
+Timing timeRuns(long runs, const std::function<void()>& step) {
+    std::vector<double> ms;
+    for (long r = 0; r < runs; ++r) {
+        const auto t0 = std::chrono::steady_clock::now();
+        step();
+        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(ms.begin(), ms.end());
+    return {ms[ms.size() / 2], ms.front(), ms.back()};
+}
+
+/// Triangles of every polygon of the layers (in the lon/lat plane).
+size_t triangulateAll(const vector::VectorData& data, size_t& forced) {
+    size_t triangles = 0;
+    std::vector<glm::dvec2> points;
+    std::vector<uint32_t> starts;
+    for (const vector::VectorLayer& layer : data.layers)
+        for (const vector::Feature& f : layer.features)
+            for (size_t k = 0; k < f.polygons.size(); ++k) {
+                points.clear();
+                starts.clear();
+                for (size_t p = f.polygons[k]; p < f.polygonEnd(k); ++p) {
+                    starts.push_back(uint32_t(points.size()));
+                    std::vector<glm::dvec3> ring(f.coords.begin() + f.parts[p], f.coords.begin() + f.partEnd(p));
+                    vector::closeThroughPole(ring, f.containsPole[p]);   // a ring around a pole bounds its cap
+                    for (const glm::dvec3& c : ring) points.emplace_back(c);
+                }
+                vector::TriangulateStats stats;
+                if (auto tris = vector::triangulate(points, starts, 10'000'000, &stats)) triangles += tris->size() / 3;
+                forced += stats.forced;
+            }
+    return triangles;
+}
+
+}  // namespace
+
+int vectorBench(const std::string& file, long level, long runs) {
+    vector::VectorReadOptions options;
+    options.source = file;
+    // The memory of one read (before the timed runs, which replace it).
+    const uint64_t rssBefore = currentRssBytes();
+    Result<vector::VectorData> data = vector::readVector(options);
+    if (!data) return badInput(data.message());
+    const uint64_t rssAfter = currentRssBytes();
+    const Timing read = timeRuns(runs, [&] {
+        data = makeError("not read");
+        data = vector::readVector(options);
+    });
+    if (!data) return badInput(data.message());
+    size_t features = 0, vertices = 0;
+    for (const auto& layer : data->layers) features += layer.features.size(), vertices += layer.vertexCount;
+
+    size_t triangles = 0, forced = 0;
+    const Timing cut = timeRuns(runs, [&] {
+        forced = 0;
+        triangles = triangulateAll(*data, forced);
+    });
+    size_t tiles = 0, pieces = 0;
+    const Timing tiling = timeRuns(runs, [&] {
+        tiles = pieces = 0;
+        for (const auto& layer : data->layers)
+            for (const vector::Feature& f : layer.features)
+                for (const globe::TileKey& key : vector::tilesCovering(f, uint32_t(level))) {
+                    ++tiles;
+                    pieces += vector::clipFeature(f, key.extent()) ? 1 : 0;
+                }
+    });
+    std::printf("orbis bench --vector %s  (CPU only, one thread, %ld runs)\n", file.c_str(), runs);
+    std::printf("%zu layers, %zu features, %zu vertices; features hold %.1f MB (resident set growth)\n", data->layers.size(),
+                features, vertices, double(rssAfter > rssBefore ? rssAfter - rssBefore : 0) / (1024.0 * 1024.0));
+    std::printf("%-34s %10s %10s %10s\n", "step", "median ms", "min", "max");
+    std::printf("%-34s %10.1f %10.1f %10.1f\n", "read (OGR to lon/lat features)", read.median, read.min, read.max);
+    std::printf("%-34s %10.1f %10.1f %10.1f   %zu triangles, %zu forced ears\n", "triangulate every polygon", cut.median, cut.min,
+                cut.max, triangles, forced);
+    std::printf("%-34s %10.1f %10.1f %10.1f   %zu tiles of level %ld met, %zu pieces\n", "cut into tiles", tiling.median, tiling.min,
+                tiling.max, tiles, level, pieces);
+    return kOk;
+}
+
+}  // namespace orbis::cli
