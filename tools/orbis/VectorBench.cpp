@@ -1,12 +1,13 @@
 // orbis bench --vector FILE [--level L] [--runs N]: the vector layer's CPU work on a file, no
 // GPU: reading every feature through OGR into lon/lat features, triangulating every polygon (a
-// ring around a pole closed through it),
-// and cutting every feature into the quadtree's tiles of level L (default 14). Each step is
-// run N times (default 3): median and spread in ms, the counts, and the memory the features
-// hold (resident set growth after the read).
+// ring around a pole closed through it), cutting every feature into the quadtree's tiles of
+// level L (default 14), and simplifying it for the texel of a 256-pixel tile at levels 4, 8, 12
+// and 16. Each step runs N times (default 3): median and spread in ms, the counts, and the
+// memory the features hold (resident set growth after the read).
 #include "tools/orbis/BenchModes.h"
 
 #include "layers/vector/FeatureClip.h"
+#include "layers/vector/Simplify.h"
 #include "layers/vector/Triangulate.h"
 #include "layers/vector/VectorReader.h"
 #include "tools/orbis/BenchMemory.h"
@@ -101,6 +102,22 @@ int vectorBench(const std::string& file, long level, long runs) {
                 cut.max, triangles, forced);
     std::printf("%-34s %10.1f %10.1f %10.1f   %zu tiles of level %ld met, %zu pieces\n", "cut into tiles", tiling.median, tiling.min,
                 tiling.max, tiles, level, pieces);
+    // Simplification for a 256-pixel tile's texel at a few levels: what it keeps, and its cost.
+    std::printf("%-34s %10s %10s %10s   %s\n", "simplify to a 256-px tile's texel", "median ms", "min", "max", "vertices kept");
+    for (int simplifyLevel : {4, 8, 12, 16}) {
+        const double texelDeg = 180.0 / double(1u << simplifyLevel) / 256.0;
+        size_t kept = 0;
+        const Timing simplify = timeRuns(runs, [&] {
+            kept = 0;
+            for (const auto& layer : data->layers)
+                for (const vector::Feature& f : layer.features)
+                    if (auto s = vector::simplifyFeature(f, texelDeg)) kept += s->coords.size();
+        });
+        char label[64];
+        std::snprintf(label, sizeof label, "  level %d (%.2g deg)", simplifyLevel, texelDeg);
+        std::printf("%-34s %10.1f %10.1f %10.1f   %zu (%.1f %%)\n", label, simplify.median, simplify.min, simplify.max, kept,
+                    vertices ? 100.0 * double(kept) / double(vertices) : 0.0);
+    }
     return kOk;
 }
 
