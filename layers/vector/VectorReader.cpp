@@ -125,8 +125,28 @@ private:
 
 /// `filter` names the where filter or SQL statement for errors that only show when reading
 /// (SQLite-based drivers check a filter at the first feature).
+/// Restricts the layer to the features near `within` (lon/lat), in the layer's CRS.
+Result<void> applyWithin(OGRLayer& layer, const std::string& source, const detail::LayerCrs& crs,
+                         const std::optional<LonLatBounds>& within) {
+    if (!within) {
+        layer.SetSpatialFilter(nullptr);
+        return {};
+    }
+    double minX = within->west, minY = within->south, maxX = within->east, maxY = within->north;
+    if (crs.transform) {
+        std::unique_ptr<OGRCoordinateTransformation> inverse(crs.transform->GetInverse());
+        GdalErrorScope errors;
+        if (!inverse || !inverse->TransformBounds(within->west, within->south, within->east, within->north, &minX, &minY, &maxX,
+                                                  &maxY, 21))
+            return makeError(source + ": layer '" + layer.GetName() + "': the box to read cannot be put in its CRS " + crs.crs +
+                             " (" + errors.message("PROJ failed") + ")");
+    }
+    layer.SetSpatialFilterRect(minX, minY, maxX, maxY);
+    return {};
+}
+
 Result<VectorLayer> readLayer(OGRLayer& layer, const std::string& source, const std::string& filter, ReadBudget& budget,
-                              OGRStyleTable* datasetStyles) {
+                              OGRStyleTable* datasetStyles, const std::optional<LonLatBounds>& within) {
     VectorLayer out;
     out.name = layer.GetName();
     out.geometryType = OGRGeometryTypeToName(layer.GetGeomType());
@@ -136,6 +156,7 @@ Result<VectorLayer> readLayer(OGRLayer& layer, const std::string& source, const 
     out.crs = crs->crs;
     out.crsName = crs->crsName;
     if (!crs->warning.empty()) out.warnings.push_back(crs->warning);
+    if (auto ok = applyWithin(layer, source, *crs, within); !ok) return ok.error();
     GdalErrorScope errors;   // a driver's complaints about single features stay out of the log
     LayerReader(out, budget, datasetStyles).read(layer, crs->transform.get());
     if (errors.failed() && out.featuresRead == 0)
@@ -145,6 +166,9 @@ Result<VectorLayer> readLayer(OGRLayer& layer, const std::string& source, const 
 }
 
 Result<void> checkOptions(const VectorReadOptions& o) {
+    if (const auto& w = o.within;
+        w && !(w->west < w->east && w->south < w->north && w->west >= -180.0 && w->east <= 180.0 && w->south >= -90.0 && w->north <= 90.0))
+        return makeError(o.source + ": the box to read must have west < east within -180..180 and south < north within -90..90");
     if (!o.sql.empty() && !o.layers.empty())
         return makeError(o.source + ": give either an SQL statement or layer names, not both");
     if (!o.sql.empty() && !o.where.empty())
@@ -191,7 +215,7 @@ Result<VectorData> readSql(GDALDataset& dataset, const VectorReadOptions& o) {
         }
     }
     ReadBudget budget{o.limits};
-    auto layer = readLayer(*result.layer, o.source, o.sql, budget, dataset.GetStyleTable());
+    auto layer = readLayer(*result.layer, o.source, o.sql, budget, dataset.GetStyleTable(), o.within);
     if (!layer) return layer.error();
     VectorData data;
     data.source = o.source;
@@ -213,7 +237,7 @@ Result<VectorData> readVector(const VectorReadOptions& options) {
     ReadBudget budget{options.limits};
     for (OGRLayer* layer : *layers) {
         if (auto ok = applyWhere(*layer, options); !ok) return ok.error();
-        auto read = readLayer(*layer, options.source, options.where, budget, (*dataset)->GetStyleTable());
+        auto read = readLayer(*layer, options.source, options.where, budget, (*dataset)->GetStyleTable(), options.within);
         if (!read) return read.error();
         data.layers.push_back(std::move(*read));
     }

@@ -121,6 +121,11 @@ struct VectorReadOptions {
     std::vector<std::string> layers;    ///< empty: every layer of the source
     std::string where;                  ///< an OGR attribute filter for each layer
     std::string sql;                    ///< a full OGR SQL statement instead of layers and where
+    /// Only the features whose box meets this lon/lat box (west < east, within [-180, 180]):
+    /// a feature tile's read. OGR's spatial filter in the layer's CRS (the box transformed with
+    /// its edges densified), so sources with a spatial index (GeoPackage, FlatGeobuf,
+    /// Shapefile with .qix, PostGIS) read only what is near. Features are not clipped.
+    std::optional<LonLatBounds> within;
     VectorLimits limits;
 };
 

@@ -224,6 +224,44 @@ TEST(VectorSharedData, NorthCarolinaCountiesAreShiftedFromNad27ToWgs84) {
 namespace orbis::vector {
 namespace {
 
+TEST(VectorSharedData, AReadWithinABoxGetsTheFeaturesNearItAndNoOthers) {
+    // Central Europe from Natural Earth (lon/lat), and one corner of North Carolina from a NAD27
+    // GeoPackage (the box is put into NAD27 for OGR's spatial filter).
+    REQUIRE_SHARED("naturalearth_lowres.shp");
+    auto all = readAll("naturalearth_lowres.shp");
+    ASSERT_TRUE(all) << all.message();
+    VectorReadOptions o;
+    o.source = (kDir / "naturalearth_lowres.shp").string();
+    o.within = LonLatBounds{.west = 8.0, .south = 47.0, .east = 14.0, .north = 52.0, .empty = false};
+    auto europe = readVector(o);
+    ASSERT_TRUE(europe) << europe.message();
+    const VectorLayer& layer = europe->layers[0];
+    EXPECT_TRUE(findByName(layer, "name", "Germany"));
+    EXPECT_TRUE(findByName(layer, "name", "Czechia"));
+    EXPECT_FALSE(findByName(layer, "name", "Brazil"));
+    EXPECT_FALSE(findByName(layer, "name", "Spain"));
+    EXPECT_LT(layer.features.size(), 12u);
+    // Each one's box meets the asked box (west of 14, east of 8, ...).
+    for (const Feature& f : layer.features) {
+        EXPECT_LE(f.bounds.south, 52.0);
+        EXPECT_GE(f.bounds.north, 47.0);
+    }
+
+    REQUIRE_SHARED("nc.gpkg");
+    o.source = (kDir / "nc.gpkg").string();
+    o.within = LonLatBounds{.west = -81.6, .south = 36.3, .east = -81.4, .north = 36.5, .empty = false};   // in Ashe
+    auto nc = readVector(o);
+    ASSERT_TRUE(nc) << nc.message();
+    EXPECT_TRUE(findByName(nc->layers[0], "NAME", "Ashe"));
+    EXPECT_LT(nc->layers[0].features.size(), 5u);
+    EXPECT_FALSE(findByName(nc->layers[0], "NAME", "Brunswick"));   // the far south-east corner
+
+    o.within = LonLatBounds{.west = 10.0, .south = 0.0, .east = 5.0, .north = 1.0, .empty = false};
+    auto bad = readVector(o);
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.message().find("west < east"), std::string::npos) << bad.message();
+}
+
 TEST(VectorSharedData, EveryNaturalEarthCountryIsTriangulatedExactlyInTheLonLatPlane) {
     // Each polygon that does not go around a pole, cut in the plane of its (unwrapped) lon/lat:
     // the triangles cover the outer ring less its holes, and no ear needed forcing (the data

@@ -1,7 +1,8 @@
 // orbis bench --vector FILE [--level L] [--runs N]: the vector layer's CPU work on a file, no
 // GPU: reading every feature through OGR into lon/lat features, triangulating every polygon (a
 // ring around a pole closed through it), cutting every feature into the quadtree's tiles of
-// level L (default 14), and simplifying it for the texel of a 256-pixel tile at levels 4, 8, 12
+// level L (default 14), reading the middle tile of level L alone (through OGR's spatial
+// filter), and simplifying it for the texel of a 256-pixel tile at levels 4, 8, 12
 // and 16. Each step runs N times (default 3): median and spread in ms, the counts, and the
 // memory the features hold (resident set growth after the read).
 #include "tools/orbis/BenchModes.h"
@@ -102,6 +103,27 @@ int vectorBench(const std::string& file, long level, long runs) {
                 cut.max, triangles, forced);
     std::printf("%-34s %10.1f %10.1f %10.1f   %zu tiles of level %ld met, %zu pieces\n", "cut into tiles", tiling.median, tiling.min,
                 tiling.max, tiles, level, pieces);
+    // One feature tile read on its own (OGR's spatial filter: a spatial index reads only what is
+    // near), the tile of level L at the middle of the data.
+    if (!data->layers.empty() && !data->layers[0].bounds.empty) {
+        const vector::LonLatBounds& b = data->layers[0].bounds;
+        double lon = 0.5 * (b.west + b.east);
+        if (lon >= 180.0) lon -= 360.0;
+        const globe::TileKey key = globe::TileKey::containing(lon, 0.5 * (b.south + b.north), uint32_t(level));
+        const globe::GeoExtent e = key.extent();
+        vector::VectorReadOptions tileOptions = options;
+        tileOptions.within = vector::LonLatBounds{.west = e.west, .south = e.south, .east = e.east, .north = e.north, .empty = false};
+        size_t tileFeatures = 0;
+        const Timing tileRead = timeRuns(runs, [&] {
+            auto tile = vector::readVector(tileOptions);
+            tileFeatures = 0;
+            if (tile)
+                for (const auto& layer : tile->layers) tileFeatures += layer.features.size();
+        });
+        char label[64];
+        std::snprintf(label, sizeof label, "read tile %s alone", key.toString().c_str());
+        std::printf("%-34s %10.1f %10.1f %10.1f   %zu features\n", label, tileRead.median, tileRead.min, tileRead.max, tileFeatures);
+    }
     // Simplification for a 256-pixel tile's texel at a few levels: what it keeps, and its cost.
     std::printf("%-34s %10s %10s %10s   %s\n", "simplify to a 256-px tile's texel", "median ms", "min", "max", "vertices kept");
     for (int simplifyLevel : {4, 8, 12, 16}) {
