@@ -95,14 +95,9 @@ std::vector<uint32_t> LabelPlacer::place(std::span<const LabelCandidate> candida
     // the margin inside), with their rank: last frame's labels first within the priority
     // hysteresis, then by id (stable). The rank is sorted as one integer key; equal keys fall
     // back to the full order.
-    struct Entry {
-        uint64_t key;     // descending rank as an ascending integer
-        uint32_t index;   // into candidates
-        bool wasShown;
-    };
     const double margin = std::max(0.0, options.marginPx);
-    std::vector<Entry> entries;
-    entries.reserve(candidates.size());
+    std::vector<Entry>& entries = entries_;   // kept between frames: no allocation once warm
+    entries.clear();
     for (size_t i = 0; i < candidates.size(); ++i) {
         const LabelCandidate& c = candidates[i];
         const bool wasShown = shown_.contains(c.id);
@@ -118,7 +113,8 @@ std::vector<uint32_t> LabelPlacer::place(std::span<const LabelCandidate> candida
     }
     // By key, least significant byte first (stable; bytes every key shares are skipped), then
     // the rare runs of equal keys by the rest of the order.
-    std::vector<Entry> scratch(entries.size());
+    std::vector<Entry>& scratch = scratch_;
+    scratch.resize(entries.size());
     for (int shift = 0; shift < 64; shift += 8) {
         size_t counts[257] = {};
         for (const Entry& e : entries) ++counts[((e.key >> shift) & 0xff) + 1];

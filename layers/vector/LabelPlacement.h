@@ -75,7 +75,15 @@ private:
         std::vector<uint8_t> used_;
     };
 
+    /// A candidate that can be drawn, with its rank as one integer.
+    struct Entry {
+        uint64_t key;     ///< descending rank as an ascending integer
+        uint32_t index;   ///< into the candidates
+        bool wasShown;
+    };
+
     IdSet shown_;   ///< ids drawn last frame
+    std::vector<Entry> entries_, scratch_;   ///< this frame's, kept for their capacity
     LabelPlacementStats stats_;
     // The grid of the current frame: for each cell, the placed boxes that touch it.
     glm::ivec2 cells_{0};
