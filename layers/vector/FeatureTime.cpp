@@ -11,12 +11,6 @@ namespace {
 
 constexpr size_t kMaxWarnings = 20;
 
-std::optional<size_t> fieldIndex(const VectorLayer& layer, const std::string& name) {
-    for (size_t i = 0; i < layer.fields.size(); ++i)
-        if (layer.fields[i].name == name) return i;
-    return std::nullopt;
-}
-
 
 /// A time from a value: ISO 8601 text or Unix seconds (a number, or text that is one); nullopt
 /// for null; an error otherwise.
@@ -51,21 +45,18 @@ Result<FeatureTimes> featureTimes(const VectorLayer& layer, const FeatureTimeFie
     std::optional<size_t> begin, end, stamp;
     std::string beginName = asked.begin, endName = asked.end;
     if (asked.begin.empty() && asked.end.empty()) {
-        begin = fieldIndex(layer, "begin");
-        end = fieldIndex(layer, "end");
-        stamp = fieldIndex(layer, "timestamp");
+        begin = findField(layer.fields, "begin");
+        end = findField(layer.fields, "end");
+        stamp = findField(layer.fields, "timestamp");
         beginName = "begin";
         endName = "end";
     } else {
         for (const auto& [name, index] : {std::pair{&asked.begin, &begin}, std::pair{&asked.end, &end}}) {
             if (name->empty()) continue;
-            *index = fieldIndex(layer, *name);
-            if (!*index) {
-                std::string known;
-                for (const FieldInfo& f : layer.fields) known += (known.empty() ? "" : ", ") + f.name;
+            *index = findField(layer.fields, *name);
+            if (!*index)
                 return makeError("layer '" + layer.name + "' has no time field '" + *name + "' (its fields: " +
-                                 (known.empty() ? "none" : known) + ")");
-            }
+                                 fieldNames(layer.fields) + ")");
         }
     }
     FeatureTimes out;

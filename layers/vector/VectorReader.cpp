@@ -225,6 +225,18 @@ Result<VectorData> readSql(GDALDataset& dataset, const VectorReadOptions& o) {
 
 }  // namespace
 
+std::optional<size_t> findField(std::span<const FieldInfo> fields, const std::string& name) {
+    for (size_t i = 0; i < fields.size(); ++i)
+        if (fields[i].name == name) return i;
+    return std::nullopt;
+}
+
+std::string fieldNames(std::span<const FieldInfo> fields) {
+    std::string out;
+    for (const FieldInfo& f : fields) out += (out.empty() ? "" : ", ") + f.name;
+    return out.empty() ? "none" : out;
+}
+
 Result<VectorData> readVector(const VectorReadOptions& options) {
     if (auto ok = checkOptions(options); !ok) return ok.error();
     auto dataset = detail::openVectorSource(options.source);

@@ -30,6 +30,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <variant>
 #include <vector>
@@ -93,6 +94,11 @@ struct FieldInfo {
     std::string name;
     std::string type;   ///< OGR's type name: "Integer", "Integer64", "Real", "String", "Date", ...
 };
+
+/// The index of the field called `name`, if the layer has one.
+std::optional<size_t> findField(std::span<const FieldInfo> fields, const std::string& name);
+/// The fields' names for messages: "name, pop, height", or "none".
+std::string fieldNames(std::span<const FieldInfo> fields);
 
 struct VectorLayer {
     std::string name;

@@ -98,18 +98,6 @@ bool equal(const AttributeValue& a, const AttributeValue& b) {
     return *numeric(a) == *numeric(b);
 }
 
-std::optional<size_t> fieldIndex(std::span<const FieldInfo> fields, const std::string& name) {
-    for (size_t i = 0; i < fields.size(); ++i)
-        if (fields[i].name == name) return i;
-    return std::nullopt;
-}
-
-std::string fieldList(std::span<const FieldInfo> fields) {
-    std::string out;
-    for (const FieldInfo& f : fields) out += (out.empty() ? "" : ", ") + f.name;
-    return out.empty() ? "none" : out;
-}
-
 }  // namespace
 
 std::string attributeText(const AttributeValue& value) {
@@ -263,17 +251,17 @@ Result<void> VectorStyle::bind(std::span<const FieldInfo> fields, const std::str
     const auto bindPatch = [&](Patch& p, const std::string& path) -> Result<void> {
         const auto missing = [&](const std::string& key, const std::string& field) {
             return errorAt(file_, path + "/" + key,
-                           "layer '" + layerName + "' has no field '" + field + "' (its fields: " + fieldList(fields) + ")");
+                           "layer '" + layerName + "' has no field '" + field + "' (its fields: " + fieldNames(fields) + ")");
         };
         if (p.label)
             for (Piece& piece : *p.label)
                 if (piece.isField) {
-                    auto i = fieldIndex(fields, piece.text);
+                    auto i = findField(fields, piece.text);
                     if (!i) return missing("label", piece.text);
                     piece.index = *i;
                 }
         if (p.extrude && !p.extrude->field.empty()) {
-            auto i = fieldIndex(fields, p.extrude->field);
+            auto i = findField(fields, p.extrude->field);
             if (!i) return missing("extrude", p.extrude->field);
             p.extrudeIndex = *i;
         }
@@ -283,10 +271,10 @@ Result<void> VectorStyle::bind(std::span<const FieldInfo> fields, const std::str
     for (Rule& rule : rules_) {
         if (auto ok = bindPatch(rule.patch, rule.path); !ok) return ok;
         for (Condition& c : rule.when) {
-            auto i = fieldIndex(fields, c.field);
+            auto i = findField(fields, c.field);
             if (!i)
                 return errorAt(file_, rule.path + "/when/" + c.field,
-                               "layer '" + layerName + "' has no field '" + c.field + "' (its fields: " + fieldList(fields) + ")");
+                               "layer '" + layerName + "' has no field '" + c.field + "' (its fields: " + fieldNames(fields) + ")");
             c.index = *i;
         }
     }

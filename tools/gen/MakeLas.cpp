@@ -15,6 +15,7 @@
 // GPS time advances 10 µs a point (a 100 kHz scanner). Deterministic: the same arguments give
 // the same file.
 #include "layers/points/LasReader.h"
+#include "tools/gen/SplitMix.h"
 
 #include <chrono>
 #include <cmath>
@@ -25,16 +26,7 @@
 
 namespace {
 
-struct Rng {
-    uint64_t s;
-    uint64_t next() {
-        uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    double uniform() { return double(next() >> 11) * (1.0 / 9007199254740992.0); }
-};
+using Rng = orbis::gen::SplitMix;
 
 double ground(double x, double y) { return 800.0 + 60.0 * std::sin(x / 150.0) * std::cos(y / 210.0) + 0.02 * x; }
 

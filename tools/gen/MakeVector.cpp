@@ -10,6 +10,8 @@
 // (200 m blocks, each street a line of 20 m steps with a little wobble, "class" primary /
 // secondary / residential and "name") until the vertex count is reached. Lon/lat, EPSG:4326.
 // Deterministic: the same arguments give the same file.
+#include "tools/gen/SplitMix.h"
+
 #include <gdal_priv.h>
 #include <ogrsf_frmts.h>
 
@@ -23,16 +25,7 @@
 
 namespace {
 
-struct Rng {
-    uint64_t s;
-    uint64_t next() {
-        uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    double uniform() { return double(next() >> 11) * (1.0 / 9007199254740992.0); }
-};
+using Rng = orbis::gen::SplitMix;
 
 struct Options {
     std::string mode, out;

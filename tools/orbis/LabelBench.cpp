@@ -4,10 +4,10 @@
 // (default 300): milliseconds per frame (min, median, p95), labels placed, and how many labels
 // appeared or went per frame while the view moved (the flicker the hysteresis holds down).
 #include "tools/orbis/BenchModes.h"
+#include "tools/orbis/BenchStats.h"
 
 #include "layers/vector/LabelPlacement.h"
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -17,12 +17,6 @@
 
 namespace orbis::cli {
 namespace {
-
-double percentile(std::vector<double> v, double p) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, size_t(p * double(v.size() - 1) + 0.5))];
-}
 
 std::vector<vector::LabelCandidate> syntheticLabels(long count) {
     std::mt19937_64 rng(20261202);
@@ -51,7 +45,7 @@ int labelBench(long count, long frames, double marginPx) {
         }
         const auto t0 = std::chrono::steady_clock::now();
         const auto chosen = placer.place(labels, options);
-        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        ms.push_back(millisecondsSince(t0));
         std::unordered_set<uint64_t> now;
         for (uint32_t i : chosen) now.insert(labels[i].id);
         if (f > 0) {
@@ -66,11 +60,13 @@ int labelBench(long count, long frames, double marginPx) {
     std::printf("orbis bench --labels %ld  (CPU only, one thread; 1920x1080, panned 0.5 px a frame, margin %.1f px)\n", count,
                 marginPx);
     std::printf("%-28s %10s %10s %10s\n", "", "min", "median", "p95");
-    std::printf("%-28s %10.3f %10.3f %10.3f\n", "placement ms/frame", percentile(ms, 0.0), percentile(ms, 0.5), percentile(ms, 0.95));
-    std::printf("%-28s %10.0f %10.0f %10.0f\n", "labels placed", percentile(placed, 0.0), percentile(placed, 0.5),
-                percentile(placed, 0.95));
-    std::printf("%-28s %10.0f %10.0f %10.0f\n", "labels in or out per frame", percentile(changes, 0.0), percentile(changes, 0.5),
-                percentile(changes, 0.95));
+    const auto row = [](const char* name, const char* format, const std::vector<double>& values) {
+        const Stats s = summarize(values);
+        std::printf(format, name, s.min, s.median, s.p95);
+    };
+    row("placement ms/frame", "%-28s %10.3f %10.3f %10.3f\n", ms);
+    row("labels placed", "%-28s %10.0f %10.0f %10.0f\n", placed);
+    row("labels in or out per frame", "%-28s %10.0f %10.0f %10.0f\n", changes);
     return kOk;
 }
 

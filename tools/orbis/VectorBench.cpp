@@ -3,7 +3,7 @@
 // ring around a pole closed through it), cutting every feature into the quadtree's tiles of
 // level L (default 14), reading the middle tile of level L alone (through OGR's spatial
 // filter), and simplifying it for the texel of a 256-pixel tile at levels 4, 8, 12
-// and 16. Each step runs N times (default 3): median and spread in ms, the counts, and the
+// and 16. Each step runs N times (default 3): median, min and p95 in ms, the counts, and the
 // memory the features hold (resident set growth after the read).
 #include "tools/orbis/BenchModes.h"
 
@@ -12,9 +12,9 @@
 #include "layers/vector/Triangulate.h"
 #include "layers/vector/VectorReader.h"
 #include "tools/orbis/BenchMemory.h"
+#include "tools/orbis/BenchStats.h"
 #include "tools/orbis/Session.h"
 
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <functional>
@@ -23,19 +23,15 @@
 namespace orbis::cli {
 namespace {
 
-struct Timing {
-    double median = 0.0, min = 0.0, max = 0.0;
-};
-
-Timing timeRuns(long runs, const std::function<void()>& step) {
+/// The step's milliseconds over `runs` runs.
+Stats timeRuns(long runs, const std::function<void()>& step) {
     std::vector<double> ms;
     for (long r = 0; r < runs; ++r) {
         const auto t0 = std::chrono::steady_clock::now();
         step();
-        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        ms.push_back(millisecondsSince(t0));
     }
-    std::sort(ms.begin(), ms.end());
-    return {ms[ms.size() / 2], ms.front(), ms.back()};
+    return summarize(std::move(ms));
 }
 
 /// Triangles of every polygon of the layers (in the lon/lat plane).
@@ -71,7 +67,7 @@ int vectorBench(const std::string& file, long level, long runs) {
     Result<vector::VectorData> data = vector::readVector(options);
     if (!data) return badInput(data.message());
     const uint64_t rssAfter = currentRssBytes();
-    const Timing read = timeRuns(runs, [&] {
+    const Stats read = timeRuns(runs, [&] {
         data = makeError("not read");
         data = vector::readVector(options);
     });
@@ -80,12 +76,12 @@ int vectorBench(const std::string& file, long level, long runs) {
     for (const auto& layer : data->layers) features += layer.features.size(), vertices += layer.vertexCount;
 
     size_t triangles = 0, forced = 0;
-    const Timing cut = timeRuns(runs, [&] {
+    const Stats cut = timeRuns(runs, [&] {
         forced = 0;
         triangles = triangulateAll(*data, forced);
     });
     size_t tiles = 0, pieces = 0;
-    const Timing tiling = timeRuns(runs, [&] {
+    const Stats tiling = timeRuns(runs, [&] {
         tiles = pieces = 0;
         for (const auto& layer : data->layers)
             for (const vector::Feature& f : layer.features)
@@ -97,12 +93,12 @@ int vectorBench(const std::string& file, long level, long runs) {
     std::printf("orbis bench --vector %s  (CPU only, one thread, %ld runs)\n", file.c_str(), runs);
     std::printf("%zu layers, %zu features, %zu vertices; features hold %.1f MB (resident set growth)\n", data->layers.size(),
                 features, vertices, double(rssAfter > rssBefore ? rssAfter - rssBefore : 0) / (1024.0 * 1024.0));
-    std::printf("%-34s %10s %10s %10s\n", "step", "median ms", "min", "max");
-    std::printf("%-34s %10.1f %10.1f %10.1f\n", "read (OGR to lon/lat features)", read.median, read.min, read.max);
+    std::printf("%-34s %10s %10s %10s\n", "step", "median ms", "min", "p95");
+    std::printf("%-34s %10.1f %10.1f %10.1f\n", "read (OGR to lon/lat features)", read.median, read.min, read.p95);
     std::printf("%-34s %10.1f %10.1f %10.1f   %zu triangles, %zu forced ears\n", "triangulate every polygon", cut.median, cut.min,
-                cut.max, triangles, forced);
+                cut.p95, triangles, forced);
     std::printf("%-34s %10.1f %10.1f %10.1f   %zu tiles of level %ld met, %zu pieces\n", "cut into tiles", tiling.median, tiling.min,
-                tiling.max, tiles, level, pieces);
+                tiling.p95, tiles, level, pieces);
     // One feature tile read on its own (OGR's spatial filter: a spatial index reads only what is
     // near), the tile of level L at the middle of the data.
     if (!data->layers.empty() && !data->layers[0].bounds.empty) {
@@ -114,7 +110,7 @@ int vectorBench(const std::string& file, long level, long runs) {
         vector::VectorReadOptions tileOptions = options;
         tileOptions.within = vector::LonLatBounds{.west = e.west, .south = e.south, .east = e.east, .north = e.north, .empty = false};
         size_t tileFeatures = 0;
-        const Timing tileRead = timeRuns(runs, [&] {
+        const Stats tileRead = timeRuns(runs, [&] {
             auto tile = vector::readVector(tileOptions);
             tileFeatures = 0;
             if (tile)
@@ -122,14 +118,14 @@ int vectorBench(const std::string& file, long level, long runs) {
         });
         char label[64];
         std::snprintf(label, sizeof label, "read tile %s alone", key.toString().c_str());
-        std::printf("%-34s %10.1f %10.1f %10.1f   %zu features\n", label, tileRead.median, tileRead.min, tileRead.max, tileFeatures);
+        std::printf("%-34s %10.1f %10.1f %10.1f   %zu features\n", label, tileRead.median, tileRead.min, tileRead.p95, tileFeatures);
     }
     // Simplification for a 256-pixel tile's texel at a few levels: what it keeps, and its cost.
-    std::printf("%-34s %10s %10s %10s   %s\n", "simplify to a 256-px tile's texel", "median ms", "min", "max", "vertices kept");
+    std::printf("%-34s %10s %10s %10s   %s\n", "simplify to a 256-px tile's texel", "median ms", "min", "p95", "vertices kept");
     for (int simplifyLevel : {4, 8, 12, 16}) {
         const double texelDeg = 180.0 / double(1u << simplifyLevel) / 256.0;
         size_t kept = 0;
-        const Timing simplify = timeRuns(runs, [&] {
+        const Stats simplify = timeRuns(runs, [&] {
             kept = 0;
             for (const auto& layer : data->layers)
                 for (const vector::Feature& f : layer.features)
@@ -137,7 +133,7 @@ int vectorBench(const std::string& file, long level, long runs) {
         });
         char label[64];
         std::snprintf(label, sizeof label, "  level %d (%.2g deg)", simplifyLevel, texelDeg);
-        std::printf("%-34s %10.1f %10.1f %10.1f   %zu (%.1f %%)\n", label, simplify.median, simplify.min, simplify.max, kept,
+        std::printf("%-34s %10.1f %10.1f %10.1f   %zu (%.1f %%)\n", label, simplify.median, simplify.min, simplify.p95, kept,
                     vertices ? 100.0 * double(kept) / double(vertices) : 0.0);
     }
     return kOk;
