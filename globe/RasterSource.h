@@ -18,6 +18,7 @@
 // far away) come back empty at once (anyValid = false): see minLevel().
 
 #include "base/Result.h"
+#include "globe/TileImageSource.h"
 #include "globe/TileKey.h"
 
 #include <cstdint>
@@ -74,15 +75,9 @@ struct ElevationTile {
     bool anyValid = false;
 };
 
-/// RGBA8 pixels, PIXEL-CENTRED on the extent: pixel i covers [west + i*dx, west + (i+1)*dx],
-/// dx = width / size; row 0 is north. Alpha 0 where there is no data.
-struct ImageryTile {
-    int size = 0;
-    std::vector<uint8_t> rgba;  ///< size * size * 4
-    bool anyValid = false;
-};
-
-class RasterSource {
+/// Imagery sources are the terrain's tile images (readTile is readImagery); elevation sources
+/// are read with readElevation.
+class RasterSource : public TileImageSource {
 public:
     /// Most source pixels (width x height of the window read, at the overview used) one tile may
     /// read: 16 Mi. Bounds the memory (<= 4 bytes x bands per pixel) and time of a read.
@@ -93,12 +88,12 @@ public:
     /// level 0 (see minLevel()). Any thread.
     static Result<std::shared_ptr<RasterSource>> open(const RasterSourceOptions& options);
 
-    ~RasterSource();
+    ~RasterSource() override;
     RasterSource(const RasterSource&) = delete;
     RasterSource& operator=(const RasterSource&) = delete;
 
     // Properties: fixed at open, any thread.
-    const std::string& name() const;  ///< the path or URL, for messages
+    const std::string& name() const override;  ///< the path or URL, for messages
     RasterRole role() const;
     /// Geodetic bounds of the data (lon/lat degrees), clamped to the globe; the full longitude
     /// range for data that crosses the antimeridian.
@@ -107,11 +102,11 @@ public:
     double resolutionDeg() const;
     /// Finest level whose tiles of `tileSize` samples still add detail: the first level whose
     /// tile pixels are no larger than the native pixels (or options.maxLevelOverride).
-    uint32_t maxLevel(int tileSize) const;
+    uint32_t maxLevel(int tileSize) const override;
     /// Coarsest level whose tiles (of 65 samples for elevation, 256 for imagery) stay within
     /// kMaxSourcePixelsPerTile, given the overviews present; 0 normally.
-    uint32_t minLevel() const;
-    bool covers(const GeoExtent& extent) const;
+    uint32_t minLevel() const override;
+    bool covers(const GeoExtent& extent) const override;
 
     /// Thread-safe: calls from several threads run in parallel on a bounded pool of GDAL
     /// handles (one per concurrent call, at most maxHandles()); a call waits for a free handle.
@@ -123,6 +118,9 @@ public:
     /// As readElevation; `size` must be 1..4096. Imagery sources only.
     Result<ImageryTile> readImagery(const GeoExtent& extent, int size,
                                     const jobs::CancelToken* cancel = nullptr) const;
+    Result<ImageryTile> readTile(const TileImageRequest& request, const jobs::CancelToken* cancel) const override {
+        return readImagery(request.extent, request.size, cancel);
+    }
 
     /// Multi-line human description: driver, size, bands and types, CRS name and EPSG code,
     /// nodata, coverage, resolution, overviews, levels. Any thread.

@@ -135,11 +135,39 @@ ImageryData buildImageryMips(int size, std::vector<uint8_t> level0) {
 }
 
 TerrainTiles::TerrainTiles(const TerrainTilesSettings& settings, std::vector<std::shared_ptr<RasterSource>> elevation,
-                           std::vector<std::shared_ptr<RasterSource>> imagery, jobs::ThreadPool* pool)
+                           std::vector<std::shared_ptr<const TileImageSource>> imagery, jobs::ThreadPool* pool)
     : settings_(settings), elevation_(std::move(elevation)), imagery_(std::move(imagery)), pool_(pool) {
     // Finest first: its samples win, coarser sources only fill its holes.
     std::stable_sort(elevation_.begin(), elevation_.end(),
                      [](const auto& a, const auto& b) { return a->resolutionDeg() < b->resolutionDeg(); });
+}
+
+uint32_t TerrainTiles::addImagery(std::shared_ptr<const TileImageSource> source) {
+    imagery_.push_back(std::move(source));
+    return uint32_t(imagery_.size());
+}
+
+void TerrainTiles::replaceImagery(uint32_t layer, std::shared_ptr<const TileImageSource> source) {
+    if (layer == 0 || layer > imagery_.size()) return;
+    imagery_[layer - 1] = std::move(source);
+    for (auto it = entries_.begin(); it != entries_.end();) {
+        Entry& e = it->second;
+        if (it->first.layer != layer) {
+            ++it;
+            continue;
+        }
+        if (e.state == DataState::Loading) {
+            // A running load holds its own source; it finishes on its own and its result is
+            // dropped (kept until then: it uses this object).
+            e.job.cancel();
+            if (!e.job.ready()) orphans_.push_back(std::move(e.job));
+            --loadingCount_;
+            ++stats_.cancelled;
+        }
+        cpuBytes_ -= e.bytes;
+        it = entries_.erase(it);
+    }
+    stats_.loading = loadingCount_;
 }
 
 TerrainTiles::~TerrainTiles() {
@@ -147,6 +175,7 @@ TerrainTiles::~TerrainTiles() {
         if (e.state == DataState::Loading) e.job.cancel();
     for (auto& [key, e] : entries_)
         if (e.state == DataState::Loading) e.job.wait();
+    for (auto& job : orphans_) job.wait();
 }
 
 uint32_t TerrainTiles::maxDataLevel(uint32_t layer) const {
@@ -179,11 +208,12 @@ DataState TerrainTiles::state(uint32_t layer, const TileKey& tile) const {
     return e ? e->state : DataState::Missing;
 }
 
-std::optional<TileKey> TerrainTiles::readyAncestor(uint32_t layer, const TileKey& tile) const {
+std::optional<TileKey> TerrainTiles::readyAncestor(uint32_t layer, const TileKey& tile, bool emptyIsFinal) const {
     for (int level = int(tile.level); level >= 0; --level) {
         const TileKey k = tile.ancestor(uint32_t(level));
         const Entry* e = find(layer, k);
         if (e && e->state == DataState::Ready) return k;
+        if (e && emptyIsFinal && e->state == DataState::Empty) return std::nullopt;
     }
     return std::nullopt;
 }
@@ -240,10 +270,12 @@ void TerrainTiles::startLoad(const DataKey& key, Entry& entry, double priority) 
             parent = elevation(*a);
             parentLevel = a->level;
         }
-    auto work = [this, key, parent, parentLevel](const jobs::CancelToken& cancel) -> LoadResult {
+    // The job holds its image source: the layer's source may be replaced while it runs.
+    std::shared_ptr<const TileImageSource> image = key.layer == 0 ? nullptr : imagery_[key.layer - 1];
+    auto work = [this, key, parent, parentLevel, image](const jobs::CancelToken& cancel) -> LoadResult {
         const auto t0 = std::chrono::steady_clock::now();
         LoadResult r = key.layer == 0 ? loadElevation(key.tile, parent, parentLevel, cancel)
-                                      : loadImagery(key.layer, key.tile, cancel);
+                                      : loadImagery(*image, key.tile, cancel);
         r.nanoseconds = uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count());
         return r;
     };
@@ -281,6 +313,7 @@ void TerrainTiles::finishLoad(const DataKey& key, Entry& e, LoadResult r) {
 }
 
 void TerrainTiles::collectFinished() {
+    std::erase_if(orphans_, [](const jobs::Job<LoadResult>& job) { return job.ready(); });
     for (auto it = entries_.begin(); it != entries_.end();) {
         Entry& e = it->second;
         if (e.state == DataState::Loading && e.job.ready()) {
@@ -436,15 +469,15 @@ TerrainTiles::LoadResult TerrainTiles::loadElevation(const TileKey& tile, std::s
     return out;
 }
 
-TerrainTiles::LoadResult TerrainTiles::loadImagery(uint32_t layer, const TileKey& tile, const jobs::CancelToken& cancel) const {
+TerrainTiles::LoadResult TerrainTiles::loadImagery(const TileImageSource& source, const TileKey& tile,
+                                                   const jobs::CancelToken& cancel) const {
     LoadResult out;
-    const auto& source = imagery_[layer - 1];
     const GeoExtent extent = tile.extent();
-    if (!source->covers(extent)) {
+    if (!source.covers(extent)) {
         out.empty = true;
         return out;
     }
-    auto r = source->readImagery(extent, settings_.imageSize, &cancel);
+    auto r = source.readTile({extent, settings_.imageSize, settings_.tilePixelsPerScreenPixel}, &cancel);
     if (!r) {
         if (cancel.cancelled()) throw jobs::Cancelled();
         out.error = r.message();

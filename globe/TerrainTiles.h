@@ -7,13 +7,15 @@
 //
 // Data layers: layer 0 is elevation (every DEM composited: the finest source wins, its holes
 // are filled by coarser sources, then by the parent tile, then by the ellipsoid); layers
-// 1..N are the imagery layers in scene order.
+// 1..N are the image layers (TileImageSource: the scene's imagery files, then what other
+// layers drape on the ground), in the order they were added.
 //
 // Loading goes one level at a time down each tile's chain of ancestors, so coarse data always
 // arrives first and every tile has an ancestor to stand in for it.
 
 #include "base/ThreadPool.h"
 #include "globe/RasterSource.h"
+#include "globe/TileImageSource.h"
 #include "globe/TileKey.h"
 #include "globe/TileSelector.h"
 
@@ -69,6 +71,9 @@ struct TerrainTilesSettings {
     int imageSize = 256;                         ///< imagery pixels per tile side
     uint64_t cpuBudgetBytes = 256ull << 20;      ///< tile data kept in memory
     uint32_t maxLevel = 22;
+    /// Passed to image sources (TileImageRequest): tile pixels per screen pixel where tiles
+    /// are drawn.
+    double tilePixelsPerScreenPixel = 1.0;
 };
 
 struct PagerStats {
@@ -82,7 +87,7 @@ class TerrainTiles {
 public:
     /// `pool` may be null: loads then run inline inside request() (tests, tools).
     TerrainTiles(const TerrainTilesSettings& settings, std::vector<std::shared_ptr<RasterSource>> elevation,
-                 std::vector<std::shared_ptr<RasterSource>> imagery, jobs::ThreadPool* pool);
+                 std::vector<std::shared_ptr<const TileImageSource>> imagery, jobs::ThreadPool* pool);
     ~TerrainTiles();
     TerrainTiles(const TerrainTiles&) = delete;
     TerrainTiles& operator=(const TerrainTiles&) = delete;
@@ -95,6 +100,16 @@ public:
     /// Coarsest level a layer can be read at (huge files without overviews start deeper).
     uint32_t minDataLevel(uint32_t layer) const;
 
+    /// Adds an image layer after the others; returns its layer number. Main thread.
+    uint32_t addImagery(std::shared_ptr<const TileImageSource> source);
+    /// Replaces an image layer's source (what it paints changed): its cached tiles are
+    /// dropped and loads in flight cancelled, so every tile is painted again. Main thread.
+    void replaceImagery(uint32_t layer, std::shared_ptr<const TileImageSource> source);
+
+    bool hasPool() const { return pool_ != nullptr; }
+    /// Loads run on `pool` from now on (a source added later needs it). Main thread.
+    void setPool(jobs::ThreadPool* pool) { pool_ = pool; }
+
     /// Starts a frame: collects finished loads into the cache. Main thread.
     void beginFrame(uint64_t frameNumber);
     /// Asks for `tile`'s data in `layer`. Loads the next missing level on the way down from
@@ -105,8 +120,10 @@ public:
     void endFrame();
 
     DataState state(uint32_t layer, const TileKey& tile) const;
-    /// The deepest ancestor-or-self of `tile` whose data in `layer` is ready, if any.
-    std::optional<TileKey> readyAncestor(uint32_t layer, const TileKey& tile) const;
+    /// The deepest ancestor-or-self of `tile` whose data in `layer` is ready, if any. With
+    /// `emptyIsFinal` (a drape: nothing painted means transparent), an empty tile on the way up
+    /// ends the search with nothing: a coarser tile's painting must not show through it.
+    std::optional<TileKey> readyAncestor(uint32_t layer, const TileKey& tile, bool emptyIsFinal = false) const;
     std::shared_ptr<const ElevationData> elevation(const TileKey& tile) const;
     std::shared_ptr<const ImageryData> imagery(uint32_t layer, const TileKey& tile) const;
 
@@ -120,7 +137,7 @@ public:
     std::vector<DataKey> loadedKeys() const;
     /// The sources, finest elevation first.
     const std::vector<std::shared_ptr<RasterSource>>& elevationSources() const { return elevation_; }
-    const std::vector<std::shared_ptr<RasterSource>>& imagerySources() const { return imagery_; }
+    const std::vector<std::shared_ptr<const TileImageSource>>& imagerySources() const { return imagery_; }
     /// Blocks until every load in flight has finished and been collected (tests, batch renders).
     void waitIdle();
     bool loading() const { return loadingCount_ > 0; }
@@ -155,14 +172,15 @@ private:
     void trim();
     LoadResult loadElevation(const TileKey& tile, std::shared_ptr<const ElevationData> ancestor, uint32_t ancestorLevel,
                              const jobs::CancelToken& cancel) const;
-    LoadResult loadImagery(uint32_t layer, const TileKey& tile, const jobs::CancelToken& cancel) const;
+    LoadResult loadImagery(const TileImageSource& source, const TileKey& tile, const jobs::CancelToken& cancel) const;
     void noteError(const std::string& message);
 
     TerrainTilesSettings settings_;
     std::vector<std::shared_ptr<RasterSource>> elevation_;   // finest first
-    std::vector<std::shared_ptr<RasterSource>> imagery_;
+    std::vector<std::shared_ptr<const TileImageSource>> imagery_;
     jobs::ThreadPool* pool_;
     std::unordered_map<DataKey, Entry, DataKeyHash> entries_;
+    std::vector<jobs::Job<LoadResult>> orphans_;   ///< loads of replaced sources, still running
     uint64_t frame_ = 0;
     uint64_t cpuBytes_ = 0;
     size_t loadingCount_ = 0;

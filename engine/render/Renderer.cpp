@@ -248,9 +248,13 @@ scene::FrameContext Renderer::frameContext(scene::Scene& scene, uint64_t frameNu
     ctx.cameraHeight = eyeHeight;
     ctx.groundHeight = [&scene](double lon, double lat) { return scene.heightAt(lon, lat); };
     ctx.annotations = &scene.annotations();
-    for (auto& r : scene.resources())
-        if (const auto* ground = r.layer->asGroundSource(); ground && r.visible && r.layer->prepared())
-            ctx.groundVersion += ground->groundVersion();
+    for (auto& r : scene.resources()) {
+        if (!r.visible || !r.layer->prepared()) continue;
+        if (const auto* ground = r.layer->asGroundSource()) ctx.groundVersion += ground->groundVersion();
+        if (const auto* draped = r.layer->asDrapedContent())
+            if (auto source = draped->drapeSource())
+                ctx.drapes.push_back({r.layer.get(), std::move(source), draped->drapeVersion(), draped->drapeOpacity()});
+    }
     return ctx;
 }
 

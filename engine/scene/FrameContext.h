@@ -6,9 +6,11 @@
 #include "base/TimeFormat.h"
 #include "engine/scene/Annotation.h"
 #include "engine/scene/Camera.h"
+#include "globe/TileImageSource.h"
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -19,6 +21,14 @@ enum class Pass { Opaque, Points, Fmv, Volume, Overlay };
 
 /// Height of the ground above the ellipsoid at (lon, lat), or nothing where unknown.
 using GroundHeightFn = std::function<std::optional<double>(double lonDeg, double latDeg)>;
+
+/// One visible layer's content draped on the ground this frame (DrapedContent).
+struct Drape {
+    const void* owner = nullptr;   ///< the layer: the same one from frame to frame
+    std::shared_ptr<const globe::TileImageSource> source;
+    uint64_t version = 0;
+    double opacity = 1.0;
+};
 
 struct FrameContext {
     const Camera* camera = nullptr;
@@ -33,6 +43,8 @@ struct FrameContext {
     uint64_t groundVersion = 0;
     /// The scene's pins (Scene::annotations), for the layer that draws them.
     const std::vector<Annotation>* annotations = nullptr;
+    /// What visible layers drape on the ground, in scene order, for the ground layer.
+    std::vector<Drape> drapes;
     double aspect() const { return height ? double(width) / double(height) : 1.0; }
 };
 

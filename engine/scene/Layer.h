@@ -67,6 +67,7 @@ public:
     virtual const GroundSource* asGroundSource() const { return nullptr; }
     virtual const MovingContent* asMovingContent() const { return nullptr; }
     virtual const FloatingContent* asFloatingContent() const { return nullptr; }
+    virtual const DrapedContent* asDrapedContent() const { return nullptr; }
     virtual const LayerStats* asStats() const { return nullptr; }
 
 protected:

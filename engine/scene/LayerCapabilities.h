@@ -7,11 +7,13 @@
 #include "base/TimeFormat.h"
 #include "engine/scene/FrameContext.h"
 #include "engine/scene/LayerSetting.h"
+#include "globe/TileImageSource.h"
 
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -91,6 +93,22 @@ public:
     /// Distance from `eye` (ECEF) to the nearest content the layer draws (its bounds, 0 when the
     /// eye is inside them); nothing when it has nothing to draw.
     virtual std::optional<double> nearestContent(const glm::dvec3& eye) const = 0;
+};
+
+/// A layer whose content lies on the ground (vector features clamped to the terrain): it
+/// paints it into the ground's tile images, which the ground layer (terrain) blends over its
+/// own imagery, so the content is exactly on the surface at every zoom (no floating, no
+/// cutting into hills, no z-fighting). Main thread only; the source is read on workers.
+class DrapedContent {
+public:
+    virtual ~DrapedContent() = default;
+    /// What paints the tiles; null while there is nothing to paint yet (data loading).
+    virtual std::shared_ptr<const globe::TileImageSource> drapeSource() const = 0;
+    /// Changes whenever what the source paints has changed (data arrived, a style or the time
+    /// changed what is shown): the ground paints its tiles again.
+    virtual uint64_t drapeVersion() const = 0;
+    /// Opacity of the painted images over the ground.
+    virtual double drapeOpacity() const { return 1.0; }
 };
 
 /// Figures for the viewer's stats panel and the benchmark's tables. Main thread only.

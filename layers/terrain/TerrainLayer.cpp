@@ -48,7 +48,8 @@ void TerrainLayer::onPrepare(const render::RenderServices& services) {
 
 void TerrainLayer::openSources(const render::RenderServices& services) {
     // Sources: a bad one is reported and left out; the terrain draws without it.
-    std::vector<std::shared_ptr<globe::RasterSource>> dems, images;
+    std::vector<std::shared_ptr<globe::RasterSource>> dems;
+    std::vector<std::shared_ptr<const globe::TileImageSource>> images;
     for (const auto& o : settings_.elevation) {
         auto s = globe::RasterSource::open(o);
         if (s) dems.push_back(*s);
@@ -69,8 +70,15 @@ void TerrainLayer::openSources(const render::RenderServices& services) {
     ts.imageSize = settings_.imageSize;
     ts.cpuBudgetBytes = settings_.cpuCacheBytes;
     ts.maxLevel = settings_.maxLevel;
+    // Tiles are refined while a quarter grid cell spans more than maxScreenSpaceError pixels
+    // at the tile's nearest point, so an image texel (imageSize texels over gridSize - 1 cells)
+    // spans at most that many pixels there, and about half that over most of the tile (measured:
+    // a 3-texel line over flat ground is about 3 px wide at the default 2 px).
+    ts.tilePixelsPerScreenPixel = 2.0 / settings_.maxScreenSpaceError *
+                                  (double(settings_.imageSize) / (4.0 * double(settings_.gridSize - 1)));
     ground_ = std::make_unique<TerrainGround>(settings_.gridSize, settings_.maxLevel, dems);
-    // No sources, no threads: the pool starts only when there is something to load.
+    // No sources, no threads: the pool starts only when there is something to load (a drape
+    // added later starts it then).
     jobs::ThreadPool* pool = dems.empty() && images.empty() ? nullptr : &services.jobs();
     tiles_ = std::make_unique<globe::TerrainTiles>(ts, std::move(dems), std::move(images), pool);
     globe::SelectorSettings sel;
@@ -129,7 +137,8 @@ void TerrainLayer::buildPipelines(const render::RenderServices& services) {
         {shader::kTerrainInputCellMetres, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(globe::TileVertex, cellMetres)}};
     surface.cullMode = VK_CULL_MODE_NONE;   // skirts face both ways; hidden faces lose the depth test
     gpu::Specialization spec;
-    spec.set<int32_t>(shader::kTerrainSpecImageryLayers, int32_t(imageryIndex_.size()));
+    spec.set<int32_t>(shader::kTerrainSpecImageryLayers, int32_t(imageLayerCount()));
+    spec.set<int32_t>(shader::kTerrainSpecFirstDrape, int32_t(imageryIndex_.size()));
     surface.specialization = &spec;
     surface.colorFormat = services.colorFormat;
     surface.depthFormat = services.depthFormat;
@@ -160,14 +169,15 @@ void TerrainLayer::update(const scene::FrameContext& frame) {
     view.aspect = frame.aspect();
     view.nearPlane = camera.nearPlane();
     view.viewportHeightPx = frame.height;
+    syncDrapes(frame.drapes);
     const auto& selected = selector_->select(view, [&](const globe::TileKey& k) { return drawnHeights(k); });
     stats_.selection = selector_->stats();
 
     // Ask for data: elevation and each visible imagery layer, near and coarse first.
     for (const auto& t : selected) {
         tiles_->request(0, t.key, t.distance);
-        for (uint32_t i = 0; i < imageryIndex_.size(); ++i)
-            if (settings_.imagery[imageryIndex_[i]].visible) tiles_->request(1 + i, t.key, t.distance);
+        for (uint32_t i = 0; i < imageLayerCount(); ++i)
+            if (imageLayerVisible(i)) tiles_->request(1 + i, t.key, t.distance);
     }
     tiles_->endFrame();
 
@@ -176,10 +186,59 @@ void TerrainLayer::update(const scene::FrameContext& frame) {
         if (std::find(errors_.begin(), errors_.end(), err) == errors_.end()) errors_.push_back(err);
 }
 
+bool TerrainLayer::imageLayerVisible(uint32_t l) const {
+    return l < imageryIndex_.size() ? settings_.imagery[imageryIndex_[l]].visible : drapes_[l - imageryIndex_.size()].visible;
+}
+
+double TerrainLayer::imageLayerOpacity(uint32_t l) const {
+    return l < imageryIndex_.size() ? settings_.imagery[imageryIndex_[l]].opacity : drapes_[l - imageryIndex_.size()].opacity;
+}
+
+void TerrainLayer::syncDrapes(const std::vector<scene::Drape>& drapes) {
+    for (DrapeLayer& d : drapes_) d.visible = false;
+    bool added = false;
+    for (const scene::Drape& drape : drapes) {
+        auto it = std::find_if(drapes_.begin(), drapes_.end(), [&](const DrapeLayer& d) { return d.owner == drape.owner; });
+        if (it == drapes_.end()) {
+            if (imageLayerCount() >= shader::kTerrainMaxImagery) {
+                if (!warnedDrapeCap_)
+                    log::warn("terrain: at most ", shader::kTerrainMaxImagery, " imagery and draped layers; \"",
+                              drape.source->name(), "\" is not drawn on the ground");
+                warnedDrapeCap_ = true;
+                continue;
+            }
+            const uint32_t layer = tiles_->addImagery(drape.source);
+            drapes_.push_back({drape.owner, drape.version, drape.opacity, true});
+            // The drape's content is sharp at every zoom: tiles refine on their grid's error
+            // down to its finest level, not only on the ellipsoid's curvature.
+            globe::SelectorSettings sel = selector_->settings();
+            sel.detailLevel = std::max(sel.detailLevel, tiles_->maxDataLevel(layer));
+            selector_->setSettings(sel);
+            added = true;
+            continue;
+        }
+        const uint32_t layer = uint32_t(1 + imageryIndex_.size() + size_t(it - drapes_.begin()));
+        if (it->version != drape.version) {
+            tiles_->replaceImagery(layer, drape.source);
+            gpuSlots_->forgetLayer(Kind::Imagery, layer);
+            it->version = drape.version;
+        }
+        it->opacity = drape.opacity;
+        it->visible = true;
+    }
+    if (added) {
+        // The tiles' loads need the worker pool even when the terrain itself reads nothing.
+        if (!tiles_->hasPool()) tiles_->setPool(&services_.jobs());
+        buildPipelines(services_);
+    }
+}
+
 std::optional<std::pair<globe::TileKey, uint32_t>> TerrainLayer::residentData(uint32_t layer, const globe::TileKey& tile) {
     const Kind kind = layer == 0 ? Kind::Elevation : Kind::Imagery;
-    // The deepest ready ancestor-or-self that is on the GPU or can go there this frame.
-    std::optional<globe::TileKey> a = tiles_->readyAncestor(layer, tile);
+    // The deepest ready ancestor-or-self that is on the GPU or can go there this frame. A
+    // drape's empty tile is transparent: its ancestors' coarser painting must not show there.
+    const bool drape = layer > imageryIndex_.size();
+    std::optional<globe::TileKey> a = tiles_->readyAncestor(layer, tile, drape);
     while (a) {
         const globe::DataKey key{layer, *a};
         if (auto slot = gpuSlots_->find(kind, key)) return std::make_pair(*a, *slot);
@@ -193,7 +252,7 @@ std::optional<std::pair<globe::TileKey, uint32_t>> TerrainLayer::residentData(ui
             deferred_ = true;
         }
         if (a->level == 0) break;
-        a = tiles_->readyAncestor(layer, a->parent());
+        a = tiles_->readyAncestor(layer, a->parent(), drape);
     }
     return std::nullopt;
 }
@@ -265,9 +324,9 @@ shader::TileDraw TerrainLayer::tileDraw(const scene::Camera& camera, const glm::
         if (r->first == key) ++stats_.tilesWithOwnElevation;
     }
     d.imagerySlot = glm::ivec4(-1);
-    for (uint32_t l = 0; l < imageryIndex_.size(); ++l) {
+    for (uint32_t l = 0; l < imageLayerCount(); ++l) {
         d.imageryScaleBias[l] = glm::vec4(1, 1, 0, 0);
-        if (!settings_.imagery[imageryIndex_[l]].visible) continue;
+        if (!imageLayerVisible(l)) continue;
         if (auto r = residentData(1 + l, key)) {
             d.imagerySlot[int(l)] = int(r->second);
             d.imageryScaleBias[l] = glm::vec4(key.scaleBiasWithin(r->first));
@@ -315,8 +374,7 @@ void TerrainLayer::record(scene::Pass, const render::RecordContext& rc) {
     shader::TerrainPush push{};
     push.baseColor = glm::vec3(srgbToLinear(settings_.color.r), srgbToLinear(settings_.color.g), srgbToLinear(settings_.color.b));
     push.verticalExaggeration = float(settings_.verticalExaggeration);
-    for (uint32_t l = 0; l < imageryIndex_.size(); ++l)
-        push.imageryOpacity[int(l)] = float(settings_.imagery[imageryIndex_[l]].opacity);
+    for (uint32_t l = 0; l < imageLayerCount(); ++l) push.imageryOpacity[int(l)] = float(imageLayerOpacity(l));
     push.sunLighting = settings_.sunLighting ? 1u : 0u;
     push.tileBorders = settings_.tileBorders ? 1u : 0u;
     push.imageSizePx = float(settings_.imageSize);

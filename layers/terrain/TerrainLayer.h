@@ -13,6 +13,11 @@
 //
 // A source that cannot be opened is logged once and left out: the terrain still draws (the
 // ellipsoid in the base colour stands in for it).
+//
+// Layers whose content lies on the ground (a vector layer, "clamped") drape it here: each is
+// one more image layer after the scene's imagery (scene::DrapedContent, in FrameContext::drapes),
+// its tiles painted by its source on the workers. At most kTerrainMaxImagery image layers in
+// all; the pipeline is rebuilt when one is added.
 
 #include "engine/gpu/Buffer.h"
 #include "engine/gpu/Descriptors.h"
@@ -135,6 +140,13 @@ private:
     void buildPipelines(const render::RenderServices& services);
     /// A tile's height range as drawn (exaggerated, and the ellipsoid's 0 included).
     globe::TileHeightRange drawnHeights(const globe::TileKey& key) const;
+    /// Takes what other layers drape on the ground this frame: new ones become image layers
+    /// (the pipeline is rebuilt for the new count), changed ones are painted again.
+    void syncDrapes(const std::vector<scene::Drape>& drapes);
+    /// Image layers the surface blends: the scene's imagery, then the drapes.
+    uint32_t imageLayerCount() const { return uint32_t(imageryIndex_.size() + drapes_.size()); }
+    bool imageLayerVisible(uint32_t l) const;
+    double imageLayerOpacity(uint32_t l) const;
     /// The residency of the selected tiles' data (uploads queued within the budget) and their draws.
     void buildDrawList(const scene::FrameContext& frame, const std::vector<globe::SelectedTile>& selected);
     shader::TileDraw tileDraw(const scene::Camera& camera, const glm::dmat4& proj, const globe::TileKey& key);
@@ -185,6 +197,14 @@ private:
     bool warnedDrawCap_ = false;
     bool deferred_ = false;                 ///< ready data waited for upload budget this frame
     std::vector<size_t> imageryIndex_;      ///< model imagery layer i -> settings_.imagery index
+    struct DrapeLayer {
+        const void* owner = nullptr;
+        uint64_t version = 0;
+        double opacity = 1.0;
+        bool visible = false;   ///< named by this frame's drapes
+    };
+    std::vector<DrapeLayer> drapes_;        ///< image layers imageryIndex_.size() + i
+    bool warnedDrapeCap_ = false;
 };
 
 }  // namespace orbis::layers

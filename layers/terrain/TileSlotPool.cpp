@@ -98,6 +98,19 @@ std::optional<uint32_t> TileSlotPool::acquire(Kind kind, const globe::DataKey& k
     return slot;
 }
 
+void TileSlotPool::forgetLayer(Kind kind, uint32_t layer) {
+    Pool& p = pool(kind);
+    for (auto it = p.resident.begin(); it != p.resident.end();) {
+        if (it->first.layer != layer) {
+            ++it;
+            continue;
+        }
+        p.slots[it->second].taken = false;
+        p.freeSlots.push_back(it->second);
+        it = p.resident.erase(it);
+    }
+}
+
 bool TileSlotPool::evictOne(Pool& p) {
     uint32_t victim = UINT32_MAX;
     uint64_t oldest = UINT64_MAX;

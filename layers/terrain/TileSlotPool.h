@@ -46,6 +46,9 @@ public:
     /// `mayExceedBudget` (a mesh, without which a tile would be a hole) adds pages past the
     /// budget. Nothing when no slot can be had: the caller falls back to an ancestor.
     std::optional<uint32_t> acquire(Kind kind, const globe::DataKey& key, bool mayExceedBudget);
+    /// Frees every slot holding data of data layer `layer` (its content changed). Main thread,
+    /// before the frame's slots are found.
+    void forgetLayer(Kind kind, uint32_t layer);
     /// The bytes of one slot of `kind` (what uploading it costs).
     uint64_t slotBytes(Kind kind) const;
 

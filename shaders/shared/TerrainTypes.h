@@ -14,6 +14,7 @@ ORBIS_CONST(uint, kTerrainBindingElevation, 1)   // sampler2DArray[kElevationPag
 ORBIS_CONST(uint, kTerrainBindingImagery, 2)     // sampler2DArray[kImageryPages]
 
 ORBIS_CONST(uint, kTerrainSpecImageryLayers, 0)   // int: imagery layers the pipeline blends
+ORBIS_CONST(uint, kTerrainSpecFirstDrape, 1)      // int: the first of them that is a layer's drape
 
 // Vertex inputs: globe::TileVertex.
 ORBIS_CONST(uint, kTerrainInputPosition, 0)
@@ -62,7 +63,8 @@ inline constexpr DescriptorBinding kTerrainBindings[] = {
     {kTerrainBindingElevation, DescriptorKind::CombinedImageSampler, kElevationPages, kStageVertex},
     {kTerrainBindingImagery, DescriptorKind::CombinedImageSampler, kImageryPages, kStageFragment},
 };
-inline constexpr SpecConstant kTerrainSpecConstants[] = {{kTerrainSpecImageryLayers, SpecType::Int}};
+inline constexpr SpecConstant kTerrainSpecConstants[] = {{kTerrainSpecImageryLayers, SpecType::Int},
+                                                        {kTerrainSpecFirstDrape, SpecType::Int}};
 }  // namespace orbis::shader
 static_assert(sizeof(orbis::shader::TileDraw) == 192, "TileDraw layout changed");
 static_assert(offsetof(orbis::shader::TileDraw, skirtDepth) == 76, "std430 offset: a float after a vec3");

@@ -10,6 +10,12 @@ layout(push_constant) uniform PushBlock { TerrainPush pc; };
 
 // Imagery layers this pipeline blends (the scene's count): unused layers cost nothing.
 layout(constant_id = kTerrainSpecImageryLayers) const int kImageryLayers = int(kTerrainMaxImagery);
+// Layers from this one on are drapes (vector features painted into tiles): thin lines that an
+// isotropic mip level would blur away at grazing angles, so they are sampled with four taps
+// along the footprint's long axis at a finer level (anisotropic filtering done by hand: the
+// level is given explicitly, see fetchImagery).
+layout(constant_id = kTerrainSpecFirstDrape) const int kFirstDrape = int(kTerrainMaxImagery);
+const int kDrapeTaps = 4;
 
 layout(location = 0) in vec3 vNormal;
 layout(location = 1) in vec2 vUv;
@@ -41,7 +47,11 @@ void main() {
     vec3 color = pc.baseColor;
     // Texels of an own-level imagery tile per pixel, squared; an ancestor's scale shrinks it.
     vec2 uvDx = dFdx(vUv) * pc.imageSizePx, uvDy = dFdy(vUv) * pc.imageSizePx;
-    float footprint2 = max(dot(uvDx, uvDx), dot(uvDy, uvDy));
+    float fx2 = dot(uvDx, uvDx), fy2 = dot(uvDy, uvDy);
+    float footprint2 = max(fx2, fy2);
+    // Drapes: the long axis (in tile uv) and the footprint left for each of its taps.
+    vec2 longAxis = fx2 > fy2 ? dFdx(vUv) : dFdy(vUv);
+    float tapFootprint2 = max(footprint2 / float(kDrapeTaps * kDrapeTaps), min(fx2, fy2));
     // Imagery layers in scene order, each over the ones before it.
     for (int i = 0; i < kImageryLayers; ++i) {
         int slot = d.imagerySlot[i];
@@ -49,8 +59,21 @@ void main() {
         vec2 t = vUv * d.imageryScaleBias[i].xy + d.imageryScaleBias[i].zw;
         int page = slot / int(kImagerySlotsPerPage);
         float scale = d.imageryScaleBias[i].x;
-        float lod = 0.5 * log2(max(footprint2 * scale * scale, 1e-12));
-        vec4 c = fetchImagery(page, vec3(t, float(slot % int(kImagerySlotsPerPage))), lod);
+        float layer = float(slot % int(kImagerySlotsPerPage));
+        vec4 c;
+        if (i < kFirstDrape) {
+            float lod = 0.5 * log2(max(footprint2 * scale * scale, 1e-12));
+            c = fetchImagery(page, vec3(t, layer), lod);
+        } else {
+            float lod = 0.5 * log2(max(tapFootprint2 * scale * scale, 1e-12));
+            vec4 sum = vec4(0.0);
+            for (int k = 0; k < kDrapeTaps; ++k) {
+                vec2 tk = t + longAxis * scale * ((float(k) + 0.5) / float(kDrapeTaps) - 0.5);
+                vec4 s = fetchImagery(page, vec3(tk, layer), lod);
+                sum += vec4(s.rgb * s.a, s.a);   // alpha-weighted, as the mips are
+            }
+            c = sum.a > 0.0 ? vec4(sum.rgb / sum.a, sum.a / float(kDrapeTaps)) : vec4(0.0);
+        }
         color = mix(color, c.rgb, c.a * pc.imageryOpacity[i]);
     }
 

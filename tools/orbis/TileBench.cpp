@@ -94,7 +94,7 @@ struct PagerRun {
 PagerRun runPager(const globe::TerrainTilesSettings& ms, const TileSources& sources,
                   const std::vector<globe::TileKey>& tiles, unsigned threads, std::vector<globe::DataKey>* loaded) {
     jobs::ThreadPool pool(threads, "orbis-tiles");
-    globe::TerrainTiles model(ms, sources.dems, sources.images, &pool);
+    globe::TerrainTiles model(ms, sources.dems, {sources.images.begin(), sources.images.end()}, &pool);
     const auto t0 = std::chrono::steady_clock::now();
     for (uint64_t frame = 1;; ++frame) {
         model.beginFrame(frame);
