@@ -6,6 +6,7 @@
 #include "layers/models/ModelLayer.h"
 #include "layers/points/PointsLayer.h"
 #include "layers/terrain/TerrainLayer.h"
+#include "layers/vector/VectorLayer.h"
 #include "layers/volume/VolumeLayer.h"
 
 namespace orbis::layers {
@@ -13,7 +14,7 @@ namespace orbis::layers {
 void registerBuiltinLayers(scene::LayerRegistry& registry) {
     for (scene::LayerType type : {EarthLayer::layerType(), TerrainLayer::layerType(), VolumeLayer::layerType(),
                                   PointsLayer::layerType(), ModelLayer::layerType(), AnnotationLayer::layerType(),
-                                  FmvLayer::layerType()})
+                                  FmvLayer::layerType(), VectorLayer::layerType()})
         registry.add(std::move(type));
 }
 

@@ -184,6 +184,7 @@ Result<VectorStyle::Patch> VectorStyle::readPatch(const json& object, const std:
     }
     if (rule) {
         rule->name = r.string("name", std::string()).value_or("");
+        rule->enabled = r.boolean("enabled", true).value_or(true);
         if (const json* when = r.object("when")) {
             for (const auto& [field, value] : when->items()) {
                 Condition c{.field = field};

@@ -12,7 +12,7 @@
 //     "rules": [
 //       {"name": "capitals", "when": {"featurecla": "Admin-0 capital"}, "color": [1, 0, 0]},
 //       {"when": {"pop_max": {"min": 1e6}}, "iconSize": 24},
-//       {"when": {"continent": ["Asia", "Europe"]}, "visible": false}
+//       {"when": {"continent": ["Asia", "Europe"]}, "visible": false, "enabled": true}
 //     ]
 //   }
 //
@@ -20,7 +20,8 @@
 // conditions all hold sets the properties it names, over the defaults and the rules before it.
 // A condition is an equality (a number, a string, a boolean as 1/0, or null), a list (any of
 // its values), or a range {"min": a, "max": b} (min included, max excluded; numbers only). A
-// label is a template: "{field}" is the field's value, "{{" and "}}" are braces.
+// label is a template: "{field}" is the field's value, "{{" and "}}" are braces. A rule with
+// "enabled": false is skipped (the viewer's switch for each rule, saved with the scene).
 //
 // A feature's own style (KML's styles, VectorLayer::styles) sits between the built-in defaults
 // and the scene's: the scene overrides only what it names.

@@ -1,0 +1,88 @@
+#include "layers/vector/VectorDrape.h"
+
+#include "base/ThreadPool.h"
+#include "layers/vector/DrapeRaster.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace orbis::vector {
+namespace {
+
+/// True when the lon/lat box meets the extent, the box moved by any whole turn.
+bool meets(const LonLatBounds& b, const globe::GeoExtent& e) {
+    if (b.empty || b.north < e.south || b.south > e.north) return false;
+    if (b.spansAllLongitudes()) return true;
+    for (double shift : {-360.0, 0.0, 360.0})
+        if (b.west + shift <= e.east && b.east + shift >= e.west) return true;
+    return false;
+}
+
+/// Paint order: fills under lines under points, then source order.
+int kindOrder(GeometryKind k) { return k == GeometryKind::Polygons ? 0 : k == GeometryKind::Lines ? 1 : 2; }
+
+}  // namespace
+
+VectorDrape::VectorDrape(std::string name, std::shared_ptr<const VectorContent> content, std::shared_ptr<const ContentStyles> styles,
+                         TimeNs time, uint32_t maxLevel)
+    : name_(std::move(name)), content_(std::move(content)), styles_(std::move(styles)), time_(time), maxLevel_(maxLevel) {}
+
+bool VectorDrape::covers(const globe::GeoExtent& extent) const {
+    // Strokes and markers reach a little past the features' boxes: a margin of a tenth of the
+    // extent (at least a few pixels of any tile that asks).
+    const double margin = 0.1 * extent.width();
+    const globe::GeoExtent grown{extent.west - margin, extent.south - margin, extent.east + margin, extent.north + margin};
+    for (const ContentLayer& layer : content_->layers)
+        if (meets(layer.data.bounds, grown)) return true;
+    return false;
+}
+
+double VectorDrape::rangeForTile(const globe::GeoExtent& extent, int size, double tilePixelsPerScreenPixel) {
+    // A tile pixel spans 1 / tilePixelsPerScreenPixel screen pixels, and a screen pixel about a
+    // thousandth of a radian (1080 rows over a 60-degree field of view): the distance at which
+    // that holds.
+    constexpr double kPixelsPerRadian = 1000.0;
+    const double pixelMetres = extent.height() / size * 111320.0;
+    return pixelMetres * tilePixelsPerScreenPixel * kPixelsPerRadian;
+}
+
+Result<globe::ImageryTile> VectorDrape::readTile(const globe::TileImageRequest& request, const jobs::CancelToken* cancel) const {
+    const globe::GeoExtent& e = request.extent;
+    const double px = e.width() / request.size;
+    // Whatever is painted within a few screen pixels of the tile: the widest stroke or marker.
+    const double margin = 32.0 * request.tilePixelsPerScreenPixel * px;
+    const globe::GeoExtent grown{e.west - margin, e.south - margin, e.east + margin, e.north + margin};
+    const double range = rangeForTile(e, request.size, request.tilePixelsPerScreenPixel);
+
+    std::vector<std::pair<int, DrapeItem>> items;
+    for (size_t l = 0; l < content_->layers.size(); ++l) {
+        const ContentLayer& layer = content_->layers[l];
+        if (!meets(layer.data.bounds, grown)) continue;
+        const std::vector<FeatureStyle>& styles = (*styles_)[l];
+        for (size_t i = 0; i < layer.data.features.size(); ++i) {
+            const Feature& f = layer.data.features[i];
+            const FeatureStyle& s = styles[i];
+            if (!s.visible || range < s.minRangeM || range > s.maxRangeM) continue;
+            if (layer.times.timed() && !layer.times.spans[i].shows(time_)) continue;
+            if (!meets(f.bounds, grown)) continue;
+            items.push_back({kindOrder(f.kind), DrapeItem{&f, &s}});
+        }
+    }
+    if (cancel && cancel->cancelled()) throw jobs::Cancelled();
+    std::stable_sort(items.begin(), items.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<DrapeItem> ordered;
+    ordered.reserve(items.size());
+    for (const auto& [order, item] : items) ordered.push_back(item);
+
+    globe::ImageryTile tile;
+    tile.size = request.size;
+    if (ordered.empty()) return tile;
+    DrapeTileOptions options;
+    options.extent = e;
+    options.size = request.size;
+    options.pixelScale = request.tilePixelsPerScreenPixel;
+    tile.anyValid = rasterizeDrapeTile(ordered, options, tile.rgba);
+    return tile;
+}
+
+}  // namespace orbis::vector

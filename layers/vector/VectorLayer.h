@@ -1,0 +1,103 @@
+#pragma once
+// "vector": features from anything OGR opens (Shapefile, GeoPackage, GeoJSON, KML, GPX, CSV,
+// FlatGeobuf, a WFS URL) on the globe, styled by rules on their attributes, shown on the
+// scene's clock when they carry times.
+//
+//   {"type": "vector", "name": "Countries", "path": "countries.gpkg",
+//    "layers": ["countries"], "where": "continent = 'Africa'",   or "sql": "SELECT ...",
+//    "style": {...},                      (VectorStyle.h: defaults, rules, labels, extrusion)
+//    "time": {"begin": "start_date", "end": "end_date"},   fields; default: KML's own times
+//    "altitude": "clamped", "opacity": 1, "maxLevel": 18}
+//
+// "clamped" (the default and, for now, the only altitude mode): the features are painted into
+// the terrain's tiles (VectorDrape) and lie exactly on the surface drawn, at every zoom. A
+// scene needs a terrain layer for them to show. Lines and outlines are about `width` screen
+// pixels wide (the tiles are painted for the size they are drawn at, within a factor of
+// sqrt 2 either way as the terrain refines), points are disks of `iconSize` pixels.
+//
+// The source is read on the worker pool when the layer is first shown; until then (and when
+// reading fails: status() says why) nothing is drawn.
+
+#include "base/ThreadPool.h"
+#include "engine/scene/Layer.h"
+#include "engine/scene/LayerRegistry.h"
+#include "engine/scene/LayerSetting.h"
+#include "engine/scene/SceneDesc.h"
+#include "layers/vector/VectorContent.h"
+#include "layers/vector/VectorDrape.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace orbis::layers {
+
+struct VectorLayerSettings {
+    std::string name;
+    vector::VectorContentOptions content;
+    double opacity = 1.0;
+    uint32_t maxLevel = 18;   ///< finest terrain tile level painted (~0.6 m pixels at 256)
+};
+
+class VectorLayer : public scene::Layer,
+                    public scene::LiveSettings,
+                    public scene::DrapedContent,
+                    public scene::LayerStats {
+public:
+    static scene::LayerType layerType();
+    static constexpr scene::SettingRange kOpacityRange{0.0, 1.0};
+    static constexpr scene::SettingRange kMaxLevelRange{0.0, 22.0};
+
+    static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
+
+    explicit VectorLayer(VectorLayerSettings settings);
+    ~VectorLayer() override;
+
+    std::string_view type() const override { return "vector"; }
+    scene::LiveSettings* asLiveSettings() override { return this; }
+    const scene::DrapedContent* asDrapedContent() const override { return this; }
+    const scene::LayerStats* asStats() const override { return this; }
+
+    void poll() override;
+    void update(const scene::FrameContext& frame) override;
+    /// Draped content is drawn by the ground; nothing of its own yet.
+    bool drawsIn(scene::Pass) const override { return false; }
+    void record(scene::Pass, const render::RecordContext&) override {}
+    bool busy() const override { return loading_; }
+    std::string status() const override;
+
+    // DrapedContent
+    std::shared_ptr<const globe::TileImageSource> drapeSource() const override { return drape_; }
+    uint64_t drapeVersion() const override { return version_; }
+    double drapeOpacity() const override { return settings_.opacity; }
+
+    // LiveSettings: "opacity", and "rule<i>" (a style rule on or off).
+    std::vector<scene::LayerSetting> liveSettings() const override;
+    bool setParameter(std::string_view name, double value) override;
+
+    // LayerStats
+    uint64_t cacheBytes() const override { return content_ ? content_->bytes : 0; }
+    uint64_t itemsDrawn() const override { return content_ ? content_->featureCount : 0; }
+
+    /// What was read; null while loading or after an error.
+    const vector::VectorContent* content() const { return content_.get(); }
+    const std::string& error() const { return error_; }
+
+private:
+    void onPrepare(const render::RenderServices& services) override;
+    /// A new drape for the current content, styles and time.
+    void republish();
+
+    VectorLayerSettings settings_;
+    jobs::Job<Result<std::shared_ptr<vector::VectorContent>>> job_;
+    bool loading_ = false;
+    std::string error_;
+    std::shared_ptr<vector::VectorContent> content_;
+    std::shared_ptr<const vector::ContentStyles> styles_;
+    std::shared_ptr<const vector::VectorDrape> drape_;
+    uint64_t version_ = 0;
+    TimeNs time_ = 0;
+    uint64_t shownSignature_ = 0;
+};
+
+}  // namespace orbis::layers

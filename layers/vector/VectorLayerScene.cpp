@@ -1,0 +1,68 @@
+// The scene-file side of the vector layer: its keys, checked, and the style read (its fields are
+// checked against the data when it is read).
+#include "engine/scene/JsonReader.h"
+#include "layers/vector/VectorLayer.h"
+
+#include <filesystem>
+
+namespace orbis::layers {
+namespace {
+
+/// Sources that are not files: OGR's connection strings and URLs.
+bool isConnection(const std::string& source) {
+    for (const char* prefix : {"WFS:", "PG:", "http://", "https://", "/vsicurl/", "MySQL:", "OCI:", "MSSQL:"})
+        if (source.rfind(prefix, 0) == 0) return true;
+    return false;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<scene::Layer>> VectorLayer::create(const scene::LayerDesc& desc, const scene::SceneDesc& scene) {
+    scene::JsonReader r(desc.settings, scene.file.string(), desc.jsonPath);
+    for (const char* common : {"type", "name", "visible", "viewpoint"}) r.accept(common);
+    VectorLayerSettings s;
+    s.name = desc.name;
+    const auto path = r.string("path");
+    if (r.ok() && (!path || path->empty())) r.fail("path", "name the vector file (or an OGR connection such as \"WFS:http://...\")");
+    vector::VectorReadOptions& read = s.content.read;
+    if (path) read.source = isConnection(*path) ? *path : scene.resolve(*path).string();
+    if (const nlohmann::json* layers = r.array("layers")) {
+        for (const nlohmann::json& l : *layers) {
+            if (!l.is_string()) {
+                r.fail("layers", "expected layer names (strings), got " + scene::describeJsonType(l));
+                break;
+            }
+            read.layers.push_back(l.get<std::string>());
+        }
+    }
+    read.where = r.string("where", std::string()).value_or("");
+    read.sql = r.string("sql", std::string()).value_or("");
+    if (!read.sql.empty() && (!read.where.empty() || !read.layers.empty()))
+        r.fail("sql", "an SQL statement chooses its own layer and rows: give \"sql\" alone, without \"layers\" or \"where\"");
+    if (const nlohmann::json* time = r.object("time")) {
+        scene::JsonReader t(*time, scene.file.string(), desc.jsonPath + "/time");
+        s.content.timeFields.begin = t.string("begin", std::string()).value_or("");
+        s.content.timeFields.end = t.string("end", std::string()).value_or("");
+        if (auto done = t.finish(); !done) return done.error();
+    }
+    if (auto altitude = r.string("altitude", std::string("clamped")); altitude && *altitude != "clamped")
+        r.fail("altitude", "only \"clamped\" (features on the terrain) is drawn so far; \"" + *altitude + "\" is not");
+    s.opacity = r.number("opacity", 1.0, kOpacityRange.min, kOpacityRange.max).value_or(1.0);
+    s.maxLevel = uint32_t(r.number("maxLevel", 18.0, kMaxLevelRange.min, kMaxLevelRange.max).value_or(18.0));
+    const nlohmann::json* style = r.object("style");
+    if (auto done = r.finish(); !done) return done.error();
+
+    auto parsed = vector::VectorStyle::read(style, scene.file.string(), desc.jsonPath + "/style");
+    if (!parsed) return parsed.error();
+    s.content.style = std::move(*parsed);
+    if (!isConnection(read.source) && !std::filesystem::exists(read.source))
+        return makeError(scene.file.string() + ": " + desc.jsonPath + "/path: " + read.source + ": no such file");
+    return std::unique_ptr<scene::Layer>(std::make_unique<VectorLayer>(std::move(s)));
+}
+
+scene::LayerType VectorLayer::layerType() {
+    return {"vector", "vector features (OGR: Shapefile, GeoPackage, GeoJSON, KML, WFS...) styled by rules, on the terrain",
+            &VectorLayer::create, {"/path"}};
+}
+
+}  // namespace orbis::layers

@@ -1,0 +1,258 @@
+// Vector features clamped to the terrain on lavapipe with validation: a line over a ridge seen
+// obliquely (on the near slope, hidden behind the ridge, never floating), polygons across the
+// antimeridian and around the South Pole, the ground under a drawn line pixel within a pixel of
+// the line, no shimmer when the camera moves 1 mm, a rule switched off, bad inputs.
+#include "globe/Ellipsoid.h"
+#include "layers/terrain/TerrainLayer.h"
+#include "layers/vector/VectorLayer.h"
+#include "tests/render/RenderHelpers.h"
+#include "tests/render/TerrainFixtures.h"
+#include "tests/support/GoldenImage.h"
+#include "tests/support/GpuTest.h"
+
+#include <glm/gtc/constants.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace orbis::test {
+namespace {
+
+std::string jsonString(const std::string& s) { return nlohmann::json(s).dump(); }
+
+/// A GeoJSON file written into the test output folder.
+std::string writeGeoJson(const std::string& name, const std::string& features) {
+    const auto dir = std::filesystem::current_path() / "vector-render";
+    std::filesystem::create_directories(dir);
+    const auto path = (dir / name).string();
+    std::ofstream(path) << R"({"type": "FeatureCollection", "features": [)" << features << "]}";
+    return path;
+}
+
+std::string lineFeature(const std::string& name, const std::string& coords) {
+    return R"({"type": "Feature", "properties": {"name": ")" + name + R"("}, "geometry": {"type": "LineString", "coordinates": )" +
+           coords + "}}";
+}
+
+std::string polygonFeature(const std::string& name, const std::string& rings) {
+    return R"({"type": "Feature", "properties": {"name": ")" + name + R"("}, "geometry": {"type": "Polygon", "coordinates": )" +
+           rings + "}}";
+}
+
+std::string sceneJson(const std::string& viewpoint, const std::string& layers, const std::string& time = "2026-06-21T09:30:00Z") {
+    return R"({"viewpoint": )" + viewpoint + R"(, "time": {"start": ")" + time + R"(", "end": ")" + time +
+           R"("}, "background": [0, 0, 0.012], "layers": [)" + layers + "]}";
+}
+
+std::string mountain(const std::string& extra = "") {
+    const auto& f = terrainFixtures();
+    return R"({"type": "terrain", "name": "Mountain", "elevation": [)" + jsonString(f.dem) + R"(], "sky": false, "color": [0.55, 0.55, 0.5])" +
+           extra + "}";
+}
+
+std::string world() {
+    const std::string dir = std::string(ORBIS_SOURCE_DIR) + "/assets/generated/";
+    return R"({"type": "terrain", "name": "World", "elevation": [)" + jsonString(dir + "world-relief.tif") +
+           R"(], "imagery": [{"path": )" + jsonString(dir + "world-colour.tif") + R"(}], "sky": false})";
+}
+
+std::string vectorLayer(const std::string& path, const std::string& extra) {
+    return R"({"type": "vector", "name": "Features", "path": )" + jsonString(path) + extra + "}";
+}
+
+/// Red-dominant pixels: the test lines' colour over a grey terrain (hazed with distance).
+bool isRed(const uint8_t* p) { return int(p[0]) - (int(p[1]) + int(p[2])) / 2 > 40; }
+
+size_t countRed(const ImageRgba8& img) {
+    size_t n = 0;
+    for (size_t i = 0; i < size_t(img.width) * img.height; ++i) n += isRed(&img.pixels[i * 4]);
+    return n;
+}
+
+class VectorRender : public GpuTest {
+protected:
+    void SetUp() override {
+        GpuTest::SetUp();
+        layers::registerBuiltinLayers(registry_);
+    }
+    std::unique_ptr<scene::Scene> load(const std::string& json) { return buildScene(json, registry_); }
+    ImageRgba8 render(scene::Scene& scene, uint32_t w = 320, uint32_t h = 240) {
+        return renderSettled(renderer_, device(), scene, w, h);
+    }
+    scene::LayerRegistry registry_;
+    std::unique_ptr<render::Renderer> renderer_;
+};
+
+// A line from south to north over the summit, seen from the south, low: it climbs the near
+// slope in view and goes behind the ridge. A polygon with a hole on the east flank.
+// The mountain three times as high, for a steep near slope.
+const char* kRidgeView = R"({"lon": 7.0, "lat": 45.1, "height": 3500, "heading": 0, "pitch": -4, "range": 1})";
+const char* kSteep = R"(, "verticalExaggeration": 3)";
+
+std::string ridgeFeatures() {
+    return writeGeoJson("ridge.geojson",
+                        lineFeature("meridian", "[[7.0, 45.2], [7.0, 46.0], [7.0, 46.7]]") + "," +
+                            polygonFeature("flank", "[[[7.2, 45.6], [7.6, 45.6], [7.6, 45.9], [7.2, 45.9], [7.2, 45.6]],"
+                                                    "[[7.3, 45.7], [7.5, 45.7], [7.5, 45.8], [7.3, 45.8], [7.3, 45.7]]]"));
+}
+
+const char* kRedStyle = R"(, "style": {"color": [1, 0, 0], "width": 3, "fill": [0.1, 0.3, 1.0], "fillOpacity": 0.6})";
+
+TEST_F(VectorRender, LineOverARidgeLiesOnTheSlopeAndHidesBehindIt) {
+    auto scene = load(sceneJson(kRidgeView, mountain(kSteep) + "," + vectorLayer(ridgeFeatures(), kRedStyle)));
+    ASSERT_TRUE(scene);
+    const auto img = render(*scene);
+    EXPECT_TRUE(matchesGolden(img, "vector_ridge"));
+    auto& layer = dynamic_cast<layers::VectorLayer&>(*scene->resources()[1].layer);
+    ASSERT_NE(layer.content(), nullptr) << layer.error();
+    EXPECT_EQ(layer.content()->featureCount, 2u);
+    EXPECT_GT(countRed(img), 50u);
+}
+
+/// The ground point seen through pixel (x, y): the camera ray marched to the terrain's DEM.
+std::optional<globe::Geodetic> groundAt(scene::Scene& scene, double x, double y, uint32_t w, uint32_t h) {
+    const auto& ell = globe::Ellipsoid::wgs84();
+    const scene::Camera& cam = scene.camera();
+    const glm::dvec3 d = cam.rayDirection(2.0 * x / w - 1.0, 2.0 * y / h - 1.0, double(w) / h);
+    const auto above = [&](double t) {
+        const globe::Geodetic g = ell.toGeodetic(cam.position() + d * t);
+        return g.height - scene.heightAt(g.lonDeg, g.latDeg).value_or(0.0);
+    };
+    double t0 = 0.0;
+    for (double t = 10.0; t < 4.0e5; t += std::max(10.0, t * 0.002)) {
+        if (above(t) < 0.0) {
+            double lo = t0, hi = t;
+            for (int i = 0; i < 60; ++i) (above(0.5 * (lo + hi)) < 0.0 ? hi : lo) = 0.5 * (lo + hi);
+            return ell.toGeodetic(cam.position() + d * hi);
+        }
+        t0 = t;
+    }
+    return std::nullopt;
+}
+
+TEST_F(VectorRender, GroundUnderADrawnLineIsWithinAPixelOfTheLine) {
+    // A line along the parallel 45.7 on the mountain's south slope, seen from the south:
+    // in each column, the centre of the drawn line is where the ground under it is the line.
+    const std::string path = writeGeoJson("parallel.geojson", lineFeature("parallel", "[[6.4, 45.7], [7.6, 45.7]]"));
+    const char* view = R"({"lon": 7.1, "lat": 45.55, "height": 9000, "heading": 0, "pitch": -30, "range": 1})";
+    auto scene = load(sceneJson(view, mountain(R"(, "maxScreenSpaceError": 0.5)") + "," +
+                                          vectorLayer(path, R"(, "style": {"color": [1, 0, 0], "width": 3})")));
+    ASSERT_TRUE(scene);
+    const uint32_t w = 320, h = 240;
+    const auto img = render(*scene, w, h);
+    const double pixelRad = scene->camera().verticalFovRad() / h;
+    size_t columns = 0;
+    for (uint32_t x = 0; x < w; x += 4) {
+        double sum = 0.0, weighted = 0.0;
+        for (uint32_t y = 0; y < h; ++y) {
+            const uint8_t* p = &img.pixels[(size_t(y) * w + x) * 4];
+            const double redness = std::max(0.0, double(p[0]) - 0.5 * (double(p[1]) + p[2])) / 255.0;
+            if (redness < 0.15) continue;
+            sum += redness;
+            weighted += redness * (y + 0.5);
+        }
+        if (sum < 0.5) continue;
+        const double yc = weighted / sum;
+        const auto g = groundAt(*scene, x + 0.5, yc, w, h);
+        ASSERT_TRUE(g.has_value()) << "column " << x;
+        // The line's point nearest the ground point (same longitude, on the ground), and the angle
+        // between the two seen from the eye, in pixels.
+        const auto& ell = globe::Ellipsoid::wgs84();
+        const glm::dvec3 eye = scene->camera().position();
+        const glm::dvec3 ground = ell.toEcef(*g);
+        const glm::dvec3 onLine = ell.toEcef(g->lonDeg, 45.7, scene->heightAt(g->lonDeg, 45.7).value_or(0.0));
+        const double angle = std::acos(std::clamp(glm::dot(glm::normalize(ground - eye), glm::normalize(onLine - eye)), -1.0, 1.0));
+        EXPECT_LT(angle / pixelRad, 1.0) << "column " << x << ": the ground under the line is "
+                                         << (g->latDeg - 45.7) * 111132.0 << " m north of it";
+        ++columns;
+    }
+    EXPECT_GT(columns, 40u);
+}
+
+TEST_F(VectorRender, MovingTheCameraOneMillimetreChangesNoLinePixel) {
+    const auto at = [&](double eastMetres) {
+        auto scene = load(sceneJson(kRidgeView, mountain(kSteep) + "," + vectorLayer(ridgeFeatures(), kRedStyle)));
+        globe::Pose pose = scene->camera().pose();
+        const glm::dvec3 east = glm::normalize(glm::cross(glm::dvec3(0, 0, 1), pose.position));
+        scene->camera().setPosition(pose.position + east * eastMetres);
+        return scene;
+    };
+    auto a = at(0.0), b = at(0.001);
+    const auto imgA = render(*a), imgB = render(*b);
+    ASSERT_GT(countRed(imgA), 50u);
+    size_t changed = 0;
+    for (size_t i = 0; i < size_t(imgA.width) * imgA.height; ++i) {
+        const uint8_t *p = &imgA.pixels[i * 4], *q = &imgB.pixels[i * 4];
+        if (!isRed(p) && !isRed(q)) continue;
+        for (int c = 0; c < 3; ++c) changed += std::abs(int(p[c]) - int(q[c])) > 2 ? 1 : 0;
+    }
+    EXPECT_EQ(changed, 0u) << "line pixels shimmer when the camera moves 1 mm";
+}
+
+TEST_F(VectorRender, PolygonsAcrossTheAntimeridianAndAroundTheSouthPoleAreWhole) {
+    if (!std::filesystem::exists(std::string(ORBIS_SOURCE_DIR) + "/assets/generated/world-relief.tif"))
+        GTEST_SKIP() << "assets/generated not built";
+    // An island box cut at 180 in two parts (as Natural Earth stores Fiji), and a ring around
+    // the South Pole (as Antarctica's outline: its longitude turns once).
+    const std::string path = writeGeoJson(
+        "whole.geojson",
+        R"({"type": "Feature", "properties": {"name": "fiji"}, "geometry": {"type": "MultiPolygon", "coordinates": [)"
+        R"([[[176, -20], [180, -20], [180, -14], [176, -14], [176, -20]]], [[[-180, -20], [-177, -20], [-177, -14], [-180, -14], [-180, -20]]]]}},)" +
+            polygonFeature("antarctica", "[[[-180, -70], [-90, -72], [0, -70], [90, -72], [180, -70], [-180, -70]]]"));
+    const char* style = R"(, "style": {"color": [1, 0, 0], "width": 2, "fill": [1, 0.9, 0.1], "fillOpacity": 0.8})";
+    const std::pair<const char*, const char*> views[] = {
+        {"vector_antimeridian", R"({"lon": 180, "lat": -17, "range": 2500000})"},
+        {"vector_south_pole", R"({"lon": 0, "lat": -90, "range": 9000000})"},
+    };
+    for (const auto& [name, vp] : views) {
+        auto scene = load(sceneJson(vp, world() + "," + vectorLayer(path, style), "2026-12-21T00:00:00Z"));
+        ASSERT_TRUE(scene);
+        const auto img = render(*scene);
+        EXPECT_TRUE(matchesGolden(img, name)) << name;
+    }
+}
+
+TEST_F(VectorRender, ARuleSwitchedOffHidesItsFeatures) {
+    const std::string style =
+        R"(, "style": {"color": [1, 0, 0], "width": 3, "fillOpacity": 0, "outline": false,)"
+        R"( "rules": [{"name": "hide the meridian", "when": {"name": "meridian"}, "visible": false, "enabled": false}]})";
+    auto scene = load(sceneJson(kRidgeView, mountain(kSteep) + "," + vectorLayer(ridgeFeatures(), style)));
+    ASSERT_TRUE(scene);
+    EXPECT_GT(countRed(render(*scene)), 50u);
+    auto* live = scene->resources()[1].layer->asLiveSettings();
+    ASSERT_TRUE(live->setParameter("rule0", 1.0));
+    EXPECT_EQ(countRed(render(*scene)), 0u);
+    const auto settings = live->liveSettings();
+    ASSERT_EQ(settings.size(), 2u);
+    EXPECT_EQ(settings[1].pointer, "/style/rules/0/enabled");
+}
+
+TEST_F(VectorRender, BadInputsNameTheFileAndTheKey) {
+    // A missing file: the scene names it.
+    auto desc = scene::parseSceneText(sceneJson(kRidgeView, mountain() + "," + vectorLayer("/nonexistent/roads.shp", "")), "test.json", ".");
+    ASSERT_TRUE(desc.ok());
+    auto missing = scene::Scene::build(std::move(desc).value(), registry_);
+    ASSERT_FALSE(missing.ok());
+    EXPECT_NE(missing.message().find("/nonexistent/roads.shp"), std::string::npos) << missing.message();
+    // An altitude mode not drawn yet, and a bad key: errors naming the key.
+    for (const char* extra : {R"(, "altitude": "absolute")", R"(, "opacity": 3)", R"(, "colour": [1, 0, 0])"}) {
+        auto d = scene::parseSceneText(sceneJson(kRidgeView, mountain(kSteep) + "," + vectorLayer(ridgeFeatures(), extra)), "test.json", ".");
+        ASSERT_TRUE(d.ok());
+        auto s = scene::Scene::build(std::move(d).value(), registry_);
+        ASSERT_FALSE(s.ok()) << extra;
+        EXPECT_NE(s.message().find("/layers/1/"), std::string::npos) << s.message();
+    }
+    // A rule on a field the data lacks: the layer reports it and draws nothing.
+    auto scene = load(sceneJson(kRidgeView, mountain() + "," +
+                                              vectorLayer(ridgeFeatures(), R"(, "style": {"rules": [{"when": {"lanes": 2}}]})")));
+    ASSERT_TRUE(scene);
+    const auto img = render(*scene);
+    auto& layer = dynamic_cast<layers::VectorLayer&>(*scene->resources()[1].layer);
+    EXPECT_EQ(layer.content(), nullptr);
+    EXPECT_NE(layer.error().find("lanes"), std::string::npos) << layer.error();
+    EXPECT_NE(layer.status().find("error"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace orbis::test
