@@ -15,6 +15,8 @@ packages=(
   libglm-dev libgeographiclib-dev libgdal-dev gdal-bin nlohmann-json3-dev
   # 3-D models (glTF 2.0) and the live feed's XML messages
   libtinygltf-dev libexpat1-dev
+  # label text: the default font (DejaVu Sans; the glyph tests skip without it)
+  fonts-dejavu-core
   # full-motion video: MPEG-TS demuxing (KLV), H.264 decoding and encoding (fixtures), RGBA
   libavformat-dev libavcodec-dev libavutil-dev libswscale-dev
   # tests
