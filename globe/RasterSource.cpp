@@ -31,6 +31,37 @@ std::string defaultRasterCacheDir() {
 RasterSource::RasterSource(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 RasterSource::~RasterSource() = default;
 
+namespace {
+/// A VRT (as XML text) that shows `ds`, read from `path`, as a WGS 84 lon/lat image covering
+/// `b` (outer pixel corners), every band as it is.
+Result<std::string> georeferencedVrt(GDALDatasetH ds, const std::string& path, const GeoExtent& b) {
+    if (!(b.west < b.east && b.south < b.north) || b.west < -540.0 || b.east > 540.0 || b.south < -90.0 || b.north > 90.0)
+        return makeError("\"bounds\" must be [west, south, east, north] in degrees with west < east, south < north, "
+                         "latitudes within -90..90");
+    const int w = GDALGetRasterXSize(ds), h = GDALGetRasterYSize(ds);
+    std::ostringstream x;
+    x.precision(17);
+    x << "<VRTDataset rasterXSize=\"" << w << "\" rasterYSize=\"" << h << "\"><SRS>EPSG:4326</SRS><GeoTransform>" << b.west
+      << "," << (b.east - b.west) / w << ",0," << b.north << ",0," << -(b.north - b.south) / h << "</GeoTransform>";
+    for (int i = 1; i <= GDALGetRasterCount(ds); ++i) {
+        GDALRasterBandH band = GDALGetRasterBand(ds, i);
+        x << "<VRTRasterBand dataType=\"" << GDALGetDataTypeName(GDALGetRasterDataType(band)) << "\" band=\"" << i
+          << "\"><ColorInterp>" << GDALGetColorInterpretationName(GDALGetRasterColorInterpretation(band))
+          << "</ColorInterp><SimpleSource><SourceFilename relativeToVRT=\"0\">" << xmlEscape(path)
+          << "</SourceFilename><SourceBand>" << i << "</SourceBand>"
+          // Without the source's size and the rectangles, GDAL's implicit overviews of the VRT
+          // read zeros (GDAL 3.6: measured).
+          << "<SourceProperties RasterXSize=\"" << w << "\" RasterYSize=\"" << h << "\" DataType=\""
+          << GDALGetDataTypeName(GDALGetRasterDataType(band)) << "\"/><SrcRect xOff=\"0\" yOff=\"0\" xSize=\"" << w
+          << "\" ySize=\"" << h << "\"/><DstRect xOff=\"0\" yOff=\"0\" xSize=\"" << w << "\" ySize=\"" << h
+          << "\"/></SimpleSource></VRTRasterBand>";
+    }
+    x << "</VRTDataset>";
+    return x.str();
+}
+
+}  // namespace
+
 Result<std::shared_ptr<RasterSource>> RasterSource::open(const RasterSourceOptions& options) {
     auto impl = std::make_unique<Impl>();
     Impl& s = *impl;
@@ -49,6 +80,7 @@ Result<std::shared_ptr<RasterSource>> RasterSource::open(const RasterSourceOptio
     } else {
         s.name = s.openPath = options.path;
     }
+    if (options.bounds && !options.xyzUrl.empty()) return s.error("\"bounds\" georeferences a file, not an XYZ source");
 
     configureGdalOnce();
     GdalErrors unexpected;  // nothing GDAL says while opening reaches stderr
@@ -70,6 +102,17 @@ Result<std::shared_ptr<RasterSource>> RasterSource::open(const RasterSourceOptio
             }
             return s.error("not a raster GDAL can read (" + why + ")");
         }
+    }
+    if (options.bounds) {
+        // A picture without georeferencing: read through a VRT that places it on the given
+        // lon/lat box (an XML string GDAL opens like a file, for every handle and overview).
+        auto vrt = georeferencedVrt(ds, s.openPath, *options.bounds);
+        GDALClose(ds);
+        if (!vrt) return s.error(vrt.message());
+        s.openPath = *vrt;
+        GdalErrors errors;
+        ds = GDALOpenEx(s.openPath.c_str(), GDAL_OF_RASTER | GDAL_OF_VERBOSE_ERROR, nullptr, nullptr, nullptr);
+        if (!ds) return s.error("cannot georeference it with \"bounds\" (" + errors.text() + ")");
     }
     DatasetGuard guard{ds};
     if (auto r = s.inspect(ds); !r) return r.error();
@@ -111,6 +154,7 @@ uint32_t RasterSource::maxLevel(int tileSize) const {
 }
 
 namespace {
+
 Result<bool> checkRequest(const std::string& name, const GeoExtent& e, int size, int minSize) {
     if (size < minSize || size > kMaxTileSize)
         return makeError(name + ": tile size " + std::to_string(size) + " outside " + std::to_string(minSize) + ".." +

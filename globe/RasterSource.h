@@ -62,6 +62,10 @@ struct RasterSourceOptions {
     int maxLevelOverride = -1;
     /// Disk cache for WMS/XYZ tiles. Empty: defaultRasterCacheDir().
     std::string cacheDir;
+    /// Georeferences a picture that has none (a plate carrée image such as NASA's Blue Marble
+    /// as a JPEG): its outer corners in WGS 84 lon/lat degrees. The file's own georeferencing,
+    /// if any, is then ignored. Not for XYZ sources.
+    std::optional<GeoExtent> bounds;
 };
 
 /// Heights on a CORNER-ALIGNED grid: sample (i, j) lies at lon = west + i * width / (size - 1),

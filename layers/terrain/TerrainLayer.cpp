@@ -375,6 +375,8 @@ void TerrainLayer::record(scene::Pass, const render::RecordContext& rc) {
     push.baseColor = glm::vec3(srgbToLinear(settings_.color.r), srgbToLinear(settings_.color.g), srgbToLinear(settings_.color.b));
     push.verticalExaggeration = float(settings_.verticalExaggeration);
     for (uint32_t l = 0; l < imageLayerCount(); ++l) push.imageryOpacity[int(l)] = float(imageLayerOpacity(l));
+    for (uint32_t l = 0; l < imageryIndex_.size(); ++l)
+        if (settings_.imagery[imageryIndex_[l]].night) push.nightLayers |= 1u << l;
     push.sunLighting = settings_.sunLighting ? 1u : 0u;
     push.tileBorders = settings_.tileBorders ? 1u : 0u;
     push.imageSizePx = float(settings_.imageSize);

@@ -6,12 +6,14 @@
 //    "elevation": ["dem.tif", {"path": "other.tif", "band": 1, "noData": -32768}],
 //    "imagery": [{"name": "Landsat", "path": "L7.tif", "bands": [3, 2, 1], "range": [0, 255],
 //                 "opacity": 1.0, "visible": true},
+//                {"name": "Lights", "path": "night.jpg", "bounds": [-180, -90, 180, 90], "night": true},
 //                {"name": "OSM", "xyz": "http://127.0.0.1:8080/{z}/{x}/{y}.png"}],
 //    "maxScreenSpaceError": 2, "gridSize": 65, "imageSize": 256, "maxLevel": 22,
 //    "verticalExaggeration": 1, "color": [0.1, 0.24, 0.48], "lighting": "sun" | "headlight",
 //    "sky": true, "cpuCacheMB": 256, "gpuCacheMB": 512, "uploadBudgetMB": 32, "tileBorders": false}
 //
-// A source that cannot be opened is logged once and left out: the terrain still draws (the
+// "bounds" places a picture without georeferencing (plate carrée) on a lon/lat box. A source
+// that cannot be opened is logged once and left out: the terrain still draws (the
 // ellipsoid in the base colour stands in for it).
 //
 // Layers whose content lies on the ground (a vector layer, "clamped") drape it here: each is
@@ -46,6 +48,9 @@ struct ImageryLayerSettings {
     globe::RasterSourceOptions source;
     double opacity = 1.0;
     bool visible = true;
+    /// Lights of the night side (city lights): shown where the sun is down, added after the
+    /// lighting, not over the day imagery.
+    bool night = false;
 };
 
 struct TerrainSettings {

@@ -11,7 +11,7 @@ namespace {
 
 Result<globe::RasterSourceOptions> readSource(const nlohmann::json& value, const scene::SceneDesc& scene,
                                               const std::string& path, globe::RasterRole role, scene::JsonReader* outer,
-                                              std::string* name, double* opacity, bool* visible) {
+                                              std::string* name, double* opacity, bool* visible, bool* night = nullptr) {
     globe::RasterSourceOptions o;
     o.role = role;
     if (value.is_string()) {
@@ -54,10 +54,21 @@ Result<globe::RasterSourceOptions> readSource(const nlohmann::json& value, const
         }
     }
     if (auto resampling = r.string("resampling", std::string())) o.resampling = *resampling;
+    if (r.has("bounds")) {
+        if (auto b = r.numbers("bounds", 4); b && b->size() == 4) {
+            const globe::GeoExtent e{(*b)[0], (*b)[1], (*b)[2], (*b)[3]};
+            if (!(e.west < e.east && e.south < e.north && e.south >= -90.0 && e.north <= 90.0 && e.west >= -540.0 && e.east <= 540.0))
+                r.fail("bounds", "must be [west, south, east, north] in degrees, west < east, south < north, within -90..90");
+            else if (!o.xyzUrl.empty())
+                r.fail("bounds", "georeferences a file, not an \"xyz\" source");
+            o.bounds = e;
+        }
+    }
     if (name) *name = r.string("name", std::filesystem::path(o.path.empty() ? o.xyzUrl : o.path).filename().string()).value_or("");
     else r.accept("name");
     if (opacity) *opacity = r.number("opacity", 1.0, TerrainLayer::kImageryOpacityRange.min, TerrainLayer::kImageryOpacityRange.max).value_or(1.0);
     if (visible) *visible = r.boolean("visible", true).value_or(true);
+    if (night) *night = r.boolean("night", false).value_or(false);
     if (auto done = r.finish(); !done) return done.error();
     return o;
 }
@@ -82,7 +93,7 @@ Result<std::unique_ptr<scene::Layer>> TerrainLayer::create(const scene::LayerDes
         for (size_t i = 0; i < list->size() && i < shader::kTerrainMaxImagery; ++i) {
             ImageryLayerSettings layer;
             auto o = readSource((*list)[i], scene, desc.jsonPath + "/imagery/" + std::to_string(i),
-                                globe::RasterRole::Imagery, &r, &layer.name, &layer.opacity, &layer.visible);
+                                globe::RasterRole::Imagery, &r, &layer.name, &layer.opacity, &layer.visible, &layer.night);
             if (!o) return o.error();
             layer.source = std::move(*o);
             s.imagery.push_back(std::move(layer));

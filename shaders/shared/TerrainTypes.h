@@ -50,7 +50,7 @@ struct TerrainPush {
     uint sunLighting;             // 1: the sun, 0: a headlight
     uint tileBorders;             // 1: draw the tiles' borders (debug)
     float imageSizePx;            // imagery tile size
-    float pad0;
+    uint nightLayers;             // bit i: imagery layer i is the night side's lights
 };
 
 ORBIS_NAMESPACE_END

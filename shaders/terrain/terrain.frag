@@ -51,7 +51,8 @@ void main() {
     float footprint2 = max(fx2, fy2);
     // Drapes: the footprint with its long axis shortened up to twice.
     float drapeFootprint2 = max(footprint2 * 0.25, min(fx2, fy2));
-    // Imagery layers in scene order, each over the ones before it.
+    // Imagery layers in scene order, each over the ones before it; night lights apart.
+    vec3 lights = vec3(0.0);
     for (int i = 0; i < kImageryLayers; ++i) {
         int slot = d.imagerySlot[i];
         if (slot < 0) continue;
@@ -61,6 +62,10 @@ void main() {
         float layer = float(slot % int(kImagerySlotsPerPage));
         float lod = 0.5 * log2(max((i < kFirstDrape ? footprint2 : drapeFootprint2) * scale * scale, 1e-12));
         vec4 c = fetchImagery(page, vec3(t, layer), lod);
+        if ((pc.nightLayers & (1u << uint(i))) != 0u) {
+            lights += c.rgb * (c.a * pc.imageryOpacity[i]);
+            continue;
+        }
         color = mix(color, c.rgb, c.a * pc.imageryOpacity[i]);
     }
 
@@ -71,6 +76,9 @@ void main() {
     float ndl = dot(n, toLight);
     float lit = sun ? 0.06 + 0.94 * max(ndl, 0.0) : 0.25 + 0.75 * max(ndl, 0.0);
     color *= lit;
+    // The night side's lights, fading in through twilight (the sun 6 degrees above the
+    // horizon to 6 below, at the ground's own horizon).
+    if (sun) color += lights * (1.0 - smoothstep(-0.1, 0.1, dot(normalize(vFromEye + frame.eyeEcef), frame.sunDirection)));
 
     // Aerial perspective: the optical depth grows with the length of the path through the air
     // (short near the ground, up to one air mass times the slant when seen from space).
