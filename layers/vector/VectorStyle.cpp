@@ -185,6 +185,7 @@ Result<VectorStyle::Patch> VectorStyle::readPatch(const json& object, const std:
     if (rule) {
         rule->name = r.string("name", std::string()).value_or("");
         rule->enabled = r.boolean("enabled", true).value_or(true);
+        rule->layer = r.string("layer", std::string()).value_or("");
         if (const json* when = r.object("when")) {
             for (const auto& [field, value] : when->items()) {
                 Condition c{.field = field};
@@ -270,6 +271,9 @@ Result<void> VectorStyle::bind(std::span<const FieldInfo> fields, const std::str
     };
     if (auto ok = bindPatch(defaults_, path_); !ok) return ok;
     for (Rule& rule : rules_) {
+        // A rule for another layer of the source is left out of this layer's style.
+        rule.inLayer = rule.layer.empty() || rule.layer == layerName;
+        if (!rule.inLayer) continue;
         if (auto ok = bindPatch(rule.patch, rule.path); !ok) return ok;
         for (Condition& c : rule.when) {
             auto i = findField(fields, c.field);
@@ -340,7 +344,7 @@ FeatureStyle VectorStyle::evaluate(std::span<const AttributeValue> attributes, c
     }
     apply(defaults_, attributes, s);
     for (const Rule& rule : rules_) {
-        if (!rule.enabled) continue;
+        if (!rule.enabled || !rule.inLayer) continue;
         bool all = true;
         for (const Condition& c : rule.when) all = all && matches(c, attributes);
         if (all) apply(rule.patch, attributes, s);

@@ -12,7 +12,8 @@
 //     "rules": [
 //       {"name": "capitals", "when": {"featurecla": "Admin-0 capital"}, "color": [1, 0, 0]},
 //       {"when": {"pop_max": {"min": 1e6}}, "iconSize": 24},
-//       {"when": {"continent": ["Asia", "Europe"]}, "visible": false, "enabled": true}
+//       {"when": {"continent": ["Asia", "Europe"]}, "visible": false, "enabled": true},
+//       {"layer": "states_provinces", "color": [0.8, 0.8, 0.8], "maxRange": 5e6}
 //     ]
 //   }
 //
@@ -21,7 +22,8 @@
 // A condition is an equality (a number, a string, a boolean as 1/0, or null), a list (any of
 // its values), or a range {"min": a, "max": b} (min included, max excluded; numbers only). A
 // label is a template: "{field}" is the field's value, "{{" and "}}" are braces. A rule with
-// "enabled": false is skipped (the viewer's switch for each rule, saved with the scene).
+// "enabled": false is skipped (the viewer's switch for each rule, saved with the scene). A
+// rule with "layer" applies only to that layer of the source (its fields are checked there).
 //
 // A feature's own style (KML's styles, VectorLayer::styles) sits between the built-in defaults
 // and the scene's: the scene overrides only what it names.
@@ -119,6 +121,8 @@ private:
         std::vector<Condition> when;
         Patch patch;
         bool enabled = true;
+        std::string layer;      ///< the source layer it applies to; empty: every layer
+        bool inLayer = true;    ///< after bind: it applies to the bound layer
     };
 
     static Result<Patch> readPatch(const nlohmann::json& object, const std::string& file, const std::string& path,

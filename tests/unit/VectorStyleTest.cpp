@@ -69,6 +69,31 @@ TEST(VectorStyle, RulesApplyInOrderOverTheDefaults) {
     EXPECT_TRUE(style->evaluate(attrs("Atlantis", 0, 0.0, "city")).visible);
 }
 
+TEST(VectorStyle, ARuleForOneLayerIsBoundAndAppliedOnlyThere) {
+    // A source with several layers: a rule names a field only its own layer has.
+    static json keep;
+    keep = json::parse(R"J({"width": 1, "rules": [
+        {"layer": "roads", "when": {"lanes": {"min": 4}}, "width": 5},
+        {"layer": "cities", "when": {"kind": "city"}, "width": 3, "enabled": false}]})J");
+    auto read = VectorStyle::read(&keep, "scene.json", "/layers/1/style");
+    ASSERT_TRUE(read) << read.message();
+    EXPECT_FALSE(read->ruleEnabled(1));   // "enabled": false, as saved
+    VectorStyle cities = *read, roads = *read;
+    ASSERT_TRUE(cities.bind(kFields, "cities"));   // no "lanes" here: that rule is not for this layer
+    EXPECT_EQ(cities.evaluate(attrs("Recife", 1, 0.0, "city")).widthPx, 1.0);
+    cities.setRuleEnabled(1, true);
+    EXPECT_EQ(cities.evaluate(attrs("Recife", 1, 0.0, "city")).widthPx, 3.0);
+    const std::vector<FieldInfo> roadFields = {{"lanes", "Integer"}};
+    ASSERT_TRUE(roads.bind(roadFields, "roads"));
+    EXPECT_EQ(roads.evaluate(std::vector<AttributeValue>{AttributeValue{int64_t(6)}}).widthPx, 5.0);
+    EXPECT_EQ(roads.evaluate(std::vector<AttributeValue>{AttributeValue{int64_t(2)}}).widthPx, 1.0);
+    // On its own layer, a field that is missing is still an error naming the rule.
+    VectorStyle wrong = *read;
+    auto bound = wrong.bind(kFields, "roads");
+    ASSERT_FALSE(bound);
+    EXPECT_NE(bound.message().find("/layers/1/style/rules/0/when/lanes"), std::string::npos) << bound.message();
+}
+
 TEST(VectorStyle, RangesIncludeTheirMinAndExcludeTheirMaxAndSkipNonNumbers) {
     auto style = styleFrom(R"J({"rules": [{"when": {"height": {"min": 10, "max": 20}}, "visible": false}]})J");
     ASSERT_TRUE(style) << style.message();
