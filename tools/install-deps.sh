@@ -17,6 +17,9 @@ packages=(
   libtinygltf-dev libexpat1-dev
   # label text: the default font (DejaVu Sans; the glyph tests skip without it)
   fonts-dejavu-core
+  # the default scene: NASA's Blue Marble and city lights (xplanet-images), Natural Earth's
+  # countries, states and disputed borders (qgis-common's world_map.gpkg)
+  xplanet-images qgis-common
   # full-motion video: MPEG-TS demuxing (KLV), H.264 decoding and encoding (fixtures), RGBA
   libavformat-dev libavcodec-dev libavutil-dev libswscale-dev
   # tests

@@ -311,9 +311,9 @@ TEST_F(TerrainRender, PolesAndAntimeridianHaveNoHoles) {
     }
 }
 
-TEST_F(TerrainRender, DefaultSceneMatchesGolden) {
+TEST_F(TerrainRender, SyntheticPlanetSceneMatchesGolden) {
     if (!worldAvailable()) GTEST_SKIP() << "assets/generated not built";
-    auto desc = scene::parseSceneFile(std::string(ORBIS_SOURCE_DIR) + "/assets/scenes/default.json");
+    auto desc = scene::parseSceneFile(std::string(ORBIS_SOURCE_DIR) + "/assets/scenes/synthetic-planet.json");
     ASSERT_TRUE(desc.ok()) << desc.message();
     auto scene = scene::Scene::build(std::move(desc).value(), registry_);
     ASSERT_TRUE(scene.ok()) << scene.message();

@@ -228,6 +228,24 @@ TEST_F(VectorRender, ARuleSwitchedOffHidesItsFeatures) {
     EXPECT_EQ(settings[1].pointer, "/style/rules/0/enabled");
 }
 
+TEST_F(VectorRender, DefaultSceneIsTheRealEarthWithItsBorders) {
+    // The README's first command: the Blue Marble and the city lights (xplanet-images) placed by
+    // "bounds", Natural Earth's borders (qgis-common) on them, dusk over the Middle East.
+    for (const char* file : {"/usr/share/xplanet/images/earth.jpg", "/usr/share/xplanet/images/night.jpg",
+                             "/usr/share/qgis/resources/data/world_map.gpkg"})
+        if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " absent: run tools/install-deps.sh";
+    auto desc = scene::parseSceneFile(std::string(ORBIS_SOURCE_DIR) + "/assets/scenes/default.json");
+    ASSERT_TRUE(desc.ok()) << desc.message();
+    auto scene = scene::Scene::build(std::move(desc).value(), registry_);
+    ASSERT_TRUE(scene.ok()) << scene.message();
+    const auto img = render(**scene, 640, 360);
+    EXPECT_TRUE(matchesGolden(img, "default_real_earth"));
+    auto& borders = dynamic_cast<layers::VectorLayer&>(*(*scene)->resources()[1].layer);
+    ASSERT_NE(borders.content(), nullptr) << borders.error();
+    EXPECT_EQ(borders.content()->layers.size(), 3u);
+    EXPECT_GT(borders.content()->featureCount, 4000u);
+}
+
 TEST_F(VectorRender, BadInputsNameTheFileAndTheKey) {
     // A missing file: the scene names it.
     auto desc = scene::parseSceneText(sceneJson(kRidgeView, mountain() + "," + vectorLayer("/nonexistent/roads.shp", "")), "test.json", ".");
