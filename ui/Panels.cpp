@@ -200,8 +200,39 @@ PanelActions Panels::draw(scene::Scene& scene, const ViewerStats& stats, const M
     timePanel(scene, actions);
     statsPanel(stats, scene);
     annotationsPanel(scene, actions);
+    if (map.picked) featurePanel(*map.picked, actions);
     mapFurniture(map, uiScale);
     return actions;
+}
+
+void Panels::featurePanel(const scene::PickedAttributes& picked, PanelActions& actions) {
+    const ImGuiIO& io = ImGui::GetIO();
+    const float s = io.FontGlobalScale;
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 330 * s, 180 * s), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(320 * s, 260 * s), ImGuiCond_FirstUseEver);
+    bool open = true;
+    if (!ImGui::Begin("Feature", &open)) {
+        ImGui::End();
+        if (!open) actions.clearPick = true;
+        return;
+    }
+    ImGui::TextUnformatted(picked.layer.c_str());
+    ImGui::TextDisabled("%s", picked.feature.c_str());
+    if (ImGui::BeginTable("attributes", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_Resizable)) {
+        for (const auto& [name, value] : picked.fields) {
+            ImGui::TableNextRow();
+            ImGui::TableSetColumnIndex(0);
+            ImGui::TextUnformatted(name.c_str());
+            ImGui::TableSetColumnIndex(1);
+            ImGui::TextUnformatted(value.c_str());
+        }
+        ImGui::EndTable();
+    }
+    ImGui::End();
+    if (!open) {
+        actions.clearPick = true;
+        actions.changed = true;
+    }
 }
 
 void Panels::resourcesPanel(scene::Scene& scene, PanelActions& actions) {

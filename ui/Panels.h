@@ -7,6 +7,7 @@
 // Gui::newFrame() and Gui::record().
 
 #include "engine/gpu/GpuTimer.h"
+#include "engine/scene/LayerCapabilities.h"
 #include "globe/Viewpoint.h"
 
 #include <array>
@@ -29,6 +30,7 @@ struct PanelActions {
     bool home = false;
     bool quit = false;
     bool changed = false;   ///< a setting, visibility or the time changed: draw a new frame
+    bool clearPick = false;   ///< the Feature panel was closed: end the highlight
     std::optional<globe::Viewpoint> flyTo;
 };
 
@@ -50,6 +52,8 @@ struct MapReadout {
     double scaleBarPixels = 0.0;
     double eyeHeightM = 0.0;
     std::string message;                              ///< last screenshot / save, or an error
+    /// The feature the last click picked (vector data), shown in the Feature panel.
+    std::optional<scene::PickedAttributes> picked;
 };
 
 class Panels {
@@ -82,6 +86,7 @@ private:
     void timePanel(scene::Scene& scene, PanelActions& actions);
     void statsPanel(const ViewerStats& stats, const scene::Scene& scene);
     void annotationsPanel(scene::Scene& scene, PanelActions& actions);
+    void featurePanel(const scene::PickedAttributes& picked, PanelActions& actions);
     void mapFurniture(const MapReadout& map, float uiScale);
     void remember(const std::string& label);
 

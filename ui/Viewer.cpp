@@ -240,6 +240,7 @@ void Viewer::drawPanels(FrameRequests& requests) {
     if (actions.quit) quit_ = true;
     if (actions.home) nav_.flyHome();
     if (actions.flyTo) nav_.flyTo(*actions.flyTo);
+    if (actions.clearPick) clearPicks();
     requests.screenshot = requests.screenshot || actions.screenshot;
     requests.saveScene = requests.saveScene || actions.saveScene;
 }

@@ -107,6 +107,12 @@ private:
     void placePin(const std::string& name, glm::dvec2 atPx);
     std::optional<GroundPoint> groundAt(glm::dvec2 atPx) const;
 
+    // Clicking features (ViewerPins.cpp): the feature under a click, its attributes in the
+    // Feature panel and the feature highlighted; a click on nothing clears them.
+    void featureClick(const MouseButtonEvent& event);
+    void pickFeature(glm::dvec2 atPx);
+    void clearPicks();
+
     // Drawing and presenting (ViewerDraw.cpp).
     std::optional<render::FrameResult> drawFrame(bool readback);
     render::FrameHooks presentHooks(const Swapchain::Acquired& acquired);
@@ -141,6 +147,7 @@ private:
     MapReadout readout_;
     ViewerStats stats_;
     std::optional<glm::dvec2> pinPress_;         ///< the press of the click that places a pin
+    std::optional<glm::dvec2> pickPress_;        ///< the press of a click that may pick a feature
     std::optional<render::FrameResult> previous_;   ///< its GPU times arrive a frame later
     uint64_t drawnRevision_ = ~0ull;             ///< the navigation's revision last drawn
     int uiFrames_ = 2;                           ///< frames ImGui still needs after input

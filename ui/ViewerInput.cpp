@@ -53,6 +53,7 @@ void Viewer::route(const MouseButtonEvent& event) {
         pinClick(event);
         return;
     }
+    if (event.button == MouseButton::Left) featureClick(event);   // a click (not a drag) picks
     takeCameraBack();
     nav_.handle(event);
 }

@@ -1,5 +1,7 @@
-// The Viewer's pins: while the panels' Annotations > Place pin is on, a left click on the globe
-// drops a named annotation there and makes sure the scene has a layer that draws them.
+// The Viewer's clicks on the globe: while the panels' Annotations > Place pin is on, a left click
+// drops a named annotation there and makes sure the scene has a layer that draws them; else a
+// left click picks the feature under it (vector data): its attributes go to the Feature panel
+// and the layer highlights it.
 #include "ui/Viewer.h"
 
 #include <algorithm>
@@ -43,6 +45,37 @@ void Viewer::placePin(const std::string& name, glm::dvec2 atPx) {
         readout_.message = text;
     }
     panels_.stopPlacingPin(true);
+}
+
+void Viewer::featureClick(const MouseButtonEvent& event) {
+    if (event.pressed) {
+        pickPress_ = event.position;
+    } else if (pickPress_ && glm::length(event.position - *pickPress_) <= kClickSlopPx) {
+        pickFeature(event.position);
+        pickPress_.reset();
+    }
+}
+
+void Viewer::pickFeature(glm::dvec2 atPx) {
+    const auto hit = groundAt(atPx);
+    readout_.picked.reset();
+    // Ground metres a window pixel spans there (the layers size their lines in pixels).
+    const double metresPerPixel = hit ? hit->distance * scene_->camera().verticalFovRad() / std::max(windowHeight_, 1) : 0.0;
+    auto& resources = scene_->resources();
+    for (auto it = resources.rbegin(); it != resources.rend(); ++it) {   // the layer drawn last first
+        scene::PickableContent* pickable = it->layer->asPickable();
+        if (!pickable) continue;
+        if (hit && it->visible && !readout_.picked) readout_.picked = pickable->pickAt(hit->geodetic.lonDeg, hit->geodetic.latDeg, metresPerPixel);
+        else pickable->clearPick();
+    }
+    if (readout_.picked) readout_.message = "picked " + readout_.picked->layer + " " + readout_.picked->feature;
+}
+
+void Viewer::clearPicks() {
+    readout_.picked.reset();
+    for (auto& r : scene_->resources())
+        if (auto* pickable = r.layer->asPickable()) pickable->clearPick();
+    dirty_ = true;
 }
 
 /// The ground under a window position, seen from the scene's camera.

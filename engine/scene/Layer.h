@@ -68,6 +68,7 @@ public:
     virtual const MovingContent* asMovingContent() const { return nullptr; }
     virtual const FloatingContent* asFloatingContent() const { return nullptr; }
     virtual const DrapedContent* asDrapedContent() const { return nullptr; }
+    virtual PickableContent* asPickable() { return nullptr; }
     virtual const LayerStats* asStats() const { return nullptr; }
 
 protected:

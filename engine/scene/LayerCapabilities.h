@@ -15,7 +15,9 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace orbis::scene {
@@ -109,6 +111,25 @@ public:
     virtual uint64_t drapeVersion() const = 0;
     /// Opacity of the painted images over the ground.
     virtual double drapeOpacity() const { return 1.0; }
+};
+
+/// One feature a click found: what the viewer's feature panel shows.
+struct PickedAttributes {
+    std::string layer;     ///< the scene layer and the source's layer ("Borders / countries")
+    std::string feature;   ///< its id ("fid 12")
+    std::vector<std::pair<std::string, std::string>> fields;   ///< name and value as text, in field order
+};
+
+/// A layer whose features can be clicked (vector data): the feature at a ground point, its
+/// attributes, and the feature highlighted until the next pick. Main thread only.
+class PickableContent {
+public:
+    virtual ~PickableContent() = default;
+    /// The feature drawn at the ground point (lon, lat; `metresPerPixel` of ground there sizes
+    /// line widths and markers), now highlighted; nothing, and no highlight, when none is there.
+    virtual std::optional<PickedAttributes> pickAt(double lonDeg, double latDeg, double metresPerPixel) = 0;
+    /// Ends the highlight.
+    virtual void clearPick() = 0;
 };
 
 /// Figures for the viewer's stats panel and the benchmark's tables. Main thread only.

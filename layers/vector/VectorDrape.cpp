@@ -24,8 +24,24 @@ int kindOrder(GeometryKind k) { return k == GeometryKind::Polygons ? 0 : k == Ge
 }  // namespace
 
 VectorDrape::VectorDrape(std::string name, std::shared_ptr<const VectorContent> content, std::shared_ptr<const ContentStyles> styles,
-                         TimeNs time, uint32_t maxLevel)
-    : name_(std::move(name)), content_(std::move(content)), styles_(std::move(styles)), time_(time), maxLevel_(maxLevel) {}
+                         TimeNs time, uint32_t maxLevel, std::optional<std::pair<size_t, size_t>> highlight)
+    : name_(std::move(name)), content_(std::move(content)), styles_(std::move(styles)), time_(time), maxLevel_(maxLevel),
+      highlight_(highlight) {
+    if (highlight_ && highlight_->first < styles_->size() && highlight_->second < (*styles_)[highlight_->first].size()) {
+        // The feature's own look, made to stand out: bright yellow, wider, filled.
+        highlightStyle_ = (*styles_)[highlight_->first][highlight_->second];
+        highlightStyle_.visible = true;
+        highlightStyle_.color = {1.0, 0.95, 0.1};
+        highlightStyle_.opacity = 1.0;
+        highlightStyle_.widthPx += 3.0;
+        highlightStyle_.fill = {1.0, 0.95, 0.1};
+        highlightStyle_.fillOpacity = std::max(highlightStyle_.fillOpacity, 0.35);
+        highlightStyle_.outline = true;
+        highlightStyle_.iconSizePx += 6.0;
+    } else {
+        highlight_.reset();
+    }
+}
 
 bool VectorDrape::covers(const globe::GeoExtent& extent) const {
     // Strokes and markers reach a little past the features' boxes: a margin of a tenth of the
@@ -65,7 +81,8 @@ Result<globe::ImageryTile> VectorDrape::readTile(const globe::TileImageRequest& 
             if (!s.visible || range < s.minRangeM || range > s.maxRangeM) continue;
             if (layer.times.timed() && !layer.times.spans[i].shows(time_)) continue;
             if (!meets(f.bounds, grown)) continue;
-            items.push_back({kindOrder(f.kind), DrapeItem{&f, &s}});
+            const bool highlighted = highlight_ && highlight_->first == l && highlight_->second == i;
+            items.push_back({highlighted ? 3 : kindOrder(f.kind), DrapeItem{&f, highlighted ? &highlightStyle_ : &s}});
         }
     }
     if (cancel && cancel->cancelled()) throw jobs::Cancelled();

@@ -13,15 +13,18 @@
 #include "layers/vector/VectorContent.h"
 
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 
 namespace orbis::vector {
 
 class VectorDrape : public globe::TileImageSource {
 public:
     /// `maxLevel`: the finest tile level painted (finer tiles magnify it).
+    /// `highlight`: a feature (layer, index) painted last, in the highlight's colours.
     VectorDrape(std::string name, std::shared_ptr<const VectorContent> content, std::shared_ptr<const ContentStyles> styles,
-                TimeNs time, uint32_t maxLevel);
+                TimeNs time, uint32_t maxLevel, std::optional<std::pair<size_t, size_t>> highlight = std::nullopt);
 
     const std::string& name() const override { return name_; }
     uint32_t maxLevel(int) const override { return maxLevel_; }
@@ -39,6 +42,8 @@ private:
     std::shared_ptr<const ContentStyles> styles_;
     TimeNs time_;
     uint32_t maxLevel_;
+    std::optional<std::pair<size_t, size_t>> highlight_;
+    FeatureStyle highlightStyle_;
 };
 
 }  // namespace orbis::vector

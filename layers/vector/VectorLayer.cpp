@@ -2,6 +2,7 @@
 
 #include "base/Log.h"
 #include "engine/render/RenderContext.h"
+#include "layers/vector/FeaturePick.h"
 
 #include <sstream>
 
@@ -56,8 +57,34 @@ void VectorLayer::update(const scene::FrameContext& frame) {
 
 void VectorLayer::republish() {
     drape_ = std::make_shared<const vector::VectorDrape>(settings_.name.empty() ? settings_.content.read.source : settings_.name,
-                                                         content_, styles_, time_, settings_.maxLevel);
+                                                         content_, styles_, time_, settings_.maxLevel, highlight_);
     ++version_;
+}
+
+std::optional<scene::PickedAttributes> VectorLayer::pickAt(double lonDeg, double latDeg, double metresPerPixel) {
+    std::optional<vector::PickedFeature> hit;
+    if (content_)
+        hit = vector::pickFeature(*content_, *styles_, {.lonDeg = lonDeg, .latDeg = latDeg, .metresPerPixel = metresPerPixel, .time = time_});
+    const std::optional<std::pair<size_t, size_t>> now = hit ? std::optional(std::make_pair(hit->layer, hit->feature)) : std::nullopt;
+    if (now != highlight_) {
+        highlight_ = now;
+        republish();
+    }
+    if (!hit) return std::nullopt;
+    const vector::VectorLayer& source = content_->layers[hit->layer].data;
+    const vector::Feature& f = source.features[hit->feature];
+    scene::PickedAttributes out;
+    out.layer = (settings_.name.empty() ? settings_.content.read.source : settings_.name) + " / " + source.name;
+    out.feature = "fid " + std::to_string(f.fid);
+    for (size_t i = 0; i < source.fields.size() && i < f.attributes.size(); ++i)
+        out.fields.emplace_back(source.fields[i].name, vector::attributeText(f.attributes[i]));
+    return out;
+}
+
+void VectorLayer::clearPick() {
+    if (!highlight_) return;
+    highlight_.reset();
+    if (content_) republish();
 }
 
 std::vector<scene::LayerSetting> VectorLayer::liveSettings() const {

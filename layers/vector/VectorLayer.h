@@ -27,7 +27,9 @@
 #include "layers/vector/VectorDrape.h"
 
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace orbis::layers {
@@ -42,6 +44,7 @@ struct VectorLayerSettings {
 class VectorLayer : public scene::Layer,
                     public scene::LiveSettings,
                     public scene::DrapedContent,
+                    public scene::PickableContent,
                     public scene::LayerStats {
 public:
     static scene::LayerType layerType();
@@ -56,6 +59,7 @@ public:
     std::string_view type() const override { return "vector"; }
     scene::LiveSettings* asLiveSettings() override { return this; }
     const scene::DrapedContent* asDrapedContent() const override { return this; }
+    scene::PickableContent* asPickable() override { return this; }
     const scene::LayerStats* asStats() const override { return this; }
 
     void poll() override;
@@ -70,6 +74,10 @@ public:
     std::shared_ptr<const globe::TileImageSource> drapeSource() const override { return drape_; }
     uint64_t drapeVersion() const override { return version_; }
     double drapeOpacity() const override { return settings_.opacity; }
+
+    // PickableContent: the feature under a ground point, highlighted (painted again).
+    std::optional<scene::PickedAttributes> pickAt(double lonDeg, double latDeg, double metresPerPixel) override;
+    void clearPick() override;
 
     // LiveSettings: "opacity", and "rule<i>" (a style rule on or off).
     std::vector<scene::LayerSetting> liveSettings() const override;
@@ -98,6 +106,7 @@ private:
     uint64_t version_ = 0;
     TimeNs time_ = 0;
     uint64_t shownSignature_ = 0;
+    std::optional<std::pair<size_t, size_t>> highlight_;   ///< the picked feature (layer, index)
 };
 
 }  // namespace orbis::layers

@@ -246,6 +246,39 @@ TEST_F(VectorRender, DefaultSceneIsTheRealEarthWithItsBorders) {
     EXPECT_GT(borders.content()->featureCount, 4000u);
 }
 
+TEST_F(VectorRender, APickedFeatureShowsItsAttributesAndIsHighlighted) {
+    auto scene = load(sceneJson(kRidgeView, mountain(kSteep) + "," + vectorLayer(ridgeFeatures(), kRedStyle)));
+    ASSERT_TRUE(scene);
+    const auto before = render(*scene);
+    auto* pickable = scene->resources()[1].layer->asPickable();
+    ASSERT_NE(pickable, nullptr);
+    // Inside the flank polygon (not in its hole): its attributes, and yellow on the screen.
+    const auto picked = pickable->pickAt(7.25, 45.75, 50.0);
+    ASSERT_TRUE(picked.has_value());
+    EXPECT_EQ(picked->layer, "Features / ridge");
+    ASSERT_EQ(picked->fields.size(), 1u);
+    EXPECT_EQ(picked->fields[0], (std::pair<std::string, std::string>{"name", "flank"}));
+    const auto yellow = [](const ImageRgba8& img) {
+        size_t n = 0;
+        for (size_t i = 0; i < size_t(img.width) * img.height; ++i) {
+            const uint8_t* p = &img.pixels[i * 4];
+            n += int(p[0]) > int(p[2]) + 30 && int(p[1]) > int(p[2]) + 30;   // yellowish, even hazed
+        }
+        return n;
+    };
+    const auto highlighted = render(*scene);
+    EXPECT_EQ(yellow(before), 0u);
+    EXPECT_GT(yellow(highlighted), 30u);
+    // In the hole: nothing, and the highlight goes.
+    EXPECT_FALSE(pickable->pickAt(7.4, 45.75, 50.0).has_value());
+    EXPECT_EQ(yellow(render(*scene)), 0u);
+    // The line, within its width.
+    const auto line = pickable->pickAt(7.0 + 20.0 / 78000.0, 45.5, 50.0);
+    ASSERT_TRUE(line.has_value());
+    EXPECT_EQ(line->fields[0].second, "meridian");
+    pickable->clearPick();
+}
+
 TEST_F(VectorRender, BadInputsNameTheFileAndTheKey) {
     // A missing file: the scene names it.
     auto desc = scene::parseSceneText(sceneJson(kRidgeView, mountain() + "," + vectorLayer("/nonexistent/roads.shp", "")), "test.json", ".");
