@@ -74,7 +74,8 @@ void LabelPlacer::insert(const Box& box) {
         for (int x = lo.x; x <= hi.x; ++x) grid_[size_t(y) * size_t(cells_.x) + size_t(x)].push_back(index);
 }
 
-std::vector<uint32_t> LabelPlacer::place(std::span<const LabelCandidate> candidates, const LabelPlacementOptions& options) {
+std::vector<uint32_t> LabelPlacer::place(std::span<const LabelCandidate> candidates, const LabelPlacementOptions& options,
+                                        const std::function<bool(uint32_t)>& visible) {
     stats_ = {};
     stats_.candidates = candidates.size();
     std::vector<uint32_t> out;
@@ -126,13 +127,16 @@ std::vector<uint32_t> LabelPlacer::place(std::span<const LabelCandidate> candida
     for (size_t i = 0; i < entries.size();) {
         size_t j = i + 1;
         while (j < entries.size() && entries[j].key == entries[i].key) ++j;
-        if (j - i > 1)
-            std::sort(entries.begin() + ptrdiff_t(i), entries.begin() + ptrdiff_t(j), [&](const Entry& a, const Entry& b) {
-                if (a.wasShown != b.wasShown) return a.wasShown;
-                const uint64_t ida = candidates[a.index].id, idb = candidates[b.index].id;
-                if (ida != idb) return ida < idb;
-                return a.index < b.index;
-            });
+        const auto before = [&](const Entry& a, const Entry& b) {
+            if (a.wasShown != b.wasShown) return a.wasShown;
+            const uint64_t ida = candidates[a.index].id, idb = candidates[b.index].id;
+            if (ida != idb) return ida < idb;
+            return a.index < b.index;
+        };
+        // A caller that lists its candidates by id (many labels of one rank: a layer's points)
+        // leaves long runs already in order: checking is linear, sorting is not.
+        const auto first = entries.begin() + ptrdiff_t(i), last = entries.begin() + ptrdiff_t(j);
+        if (j - i > 1 && !std::is_sorted(first, last, before)) std::sort(first, last, before);
         i = j;
     }
 
@@ -146,10 +150,15 @@ std::vector<uint32_t> LabelPlacer::place(std::span<const LabelCandidate> candida
             ++stats_.rejectedOverlap;
             continue;
         }
-        if (!placedIds.insert(c.id).second) {   // a repeated id
+        if (placedIds.count(c.id)) {   // a repeated id
             ++stats_.rejectedOverlap;
             continue;
         }
+        if (visible && !visible(e.index)) {
+            ++stats_.rejectedHidden;
+            continue;
+        }
+        placedIds.insert(c.id);
         insert(Box{c.min, c.max});
         shownNow.push_back(c.id);
         out.push_back(e.index);

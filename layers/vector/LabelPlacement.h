@@ -18,10 +18,15 @@
 //     its state only when a gap or the screen edge passes the margin, not at every pixel of
 //     motion where two rectangles touch.
 // The placer keeps last frame's set: one LabelPlacer per view.
+//
+// A test too costly for every candidate (is the terrain between the eye and the label?) can be
+// left to `place`: it asks `visible` only about a candidate that has room, just before placing
+// it, so only the labels that would be drawn (and a few more) pay for it.
 
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -43,14 +48,17 @@ struct LabelPlacementOptions {
 };
 
 struct LabelPlacementStats {
-    size_t candidates = 0, placed = 0, kept = 0, appeared = 0, rejectedOverlap = 0, rejectedOffscreen = 0;
+    size_t candidates = 0, placed = 0, kept = 0, appeared = 0, rejectedOverlap = 0, rejectedOffscreen = 0, rejectedHidden = 0;
 };
 
 class LabelPlacer {
 public:
     /// The candidates to draw this frame, by index into `candidates`, in rank order. Ids must be
-    /// unique within a call (a repeated id is placed at most once).
-    std::vector<uint32_t> place(std::span<const LabelCandidate> candidates, const LabelPlacementOptions& options);
+    /// unique within a call (a repeated id is placed at most once). `visible`, when given, is
+    /// asked (by index) about each candidate that has room before it is placed; one it refuses
+    /// takes no room and is not drawn.
+    std::vector<uint32_t> place(std::span<const LabelCandidate> candidates, const LabelPlacementOptions& options,
+                                const std::function<bool(uint32_t)>& visible = {});
 
     const LabelPlacementStats& stats() const { return stats_; }
     /// Forgets last frame (a new scene, a jump of the camera).

@@ -2,6 +2,7 @@
 
 #include "engine/scene/JsonReader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -343,13 +344,22 @@ FeatureStyle VectorStyle::evaluate(std::span<const AttributeValue> attributes, c
         if (own->labelScale) s.labelSizePx = builtIn.labelSizePx * *own->labelScale;
     }
     apply(defaults_, attributes, s);
-    for (const Rule& rule : rules_) {
+    for (size_t i = 0; i < rules_.size(); ++i) {
+        const Rule& rule = rules_[i];
         if (!rule.enabled || !rule.inLayer) continue;
         bool all = true;
         for (const Condition& c : rule.when) all = all && matches(c, attributes);
-        if (all) apply(rule.patch, attributes, s);
+        if (!all) continue;
+        apply(rule.patch, attributes, s);
+        s.rule = int32_t(i);
     }
     return s;
+}
+
+bool VectorStyle::namesLabel() const {
+    const auto names = [](const Patch& p) { return p.label && !p.label->empty(); };
+    if (names(defaults_)) return true;
+    return std::any_of(rules_.begin(), rules_.end(), [&](const Rule& r) { return names(r.patch); });
 }
 
 }  // namespace orbis::vector

@@ -39,6 +39,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <span>
@@ -70,6 +71,9 @@ struct FeatureStyle {
     glm::dvec3 labelColor{1.0, 1.0, 1.0};
     double labelSizePx = 14.0;
     double minRangeM = 0.0, maxRangeM = std::numeric_limits<double>::infinity();
+    /// The last rule that applied (-1: none): ties between labels of the same rank go to the
+    /// later rule, the more specific one.
+    int32_t rule = -1;
 };
 
 class VectorStyle {
@@ -85,6 +89,10 @@ public:
     /// source gave it one (KML), its own style: the built-in defaults, then the feature's own
     /// style, then what the scene's style names, then the rules.
     FeatureStyle evaluate(std::span<const AttributeValue> attributes, const SourceStyle* own = nullptr) const;
+
+    /// True when the defaults or any rule (enabled or not) give a label: the layer then builds
+    /// its label renderer; a style without one builds nothing for labels.
+    bool namesLabel() const;
 
     size_t ruleCount() const { return rules_.size(); }
     const std::string& ruleName(size_t i) const { return rules_[i].name; }

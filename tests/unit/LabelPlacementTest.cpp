@@ -195,3 +195,20 @@ TEST(LabelPlacement, EqualPrioritiesAreBrokenByIdWhateverTheOrder) {
     for (uint64_t id : first) EXPECT_EQ((id - 938) % 2, 0u) << id;
     EXPECT_EQ(*first.begin(), 938u);
 }
+
+TEST(LabelPlacement, AVisibilityTestIsAskedOnlyOfLabelsWithRoomAndAHiddenOneTakesNone) {
+    // Three labels in a row, each overlapping the next; the best one is hidden (the terrain):
+    // it takes no room, so the second, which it would have blocked, is placed, and the third,
+    // blocked by the second, is never asked.
+    const std::vector<LabelCandidate> labels = {box(1, 3.0, 100, 100), box(2, 2.0, 120, 100), box(3, 1.0, 150, 100)};
+    std::vector<uint32_t> asked;
+    LabelPlacer placer;
+    const auto placed = placer.place(labels, kHd, [&](uint32_t i) {
+        asked.push_back(i);
+        return labels[i].id != 1;
+    });
+    EXPECT_EQ(ids(labels, placed), (std::set<uint64_t>{2}));
+    EXPECT_EQ(asked, (std::vector<uint32_t>{0, 1}));
+    EXPECT_EQ(placer.stats().rejectedHidden, 1u);
+    EXPECT_EQ(placer.stats().rejectedOverlap, 1u);
+}

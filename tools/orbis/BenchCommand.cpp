@@ -18,7 +18,7 @@ namespace orbis::cli {
 namespace {
 const char* kHelp =
     "usage: orbis bench SCENE [options]    or    orbis bench --video FILE [--seeks N]    or    orbis bench --poses FILE\n"
-    "       or    orbis bench --labels N [--frames F] [--margin PX]    or    orbis bench --vector FILE [--level L]\n"
+    "       or    orbis bench --labels N [--layer] [--frames F] [--margin PX]    or    orbis bench --vector FILE [--level L]\n"
     "Renders SCENE repeatedly and reports frame times: CPU (update + record + submit), whole frame\n"
     "(until the GPU is done) and GPU time per pass, as min / median / p95 in milliseconds. A fixed\n"
     "view is measured after everything it shows has loaded.\n"
@@ -28,7 +28,8 @@ const char* kHelp =
     "                     (what an animated model layer pays per distinct animation time a frame)\n"
     "  --labels N         label placement on the CPU, no scene: N labels over a panning 1920x1080\n"
     "                     view (--frames, default 300; --margin PX, the hysteresis, default 4): ms/frame,\n"
-    "                     labels placed, labels in or out per frame\n"
+    "                     labels placed, labels in or out per frame; with --layer, the vector layer's\n"
+    "                     whole label step (projection, layout, placement, glyphs) for N labelled points\n"
     "  --vector FILE      vector data on the CPU, no scene: reading it through OGR, triangulating its\n"
     "                     polygons, cutting it into tiles of --level L (default 14); --runs N (default 3)\n"
     "  --frames N         frames measured (default 100)\n"
@@ -101,7 +102,7 @@ Args parseBenchArgs(const std::vector<std::string>& argv) {
     valued.insert({"--frames", "--warmup", "--size", "--time", "--camera-path", "--sweep", "--plot", "--tiles", "--threads",
                    "--iso-error", "--video", "--seeks", "--poses", "--labels", "--margin", "--vector", "--level", "--runs"});
     std::set<std::string> flags = gpuFlagOptions();
-    flags.insert({"--help", "--json"});
+    flags.insert({"--help", "--json", "--layer"});
     return Args(argv, valued, flags, {{"-h", "--help"}});
 }
 
@@ -117,7 +118,9 @@ std::optional<int> sceneFreeBench(const Args& args) {
     }
     if (auto labels = args.integer("--labels", 1, 10000000)) {
         if (!args.positional().empty()) throw UsageError{"bench --labels takes no SCENE"};
-        return labelBench(*labels, args.integer("--frames", 1, 1000000).value_or(300), args.number("--margin", 0.0, 1000.0).value_or(4.0));
+        const long frames = args.integer("--frames", 1, 1000000).value_or(300);
+        const double margin = args.number("--margin", 0.0, 1000.0).value_or(4.0);
+        return args.flag("--layer") ? labelLayerBench(*labels, frames, margin) : labelBench(*labels, frames, margin);
     }
     if (auto file = args.value("--vector")) {
         if (!args.positional().empty()) throw UsageError{"bench --vector takes no SCENE"};

@@ -26,6 +26,8 @@ int videoBench(const std::string& file, long seeks);
 int poseBench(const std::string& file);
 /// `orbis bench --labels N [--frames F] [--margin PX]` (LabelBench.cpp).
 int labelBench(long count, long frames, double marginPx);
+/// `orbis bench --labels N --layer`: the vector layer's label step, VectorLabels (LabelBench.cpp).
+int labelLayerBench(long count, long frames, double marginPx);
 /// `orbis bench --vector FILE [--level L] [--runs N]` (VectorBench.cpp).
 int vectorBench(const std::string& file, long level, long runs);
 

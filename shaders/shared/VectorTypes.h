@@ -1,0 +1,56 @@
+// The vector layer's labels (layers/vector/LabelRenderer.cpp, shaders/vector/label.*): one
+// instance per glyph (LabelGlyph), a quad in screen pixels cut from the signed-distance-field
+// atlas (R8, layers/vector/GlyphAtlas.h) at set kLabelSet. Two pipelines from the same shaders
+// (kLabelSpecHalo): every glyph's halo first, then every glyph's text, so that no glyph's halo
+// covers its neighbour's stroke where their quads overlap. Alpha blended in the Overlay pass
+// without a depth test: which labels are hidden was decided on the CPU.
+#ifndef ORBIS_SHADERS_SHARED_VECTOR_TYPES_H
+#define ORBIS_SHADERS_SHARED_VECTOR_TYPES_H
+
+#include "shared/Common.h"
+
+ORBIS_NAMESPACE_BEGIN
+
+ORBIS_CONST(uint, kLabelSet, 1)
+ORBIS_CONST(uint, kLabelBindingAtlas, 0)   // sampler2D: the glyph atlas (R8 distance field)
+
+ORBIS_CONST(uint, kLabelSpecHalo, 0)       // bool: this pipeline draws the halos, else the text
+
+// Vertex inputs, one binding at the instance rate (LabelGlyph).
+ORBIS_CONST(uint, kLabelInputOrigin, 0)
+ORBIS_CONST(uint, kLabelInputAxisX, 1)
+ORBIS_CONST(uint, kLabelInputAxisY, 2)
+ORBIS_CONST(uint, kLabelInputUv, 3)
+ORBIS_CONST(uint, kLabelInputEdges, 4)
+ORBIS_CONST(uint, kLabelInputColor, 5)
+ORBIS_CONST(uint, kLabelInputHalo, 6)
+
+// One glyph: a parallelogram in window pixels (x right, y down) so that a line's label turns
+// with the line.
+struct LabelGlyph {
+    vec2 origin;   // pixels: the quad's corner at (uvMin.x, uvMin.y)
+    vec2 axisX;    // pixels: from origin to the corner at (uvMax.x, uvMin.y)
+    vec2 axisY;    // pixels: from origin to the corner at (uvMin.x, uvMax.y)
+    vec4 uv;       // the atlas rectangle: uvMin (xy), uvMax (zw)
+    vec2 edges;    // distance-field values: the glyph's outline, the halo's outer edge
+    uint color;    // the text: sRGB RGBA8 (R in the low byte), read as UNORM
+    uint halo;     // the halo: sRGB RGBA8
+};
+
+ORBIS_NAMESPACE_END
+
+#ifdef __cplusplus
+namespace orbis::shader {
+/// Set kLabelSet (layers/vector/LabelRenderer.cpp): one, the atlas.
+inline constexpr DescriptorBinding kLabelBindings[] = {
+    {kLabelBindingAtlas, DescriptorKind::CombinedImageSampler, 1, kStageFragment},
+};
+inline constexpr SpecConstant kLabelSpecConstants[] = {{kLabelSpecHalo, SpecType::Bool}};
+}  // namespace orbis::shader
+static_assert(sizeof(orbis::shader::LabelGlyph) == 56, "LabelGlyph layout changed");
+static_assert(offsetof(orbis::shader::LabelGlyph, uv) == 24 && offsetof(orbis::shader::LabelGlyph, edges) == 40 &&
+                  offsetof(orbis::shader::LabelGlyph, color) == 48 && offsetof(orbis::shader::LabelGlyph, halo) == 52,
+              "LabelGlyph offsets changed");
+#endif
+
+#endif
