@@ -3,7 +3,9 @@
 #include "base/Log.h"
 #include "engine/render/RenderContext.h"
 #include "layers/vector/FeaturePick.h"
+#include "layers/vector/LabelRenderer.h"
 
+#include <iomanip>
 #include <sstream>
 
 namespace orbis::layers {
@@ -15,17 +17,36 @@ VectorLayer::~VectorLayer() {
 }
 
 void VectorLayer::onPrepare(const render::RenderServices& services) {
-    // Read on the pool: the first frames draw the rest of the scene meanwhile.
+    // Labels only for a style that gives one: the fonts, the atlas and the pipelines.
+    const bool labelled = settings_.content.style.namesLabel();
+    if (labelled) {
+        auto labels = vector::VectorLabels::create();
+        if (labels) {
+            labels_.emplace(std::move(*labels));
+            ownBoard_ = std::make_shared<vector::LabelBoard>();
+            labelRenderer_ = std::make_unique<LabelRenderer>(services, labels_->atlas().width(), labels_->atlas().height());
+        } else {
+            labelError_ = labels.message();
+            log::error("vector layer \"", settings_.name, "\": no labels: ", labelError_);
+        }
+    }
+    // Read on the pool: the first frames draw the rest of the scene meanwhile. The labels'
+    // anchors (an interior point of each polygon) are worked out there too.
     loading_ = true;
-    job_ = services.jobs().submit(0.0, jobs::CancelToken{}, [options = settings_.content](const jobs::CancelToken&) {
-        return vector::loadVectorContent(options);
-    });
+    const auto read = [options = settings_.content, labelled](const jobs::CancelToken&) -> Result<Loaded> {
+        auto content = vector::loadVectorContent(options);
+        if (!content) return content.error();
+        Loaded loaded{std::move(*content), nullptr};
+        if (labelled) loaded.anchors = std::make_shared<const vector::ContentAnchors>(vector::labelAnchors(*loaded.content));
+        return loaded;
+    };
+    job_ = services.jobs().submit(0.0, jobs::CancelToken{}, read);
 }
 
 void VectorLayer::poll() {
     if (!loading_ || !job_.ready()) return;
     loading_ = false;
-    Result<std::shared_ptr<vector::VectorContent>> r = makeError("vector: the read was cancelled");
+    Result<Loaded> r = makeError("vector: the read was cancelled");
     try {
         r = job_.get();
     } catch (const std::exception& e) {
@@ -37,10 +58,12 @@ void VectorLayer::poll() {
         log::error("vector layer \"", settings_.name, "\": ", error_);
         return;
     }
-    content_ = std::move(*r);
+    content_ = std::move(r->content);
+    anchors_ = std::move(r->anchors);
     for (const std::string& w : content_->warnings) log::warn("vector layer \"", settings_.name, "\": ", w);
     styles_ = std::make_shared<const vector::ContentStyles>(vector::styleContent(*content_));
     shownSignature_ = vector::shownAtSignature(*content_, time_);
+    if (labels_) labels_->setContent(content_, styles_, anchors_);
     republish();
 }
 
@@ -53,6 +76,30 @@ void VectorLayer::update(const scene::FrameContext& frame) {
         shownSignature_ = shown;
         republish();
     }
+    updateLabels(frame);
+}
+
+void VectorLayer::updateLabels(const scene::FrameContext& frame) {
+    board_ = nullptr;
+    if (!labels_) return;
+    if (!drawingLabels()) {
+        labels_->clear();
+        return;
+    }
+    // The vector layers drawing labels this frame, in scene order: the first one's board is
+    // everyone's, and each layer's place in the list keeps its ids apart from the others'.
+    uint64_t slot = 0;
+    for (const scene::Drape& d : frame.drapes) {
+        const auto* other = dynamic_cast<const VectorLayer*>(static_cast<const scene::Layer*>(d.owner));
+        if (!other || !other->drawingLabels()) continue;
+        if (!board_) board_ = other->ownBoard_;
+        if (other == this) break;
+        ++slot;
+    }
+    if (!board_) board_ = ownBoard_;
+    labels_->setIdBase(slot << 56);
+    labels_->gather(frame);
+    board_->submit(frame.frameNumber, *labels_);
 }
 
 void VectorLayer::republish() {
@@ -87,6 +134,29 @@ void VectorLayer::clearPick() {
     if (content_) republish();
 }
 
+bool VectorLayer::drawsIn(scene::Pass pass) const {
+    return pass == scene::Pass::Overlay && labelRenderer_ && settings_.labels && !labels_->glyphs().empty();
+}
+
+void VectorLayer::recordTransfers(const render::RecordContext& context) {
+    if (!labelRenderer_) return;
+    if (board_ && context.frame) {
+        // After every layer's update: the first layer here places every layer's labels.
+        const vector::VectorLabelOptions& o = labels_->options();
+        board_->resolve(context.frame->frameNumber, *context.frame,
+                        {.screen = {double(context.frame->width), double(context.frame->height)},
+                         .marginPx = o.marginPx,
+                         .priorityHysteresis = o.priorityHysteresis});
+    }
+    labelRenderer_->recordTransfers(context, labels_->atlas(), labels_->glyphs());
+}
+
+void VectorLayer::record(scene::Pass pass, const render::RecordContext& context) {
+    if (pass == scene::Pass::Overlay && labelRenderer_) labelRenderer_->record(context);
+}
+
+uint64_t VectorLayer::gpuBytes() const { return labelRenderer_ ? labelRenderer_->gpuBytes() : 0; }
+
 std::vector<scene::LayerSetting> VectorLayer::liveSettings() const {
     using Kind = scene::LayerSetting::Kind;
     std::vector<scene::LayerSetting> out = {
@@ -94,6 +164,9 @@ std::vector<scene::LayerSetting> VectorLayer::liveSettings() const {
          .min = kOpacityRange.min, .max = kOpacityRange.max},
     };
     const vector::VectorStyle& style = settings_.content.style;
+    if (style.namesLabel())
+        out.push_back({.name = "labels", .label = "Labels", .kind = Kind::Toggle, .value = settings_.labels ? 1.0 : 0.0,
+                       .pointer = "/labels"});
     for (size_t i = 0; i < style.ruleCount(); ++i)
         out.push_back({.name = "rule" + std::to_string(i), .label = style.ruleName(i), .kind = Kind::Toggle,
                        .value = style.ruleEnabled(i) ? 1.0 : 0.0,
@@ -106,6 +179,10 @@ bool VectorLayer::setParameter(std::string_view name, double value) {
         settings_.opacity = value;
         return true;
     }
+    if (name == "labels" && (value == 0.0 || value == 1.0)) {
+        settings_.labels = value != 0.0;
+        return true;
+    }
     vector::VectorStyle& style = settings_.content.style;
     for (size_t i = 0; i < style.ruleCount(); ++i) {
         if (name != "rule" + std::to_string(i) || (value != 0.0 && value != 1.0)) continue;
@@ -113,6 +190,8 @@ bool VectorLayer::setParameter(std::string_view name, double value) {
         if (content_) {
             for (vector::ContentLayer& layer : content_->layers) layer.style.setRuleEnabled(i, value != 0.0);
             styles_ = std::make_shared<const vector::ContentStyles>(vector::styleContent(*content_));
+            // The labels follow the styles (a rule switched off may take its labels with it).
+            if (labels_) labels_->setContent(content_, styles_, anchors_);
             republish();
         }
         return true;
@@ -128,6 +207,12 @@ std::string VectorLayer::status() const {
     s << content_->featureCount << " features in " << content_->layers.size() << " layer(s), " << content_->vertexCount
       << " vertices";
     if (!content_->warnings.empty()) s << ", " << content_->warnings.size() << " warning(s)";
+    if (!labelError_.empty()) s << ", no labels: " << labelError_;
+    if (labels_ && settings_.labels) {
+        const vector::VectorLabelStats& l = labels_->stats();
+        s << ", labels " << l.placed << " of " << l.candidates << " seen (" << l.labelled << " labelled), "
+          << std::fixed << std::setprecision(2) << l.frameMs << " ms";
+    }
     return s.str();
 }
 

@@ -7,13 +7,21 @@
 //    "layers": ["countries"], "where": "continent = 'Africa'",   or "sql": "SELECT ...",
 //    "style": {...},                      (VectorStyle.h: defaults, rules, labels, extrusion)
 //    "time": {"begin": "start_date", "end": "end_date"},   fields; default: KML's own times
-//    "altitude": "clamped", "opacity": 1, "maxLevel": 18}
+//    "altitude": "clamped", "opacity": 1, "maxLevel": 18, "labels": true}
 //
 // "clamped" (the default and, for now, the only altitude mode): the features are painted into
 // the terrain's tiles (VectorDrape) and lie exactly on the surface drawn, at every zoom. A
 // scene needs a terrain layer for them to show. Lines and outlines are about `width` screen
 // pixels wide (the tiles are painted for the size they are drawn at, within a factor of
 // sqrt 2 either way as the terrain refines), points are disks of `iconSize` pixels.
+//
+// Labels: when the style gives a "label", the features' text is drawn over the scene in the
+// Overlay pass (VectorLabels: real glyphs from DejaVu Sans with a halo, chosen so that none
+// overlap and none flickers as the camera moves, none hidden by the globe or the terrain;
+// LabelRenderer draws them). A point's label stands beside its icon, a polygon's at an interior
+// point, a line's along the line at its middle where the line is long enough on screen
+// (LabelAnchors.h). "labels": false (and the live setting "labels") hides them. A style
+// without a label builds nothing for labels.
 //
 // The source is read on the worker pool when the layer is first shown; until then (and when
 // reading fails: status() says why) nothing is drawn.
@@ -23,8 +31,11 @@
 #include "engine/scene/LayerRegistry.h"
 #include "engine/scene/LayerSetting.h"
 #include "engine/scene/SceneDesc.h"
+#include "layers/vector/LabelAnchors.h"
+#include "layers/vector/LabelBoard.h"
 #include "layers/vector/VectorContent.h"
 #include "layers/vector/VectorDrape.h"
+#include "layers/vector/VectorLabels.h"
 
 #include <memory>
 #include <optional>
@@ -39,7 +50,10 @@ struct VectorLayerSettings {
     vector::VectorContentOptions content;
     double opacity = 1.0;
     uint32_t maxLevel = 18;   ///< finest terrain tile level painted (~0.6 m pixels at 256)
+    bool labels = true;       ///< draw the style's labels
 };
+
+class LabelRenderer;
 
 class VectorLayer : public scene::Layer,
                     public scene::LiveSettings,
@@ -64,9 +78,11 @@ public:
 
     void poll() override;
     void update(const scene::FrameContext& frame) override;
-    /// Draped content is drawn by the ground; nothing of its own yet.
-    bool drawsIn(scene::Pass) const override { return false; }
-    void record(scene::Pass, const render::RecordContext&) override {}
+    /// Draped content is drawn by the ground; the labels are the layer's own, in the Overlay
+    /// pass, when there are any to draw.
+    bool drawsIn(scene::Pass pass) const override;
+    void recordTransfers(const render::RecordContext& context) override;
+    void record(scene::Pass pass, const render::RecordContext& context) override;
     bool busy() const override { return loading_; }
     std::string status() const override;
 
@@ -79,25 +95,41 @@ public:
     std::optional<scene::PickedAttributes> pickAt(double lonDeg, double latDeg, double metresPerPixel) override;
     void clearPick() override;
 
-    // LiveSettings: "opacity", and "rule<i>" (a style rule on or off).
+    // LiveSettings: "opacity", "labels" (when the style gives a label), and "rule<i>" (a style
+    // rule on or off).
     std::vector<scene::LayerSetting> liveSettings() const override;
     bool setParameter(std::string_view name, double value) override;
 
     // LayerStats
+    uint64_t gpuBytes() const override;
     uint64_t cacheBytes() const override { return content_ ? content_->bytes : 0; }
     uint64_t itemsDrawn() const override { return content_ ? content_->featureCount : 0; }
 
     /// What was read; null while loading or after an error.
     const vector::VectorContent* content() const { return content_.get(); }
     const std::string& error() const { return error_; }
+    /// The labels on the CPU (the last frame's candidates and placed boxes, timings); null when
+    /// the style gives no label, before prepare, or when the fonts could not be read.
+    const vector::VectorLabels* labels() const { return labels_ ? &*labels_ : nullptr; }
+    /// Whether the label pipelines were made (only for a style that gives a label).
+    bool hasLabelRenderer() const { return labelRenderer_ != nullptr; }
 
 private:
+    /// What the worker reads: the content, and each feature's label anchor when labels are drawn.
+    struct Loaded {
+        std::shared_ptr<vector::VectorContent> content;
+        std::shared_ptr<const vector::ContentAnchors> anchors;
+    };
+
     void onPrepare(const render::RenderServices& services) override;
     /// A new drape for the current content, styles and time.
     void republish();
+    /// Gathers this frame's labels and submits them to the scene's shared board.
+    void updateLabels(const scene::FrameContext& frame);
+    bool drawingLabels() const { return labels_ && settings_.labels && content_; }
 
     VectorLayerSettings settings_;
-    jobs::Job<Result<std::shared_ptr<vector::VectorContent>>> job_;
+    jobs::Job<Result<Loaded>> job_;
     bool loading_ = false;
     std::string error_;
     std::shared_ptr<vector::VectorContent> content_;
@@ -107,6 +139,13 @@ private:
     TimeNs time_ = 0;
     uint64_t shownSignature_ = 0;
     std::optional<std::pair<size_t, size_t>> highlight_;   ///< the picked feature (layer, index)
+    std::shared_ptr<const vector::ContentAnchors> anchors_;
+    std::optional<vector::VectorLabels> labels_;
+    std::unique_ptr<LabelRenderer> labelRenderer_;
+    /// This layer's board, and the one its labels are placed on this frame: the board of the
+    /// first visible vector layer with labels (the frame's drapes list them in scene order).
+    std::shared_ptr<vector::LabelBoard> ownBoard_, board_;
+    std::string labelError_;
 };
 
 }  // namespace orbis::layers

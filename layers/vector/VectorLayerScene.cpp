@@ -49,6 +49,7 @@ Result<std::unique_ptr<scene::Layer>> VectorLayer::create(const scene::LayerDesc
         r.fail("altitude", "only \"clamped\" (features on the terrain) is drawn so far; \"" + *altitude + "\" is not");
     s.opacity = r.number("opacity", 1.0, kOpacityRange.min, kOpacityRange.max).value_or(1.0);
     s.maxLevel = uint32_t(r.number("maxLevel", 18.0, kMaxLevelRange.min, kMaxLevelRange.max).value_or(18.0));
+    s.labels = r.boolean("labels", true).value_or(true);
     const nlohmann::json* style = r.object("style");
     if (auto done = r.finish(); !done) return done.error();
 

@@ -23,6 +23,7 @@
 #include "shared/PointTypes.h"
 #include "shared/PolylineTypes.h"
 #include "shared/TerrainTypes.h"
+#include "shared/VectorTypes.h"
 #include "shared/VolumeTypes.h"
 
 #include "spv/common/composite.frag.h"
@@ -48,6 +49,8 @@
 #include "spv/points/splat.comp.h"
 #include "spv/terrain/terrain.frag.h"
 #include "spv/terrain/terrain.vert.h"
+#include "spv/vector/label.frag.h"
+#include "spv/vector/label.vert.h"
 #include "spv/volume/raycast.comp.h"
 
 namespace orbis::contract {
@@ -105,6 +108,11 @@ std::vector<PipelineContract> pipelines() {
          ORBIS_SPECS(kVolumeSpecConstants), {kVolumeGroupSize, kVolumeGroupSize, 1}},
         {"volume composite", {ORBIS_SHADER(common, fullscreen, vert), ORBIS_SHADER(common, composite, frag)},
          {frame, ORBIS_SET(kVolumeSet, kVolumeBindings)}},
+        // Vector labels (layers/vector/LabelRenderer.cpp): halos and text, one pipeline each.
+        {"vector labels", {ORBIS_SHADER(vector, label, vert), ORBIS_SHADER(vector, label, frag)},
+         {frame, ORBIS_SET(kLabelSet, kLabelBindings)}, ORBIS_SPECS(kLabelSpecConstants), {},
+         {kLabelInputOrigin, kLabelInputAxisX, kLabelInputAxisY, kLabelInputUv, kLabelInputEdges, kLabelInputColor,
+          kLabelInputHalo}},
     };
 }
 

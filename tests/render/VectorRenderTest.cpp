@@ -12,6 +12,7 @@
 
 #include <glm/gtc/constants.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -224,8 +225,9 @@ TEST_F(VectorRender, ARuleSwitchedOffHidesItsFeatures) {
     ASSERT_TRUE(live->setParameter("rule0", 1.0));
     EXPECT_EQ(countRed(render(*scene)), 0u);
     const auto settings = live->liveSettings();
-    ASSERT_EQ(settings.size(), 2u);
-    EXPECT_EQ(settings[1].pointer, "/style/rules/0/enabled");
+    const auto rule = std::find_if(settings.begin(), settings.end(), [](const scene::LayerSetting& x) { return x.name == "rule0"; });
+    ASSERT_NE(rule, settings.end());
+    EXPECT_EQ(rule->pointer, "/style/rules/0/enabled");
 }
 
 TEST_F(VectorRender, DefaultSceneIsTheRealEarthWithItsBorders) {
