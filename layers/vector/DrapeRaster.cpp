@@ -162,15 +162,9 @@ private:
         return {int(std::ceil((extent_.west - mLon - b.east) / 360.0)), int(std::floor((extent_.east + mLon - b.west) / 360.0))};
     }
 
-    std::span<const glm::dvec3> part(const Feature& f, size_t p) const {
-        const size_t begin = std::min<size_t>(f.parts[p], f.coords.size());
-        const size_t end = std::clamp<size_t>(f.partEnd(p), begin, f.coords.size());
-        return {f.coords.data() + begin, end - begin};
-    }
-
     void partBoxes(const Feature& f) {
         boxes_.resize(f.parts.size());
-        for (size_t p = 0; p < f.parts.size(); ++p) boxes_[p] = boxOf(part(f, p));
+        for (size_t p = 0; p < f.parts.size(); ++p) boxes_[p] = boxOf(f.part(p));
     }
 
     double thinPath(std::span<const glm::dvec3> part, double shiftDeg, double marginPx);
@@ -302,7 +296,7 @@ bool TilePainter::paintPolygons(const Feature& f, const FeatureStyle& s) {
             const double shift = 360.0 * turn;
             for (size_t p = begin; p < end; ++p) {
                 if (p > begin && !meets(fillBox(p), shift)) continue;   // a hole away from the tile changes nothing there
-                const std::span<const glm::dvec3> stored = part(f, p);
+                const std::span<const glm::dvec3> stored = f.part(p);
                 const int8_t pole = poleOf(p);
                 if (fillAlpha > 0.0) {
                     std::span<const glm::dvec3> ring = stored;
@@ -342,7 +336,7 @@ bool TilePainter::paintLines(const Feature& f, const FeatureStyle& s) {
     for (size_t p = 0; p < f.parts.size(); ++p) {
         const auto [k0, k1] = turnsMeeting(boxes_[p], margin);
         for (int turn = k0; turn <= k1; ++turn) {
-            thinPath(part(f, p), 360.0 * turn, margin);
+            thinPath(f.part(p), 360.0 * turn, margin);
             simplifyDense();
             strokePath(stroke);
         }

@@ -26,12 +26,6 @@ double segmentDistanceM(const PickQuery& q, const glm::dvec3& a, const glm::dvec
     return glm::length(pa + t * d) * kMetresPerDegree;
 }
 
-std::span<const glm::dvec3> partOf(const Feature& f, size_t p) {
-    const size_t begin = std::min<size_t>(f.parts[p], f.coords.size());
-    const size_t end = std::clamp<size_t>(f.partEnd(p), begin, f.coords.size());
-    return {f.coords.data() + begin, end - begin};
-}
-
 /// Even-odd crossings of the horizontal ray from (lon, lat) with a ring.
 bool crossesOdd(std::span<const glm::dvec3> ring, double lon, double lat) {
     bool inside = false;
@@ -47,7 +41,7 @@ bool polygonContains(const Feature& f, const PickQuery& q) {
     for (size_t k = 0; k < f.polygons.size(); ++k) {
         bool inside = false;
         for (size_t p = f.polygons[k]; p < f.polygonEnd(k); ++p) {
-            std::span<const glm::dvec3> ring = partOf(f, p);
+            std::span<const glm::dvec3> ring = f.part(p);
             if (ring.size() < 3) continue;
             const int8_t pole = p < f.containsPole.size() ? f.containsPole[p] : 0;
             if (pole != 0) {   // bounds the polar cap once closed through the pole
@@ -78,7 +72,7 @@ bool hits(const Feature& f, const FeatureStyle& s, const PickQuery& q) {
         case GeometryKind::Lines: {
             const double reach = 0.5 * s.widthPx * q.metresPerPixel + slopM;
             for (size_t p = 0; p < f.parts.size(); ++p) {
-                const auto part = partOf(f, p);
+                const auto part = f.part(p);
                 for (size_t i = 1; i < part.size(); ++i)
                     if (segmentDistanceM(q, part[i - 1], part[i]) <= reach) return true;
             }

@@ -173,7 +173,7 @@ LabelAnchor lineAnchor(const Feature& f) {
     size_t bestPart = 0;
     double bestLength = -1.0;
     for (size_t p = 0; p < f.parts.size(); ++p) {
-        const std::span<const glm::dvec3> part(f.coords.data() + f.parts[p], f.partEnd(p) - f.parts[p]);
+        const std::span<const glm::dvec3> part = f.part(p);
         if (part.size() < 2) continue;
         along.assign(1, 0.0);
         for (size_t i = 1; i < part.size(); ++i) along.push_back(along.back() + arcMetres(glm::dvec2(part[i - 1]), glm::dvec2(part[i])));
@@ -184,7 +184,7 @@ LabelAnchor lineAnchor(const Feature& f) {
         }
     }
     if (bestLength < 0.0) return a;
-    const std::span<const glm::dvec3> part(f.coords.data() + f.parts[bestPart], f.partEnd(bestPart) - f.parts[bestPart]);
+    const std::span<const glm::dvec3> part = f.part(bestPart);
     size_t segment = 0;
     a.lonLat = pointAlong(part, bestAlong, 0.5 * bestLength, &segment);
     // The direction of the segment under the middle (skipping repeated vertices).

@@ -88,7 +88,7 @@ std::optional<Feature> simplifyFeature(const Feature& feature, double toleranceD
     out.polygons.clear();
     out.containsPole.clear();
     const auto addPart = [&](size_t p, bool ring) {
-        const std::span<const glm::dvec3> part(feature.coords.data() + feature.parts[p], feature.partEnd(p) - feature.parts[p]);
+        const std::span<const glm::dvec3> part = feature.part(p);
         const auto kept = simplifyPart(part, toleranceDeg, ring);
         if (kept.size() < 2) return false;
         out.parts.push_back(uint32_t(out.coords.size()));

@@ -28,6 +28,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -87,6 +88,12 @@ struct Feature {
     int32_t style = -1;   ///< its own style in VectorLayer::styles (KML), -1: none
 
     uint32_t partEnd(size_t p) const { return p + 1 < parts.size() ? parts[p + 1] : uint32_t(coords.size()); }
+    /// Part p's coordinates; empty when its indices are out of order or out of range.
+    std::span<const glm::dvec3> part(size_t p) const {
+        const size_t begin = std::min<size_t>(parts[p], coords.size());
+        const size_t end = std::min<size_t>(std::max<size_t>(partEnd(p), begin), coords.size());
+        return {coords.data() + begin, end - begin};
+    }
     uint32_t polygonEnd(size_t k) const { return k + 1 < polygons.size() ? polygons[k + 1] : uint32_t(parts.size()); }
 };
 
