@@ -134,11 +134,11 @@ StrokeCoverage::StrokeCoverage(int size) : size_(size), coverage_(size_t(size) *
 void StrokeCoverage::addSegment(glm::dvec2 a, glm::dvec2 b, double radius, float scale) {
     // Liang-Barsky against the tile grown by the radius: what lies past it cannot reach a pixel
     // centre, and a point of the tile nearest the segment is nearest its clipped part.
-    const double lo = -radius, hi = size_ + radius;
+    const double k = xScale_, rx = radius / k;   // the radius in pixels across, on the ground
     const glm::dvec2 d = b - a;
     double t0 = 0.0, t1 = 1.0;
     const double p[4] = {-d.x, d.x, -d.y, d.y};
-    const double q[4] = {a.x - lo, hi - a.x, a.y - lo, hi - a.y};
+    const double q[4] = {a.x + rx, size_ + rx - a.x, a.y + radius, size_ + radius - a.y};
     for (int k = 0; k < 4; ++k) {
         if (p[k] == 0.0) {
             if (q[k] < 0.0) return;
@@ -152,7 +152,8 @@ void StrokeCoverage::addSegment(glm::dvec2 a, glm::dvec2 b, double radius, float
     if (!(t0 <= t1)) return;   // NaN
     ++segments_;
     const glm::dvec2 s = a + d * t0, e = a + d * t1, se = e - s;
-    const double len2 = glm::dot(se, se);
+    const glm::dvec2 seK{se.x * k, se.y};   // on the ground
+    const double len2 = glm::dot(seK, seK);
     const double full2 = radius > 1.0 ? (radius - 1.0) * (radius - 1.0) : -1.0, none2 = radius * radius;
     const int jMin = std::max(0, int(std::ceil(std::min(s.y, e.y) - radius - 0.5)));
     const int jMax = std::min(size_ - 1, int(std::floor(std::max(s.y, e.y) + radius - 0.5)));
@@ -168,14 +169,14 @@ void StrokeCoverage::addSegment(glm::dvec2 a, glm::dvec2 b, double radius, float
             xa = s.x + se.x * ta, xb = s.x + se.x * tb;
             if (xa > xb) std::swap(xa, xb);
         }
-        const int iMin = std::max(0, int(std::ceil(xa - radius - 0.5)));
-        const int iMax = std::min(size_ - 1, int(std::floor(xb + radius - 0.5)));
+        const int iMin = std::max(0, int(std::ceil(xa - rx - 0.5)));
+        const int iMax = std::min(size_ - 1, int(std::floor(xb + rx - 0.5)));
         if (iMin > iMax) continue;
         float* row = coverage_.data() + size_t(j) * size_t(size_);
         for (int i = iMin; i <= iMax; ++i) {
-            const glm::dvec2 c{i + 0.5, yc};
-            const double t = len2 > 0.0 ? std::clamp(glm::dot(c - s, se) / len2, 0.0, 1.0) : 0.0;
-            const glm::dvec2 off = c - (s + se * t);
+            const glm::dvec2 c{(i + 0.5 - s.x) * k, yc - s.y};   // from s, on the ground
+            const double t = len2 > 0.0 ? std::clamp(glm::dot(c, seK) / len2, 0.0, 1.0) : 0.0;
+            const glm::dvec2 off = c - seK * t;
             const double dist2 = glm::dot(off, off);
             if (dist2 >= none2) continue;
             const float v = dist2 <= full2 ? scale : scale * float(std::min(radius - std::sqrt(dist2), 1.0));
@@ -206,19 +207,19 @@ bool StrokeCoverage::compositeInto(std::vector<uint8_t>& rgba, const glm::dvec3&
 }
 
 bool paintMarker(std::vector<uint8_t>& rgba, int size, glm::dvec2 centre, double radius, double outlinePx,
-                 const glm::dvec3& rgb, double alpha) {
-    const double reach = radius + 0.5;
-    if (!std::isfinite(centre.x) || !std::isfinite(centre.y) || !(reach > 0.0)) return false;
+                 const glm::dvec3& rgb, double alpha, double xScale) {
+    const double reach = radius + 0.5, reachX = reach / xScale;
+    if (!std::isfinite(centre.x) || !std::isfinite(centre.y) || !(reach > 0.0) || !(xScale > 0.0)) return false;
     const int jMin = int(std::clamp(std::ceil(centre.y - reach - 0.5), 0.0, double(size)));
     const int jMax = int(std::clamp(std::floor(centre.y + reach - 0.5), -1.0, double(size - 1)));
-    const int iMin = int(std::clamp(std::ceil(centre.x - reach - 0.5), 0.0, double(size)));
-    const int iMax = int(std::clamp(std::floor(centre.x + reach - 0.5), -1.0, double(size - 1)));
+    const int iMin = int(std::clamp(std::ceil(centre.x - reachX - 0.5), 0.0, double(size)));
+    const int iMax = int(std::clamp(std::floor(centre.x + reachX - 0.5), -1.0, double(size - 1)));
     const glm::vec3 fill = toBytes(rgb);
     const auto a = float(std::clamp(alpha, 0.0, 1.0));
     bool changed = false;
     for (int j = jMin; j <= jMax; ++j)
         for (int i = iMin; i <= iMax; ++i) {
-            const double dist = glm::length(glm::dvec2(i + 0.5, j + 0.5) - centre);
+            const double dist = glm::length(glm::dvec2((i + 0.5 - centre.x) * xScale, j + 0.5 - centre.y));
             const auto outer = float(std::clamp(reach - dist, 0.0, 1.0));
             const float coverage = a * outer;
             if (coverage < kMinAlpha) continue;

@@ -59,20 +59,26 @@ public:
     /// sums to w); a thinner one radius 1 and scale w. Touches only pixels near the segment
     /// (clipped to the tile first).
     void addSegment(glm::dvec2 a, glm::dvec2 b, double radius, float scale);
+    /// Ground length of a pixel's width over its height (the cosine of the tile's latitude:
+    /// a degree of longitude is shorter than one of latitude). Distances are measured on the
+    /// ground, so that a stroke is as wide running north as running east.
+    void setXScale(double k) { xScale_ = k; }
     bool compositeInto(std::vector<uint8_t>& rgba, const glm::dvec3& rgb, double alpha);
     size_t segments() const { return segments_; }
 
 private:
     int size_ = 0;
+    double xScale_ = 1.0;
     std::vector<float> coverage_;
     int x0_ = 0, y0_ = 0, x1_ = -1, y1_ = -1;   ///< the touched rectangle, inclusive
     size_t segments_ = 0;
 };
 
-/// A point marker: a disk of `radius` px in `rgb` with a dark outline ring of `outlinePx`
+/// A point marker: a disk of `radius` px (on the ground: pixels are `xScale` as wide as high) in
+/// `rgb` with a dark outline ring of `outlinePx`
 /// inside its edge, antialiased (area about pi * radius^2), composited at `alpha`. True when
 /// any pixel was composited.
 bool paintMarker(std::vector<uint8_t>& rgba, int size, glm::dvec2 centre, double radius, double outlinePx,
-                 const glm::dvec3& rgb, double alpha);
+                 const glm::dvec3& rgb, double alpha, double xScale = 1.0);
 
 }  // namespace orbis::vector::drape

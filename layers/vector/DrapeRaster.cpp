@@ -127,7 +127,12 @@ public:
     TilePainter(const DrapeTileOptions& o, std::vector<uint8_t>& rgba)
         : extent_(o.extent), size_(o.size), pxPerLon_(o.size / o.extent.width()), pxPerLat_(o.size / o.extent.height()),
           pixelScale_(std::isfinite(o.pixelScale) && o.pixelScale > 0.0 ? o.pixelScale : 1.0), rgba_(rgba), area_(o.size),
-          stroke_(o.size) {}
+          stroke_(o.size) {
+        // A pixel's ground width over its height at the tile's middle latitude (bounded: near a
+        // pole a stroke would span the tile across).
+        xScale_ = std::clamp(std::cos(glm::radians(0.5 * (o.extent.south + o.extent.north))), 1.0 / 16.0, 1.0);
+        stroke_.setXScale(xScale_);
+    }
 
     /// True when the feature changed a pixel.
     bool paint(const Feature& f, const FeatureStyle& s) {
@@ -157,7 +162,7 @@ private:
 
     /// The whole turns k for which the box moved by 360 k meets the tile grown by `marginPx`.
     std::pair<int, int> turnsMeeting(const PartBox& b, double marginPx) const {
-        const double mLon = marginPx / pxPerLon_, mLat = marginPx / pxPerLat_;
+        const double mLon = marginPx / (pxPerLon_ * xScale_), mLat = marginPx / pxPerLat_;
         if (b.empty || b.south > extent_.north + mLat || b.north < extent_.south - mLat) return {1, 0};
         return {int(std::ceil((extent_.west - mLon - b.east) / 360.0)), int(std::floor((extent_.east + mLon - b.west) / 360.0))};
     }
@@ -178,6 +183,7 @@ private:
     globe::GeoExtent extent_;
     int size_;
     double pxPerLon_, pxPerLat_, pixelScale_;
+    double xScale_ = 1.0;   ///< a pixel's ground width over its height
     std::vector<uint8_t>& rgba_;
     AreaCoverage area_;
     StrokeCoverage stroke_;
@@ -193,10 +199,11 @@ private:
 double TilePainter::thinPath(std::span<const glm::dvec3> part, double shiftDeg, double marginPx) {
     path_.clear();
     const double lo = -marginPx, hi = size_ + marginPx;
+    const double loX = -marginPx / xScale_, hiX = size_ + marginPx / xScale_;
     unsigned runSides = 0;
     bool runOpen = false;
     const auto append = [&](glm::dvec2 p) {
-        const unsigned sides = unsigned(p.x < lo) | unsigned(p.x > hi) << 1 | unsigned(p.y < lo) << 2 | unsigned(p.y > hi) << 3;
+        const unsigned sides = unsigned(p.x < loX) | unsigned(p.x > hiX) << 1 | unsigned(p.y < lo) << 2 | unsigned(p.y > hi) << 3;
         if (!path_.empty() && (sides & runSides) != 0) {   // still beyond a side the run shares
             if (runOpen) path_.back() = {p, 0.0};
             else path_.push_back({p, 0.0}), runOpen = true;
@@ -284,7 +291,7 @@ bool TilePainter::paintPolygons(const Feature& f, const FeatureStyle& s) {
     // One margin for both, so that a ring thinned for its fill is stroked from the same path.
     const double margin = stroke.valid() ? stroke.radius + 1.0 : 1.0;
     const auto meets = [&](const PartBox& b, double shift) {
-        const double mLon = margin / pxPerLon_, mLat = margin / pxPerLat_;
+        const double mLon = margin / (pxPerLon_ * xScale_), mLat = margin / pxPerLat_;
         return !b.empty && b.west + shift <= extent_.east + mLon && b.east + shift >= extent_.west - mLon &&
                b.south <= extent_.north + mLat && b.north >= extent_.south - mLat;
     };
@@ -355,7 +362,8 @@ bool TilePainter::paintPoints(const Feature& f, const FeatureStyle& s) {
         if (!usable(c)) continue;
         const auto [k0, k1] = turnsMeeting(PartBox{c.x, c.x, c.y, c.y, false}, radius + 1.0);
         for (int turn = k0; turn <= k1; ++turn)
-            changed = drape::paintMarker(rgba_, size_, toPixel(c.x + 360.0 * turn, c.y), radius, outline, s.color, alpha) || changed;
+            changed = drape::paintMarker(rgba_, size_, toPixel(c.x + 360.0 * turn, c.y), radius, outline, s.color, alpha, xScale_) ||
+                      changed;
     }
     return changed;
 }

@@ -17,9 +17,10 @@ using globe::GeoExtent;
 /// Most tests draw on a 100 px tile over 0..100 degrees, so that a degree is a pixel: pixel
 /// coordinate (x, y) is lon x, lat 100 - y.
 constexpr int kSize = 100;
-const GeoExtent kUnitExtent{0.0, 0.0, 100.0, 100.0};
+// On the equator, where a pixel is as wide as it is high on the ground.
+const GeoExtent kUnitExtent{0.0, -50.0, 100.0, 50.0};
 
-glm::dvec3 px(double x, double y) { return {x, 100.0 - y, 0.0}; }
+glm::dvec3 px(double x, double y) { return {x, 50.0 - y, 0.0}; }
 
 std::vector<glm::dvec3> box(double x0, double y0, double x1, double y1, bool reversed = false) {
     std::vector<glm::dvec3> r{px(x0, y0), px(x1, y0), px(x1, y1), px(x0, y1), px(x0, y0)};
@@ -227,6 +228,29 @@ TEST(DrapeRasterLines, JointsAndOverlapsAreNoDarkerThanTheLine) {
     EXPECT_EQ(t.at(50, 78)[3], full);   // at the joint
     const Feature back = feature(GeometryKind::Lines, {{px(10, 50), px(90, 50), px(30, 50.5)}, {px(50, 20), px(50, 90)}});
     EXPECT_LE(draw(back, lineStyle(4.0, 0.6)).maxAlpha(), full);
+}
+
+// Widths and markers are on the ground: at 60 degrees a pixel of the tile is half as wide on the
+// ground as it is high, so a line running north is twice as many pixels wide as one running
+// east, and a marker twice as wide as it is high.
+TEST(DrapeRasterLines, WidthsAreOnTheGroundAtAnyLatitude) {
+    const GeoExtent north{0.0, 59.5, 1.0, 60.5};   // centred on 60 degrees: cos = 0.5
+    const double d = 1.0 / 100.0;                  // degrees a pixel
+    const auto at = [&](double x, double y) { return glm::dvec3(x * d, 60.5 - y * d, 0.0); };
+    const Tile east = draw(feature(GeometryKind::Lines, {{at(5, 50.3), at(95, 50.3)}}), lineStyle(3.0), north);
+    const Tile up = draw(feature(GeometryKind::Lines, {{at(50.3, 5), at(50.3, 95)}}), lineStyle(3.0), north);
+    for (int k = 20; k <= 80; k += 20) {
+        EXPECT_NEAR(east.columnSum(k), 3.0, 0.05 * 3.0) << k;
+        double across = 0.0;
+        for (int x = 0; x < kSize; ++x) across += up.at(x, k)[3] / 255.0;
+        EXPECT_NEAR(across, 6.0, 0.05 * 6.0) << k;
+    }
+    FeatureStyle s = lineStyle(1.0, 1.0, {1, 1, 0});
+    s.iconSizePx = 16.0;
+    const Tile m = draw(feature(GeometryKind::Points, {{at(50, 50)}}), s, north);
+    EXPECT_NEAR(m.alphaSum(), std::numbers::pi * 64 * 2.0, 0.03 * std::numbers::pi * 64 * 2.0);
+    EXPECT_GT(m.at(64, 50)[3], 200);   // 14 px east: inside (the disk reaches 16 px across)
+    EXPECT_EQ(m.at(50, 64)[3], 0);     // 14 px south: outside (8 px down)
 }
 
 // --- points ---------------------------------------------------------------------------------
