@@ -281,6 +281,35 @@ TEST_F(VectorRender, APickedFeatureShowsItsAttributesAndIsHighlighted) {
     pickable->clearPick();
 }
 
+TEST_F(VectorRender, AKmlKeepsItsOwnStylesUnlessTheSceneOverridesThem) {
+    // Shared and inline KML styles (LineStyle, PolyStyle, IconStyle) on the mountain's flank,
+    // seen from above; the scene's rule then overrides one feature's line colour only.
+    const auto dir = std::filesystem::current_path() / "vector-render";
+    std::filesystem::create_directories(dir);
+    const std::string kml = (dir / "styled.kml").string();
+    std::ofstream(kml) << R"KML(<?xml version="1.0" encoding="UTF-8"?>
+<kml xmlns="http://www.opengis.net/kml/2.2"><Document>
+  <Style id="park"><LineStyle><color>ff00c000</color><width>3</width></LineStyle><PolyStyle><color>9900ff00</color></PolyStyle></Style>
+  <Style id="hut"><IconStyle><color>ff00ffff</color><scale>1.6</scale></IconStyle></Style>
+  <Placemark><name>Park</name><styleUrl>#park</styleUrl><Polygon><outerBoundaryIs><LinearRing>
+    <coordinates>6.7,45.8 6.9,45.8 6.9,45.95 6.7,45.95 6.7,45.8</coordinates></LinearRing></outerBoundaryIs></Polygon></Placemark>
+  <Placemark><name>Trail</name><Style><LineStyle><color>ffff00ff</color><width>4</width></LineStyle></Style>
+    <LineString><coordinates>6.75,46.05 7.0,46.0 7.25,46.1</coordinates></LineString></Placemark>
+  <Placemark><name>Road</name><Style><LineStyle><color>ffffffff</color><width>3</width></LineStyle></Style>
+    <LineString><coordinates>6.7,46.15 7.3,46.15</coordinates></LineString></Placemark>
+  <Placemark><name>Hut</name><styleUrl>#hut</styleUrl><Point><coordinates>7.1,45.85,0</coordinates></Point></Placemark>
+</Document></kml>)KML";
+    const char* top = R"({"lon": 7.0, "lat": 46.0, "pitch": -90, "range": 90000})";
+    auto scene = load(sceneJson(top, mountain() + "," + vectorLayer(kml,
+        R"(, "style": {"rules": [{"name": "roads in orange", "when": {"Name": "Road"}, "color": [1, 0.5, 0]}]})")));
+    ASSERT_TRUE(scene);
+    const auto img = render(*scene);
+    EXPECT_TRUE(matchesGolden(img, "vector_kml_styles"));
+    auto& layer = dynamic_cast<layers::VectorLayer&>(*scene->resources()[1].layer);
+    ASSERT_NE(layer.content(), nullptr) << layer.error();
+    EXPECT_EQ(layer.content()->featureCount, 4u);
+}
+
 TEST_F(VectorRender, BadInputsNameTheFileAndTheKey) {
     // A missing file: the scene names it.
     auto desc = scene::parseSceneText(sceneJson(kRidgeView, mountain() + "," + vectorLayer("/nonexistent/roads.shp", "")), "test.json", ".");
