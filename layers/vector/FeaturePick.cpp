@@ -1,6 +1,7 @@
 #include "layers/vector/FeaturePick.h"
 
 #include "layers/vector/FeatureClip.h"
+#include "layers/vector/LonLatGeometry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -20,10 +21,7 @@ double segmentDistanceM(const PickQuery& q, const glm::dvec3& a, const glm::dvec
     const double k = std::cos(glm::radians(q.latDeg));
     const double shift = lonNear(a.x, q.lonDeg) - a.x;   // move the segment by whole turns near the query
     const glm::dvec2 pa{(a.x + shift - q.lonDeg) * k, a.y - q.latDeg}, pb{(b.x + shift - q.lonDeg) * k, b.y - q.latDeg};
-    const glm::dvec2 d = pb - pa;
-    const double len2 = glm::dot(d, d);
-    const double t = len2 > 0.0 ? std::clamp(-glm::dot(pa, d) / len2, 0.0, 1.0) : 0.0;
-    return glm::length(pa + t * d) * kMetresPerDegree;
+    return std::sqrt(segmentDistance2(glm::dvec2(0.0), pa, pb)) * kMetresPerDegree;
 }
 
 /// Even-odd crossings of the horizontal ray from (lon, lat) with a ring.

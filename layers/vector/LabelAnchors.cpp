@@ -1,5 +1,6 @@
 #include "layers/vector/LabelAnchors.h"
 
+#include "layers/vector/LonLatGeometry.h"
 #include "layers/vector/VectorContent.h"
 
 #include <algorithm>
@@ -36,14 +37,6 @@ glm::dvec2 ringCentroid(const std::vector<glm::dvec2>& ring) {
     glm::dvec2 mean(0.0);
     for (const glm::dvec2& p : ring) mean += p;
     return ring.empty() ? mean : mean / double(ring.size());
-}
-
-double segmentDistance2(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
-    const glm::dvec2 ab = b - a;
-    const double len2 = glm::dot(ab, ab);
-    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    const glm::dvec2 d = p - (a + ab * t);
-    return glm::dot(d, d);
 }
 
 /// The middle of the widest stretch inside the polygon along the horizontal line through the

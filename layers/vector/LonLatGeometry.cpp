@@ -136,4 +136,12 @@ LonLatBounds coverBounds(std::span<const LonLatBounds> boxes) {
     return out;
 }
 
+double segmentDistance2(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
+    const glm::dvec2 ab = b - a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    const glm::dvec2 d = p - (a + t * ab);
+    return glm::dot(d, d);
+}
+
 }  // namespace orbis::vector

@@ -45,4 +45,7 @@ LonLatBounds poleCapBounds(std::span<const glm::dvec3> ring, int8_t pole);
 /// (the complement of the widest gap between them).
 LonLatBounds coverBounds(std::span<const LonLatBounds> boxes);
 
+/// Squared distance from p to the segment ab, in the plane the points are given in.
+double segmentDistance2(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b);
+
 }  // namespace orbis::vector

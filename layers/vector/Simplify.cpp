@@ -1,20 +1,13 @@
 #include "layers/vector/Simplify.h"
 
+#include "layers/vector/LonLatGeometry.h"
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
 namespace orbis::vector {
 namespace {
-
-/// Squared distance from p to the segment ab (lon/lat plane).
-double segmentDistance2(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
-    const glm::dvec2 ab = b - a;
-    const double len2 = glm::dot(ab, ab);
-    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    const glm::dvec2 d = p - (a + t * ab);
-    return glm::dot(d, d);
-}
 
 /// Douglas-Peucker over [first, last] of `points` (kept: both ends), with an explicit stack so a
 /// million-point line does not recurse a million deep.
