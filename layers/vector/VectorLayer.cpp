@@ -4,6 +4,7 @@
 #include "engine/render/RenderContext.h"
 #include "layers/vector/FeaturePick.h"
 #include "layers/vector/LabelRenderer.h"
+#include "layers/vector/MeshRenderer.h"
 
 #include <iomanip>
 #include <sstream>
@@ -14,9 +15,14 @@ VectorLayer::VectorLayer(VectorLayerSettings settings) : settings_(std::move(set
 
 VectorLayer::~VectorLayer() {
     if (loading_) job_.wait();
+    if (meshLoading_) {
+        meshJob_.cancel();
+        meshJob_.wait();
+    }
 }
 
 void VectorLayer::onPrepare(const render::RenderServices& services) {
+    services_ = services;
     // Labels only for a style that gives one: the fonts, the atlas and the pipelines.
     const bool labelled = settings_.content.style.namesLabel();
     if (labelled) {
@@ -44,6 +50,20 @@ void VectorLayer::onPrepare(const render::RenderServices& services) {
 }
 
 void VectorLayer::poll() {
+    if (meshLoading_ && meshJob_.ready()) {
+        meshLoading_ = false;
+        try {
+            mesh_ = meshJob_.get();
+        } catch (const std::exception&) {
+            // Cancelled: a newer build follows.
+        }
+        meshJob_ = {};
+        if (mesh_) {
+            for (const std::string& w : mesh_->warnings) log::warn("vector layer \"", settings_.name, "\": ", w);
+            if (!meshRenderer_ && !mesh_->chunks.empty()) meshRenderer_ = std::make_unique<MeshRenderer>(services_);
+            if (meshRenderer_) meshRenderer_->setMesh(mesh_);
+        }
+    }
     if (!loading_ || !job_.ready()) return;
     loading_ = false;
     Result<Loaded> r = makeError("vector: the read was cancelled");
@@ -64,6 +84,7 @@ void VectorLayer::poll() {
     styles_ = std::make_shared<const vector::ContentStyles>(vector::styleContent(*content_));
     shownSignature_ = vector::shownAtSignature(*content_, time_);
     if (labels_) labels_->setContent(content_, styles_, anchors_);
+    restartMeshes();
     republish();
 }
 
@@ -74,9 +95,67 @@ void VectorLayer::update(const scene::FrameContext& frame) {
     const uint64_t shown = vector::shownAtSignature(*content_, time_);
     if (shown != shownSignature_) {
         shownSignature_ = shown;
+        meshStale_ = ground_ != nullptr;
         republish();
     }
+    updateMeshes(frame);
     updateLabels(frame);
+}
+
+void VectorLayer::restartMeshes() {
+    ground_.reset();
+    meshStale_ = false;
+    drapeStyles_ = styles_;
+    drapesSomething_ = true;
+    if (!content_) return;
+    auto ground = std::make_shared<vector::MeshGround>(*content_, *styles_, settings_.altitude);
+    if (settings_.altitude != vector::AltitudeMode::Clamped) {
+        uint64_t flat = 0;
+        for (const vector::ContentLayer& layer : content_->layers)
+            for (const vector::Feature& f : layer.data.features) flat += f.kind != vector::GeometryKind::Polygons;
+        if (flat > 0 && meshWarning_.empty()) {
+            meshWarning_ = std::to_string(flat) + " line and point feature(s) are drawn on the terrain: altitude \"" +
+                           vector::altitudeModeName(settings_.altitude) + "\" applies to polygons only";
+            log::warn("vector layer \"", settings_.name, "\": ", meshWarning_);
+        }
+    }
+    if (ground->features().empty()) {
+        // Nothing to build; a mesh drawn before (a rule switched off) goes.
+        if (mesh_) {
+            mesh_ = std::make_shared<const vector::FeatureMesh>();
+            if (meshRenderer_) meshRenderer_->setMesh(mesh_);
+        }
+        return;
+    }
+    // The drape leaves out what the meshes draw.
+    auto drapeStyles = std::make_shared<vector::ContentStyles>(*styles_);
+    for (const auto& [l, i] : ground->features()) (*drapeStyles)[l][i].visible = false;
+    drapesSomething_ = ground->features().size() < content_->featureCount;
+    drapeStyles_ = std::move(drapeStyles);
+    ground_ = std::move(ground);
+}
+
+void VectorLayer::updateMeshes(const scene::FrameContext& frame) {
+    if (!ground_) return;
+    if (ground_->done() && frame.groundVersion != groundVersion_) {
+        // The ground changed (the terrain's exaggeration): sample it again.
+        ground_ = std::make_shared<vector::MeshGround>(*content_, *styles_, settings_.altitude);
+    }
+    if (!ground_->done()) {
+        groundVersion_ = frame.groundVersion;
+        if (ground_->sample(frame.groundHeight, kGroundSamplesPerFrame)) meshStale_ = true;
+    }
+    if (!meshStale_ || meshLoading_ || !ground_->done()) return;
+    meshStale_ = false;
+    meshLoading_ = true;
+    // The sampled ground is read-only from here on; a restart makes a new one.
+    const vector::MeshOptions options{.mode = settings_.altitude, .extrusionScale = settings_.extrusionScale, .time = time_};
+    meshJob_ = services_.jobs().submit(
+        0.0, jobs::CancelToken{},
+        [content = content_, styles = styles_, ground = std::shared_ptr<const vector::MeshGround>(ground_), options](
+            const jobs::CancelToken& cancel) {
+            return std::make_shared<const vector::FeatureMesh>(vector::buildFeatureMesh(*content, *styles, *ground, options, &cancel));
+        });
 }
 
 void VectorLayer::updateLabels(const scene::FrameContext& frame) {
@@ -103,8 +182,14 @@ void VectorLayer::updateLabels(const scene::FrameContext& frame) {
 }
 
 void VectorLayer::republish() {
+    // The labels' board is found through the drapes: a layer drawing labels keeps one.
+    if (!drapesSomething_ && !labels_) {
+        drape_.reset();
+        return;
+    }
     drape_ = std::make_shared<const vector::VectorDrape>(settings_.name.empty() ? settings_.content.read.source : settings_.name,
-                                                         content_, styles_, time_, settings_.maxLevel, highlight_);
+                                                         content_, drapeStyles_ ? drapeStyles_ : styles_, time_, settings_.maxLevel,
+                                                         highlight_);
     ++version_;
 }
 
@@ -115,6 +200,7 @@ std::optional<scene::PickedAttributes> VectorLayer::pickAt(double lonDeg, double
     const std::optional<std::pair<size_t, size_t>> now = hit ? std::optional(std::make_pair(hit->layer, hit->feature)) : std::nullopt;
     if (now != highlight_) {
         highlight_ = now;
+        if (meshRenderer_) meshRenderer_->setHighlight(hit ? vector::meshFeatureId(*content_, hit->layer, hit->feature) : 0);
         republish();
     }
     if (!hit) return std::nullopt;
@@ -131,14 +217,17 @@ std::optional<scene::PickedAttributes> VectorLayer::pickAt(double lonDeg, double
 void VectorLayer::clearPick() {
     if (!highlight_) return;
     highlight_.reset();
+    if (meshRenderer_) meshRenderer_->setHighlight(0);
     if (content_) republish();
 }
 
 bool VectorLayer::drawsIn(scene::Pass pass) const {
+    if (pass == scene::Pass::Opaque) return meshRenderer_ != nullptr;
     return pass == scene::Pass::Overlay && labelRenderer_ && settings_.labels && !labels_->glyphs().empty();
 }
 
 void VectorLayer::recordTransfers(const render::RecordContext& context) {
+    if (meshRenderer_) meshRenderer_->recordTransfers(context);
     if (!labelRenderer_) return;
     if (board_ && context.frame) {
         // After every layer's update: the first layer here places every layer's labels.
@@ -152,10 +241,13 @@ void VectorLayer::recordTransfers(const render::RecordContext& context) {
 }
 
 void VectorLayer::record(scene::Pass pass, const render::RecordContext& context) {
+    if (pass == scene::Pass::Opaque && meshRenderer_) meshRenderer_->record(context);
     if (pass == scene::Pass::Overlay && labelRenderer_) labelRenderer_->record(context);
 }
 
-uint64_t VectorLayer::gpuBytes() const { return labelRenderer_ ? labelRenderer_->gpuBytes() : 0; }
+uint64_t VectorLayer::gpuBytes() const {
+    return (labelRenderer_ ? labelRenderer_->gpuBytes() : 0) + (meshRenderer_ ? meshRenderer_->gpuBytes() : 0);
+}
 
 std::vector<scene::LayerSetting> VectorLayer::liveSettings() const {
     using Kind = scene::LayerSetting::Kind;
@@ -164,6 +256,9 @@ std::vector<scene::LayerSetting> VectorLayer::liveSettings() const {
          .min = kOpacityRange.min, .max = kOpacityRange.max},
     };
     const vector::VectorStyle& style = settings_.content.style;
+    if (ground_ || mesh_)
+        out.push_back({.name = "extrusionScale", .label = "Extrusion scale", .kind = Kind::Number, .value = settings_.extrusionScale,
+                       .min = kExtrusionScaleRange.min, .max = kExtrusionScaleRange.max});
     if (style.namesLabel())
         out.push_back({.name = "labels", .label = "Labels", .kind = Kind::Toggle, .value = settings_.labels ? 1.0 : 0.0,
                        .pointer = "/labels"});
@@ -179,6 +274,11 @@ bool VectorLayer::setParameter(std::string_view name, double value) {
         settings_.opacity = value;
         return true;
     }
+    if (name == "extrusionScale" && kExtrusionScaleRange.contains(value)) {
+        if (value != settings_.extrusionScale) meshStale_ = ground_ != nullptr;
+        settings_.extrusionScale = value;
+        return true;
+    }
     if (name == "labels" && (value == 0.0 || value == 1.0)) {
         settings_.labels = value != 0.0;
         return true;
@@ -192,6 +292,7 @@ bool VectorLayer::setParameter(std::string_view name, double value) {
             styles_ = std::make_shared<const vector::ContentStyles>(vector::styleContent(*content_));
             // The labels follow the styles (a rule switched off may take its labels with it).
             if (labels_) labels_->setContent(content_, styles_, anchors_);
+            restartMeshes();
             republish();
         }
         return true;
@@ -208,6 +309,10 @@ std::string VectorLayer::status() const {
       << " vertices";
     if (!content_->warnings.empty()) s << ", " << content_->warnings.size() << " warning(s)";
     if (!labelError_.empty()) s << ", no labels: " << labelError_;
+    if (ground_ && !ground_->done()) s << ", sampling the ground under " << ground_->features().size() << " mesh feature(s)";
+    if (mesh_ && !mesh_->chunks.empty())
+        s << ", " << mesh_->features << " meshes (" << mesh_->triangles << " triangles, " << (meshRenderer_ ? meshRenderer_->chunksDrawn() : 0)
+          << " of " << mesh_->chunks.size() << " chunks drawn)";
     if (labels_ && settings_.labels) {
         const vector::VectorLabelStats& l = labels_->stats();
         s << ", labels " << l.placed << " of " << l.candidates << " seen (" << l.labelled << " labelled), "

@@ -7,13 +7,23 @@
 //    "layers": ["countries"], "where": "continent = 'Africa'",   or "sql": "SELECT ...",
 //    "style": {...},                      (VectorStyle.h: defaults, rules, labels, extrusion)
 //    "time": {"begin": "start_date", "end": "end_date"},   fields; default: KML's own times
-//    "altitude": "clamped", "opacity": 1, "maxLevel": 18, "labels": true}
+//    "altitude": "clamped" | "relative" | "absolute", "extrusionScale": 1,
+//    "opacity": 1, "maxLevel": 18, "labels": true}
 //
-// "clamped" (the default and, for now, the only altitude mode): the features are painted into
-// the terrain's tiles (VectorDrape) and lie exactly on the surface drawn, at every zoom. A
-// scene needs a terrain layer for them to show. Lines and outlines are about `width` screen
-// pixels wide (the tiles are painted for the size they are drawn at, within a factor of
-// sqrt 2 either way as the terrain refines), points are disks of `iconSize` pixels.
+// "altitude": "clamped" (the default): lines, points and flat polygons are painted into the
+// terrain's tiles (VectorDrape) and lie exactly on the surface drawn, at every zoom. A scene
+// needs a terrain layer for them to show. Lines and outlines are about `width` screen pixels
+// wide (the tiles are painted for the size they are drawn at, within a factor of sqrt 2 either
+// way as the terrain refines), points are disks of `iconSize` pixels.
+//
+// Polygons whose style has "extrude" are buildings: walls and a flat roof in the fill colour,
+// lit by the scene's sun, their base on the ground (FeatureMesh.h), drawn in the Opaque pass
+// (MeshRenderer); "extrusionScale" (live) multiplies every height. "relative" and "absolute"
+// put polygons at their own heights (Z above the ground, or above the ellipsoid in the
+// terrain's datum) as lit surfaces, extruded down to the ground when the style extrudes them;
+// lines and points stay on the terrain in those modes (a warning says so). The ground under
+// each mesh vertex is sampled on the main thread a slice a frame (MeshGround), the meshes built
+// on the worker pool; the renderer and its pipeline are made only when there is a mesh.
 //
 // Labels: when the style gives a "label", the features' text is drawn over the scene in the
 // Overlay pass (VectorLabels: real glyphs from DejaVu Sans with a halo, chosen so that none
@@ -31,6 +41,8 @@
 #include "engine/scene/LayerRegistry.h"
 #include "engine/scene/LayerSetting.h"
 #include "engine/scene/SceneDesc.h"
+#include "engine/render/RenderContext.h"
+#include "layers/vector/FeatureMesh.h"
 #include "layers/vector/LabelAnchors.h"
 #include "layers/vector/LabelBoard.h"
 #include "layers/vector/VectorContent.h"
@@ -51,9 +63,12 @@ struct VectorLayerSettings {
     double opacity = 1.0;
     uint32_t maxLevel = 18;   ///< finest terrain tile level painted (~0.6 m pixels at 256)
     bool labels = true;       ///< draw the style's labels
+    vector::AltitudeMode altitude = vector::AltitudeMode::Clamped;
+    double extrusionScale = 1.0;   ///< multiplies extruded heights
 };
 
 class LabelRenderer;
+class MeshRenderer;
 
 class VectorLayer : public scene::Layer,
                     public scene::LiveSettings,
@@ -64,6 +79,9 @@ public:
     static scene::LayerType layerType();
     static constexpr scene::SettingRange kOpacityRange{0.0, 1.0};
     static constexpr scene::SettingRange kMaxLevelRange{0.0, 22.0};
+    static constexpr scene::SettingRange kExtrusionScaleRange{0.0, 100.0};
+    /// Ground samples per frame for the meshes (MeshGround): a few milliseconds.
+    static constexpr size_t kGroundSamplesPerFrame = 50'000;
 
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
@@ -83,10 +101,11 @@ public:
     bool drawsIn(scene::Pass pass) const override;
     void recordTransfers(const render::RecordContext& context) override;
     void record(scene::Pass pass, const render::RecordContext& context) override;
-    bool busy() const override { return loading_; }
+    bool busy() const override { return loading_ || meshPending(); }
     std::string status() const override;
 
     // DrapedContent
+    /// None when every feature is a mesh and no label is drawn: the terrain then paints nothing.
     std::shared_ptr<const globe::TileImageSource> drapeSource() const override { return drape_; }
     uint64_t drapeVersion() const override { return version_; }
     double drapeOpacity() const override { return settings_.opacity; }
@@ -95,8 +114,8 @@ public:
     std::optional<scene::PickedAttributes> pickAt(double lonDeg, double latDeg, double metresPerPixel) override;
     void clearPick() override;
 
-    // LiveSettings: "opacity", "labels" (when the style gives a label), and "rule<i>" (a style
-    // rule on or off).
+    // LiveSettings: "opacity", "labels" (when the style gives a label), "extrusionScale" (when
+    // there are meshes), and "rule<i>" (a style rule on or off).
     std::vector<scene::LayerSetting> liveSettings() const override;
     bool setParameter(std::string_view name, double value) override;
 
@@ -113,6 +132,10 @@ public:
     const vector::VectorLabels* labels() const { return labels_ ? &*labels_ : nullptr; }
     /// Whether the label pipelines were made (only for a style that gives a label).
     bool hasLabelRenderer() const { return labelRenderer_ != nullptr; }
+    /// The meshes drawn (extruded buildings, polygons at altitude); null before the first one.
+    const vector::FeatureMesh* mesh() const { return mesh_.get(); }
+    /// Whether the mesh pipeline was made (only when there is a mesh to draw).
+    bool hasMeshRenderer() const { return meshRenderer_ != nullptr; }
 
 private:
     /// What the worker reads: the content, and each feature's label anchor when labels are drawn.
@@ -122,8 +145,13 @@ private:
     };
 
     void onPrepare(const render::RenderServices& services) override;
-    /// A new drape for the current content, styles and time.
+    /// A new drape for the current content, styles and time (and new meshes).
     void republish();
+    /// The features drawn as meshes changed (new content or styles): sample their ground again.
+    void restartMeshes();
+    /// Samples the ground, starts the mesh build, takes a built mesh.
+    void updateMeshes(const scene::FrameContext& frame);
+    bool meshPending() const { return (ground_ && !ground_->done()) || meshLoading_ || meshStale_; }
     /// Gathers this frame's labels and submits them to the scene's shared board.
     void updateLabels(const scene::FrameContext& frame);
     bool drawingLabels() const { return labels_ && settings_.labels && content_; }
@@ -146,6 +174,20 @@ private:
     /// first visible vector layer with labels (the frame's drapes list them in scene order).
     std::shared_ptr<vector::LabelBoard> ownBoard_, board_;
     std::string labelError_;
+
+    // Meshes: the ground under their vertices, the build on the pool, the renderer.
+    render::RenderServices services_;
+    std::shared_ptr<vector::MeshGround> ground_;
+    /// styles_ with the features drawn as meshes hidden: what the drape paints.
+    std::shared_ptr<const vector::ContentStyles> drapeStyles_;
+    bool drapesSomething_ = true;
+    uint64_t groundVersion_ = 0;
+    bool meshStale_ = false;     ///< a build is needed (sampling done)
+    bool meshLoading_ = false;
+    jobs::Job<std::shared_ptr<const vector::FeatureMesh>> meshJob_;
+    std::shared_ptr<const vector::FeatureMesh> mesh_;
+    std::unique_ptr<MeshRenderer> meshRenderer_;
+    std::string meshWarning_;
 };
 
 }  // namespace orbis::layers

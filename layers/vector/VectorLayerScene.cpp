@@ -45,8 +45,11 @@ Result<std::unique_ptr<scene::Layer>> VectorLayer::create(const scene::LayerDesc
         s.content.timeFields.end = t.string("end", std::string()).value_or("");
         if (auto done = t.finish(); !done) return done.error();
     }
-    if (auto altitude = r.string("altitude", std::string("clamped")); altitude && *altitude != "clamped")
-        r.fail("altitude", "only \"clamped\" (features on the terrain) is drawn so far; \"" + *altitude + "\" is not");
+    if (auto altitude = r.string("altitude", std::string("clamped"))) {
+        if (auto mode = vector::parseAltitudeMode(*altitude)) s.altitude = *mode;
+        else r.fail("altitude", "expected \"clamped\" (on the terrain), \"relative\" (Z above the ground) or \"absolute\" (Z above the ellipsoid), got \"" + *altitude + "\"");
+    }
+    s.extrusionScale = r.number("extrusionScale", 1.0, kExtrusionScaleRange.min, kExtrusionScaleRange.max).value_or(1.0);
     s.opacity = r.number("opacity", 1.0, kOpacityRange.min, kOpacityRange.max).value_or(1.0);
     s.maxLevel = uint32_t(r.number("maxLevel", 18.0, kMaxLevelRange.min, kMaxLevelRange.max).value_or(18.0));
     s.labels = r.boolean("labels", true).value_or(true);

@@ -37,6 +37,25 @@ struct LabelGlyph {
     uint halo;     // the halo: sRGB RGBA8
 };
 
+// Vertex inputs of the meshes, one binding at the vertex rate (VectorMeshVertex).
+ORBIS_CONST(uint, kMeshInputPosition, 0)
+ORBIS_CONST(uint, kMeshInputNormal, 1)
+ORBIS_CONST(uint, kMeshInputColor, 2)
+ORBIS_CONST(uint, kMeshInputFeature, 3)
+
+struct VectorMeshVertex {
+    vec3 position;   // metres, relative to the chunk's origin (world axes)
+    uint normal;     // world axes, SNORM8 x, y, z (x in the low byte)
+    uint color;      // sRGB RGBA8 (R in the low byte), read as UNORM
+    uint feature;    // the feature's id (FeatureMesh.h: meshFeatureId), 1 and up
+};
+
+// Push constants, per chunk.
+struct VectorMeshPush {
+    vec3 originFromEye;   // the chunk's origin minus the eye (m, world axes)
+    uint highlight;       // the picked feature's id, 0: none
+};
+
 ORBIS_NAMESPACE_END
 
 #ifdef __cplusplus
@@ -51,6 +70,10 @@ static_assert(sizeof(orbis::shader::LabelGlyph) == 56, "LabelGlyph layout change
 static_assert(offsetof(orbis::shader::LabelGlyph, uv) == 24 && offsetof(orbis::shader::LabelGlyph, edges) == 40 &&
                   offsetof(orbis::shader::LabelGlyph, color) == 48 && offsetof(orbis::shader::LabelGlyph, halo) == 52,
               "LabelGlyph offsets changed");
+static_assert(sizeof(orbis::shader::VectorMeshVertex) == 24 && offsetof(orbis::shader::VectorMeshVertex, normal) == 12,
+              "VectorMeshVertex layout changed");
+static_assert(sizeof(orbis::shader::VectorMeshPush) == 16 && offsetof(orbis::shader::VectorMeshPush, highlight) == 12,
+              "VectorMeshPush must match std430");
 #endif
 
 #endif

@@ -174,16 +174,26 @@ TEST_F(CliGpu, RenderDefaultSceneWritesPng) {
     EXPECT_GT(fs::file_size(out), 1000u);
 }
 
-// The FMV showcase: the fixture generated at build time, draped at the scene's current time.
-TEST_F(CliGpu, RenderFmvShowcaseWritesPng) {
-    const fs::path out = fs::temp_directory_path() / "orbis-cli-test" / "fmv-flight.png";
+/// Renders a showcase scene of assets/scenes (its data generated at build time) with validation.
+void expectShowcaseRenders(const std::string& name) {
+    const fs::path out = fs::temp_directory_path() / "orbis-cli-test" / (name + ".png");
     fs::create_directories(out.parent_path());
     fs::remove(out);
-    const std::string scene = std::string(ORBIS_SOURCE_DIR) + "/assets/scenes/fmv-flight.json";
+    const std::string scene = std::string(ORBIS_SOURCE_DIR) + "/assets/scenes/" + name + ".json";
     const CliRun r = run("render " + scene + " -o " + out.string() + " --size 160x90 --validation");
     EXPECT_EQ(r.exitCode, 0) << r.output;
     ASSERT_TRUE(fs::exists(out));
     EXPECT_GT(fs::file_size(out), 1000u);
+}
+
+// The FMV showcase: the fixture generated at build time, draped at the scene's current time.
+TEST_F(CliGpu, RenderFmvShowcaseWritesPng) {
+    expectShowcaseRenders("fmv-flight");
+}
+
+// The buildings showcase: the generated city extruded over the FMV showcase's hills.
+TEST_F(CliGpu, RenderCityShowcaseWritesPng) {
+    expectShowcaseRenders("vector-city");
 }
 
 TEST_F(CliGpu, UnwritableOutputExitsOne) {

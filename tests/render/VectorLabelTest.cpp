@@ -8,6 +8,7 @@
 #include "layers/vector/VectorLayer.h"
 #include "tests/render/RenderHelpers.h"
 #include "tests/render/TerrainFixtures.h"
+#include "tests/render/VectorScenes.h"
 #include "tests/support/GoldenImage.h"
 #include "tests/support/GpuTest.h"
 
@@ -24,15 +25,8 @@ namespace {
 using vector::LabelCandidate;
 using vector::PlacedLabel;
 
-std::string jsonString(const std::string& s) { return nlohmann::json(s).dump(); }
-
-/// A GeoJSON file written into the test output folder.
 std::string writeGeoJson(const std::string& name, const std::string& features) {
-    const auto dir = std::filesystem::current_path() / "vector-label";
-    std::filesystem::create_directories(dir);
-    const auto path = (dir / name).string();
-    std::ofstream(path) << R"({"type": "FeatureCollection", "features": [)" << features << "]}";
-    return path;
+    return test::writeGeoJson("vector-label", name, features);
 }
 
 std::string feature(const std::string& name, const std::string& type, const std::string& coords) {
@@ -59,27 +53,19 @@ void addFeature(std::string& list, const std::string& feature) {
 }
 
 std::string sceneJson(const std::string& viewpoint, const std::string& layers, const std::string& time = "2026-06-21T12:00:00Z") {
-    return R"({"viewpoint": )" + viewpoint + R"(, "time": {"start": ")" + time + R"(", "end": ")" + time +
-           R"("}, "background": [0, 0, 0.012], "layers": [)" + layers + "]}";
+    return vectorSceneJson(viewpoint, layers, time);
 }
 
 bool haveWorld() { return std::filesystem::exists(std::string(ORBIS_SOURCE_DIR) + "/assets/generated/world-relief.tif"); }
 
-std::string world() {
-    const std::string dir = std::string(ORBIS_SOURCE_DIR) + "/assets/generated/";
-    return R"({"type": "terrain", "name": "World", "elevation": [)" + jsonString(dir + "world-relief.tif") +
-           R"(], "imagery": [{"path": )" + jsonString(dir + "world-colour.tif") + R"(}], "sky": false})";
-}
+std::string world() { return worldTerrain(); }
 
-std::string mountain() {
-    return R"({"type": "terrain", "name": "Mountain", "elevation": [)" + jsonString(terrainFixtures().dem) +
-           R"(], "sky": false, "color": [0.55, 0.55, 0.5]})";
-}
+std::string mountain() { return mountainTerrain(); }
 
 const char* kGlobe = R"({"type": "globe", "name": "Earth"})";
 
 std::string vectorLayer(const std::string& name, const std::string& path, const std::string& extra) {
-    return R"({"type": "vector", "name": )" + jsonString(name) + R"(, "path": )" + jsonString(path) + extra + "}";
+    return vectorLayerJson(name, path, extra);
 }
 
 /// Cities (points, with their icons) and regions (polygons and a line), in two layers.

@@ -7,6 +7,7 @@
 #include "layers/vector/VectorLayer.h"
 #include "tests/render/RenderHelpers.h"
 #include "tests/render/TerrainFixtures.h"
+#include "tests/render/VectorScenes.h"
 #include "tests/support/GoldenImage.h"
 #include "tests/support/GpuTest.h"
 
@@ -20,15 +21,8 @@
 namespace orbis::test {
 namespace {
 
-std::string jsonString(const std::string& s) { return nlohmann::json(s).dump(); }
-
-/// A GeoJSON file written into the test output folder.
 std::string writeGeoJson(const std::string& name, const std::string& features) {
-    const auto dir = std::filesystem::current_path() / "vector-render";
-    std::filesystem::create_directories(dir);
-    const auto path = (dir / name).string();
-    std::ofstream(path) << R"({"type": "FeatureCollection", "features": [)" << features << "]}";
-    return path;
+    return test::writeGeoJson("vector-render", name, features);
 }
 
 std::string lineFeature(const std::string& name, const std::string& coords) {
@@ -42,25 +36,14 @@ std::string polygonFeature(const std::string& name, const std::string& rings) {
 }
 
 std::string sceneJson(const std::string& viewpoint, const std::string& layers, const std::string& time = "2026-06-21T09:30:00Z") {
-    return R"({"viewpoint": )" + viewpoint + R"(, "time": {"start": ")" + time + R"(", "end": ")" + time +
-           R"("}, "background": [0, 0, 0.012], "layers": [)" + layers + "]}";
+    return vectorSceneJson(viewpoint, layers, time);
 }
 
-std::string mountain(const std::string& extra = "") {
-    const auto& f = terrainFixtures();
-    return R"({"type": "terrain", "name": "Mountain", "elevation": [)" + jsonString(f.dem) + R"(], "sky": false, "color": [0.55, 0.55, 0.5])" +
-           extra + "}";
-}
+std::string mountain(const std::string& extra = "") { return mountainTerrain(extra); }
 
-std::string world() {
-    const std::string dir = std::string(ORBIS_SOURCE_DIR) + "/assets/generated/";
-    return R"({"type": "terrain", "name": "World", "elevation": [)" + jsonString(dir + "world-relief.tif") +
-           R"(], "imagery": [{"path": )" + jsonString(dir + "world-colour.tif") + R"(}], "sky": false})";
-}
+std::string world() { return worldTerrain(); }
 
-std::string vectorLayer(const std::string& path, const std::string& extra) {
-    return R"({"type": "vector", "name": "Features", "path": )" + jsonString(path) + extra + "}";
-}
+std::string vectorLayer(const std::string& path, const std::string& extra) { return vectorLayerJson("Features", path, extra); }
 
 /// Red-dominant pixels: the test lines' colour over a grey terrain (hazed with distance).
 bool isRed(const uint8_t* p) { return int(p[0]) - (int(p[1]) + int(p[2])) / 2 > 40; }
@@ -317,8 +300,8 @@ TEST_F(VectorRender, BadInputsNameTheFileAndTheKey) {
     auto missing = scene::Scene::build(std::move(desc).value(), registry_);
     ASSERT_FALSE(missing.ok());
     EXPECT_NE(missing.message().find("/nonexistent/roads.shp"), std::string::npos) << missing.message();
-    // An altitude mode not drawn yet, and a bad key: errors naming the key.
-    for (const char* extra : {R"(, "altitude": "absolute")", R"(, "opacity": 3)", R"(, "colour": [1, 0, 0])"}) {
+    // An unknown altitude mode, a value out of range and a bad key: errors naming the key.
+    for (const char* extra : {R"(, "altitude": "above")", R"(, "opacity": 3)", R"(, "extrusionScale": -1)", R"(, "colour": [1, 0, 0])"}) {
         auto d = scene::parseSceneText(sceneJson(kRidgeView, mountain(kSteep) + "," + vectorLayer(ridgeFeatures(), extra)), "test.json", ".");
         ASSERT_TRUE(d.ok());
         auto s = scene::Scene::build(std::move(d).value(), registry_);

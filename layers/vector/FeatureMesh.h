@@ -1,0 +1,121 @@
+#pragma once
+// Polygons as 3-D meshes: extruded buildings (walls and a flat roof, lit by the sun, their base
+// on the ground) and polygons at their own altitude (relative to the ground or absolute), for
+// the GPU. No Vulkan: the vertices are the shader's (shared/VectorTypes.h: VectorMeshVertex).
+//
+// Which polygons: every polygon whose style extrudes it ("extrude"), whatever the altitude
+// mode, and in the "relative" and "absolute" modes every polygon. A polygon around a pole
+// (Antarctica) is left to the drape: its ring alone cannot say which cap it bounds in 3-D.
+//
+// Heights (metres above the ellipsoid, in the terrain's datum): g(v) is the ground under a
+// vertex (MeshGround, sampled on the main thread: the scene's ground query is not for
+// workers), z(v) the vertex's own Z (0 without one). The surface is at s(v) = g(v) ("clamped"),
+// g(v) + z(v) ("relative") or z(v) ("absolute"). An extruded polygon's roof is flat at
+// max s(v) + height; its walls go down to min g(v) less a skirt (a tenth of the building's
+// height, at least kSkirtMetres), so that no gap opens under a wall where the terrain drawn,
+// coarser than the DEM, lies lower than the ground sampled. A polygon at altitude without
+// extrusion is its surface s(v), cut into triangles no longer than kMaxEdgeDeg so that it
+// follows the Earth's curve.
+//
+// Meshes are cut into chunks (the level-kChunkLevel tile of a polygon's first vertex, and the
+// style's camera range): each chunk has an ECEF origin (double) and float vertices relative to
+// it, a bounding sphere for culling, and the range it is drawn within.
+
+#include "base/TimeFormat.h"
+#include "layers/vector/VectorContent.h"
+#include "shared/VectorTypes.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace orbis::jobs {
+class CancelToken;
+}
+
+namespace orbis::vector {
+
+enum class AltitudeMode : uint8_t { Clamped, Relative, Absolute };
+
+/// "clamped", "relative", "absolute"; nothing for anything else.
+std::optional<AltitudeMode> parseAltitudeMode(std::string_view name);
+const char* altitudeModeName(AltitudeMode mode);
+
+inline constexpr uint32_t kChunkLevel = 12;      ///< chunks: tiles of 0.044 degrees (~5 km)
+inline constexpr double kSkirtMetres = 2.0;
+inline constexpr double kMaxEdgeDeg = 0.1;       ///< ~11 km: a chord sags < 2.5 m below the curve
+
+/// Whether a feature with this style is drawn as a mesh in this mode (else: draped, or strokes).
+bool drawnAsMesh(const Feature& feature, const FeatureStyle& style, AltitudeMode mode);
+
+/// The ground under every vertex of the features drawn as meshes, sampled a slice at a time on
+/// the thread that may ask the ground (the main thread), until done.
+class MeshGround {
+public:
+    using HeightFn = std::function<std::optional<double>(double lonDeg, double latDeg)>;
+
+    MeshGround() = default;
+    /// Lists the features drawn as meshes (every one, whatever its time).
+    MeshGround(const VectorContent& content, const ContentStyles& styles, AltitudeMode mode);
+
+    /// Samples up to `maxSamples` more vertices; true when every vertex has its ground. Where the
+    /// ground is unknown (no terrain), 0: the ellipsoid.
+    bool sample(const HeightFn& ground, size_t maxSamples);
+    bool done() const { return next_ >= heights_.size(); }
+    size_t samples() const { return heights_.size(); }
+
+    /// The features (layer, index) in the order sampled.
+    const std::vector<std::pair<uint32_t, uint32_t>>& features() const { return features_; }
+    /// Feature k's heights, one per coordinate.
+    std::span<const float> heights(size_t k) const {
+        return {heights_.data() + first_[k], first_[k + 1] - first_[k]};
+    }
+
+private:
+    const VectorContent* content_ = nullptr;   ///< while sampling
+    std::vector<std::pair<uint32_t, uint32_t>> features_;
+    std::vector<size_t> first_{0};
+    std::vector<float> heights_;
+    size_t next_ = 0;          ///< the next height to sample
+    size_t nextFeature_ = 0;   ///< the feature it belongs to
+};
+
+struct MeshOptions {
+    AltitudeMode mode = AltitudeMode::Clamped;
+    double extrusionScale = 1.0;   ///< multiplies every extruded height (a live setting)
+    TimeNs time = 0;               ///< features with times show when they include it
+};
+
+struct MeshChunk {
+    glm::dvec3 origin{0.0};        ///< ECEF (m): vertices are relative to it
+    glm::dvec3 center{0.0};        ///< the bounding sphere, ECEF
+    double radius = 0.0;
+    double minRangeM = 0.0, maxRangeM = 0.0;   ///< the camera range it is drawn within
+    std::vector<shader::VectorMeshVertex> vertices;
+    std::vector<uint32_t> indices;
+};
+
+struct FeatureMesh {
+    std::vector<MeshChunk> chunks;
+    uint64_t features = 0, triangles = 0;
+    uint64_t forced = 0;   ///< roof triangles of self-intersecting polygons (Triangulate.h)
+    std::vector<std::string> warnings;
+    uint64_t bytes() const;
+};
+
+/// Feature (layer, index)'s id in the vertices (VectorMeshVertex::feature): 1 + its place among
+/// all the content's features; 0 is "none" (the highlight's push constant).
+uint32_t meshFeatureId(const VectorContent& content, size_t layer, size_t feature);
+
+/// The meshes of the features shown at `options.time`. Any thread; stops early (an empty mesh)
+/// when `cancel` is set.
+FeatureMesh buildFeatureMesh(const VectorContent& content, const ContentStyles& styles, const MeshGround& ground,
+                             const MeshOptions& options, const jobs::CancelToken* cancel = nullptr);
+
+}  // namespace orbis::vector

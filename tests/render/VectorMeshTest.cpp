@@ -1,0 +1,197 @@
+// Extruded buildings and polygons at altitude on lavapipe with validation: a village of
+// buildings on the mountain's slope, lit by the morning sun, with a polygon floating 400 m
+// above the ground beside it (golden); each building's walls reach the terrain's ground;
+// a picked building turns yellow; the extrusion scale raises the roofs; a layer without meshes
+// builds no mesh pipeline, and a layer made only of meshes no drape.
+#include "globe/Ellipsoid.h"
+#include "layers/vector/VectorLayer.h"
+#include "tests/render/RenderHelpers.h"
+#include "tests/render/TerrainFixtures.h"
+#include "tests/render/VectorScenes.h"
+#include "tests/support/GoldenImage.h"
+#include "tests/support/GpuTest.h"
+
+#include <algorithm>
+#include <map>
+#include <sstream>
+
+namespace orbis::test {
+namespace {
+
+/// A 5 x 5 village on the mountain's southern slope around (7.0, 45.86): squares of ~150 m,
+/// 350 m apart, "height" from 40 to 280 m; the centre one has a courtyard (a hole).
+std::string village() {
+    std::ostringstream s;
+    const double dLon = 0.0045, dLat = 0.00315, sizeLon = 0.0019, sizeLat = 0.00135;
+    for (int j = 0; j < 5; ++j)
+        for (int i = 0; i < 5; ++i) {
+            const double lon = 6.99 + i * dLon, lat = 45.85 + j * dLat;
+            const int height = 40 + 10 * ((i * 7 + j * 3) % 25);
+            if (i || j) s << ",";
+            s << R"({"type": "Feature", "properties": {"name": "b)" << i << j << R"(", "height": )" << height
+              << R"(}, "geometry": {"type": "Polygon", "coordinates": [[)";
+            s << "[" << lon << "," << lat << "],[" << lon + sizeLon << "," << lat << "],[" << lon + sizeLon << "," << lat + sizeLat
+              << "],[" << lon << "," << lat + sizeLat << "],[" << lon << "," << lat << "]]";
+            if (i == 2 && j == 2) {
+                const double a = lon + sizeLon * 0.3, b = lon + sizeLon * 0.7, c = lat + sizeLat * 0.3, d = lat + sizeLat * 0.7;
+                s << ",[[" << a << "," << c << "],[" << a << "," << d << "],[" << b << "," << d << "],[" << b << "," << c << "],[" << a
+                  << "," << c << "]]";
+            }
+            s << "]}}";
+        }
+    return writeGeoJson("vector-mesh", "village.geojson", s.str());
+}
+
+/// A rectangle of 1 x 0.7 km, 400 m above the ground (relative), west of the village.
+std::string floating() {
+    return writeGeoJson("vector-mesh", "floating.geojson",
+                        R"({"type": "Feature", "properties": {"name": "zone"}, "geometry": {"type": "Polygon", "coordinates": )"
+                        R"([[[6.972, 45.858, 400], [6.985, 45.858, 400], [6.985, 45.864, 400], [6.972, 45.864, 400], [6.972, 45.858, 400]]]}})");
+}
+
+// From the south, 3 km from the village and above it, looking north and down.
+const char* kVillageView = R"({"lon": 7.0, "lat": 45.835, "height": 3800, "heading": 0, "pitch": -12, "range": 1})";
+const char* kBuildingStyle = R"(, "style": {"fill": [0.85, 0.78, 0.68], "extrude": "height"})";
+
+class VectorMesh : public GpuTest {
+protected:
+    void SetUp() override {
+        GpuTest::SetUp();
+        layers::registerBuiltinLayers(registry_);
+    }
+    std::unique_ptr<scene::Scene> load(const std::string& json) { return buildScene(json, registry_); }
+    ImageRgba8 render(scene::Scene& scene, uint32_t w = 320, uint32_t h = 240) {
+        return renderSettled(renderer_, device(), scene, w, h);
+    }
+    std::unique_ptr<scene::Scene> villageScene(const std::string& extra = "") {
+        return load(vectorSceneJson(kVillageView,
+                                    mountainTerrain() + "," + vectorLayerJson("Village", village(), kBuildingStyle + extra) + "," +
+                                        vectorLayerJson("Zone", floating(), R"(, "altitude": "relative", "style": {"fill": [0.2, 0.5, 1.0]})"),
+                                    "2026-06-21T07:30:00Z"));
+    }
+    scene::LayerRegistry registry_;
+    std::unique_ptr<render::Renderer> renderer_;
+};
+
+layers::VectorLayer& vectorAt(scene::Scene& scene, size_t i) { return dynamic_cast<layers::VectorLayer&>(*scene.resources()[i].layer); }
+
+double highestVertex(const vector::FeatureMesh& mesh) {
+    double top = -1e9;
+    for (const vector::MeshChunk& c : mesh.chunks)
+        for (const auto& v : c.vertices)
+            top = std::max(top, globe::Ellipsoid::wgs84().toGeodetic(c.origin + glm::dvec3(v.position)).height);
+    return top;
+}
+
+TEST_F(VectorMesh, AVillageOfBuildingsAndAFloatingPolygonOverTheTerrain) {
+    auto scene = villageScene();
+    ASSERT_TRUE(scene);
+    const auto img = render(*scene);
+    EXPECT_TRUE(matchesGolden(img, "vector_buildings"));
+    auto& village = vectorAt(*scene, 1);
+    ASSERT_NE(village.mesh(), nullptr) << village.error();
+    EXPECT_EQ(village.mesh()->features, 25u);
+    EXPECT_TRUE(village.hasMeshRenderer());
+    EXPECT_EQ(village.drapeSource(), nullptr) << "every feature is a building: nothing to paint on the terrain";
+    auto& zone = vectorAt(*scene, 2);
+    ASSERT_NE(zone.mesh(), nullptr) << zone.error();
+    EXPECT_EQ(zone.mesh()->features, 1u);
+    // The zone's surface: the ground under its corners plus 400 m (the highest corner's).
+    double ground = -1e9;
+    for (const double lon : {6.972, 6.985})
+        for (const double lat : {45.858, 45.864}) ground = std::max(ground, TerrainFixtures::height(lon, lat));
+    EXPECT_NEAR(highestVertex(*zone.mesh()), ground + 400.0, 2.0);
+}
+
+TEST_F(VectorMesh, BuildingsStandOnTheGroundTheTerrainDraws) {
+    // Each building's walls reach from below the lowest ground under its corners (the terrain
+    // layer's ground, which the drawn terrain approximates) up to its roof: the highest
+    // corner's ground plus its height.
+    auto scene = villageScene();
+    ASSERT_TRUE(scene);
+    render(*scene);
+    const vector::FeatureMesh* mesh = vectorAt(*scene, 1).mesh();
+    ASSERT_NE(mesh, nullptr);
+    std::map<uint32_t, std::pair<double, double>> span;   // feature id: lowest, highest vertex
+    for (const vector::MeshChunk& c : mesh->chunks)
+        for (const auto& v : c.vertices) {
+            const double h = globe::Ellipsoid::wgs84().toGeodetic(c.origin + glm::dvec3(v.position)).height;
+            auto [it, added] = span.try_emplace(v.feature, h, h);
+            it->second = {std::min(it->second.first, h), std::max(it->second.second, h)};
+        }
+    ASSERT_EQ(span.size(), 25u);
+    for (int j = 0; j < 5; ++j)
+        for (int i = 0; i < 5; ++i) {
+            const double lon = 6.99 + i * 0.0045, lat = 45.85 + j * 0.00315;
+            double low = 1e9, high = -1e9;
+            for (const double x : {lon, lon + 0.0019})
+                for (const double y : {lat, lat + 0.00135}) {
+                    low = std::min(low, TerrainFixtures::height(x, y));
+                    high = std::max(high, TerrainFixtures::height(x, y));
+                }
+            const double height = 40 + 10 * ((i * 7 + j * 3) % 25);
+            // GeoJSON order: feature j * 5 + i, ids from 1.
+            const auto [bottom, top] = span.at(uint32_t(j * 5 + i + 1));
+            // The DEM holds whole metres (Int16): 0.5 m of rounding, and its bilinear samples.
+            EXPECT_LT(bottom, low - vector::kSkirtMetres + 1.0) << "building " << i << j;
+            EXPECT_GT(bottom, low - 0.1 * (height + high - low) - vector::kSkirtMetres - 1.0) << "building " << i << j;
+            EXPECT_NEAR(top, high + height, 1.0) << "building " << i << j;
+        }
+}
+
+TEST_F(VectorMesh, APickedBuildingTurnsYellowAndTheExtrusionScaleRaisesTheRoofs) {
+    auto scene = villageScene();
+    ASSERT_TRUE(scene);
+    const auto before = render(*scene);
+    auto& village = vectorAt(*scene, 1);
+    const auto yellow = [](const ImageRgba8& img) {
+        size_t n = 0;
+        for (size_t i = 0; i < size_t(img.width) * img.height; ++i) {
+            const uint8_t* p = &img.pixels[i * 4];
+            n += int(p[0]) > int(p[2]) + 90 && int(p[1]) > int(p[2]) + 90;
+        }
+        return n;
+    };
+    // The centre building's courtyard wall: inside the footprint, outside the hole.
+    const auto picked = village.asPickable()->pickAt(6.99 + 2 * 0.0045 + 0.0002, 45.85 + 2 * 0.00315 + 0.0002, 5.0);
+    ASSERT_TRUE(picked.has_value());
+    EXPECT_EQ(picked->feature.substr(0, 4), "fid ");
+    const auto highlighted = render(*scene);
+    EXPECT_EQ(yellow(before), 0u);
+    EXPECT_GT(yellow(highlighted), 20u);
+    village.asPickable()->clearPick();
+    EXPECT_EQ(yellow(render(*scene)), 0u);
+
+    const double top = highestVertex(*village.mesh());
+    ASSERT_TRUE(village.setParameter("extrusionScale", 2.0));
+    render(*scene);
+    EXPECT_GT(highestVertex(*village.mesh()), top + 200.0) << "the tallest, 280 m, doubled";
+    EXPECT_FALSE(village.setParameter("extrusionScale", -1.0));
+    const auto settings = village.liveSettings();
+    EXPECT_TRUE(std::any_of(settings.begin(), settings.end(), [](const auto& s) { return s.name == "extrusionScale" && s.value == 2.0; }));
+}
+
+TEST_F(VectorMesh, LayersBuildOnlyWhatTheyDraw) {
+    // Flat polygons, clamped: draped, no mesh pipeline. Bad altitude modes are refused by name.
+    auto flat = load(vectorSceneJson(kVillageView, mountainTerrain() + "," + vectorLayerJson("Village", village(), ""),
+                                     "2026-06-21T07:30:00Z"));
+    ASSERT_TRUE(flat);
+    render(*flat);
+    auto& layer = vectorAt(*flat, 1);
+    EXPECT_FALSE(layer.hasMeshRenderer());
+    EXPECT_NE(layer.drapeSource(), nullptr);
+    const auto settings = layer.liveSettings();
+    EXPECT_FALSE(std::any_of(settings.begin(), settings.end(), [](const auto& s) { return s.name == "extrusionScale"; }));
+
+    auto desc = scene::parseSceneText(
+        vectorSceneJson(kVillageView, vectorLayerJson("Village", village(), R"(, "altitude": "floating")"), "2026-06-21T07:30:00Z"),
+        "bad.json", ".");
+    ASSERT_TRUE(desc.ok());
+    auto bad = scene::Scene::build(std::move(desc).value(), registry_);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.message().find("/layers/0/altitude"), std::string::npos) << bad.message();
+    EXPECT_NE(bad.message().find("\"floating\""), std::string::npos) << bad.message();
+}
+
+}  // namespace
+}  // namespace orbis::test
