@@ -247,6 +247,7 @@ scene::FrameContext Renderer::frameContext(scene::Scene& scene, uint64_t frameNu
     ctx.frameNumber = frameNumber;
     ctx.cameraHeight = eyeHeight;
     ctx.groundHeight = [&scene](double lon, double lat) { return scene.heightAt(lon, lat); };
+    ctx.groundSnapshot = [&scene] { return scene.groundSnapshot(); };
     ctx.annotations = &scene.annotations();
     for (auto& r : scene.resources()) {
         if (!r.visible || !r.layer->prepared()) continue;

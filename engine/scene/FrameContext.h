@@ -41,6 +41,9 @@ struct FrameContext {
     GroundHeightFn groundHeight;
     /// Changes whenever groundHeight's answers may have (GroundSource::groundVersion, summed).
     uint64_t groundVersion = 0;
+    /// groundHeight's answers as a function any thread may call (Scene::groundSnapshot), made
+    /// when asked: for layers that sample the ground on the worker pool.
+    std::function<GroundHeightFn()> groundSnapshot;
     /// The scene's pins (Scene::annotations), for the layer that draws them.
     const std::vector<Annotation>* annotations = nullptr;
     /// What visible layers drape on the ground, in scene order, for the ground layer.

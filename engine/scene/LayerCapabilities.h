@@ -52,6 +52,9 @@ public:
     /// Changes whenever groundHeightAt's answers may have changed (tiles loaded or evicted):
     /// layers that sample the ground (FMV's heightfield) resample only then.
     virtual uint64_t groundVersion() const = 0;
+    /// groundHeightAt's answers as they are now, callable from any thread for as long as the
+    /// caller keeps the function (it holds what it reads): for work on the pool.
+    virtual GroundHeightFn groundSnapshot() const = 0;
 };
 
 /// Where a moving thing is (a vehicle along its trajectory, a live position), for cameras that

@@ -123,6 +123,19 @@ std::optional<double> Scene::heightAt(double lonDeg, double latDeg) const {
     return std::nullopt;
 }
 
+GroundHeightFn Scene::groundSnapshot() const {
+    std::vector<GroundHeightFn> grounds;
+    for (const auto& r : resources_) {
+        const GroundSource* ground = r.layer->asGroundSource();
+        if (ground && r.visible && r.layer->prepared()) grounds.push_back(ground->groundSnapshot());
+    }
+    return [grounds = std::move(grounds)](double lonDeg, double latDeg) -> std::optional<double> {
+        for (const GroundHeightFn& g : grounds)
+            if (auto h = g(lonDeg, latDeg)) return h;
+        return std::nullopt;
+    };
+}
+
 globe::Pose Scene::keptAboveGround(globe::Pose pose, double clearance) const {
     const auto& ellipsoid = globe::Ellipsoid::wgs84();
     globe::Geodetic eye = ellipsoid.toGeodetic(pose.position);

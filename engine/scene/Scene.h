@@ -66,6 +66,9 @@ public:
     /// from the first visible ground layer that knows it (terrain), else nothing (the
     /// ellipsoid). Used by camera collision, the near plane, clamping and FMV.
     std::optional<double> heightAt(double lonDeg, double latDeg) const;
+    /// heightAt's answers now, as a function any thread may call while it is kept (it holds
+    /// the visible ground layers' snapshots, GroundSource::groundSnapshot).
+    GroundHeightFn groundSnapshot() const;
     /// `pose` with the eye lifted along the vertical, if needed, to at least `clearance` metres
     /// above the ground where heightAt knows it (orientation unchanged). Scripted camera paths
     /// go through it so that no frame is rendered from under the terrain.

@@ -76,7 +76,7 @@ void TerrainLayer::openSources(const render::RenderServices& services) {
     // a 3-texel line over flat ground is about 3 px wide at the default 2 px).
     ts.tilePixelsPerScreenPixel = 2.0 / settings_.maxScreenSpaceError *
                                   (double(settings_.imageSize) / (4.0 * double(settings_.gridSize - 1)));
-    ground_ = std::make_unique<TerrainGround>(settings_.gridSize, settings_.maxLevel, dems);
+    ground_ = std::make_shared<TerrainGround>(settings_.gridSize, settings_.maxLevel, dems);
     // No sources, no threads: the pool starts only when there is something to load (a drape
     // added later starts it then).
     jobs::ThreadPool* pool = dems.empty() && images.empty() ? nullptr : &services.jobs();
@@ -490,11 +490,22 @@ std::string TerrainLayer::status() const {
     return s.str();
 }
 
-std::optional<double> TerrainLayer::heightAt(double lonDeg, double latDeg) const {
-    if (!ground_) return std::nullopt;
-    auto h = ground_->heightAt(lonDeg, latDeg);
-    if (h) *h *= settings_.verticalExaggeration;
+/// The ground's height as drawn: the DEMs' height times the exaggeration.
+static std::optional<double> exaggeratedHeight(const TerrainGround* ground, double exaggeration, double lonDeg, double latDeg) {
+    if (!ground) return std::nullopt;
+    auto h = ground->heightAt(lonDeg, latDeg);
+    if (h) *h *= exaggeration;
     return h;
+}
+
+scene::GroundHeightFn TerrainLayer::groundSnapshot() const {
+    return [ground = ground_, ex = settings_.verticalExaggeration](double lonDeg, double latDeg) {
+        return exaggeratedHeight(ground.get(), ex, lonDeg, latDeg);
+    };
+}
+
+std::optional<double> TerrainLayer::heightAt(double lonDeg, double latDeg) const {
+    return exaggeratedHeight(ground_.get(), settings_.verticalExaggeration, lonDeg, latDeg);
 }
 
 

@@ -128,6 +128,9 @@ public:
     std::optional<double> groundHeightAt(double lonDeg, double latDeg) const override { return heightAt(lonDeg, latDeg); }
     /// The answers above change only with the vertical exaggeration.
     uint64_t groundVersion() const override { return groundChanges_; }
+    /// The same heights from any thread (TerrainGround locks its cache), with the exaggeration
+    /// of now.
+    scene::GroundHeightFn groundSnapshot() const override;
     /// Problems met while opening sources and loading tiles.
     const std::vector<std::string>& errors() const { return errors_; }
 
@@ -168,7 +171,7 @@ private:
     TerrainSettings settings_;
     std::vector<std::string> errors_;
     std::unique_ptr<globe::TerrainTiles> tiles_;
-    std::unique_ptr<TerrainGround> ground_;   ///< heightAt's own DEM reads
+    std::shared_ptr<TerrainGround> ground_;   ///< heightAt's own DEM reads (shared with snapshots)
     uint64_t groundChanges_ = 0;
     std::unique_ptr<globe::TileSelector> selector_;
     render::RenderServices services_;

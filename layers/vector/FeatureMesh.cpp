@@ -190,11 +190,11 @@ MeshGround::MeshGround(const VectorContent& content, const ContentStyles& styles
             first_.push_back(first_.back() + features[i].coords.size());
         }
     }
-    heights_.resize(first_.back(), 0.0f);
 }
 
 bool MeshGround::sample(const HeightFn& ground, size_t maxSamples) {
     size_t budget = maxSamples;
+    heights_.resize(first_.back(), 0.0f);
     while (next_ < heights_.size() && budget > 0) {
         while (first_[nextFeature_ + 1] <= next_) ++nextFeature_;
         const auto [l, i] = features_[nextFeature_];

@@ -8,8 +8,8 @@
 // (Antarctica) is left to the drape: its ring alone cannot say which cap it bounds in 3-D.
 //
 // Heights (metres above the ellipsoid, in the terrain's datum): g(v) is the ground under a
-// vertex (MeshGround, sampled on the main thread: the scene's ground query is not for
-// workers), z(v) the vertex's own Z (0 without one). The surface is at s(v) = g(v) ("clamped"),
+// vertex (MeshGround, sampled on the pool from the scene's ground snapshot), z(v) the vertex's
+// own Z (0 without one). The surface is at s(v) = g(v) ("clamped"),
 // g(v) + z(v) ("relative") or z(v) ("absolute"). An extruded polygon's roof is flat at
 // max s(v) + height; its walls go down to min g(v) less a skirt (a tenth of the building's
 // height, at least kSkirtMetres), so that no gap opens under a wall where the terrain drawn,
@@ -54,21 +54,23 @@ inline constexpr double kMaxEdgeDeg = 0.1;       ///< ~11 km: a chord sags < 2.5
 /// Whether a feature with this style is drawn as a mesh in this mode (else: draped, or strokes).
 bool drawnAsMesh(const Feature& feature, const FeatureStyle& style, AltitudeMode mode);
 
-/// The ground under every vertex of the features drawn as meshes, sampled a slice at a time on
-/// the thread that may ask the ground (the main thread), until done.
+/// The ground under every vertex of the features drawn as meshes, sampled a slice at a time
+/// (any thread; one at a time).
 class MeshGround {
 public:
     using HeightFn = std::function<std::optional<double>(double lonDeg, double latDeg)>;
 
     MeshGround() = default;
-    /// Lists the features drawn as meshes (every one, whatever its time).
+    /// Lists the features drawn as meshes (every one, whatever its time). `content` must outlive
+    /// the sampling.
     MeshGround(const VectorContent& content, const ContentStyles& styles, AltitudeMode mode);
 
     /// Samples up to `maxSamples` more vertices; true when every vertex has its ground. Where the
     /// ground is unknown (no terrain), 0: the ellipsoid.
     bool sample(const HeightFn& ground, size_t maxSamples);
-    bool done() const { return next_ >= heights_.size(); }
-    size_t samples() const { return heights_.size(); }
+    bool done() const { return next_ >= first_.back(); }
+    /// The vertices to sample.
+    size_t samples() const { return first_.back(); }
 
     /// The features (layer, index) in the order sampled.
     const std::vector<std::pair<uint32_t, uint32_t>>& features() const { return features_; }

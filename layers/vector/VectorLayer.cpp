@@ -49,21 +49,27 @@ void VectorLayer::onPrepare(const render::RenderServices& services) {
     job_ = services.jobs().submit(0.0, jobs::CancelToken{}, read);
 }
 
-void VectorLayer::poll() {
-    if (meshLoading_ && meshJob_.ready()) {
-        meshLoading_ = false;
-        try {
-            mesh_ = meshJob_.get();
-        } catch (const std::exception&) {
-            // Cancelled: a newer build follows.
-        }
-        meshJob_ = {};
-        if (mesh_) {
-            for (const std::string& w : mesh_->warnings) log::warn("vector layer \"", settings_.name, "\": ", w);
-            if (!meshRenderer_ && !mesh_->chunks.empty()) meshRenderer_ = std::make_unique<MeshRenderer>(services_);
-            if (meshRenderer_) meshRenderer_->setMesh(mesh_);
-        }
+void VectorLayer::pollMeshes() {
+    if (!meshLoading_ || !meshJob_.ready()) return;
+    meshLoading_ = false;
+    MeshBuild build;
+    try {
+        build = meshJob_.get();
+    } catch (const std::exception&) {
+        // Cancelled: a newer build follows.
     }
+    meshJob_ = {};
+    if (!build.mesh) return;
+    // The ground sampled for the features of now is kept for the next builds (time, scale).
+    if (build.generation == meshGeneration_) ground_ = std::move(build.ground);
+    mesh_ = std::move(build.mesh);
+    for (const std::string& w : mesh_->warnings) log::warn("vector layer \"", settings_.name, "\": ", w);
+    if (!meshRenderer_ && !mesh_->chunks.empty()) meshRenderer_ = std::make_unique<MeshRenderer>(services_);
+    if (meshRenderer_) meshRenderer_->setMesh(mesh_);
+}
+
+void VectorLayer::poll() {
+    pollMeshes();
     if (!loading_ || !job_.ready()) return;
     loading_ = false;
     Result<Loaded> r = makeError("vector: the read was cancelled");
@@ -95,7 +101,7 @@ void VectorLayer::update(const scene::FrameContext& frame) {
     const uint64_t shown = vector::shownAtSignature(*content_, time_);
     if (shown != shownSignature_) {
         shownSignature_ = shown;
-        meshStale_ = ground_ != nullptr;
+        meshStale_ = meshFeatures_ > 0;
         republish();
     }
     updateMeshes(frame);
@@ -104,11 +110,13 @@ void VectorLayer::update(const scene::FrameContext& frame) {
 
 void VectorLayer::restartMeshes() {
     ground_.reset();
+    ++meshGeneration_;
     meshStale_ = false;
+    meshFeatures_ = 0;
     drapeStyles_ = styles_;
     drapesSomething_ = true;
     if (!content_) return;
-    auto ground = std::make_shared<vector::MeshGround>(*content_, *styles_, settings_.altitude);
+    const vector::MeshGround features(*content_, *styles_, settings_.altitude);
     if (settings_.altitude != vector::AltitudeMode::Clamped) {
         uint64_t flat = 0;
         for (const vector::ContentLayer& layer : content_->layers)
@@ -119,7 +127,8 @@ void VectorLayer::restartMeshes() {
             log::warn("vector layer \"", settings_.name, "\": ", meshWarning_);
         }
     }
-    if (ground->features().empty()) {
+    meshFeatures_ = features.features().size();
+    if (meshFeatures_ == 0) {
         // Nothing to build; a mesh drawn before (a rule switched off) goes.
         if (mesh_) {
             mesh_ = std::make_shared<const vector::FeatureMesh>();
@@ -129,32 +138,41 @@ void VectorLayer::restartMeshes() {
     }
     // The drape leaves out what the meshes draw.
     auto drapeStyles = std::make_shared<vector::ContentStyles>(*styles_);
-    for (const auto& [l, i] : ground->features()) (*drapeStyles)[l][i].visible = false;
-    drapesSomething_ = ground->features().size() < content_->featureCount;
+    for (const auto& [l, i] : features.features()) (*drapeStyles)[l][i].visible = false;
+    drapesSomething_ = meshFeatures_ < content_->featureCount;
     drapeStyles_ = std::move(drapeStyles);
-    ground_ = std::move(ground);
+    meshStale_ = true;
 }
 
 void VectorLayer::updateMeshes(const scene::FrameContext& frame) {
-    if (!ground_) return;
-    if (ground_->done() && frame.groundVersion != groundVersion_) {
+    if (meshFeatures_ == 0) return;
+    if (frame.groundVersion != groundVersion_) {
         // The ground changed (the terrain's exaggeration): sample it again.
-        ground_ = std::make_shared<vector::MeshGround>(*content_, *styles_, settings_.altitude);
-    }
-    if (!ground_->done()) {
         groundVersion_ = frame.groundVersion;
-        if (ground_->sample(frame.groundHeight, kGroundSamplesPerFrame)) meshStale_ = true;
+        ground_.reset();
+        ++meshGeneration_;
+        meshStale_ = true;
     }
-    if (!meshStale_ || meshLoading_ || !ground_->done()) return;
+    if (!meshStale_ || meshLoading_) return;
     meshStale_ = false;
     meshLoading_ = true;
-    // The sampled ground is read-only from here on; a restart makes a new one.
+    // The ground is sampled on the pool (once; the next builds reuse it), from a snapshot that
+    // any thread may ask; the content and styles are shared read-only.
     const vector::MeshOptions options{.mode = settings_.altitude, .extrusionScale = settings_.extrusionScale, .time = time_};
+    scene::GroundHeightFn groundFn;
+    if (!ground_ && frame.groundSnapshot) groundFn = frame.groundSnapshot();
     meshJob_ = services_.jobs().submit(
         0.0, jobs::CancelToken{},
-        [content = content_, styles = styles_, ground = std::shared_ptr<const vector::MeshGround>(ground_), options](
-            const jobs::CancelToken& cancel) {
-            return std::make_shared<const vector::FeatureMesh>(vector::buildFeatureMesh(*content, *styles, *ground, options, &cancel));
+        [content = content_, styles = styles_, ground = ground_, groundFn = std::move(groundFn), options,
+         generation = meshGeneration_](const jobs::CancelToken& cancel) {
+            MeshBuild build{ground, nullptr, generation};
+            if (!build.ground) {
+                auto sampled = std::make_shared<vector::MeshGround>(*content, *styles, options.mode);
+                sampled->sample(groundFn, sampled->samples());
+                build.ground = std::move(sampled);
+            }
+            build.mesh = std::make_shared<const vector::FeatureMesh>(vector::buildFeatureMesh(*content, *styles, *build.ground, options, &cancel));
+            return build;
         });
 }
 
@@ -256,7 +274,7 @@ std::vector<scene::LayerSetting> VectorLayer::liveSettings() const {
          .min = kOpacityRange.min, .max = kOpacityRange.max},
     };
     const vector::VectorStyle& style = settings_.content.style;
-    if (ground_ || mesh_)
+    if (meshFeatures_ > 0 || mesh_)
         out.push_back({.name = "extrusionScale", .label = "Extrusion scale", .kind = Kind::Number, .value = settings_.extrusionScale,
                        .min = kExtrusionScaleRange.min, .max = kExtrusionScaleRange.max});
     if (style.namesLabel())
@@ -275,7 +293,7 @@ bool VectorLayer::setParameter(std::string_view name, double value) {
         return true;
     }
     if (name == "extrusionScale" && kExtrusionScaleRange.contains(value)) {
-        if (value != settings_.extrusionScale) meshStale_ = ground_ != nullptr;
+        if (value != settings_.extrusionScale) meshStale_ = meshFeatures_ > 0;
         settings_.extrusionScale = value;
         return true;
     }
@@ -309,7 +327,7 @@ std::string VectorLayer::status() const {
       << " vertices";
     if (!content_->warnings.empty()) s << ", " << content_->warnings.size() << " warning(s)";
     if (!labelError_.empty()) s << ", no labels: " << labelError_;
-    if (ground_ && !ground_->done()) s << ", sampling the ground under " << ground_->features().size() << " mesh feature(s)";
+    if (meshLoading_ && !mesh_) s << ", building " << meshFeatures_ << " mesh feature(s)";
     if (mesh_ && !mesh_->chunks.empty())
         s << ", " << mesh_->features << " meshes (" << mesh_->triangles << " triangles, " << (meshRenderer_ ? meshRenderer_->chunksDrawn() : 0)
           << " of " << mesh_->chunks.size() << " chunks drawn)";

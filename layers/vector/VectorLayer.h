@@ -80,8 +80,6 @@ public:
     static constexpr scene::SettingRange kOpacityRange{0.0, 1.0};
     static constexpr scene::SettingRange kMaxLevelRange{0.0, 22.0};
     static constexpr scene::SettingRange kExtrusionScaleRange{0.0, 100.0};
-    /// Ground samples per frame for the meshes (MeshGround): a few milliseconds.
-    static constexpr size_t kGroundSamplesPerFrame = 50'000;
 
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
@@ -121,7 +119,8 @@ public:
 
     // LayerStats
     uint64_t gpuBytes() const override;
-    uint64_t cacheBytes() const override { return content_ ? content_->bytes : 0; }
+    /// The features read, and the meshes (kept on the CPU after their upload).
+    uint64_t cacheBytes() const override { return (content_ ? content_->bytes : 0) + (mesh_ ? mesh_->bytes() : 0); }
     uint64_t itemsDrawn() const override { return content_ ? content_->featureCount : 0; }
 
     /// What was read; null while loading or after an error.
@@ -147,11 +146,14 @@ private:
     void onPrepare(const render::RenderServices& services) override;
     /// A new drape for the current content, styles and time (and new meshes).
     void republish();
-    /// The features drawn as meshes changed (new content or styles): sample their ground again.
+    /// The features drawn as meshes changed (new content or styles): build them again, on
+    /// ground sampled again.
     void restartMeshes();
-    /// Samples the ground, starts the mesh build, takes a built mesh.
+    /// Starts a mesh build when one is needed (the ground changed, the time, the scale).
     void updateMeshes(const scene::FrameContext& frame);
-    bool meshPending() const { return (ground_ && !ground_->done()) || meshLoading_ || meshStale_; }
+    /// Takes a finished build.
+    void pollMeshes();
+    bool meshPending() const { return meshLoading_ || meshStale_; }
     /// Gathers this frame's labels and submits them to the scene's shared board.
     void updateLabels(const scene::FrameContext& frame);
     bool drawingLabels() const { return labels_ && settings_.labels && content_; }
@@ -175,16 +177,25 @@ private:
     std::shared_ptr<vector::LabelBoard> ownBoard_, board_;
     std::string labelError_;
 
-    // Meshes: the ground under their vertices, the build on the pool, the renderer.
+    // Meshes: the features drawn as meshes, the ground under their vertices (sampled on the
+    // pool by the first build, kept until the ground or the features change), the build, the
+    // renderer.
+    struct MeshBuild {
+        std::shared_ptr<const vector::MeshGround> ground;
+        std::shared_ptr<const vector::FeatureMesh> mesh;
+        uint64_t generation = 0;   ///< the features and ground it was built for
+    };
     render::RenderServices services_;
-    std::shared_ptr<vector::MeshGround> ground_;
+    size_t meshFeatures_ = 0;
+    uint64_t meshGeneration_ = 0;   ///< counts changes of the mesh features or their ground
+    std::shared_ptr<const vector::MeshGround> ground_;
     /// styles_ with the features drawn as meshes hidden: what the drape paints.
     std::shared_ptr<const vector::ContentStyles> drapeStyles_;
     bool drapesSomething_ = true;
     uint64_t groundVersion_ = 0;
-    bool meshStale_ = false;     ///< a build is needed (sampling done)
+    bool meshStale_ = false;     ///< a build is needed
     bool meshLoading_ = false;
-    jobs::Job<std::shared_ptr<const vector::FeatureMesh>> meshJob_;
+    jobs::Job<MeshBuild> meshJob_;
     std::shared_ptr<const vector::FeatureMesh> mesh_;
     std::unique_ptr<MeshRenderer> meshRenderer_;
     std::string meshWarning_;
