@@ -23,9 +23,9 @@ struct LocalPlane {
     glm::dvec2 lonLat(const glm::dvec2& p) const { return {lon0 + p.x / k, lat0 + p.y}; }
 };
 
-uint32_t packColor(const glm::dvec3& srgb) {
+uint32_t packColor(const glm::dvec3& srgb, double opacity = 1.0) {
     const auto byte = [](double v) { return uint32_t(std::lround(std::clamp(v, 0.0, 1.0) * 255.0)); };
-    return byte(srgb.r) | (byte(srgb.g) << 8) | (byte(srgb.b) << 16) | (255u << 24);
+    return byte(srgb.r) | (byte(srgb.g) << 8) | (byte(srgb.b) << 16) | (byte(opacity) << 24);
 }
 
 uint32_t packNormal(const glm::dvec3& n) {
@@ -41,11 +41,14 @@ struct ChunkWriter {
     glm::dvec3& lo;
     glm::dvec3& hi;
 
-    uint32_t vertex(const glm::dvec3& ecef, const glm::dvec3& normal, uint32_t color, uint32_t id) {
+    glm::vec3 relative(const glm::dvec3& ecef) {
         const glm::dvec3 rel = ecef - chunk.origin;
         lo = glm::min(lo, rel);
         hi = glm::max(hi, rel);
-        chunk.vertices.push_back({glm::vec3(rel), packNormal(normal), color, id});
+        return glm::vec3(rel);
+    }
+    uint32_t vertex(const glm::dvec3& ecef, const glm::dvec3& normal, uint32_t color, uint32_t id) {
+        chunk.vertices.push_back({relative(ecef), packNormal(normal), color, id});
         return uint32_t(chunk.vertices.size() - 1);
     }
     /// A triangle facing `normal` (its winding made so), or both faces.
@@ -157,6 +160,29 @@ void emitSolid(ChunkWriter& w, const PolygonInput& in, const LocalPlane& plane, 
     }
 }
 
+/// A line's parts as segments at the heights `surfaceAt` gives each coordinate, each cut into
+/// pieces no longer than kMaxEdgeDeg (lon/lat and height interpolated).
+template <typename SurfaceAt>
+void emitLines(ChunkWriter& w, const Feature& f, const SurfaceAt& surfaceAt, const FeatureStyle& style, uint32_t id) {
+    const auto& ell = globe::Ellipsoid::wgs84();
+    const uint32_t color = packColor(style.color, style.opacity);
+    for (size_t p = 0; p < f.parts.size(); ++p) {
+        const uint32_t begin = f.parts[p], end = f.partEnd(p);
+        for (uint32_t c = begin; c + 1 < end && c + 1 < f.coords.size(); ++c) {
+            const glm::dvec3 a(glm::dvec2(f.coords[c]), surfaceAt(c)), b(glm::dvec2(f.coords[c + 1]), surfaceAt(c + 1));
+            const double k = std::cos(glm::radians(0.5 * (a.y + b.y)));
+            const int n = int(std::clamp(std::ceil(std::max(std::abs(b.x - a.x) * k, std::abs(b.y - a.y)) / kMaxEdgeDeg), 1.0, 4096.0));
+            glm::vec3 from = w.relative(ell.toEcef(a.x, a.y, a.z));
+            for (int i = 1; i <= n; ++i) {
+                const glm::dvec3 q = glm::mix(a, b, double(i) / n);
+                const glm::vec3 to = w.relative(ell.toEcef(q.x, q.y, q.z));
+                w.chunk.segments.push_back({from, color, to, float(style.widthPx), id});
+                from = to;
+            }
+        }
+    }
+}
+
 }  // namespace
 
 std::optional<AltitudeMode> parseAltitudeMode(std::string_view name) {
@@ -176,7 +202,9 @@ const char* altitudeModeName(AltitudeMode mode) {
 }
 
 bool drawnAsMesh(const Feature& feature, const FeatureStyle& style, AltitudeMode mode) {
-    if (feature.kind != GeometryKind::Polygons || feature.polygons.empty()) return false;
+    if (feature.coords.empty()) return false;
+    if (feature.kind != GeometryKind::Polygons) return mode != AltitudeMode::Clamped;
+    if (feature.polygons.empty()) return false;
     if (std::any_of(feature.containsPole.begin(), feature.containsPole.end(), [](int8_t p) { return p != 0; })) return false;
     return style.extrudeM.has_value() || mode != AltitudeMode::Clamped;
 }
@@ -210,7 +238,9 @@ bool MeshGround::sample(const HeightFn& ground, size_t maxSamples) {
 
 uint64_t FeatureMesh::bytes() const {
     uint64_t b = 0;
-    for (const MeshChunk& c : chunks) b += c.vertices.size() * sizeof(shader::VectorMeshVertex) + c.indices.size() * 4;
+    for (const MeshChunk& c : chunks)
+        b += c.vertices.size() * sizeof(shader::VectorMeshVertex) + c.indices.size() * 4 +
+             c.segments.size() * sizeof(shader::VectorSegment) + c.markers.size() * sizeof(shader::VectorMarker);
     return b;
 }
 
@@ -262,10 +292,16 @@ FeatureMesh buildFeatureMesh(const VectorContent& content, const ContentStyles& 
         ChunkWriter w{out.chunks[it->second], bounds[it->second].first, bounds[it->second].second};
         const uint32_t id = uint32_t(layerBase[l] + i + 1);
         const uint32_t color = packColor(style.fill);
-        const std::optional<double> height =
-            style.extrudeM ? std::optional(std::max(0.0, *style.extrudeM * options.extrusionScale)) : std::nullopt;
+        const bool extruded = style.extrudeM.has_value();
+        const double height = extruded ? std::max(0.0, *style.extrudeM * options.extrusionScale) : 0.0;
         const size_t verticesBefore = w.chunk.vertices.size(), indicesBefore = w.chunk.indices.size();
-        for (size_t p = 0; p < f.polygons.size(); ++p) {
+        const size_t segmentsBefore = w.chunk.segments.size(), markersBefore = w.chunk.markers.size();
+        if (f.kind == GeometryKind::Lines) emitLines(w, f, surfaceAt, style, id);
+        if (f.kind == GeometryKind::Points)
+            for (size_t c = 0; c < f.coords.size(); ++c)
+                w.chunk.markers.push_back({w.relative(ell.toEcef(f.coords[c].x, f.coords[c].y, surfaceAt(c))),
+                                           packColor(style.color, style.opacity), float(style.iconSizePx), id});
+        for (size_t p = 0; f.kind == GeometryKind::Polygons && p < f.polygons.size(); ++p) {
             const LocalPlane plane(f.coords[f.parts[f.polygons[p]]].x, f.coords[f.parts[f.polygons[p]]].y);
             in.plane.clear();
             in.surface.clear();
@@ -292,8 +328,8 @@ FeatureMesh buildFeatureMesh(const VectorContent& content, const ContentStyles& 
                 continue;
             }
             out.forced += stats.forced;
-            if (height) {
-                const double roof = *std::max_element(in.surface.begin(), in.surface.end()) + *height;
+            if (extruded) {
+                const double roof = *std::max_element(in.surface.begin(), in.surface.end()) + height;
                 const double low = *std::min_element(in.ground.begin(), in.ground.end());
                 const double bottom = std::min(low, roof) - std::max(kSkirtMetres, 0.1 * (roof - low));
                 emitSolid(w, in, plane, *tris, roof, bottom, color, id);
@@ -301,14 +337,17 @@ FeatureMesh buildFeatureMesh(const VectorContent& content, const ContentStyles& 
                 emitSurface(w, in, plane, *tris, color, id);
             }
         }
-        if (w.chunk.vertices.size() > verticesBefore) ++out.features;
+        const size_t segments = w.chunk.segments.size() - segmentsBefore, markers = w.chunk.markers.size() - markersBefore;
+        if (w.chunk.vertices.size() > verticesBefore || segments > 0 || markers > 0) ++out.features;
         out.triangles += (w.chunk.indices.size() - indicesBefore) / 3;
+        out.segments += segments;
+        out.markers += markers;
     }
     // Bounding spheres; chunks left empty are dropped.
     std::vector<MeshChunk> kept;
     for (size_t c = 0; c < out.chunks.size(); ++c) {
         MeshChunk& chunk = out.chunks[c];
-        if (chunk.indices.empty()) continue;
+        if (chunk.empty()) continue;
         chunk.center = chunk.origin + 0.5 * (bounds[c].first + bounds[c].second);
         chunk.radius = 0.5 * glm::length(bounds[c].second - bounds[c].first);
         kept.push_back(std::move(chunk));

@@ -1,10 +1,11 @@
 #pragma once
-// Polygons as 3-D meshes: extruded buildings (walls and a flat roof, lit by the sun, their base
-// on the ground) and polygons at their own altitude (relative to the ground or absolute), for
-// the GPU. No Vulkan: the vertices are the shader's (shared/VectorTypes.h: VectorMeshVertex).
+// Features in 3-D for the GPU: extruded buildings (walls and a flat roof, lit by the sun, their
+// base on the ground), polygons at their own altitude (relative to the ground or absolute) as
+// surfaces, and lines and points at altitude as screen-width segments and markers. No Vulkan:
+// the vertices and instances are the shaders' (shared/VectorTypes.h).
 //
-// Which polygons: every polygon whose style extrudes it ("extrude"), whatever the altitude
-// mode, and in the "relative" and "absolute" modes every polygon. A polygon around a pole
+// Which features: every polygon whose style extrudes it ("extrude"), whatever the altitude
+// mode, and in the "relative" and "absolute" modes every feature. A polygon around a pole
 // (Antarctica) is left to the drape: its ring alone cannot say which cap it bounds in 3-D.
 //
 // Heights (metres above the ellipsoid, in the terrain's datum): g(v) is the ground under a
@@ -15,7 +16,7 @@
 // height, at least kSkirtMetres), so that no gap opens under a wall where the terrain drawn,
 // coarser than the DEM, lies lower than the ground sampled. A polygon at altitude without
 // extrusion is its surface s(v), cut into triangles no longer than kMaxEdgeDeg so that it
-// follows the Earth's curve.
+// follows the Earth's curve; a line's segments are cut the same way, heights interpolated.
 //
 // Meshes are cut into chunks (the level-kChunkLevel tile of a polygon's first vertex, and the
 // style's camera range): each chunk has an ECEF origin (double) and float vertices relative to
@@ -51,7 +52,7 @@ inline constexpr uint32_t kChunkLevel = 12;      ///< chunks: tiles of 0.044 deg
 inline constexpr double kSkirtMetres = 2.0;
 inline constexpr double kMaxEdgeDeg = 0.1;       ///< ~11 km: a chord sags < 2.5 m below the curve
 
-/// Whether a feature with this style is drawn as a mesh in this mode (else: draped, or strokes).
+/// Whether a feature with this style is drawn in 3-D in this mode (else: draped).
 bool drawnAsMesh(const Feature& feature, const FeatureStyle& style, AltitudeMode mode);
 
 /// The ground under every vertex of the features drawn as meshes, sampled a slice at a time
@@ -101,11 +102,14 @@ struct MeshChunk {
     double minRangeM = 0.0, maxRangeM = 0.0;   ///< the camera range it is drawn within
     std::vector<shader::VectorMeshVertex> vertices;
     std::vector<uint32_t> indices;
+    std::vector<shader::VectorSegment> segments;   ///< lines at altitude
+    std::vector<shader::VectorMarker> markers;     ///< points at altitude
+    bool empty() const { return indices.empty() && segments.empty() && markers.empty(); }
 };
 
 struct FeatureMesh {
     std::vector<MeshChunk> chunks;
-    uint64_t features = 0, triangles = 0;
+    uint64_t features = 0, triangles = 0, segments = 0, markers = 0;
     uint64_t forced = 0;   ///< roof triangles of self-intersecting polygons (Triangulate.h)
     std::vector<std::string> warnings;
     uint64_t bytes() const;

@@ -4,91 +4,158 @@
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
 #include "engine/gpu/Uploader.h"
-#include "engine/render/RenderContext.h"
 #include "globe/Culling.h"
 #include "shared/FrameUniforms.h"
 
+#include "spv/vector/marker.frag.h"
+#include "spv/vector/marker.vert.h"
 #include "spv/vector/mesh.frag.h"
 #include "spv/vector/mesh.vert.h"
+#include "spv/vector/segment.frag.h"
+#include "spv/vector/segment.vert.h"
 
 #include <cstddef>
 
 namespace orbis::layers {
+namespace {
 
-MeshRenderer::MeshRenderer(const render::RenderServices& services) : device_(services.device) {
-    gpu::Device& device = *services.device;
-    const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(shader::VectorMeshPush)};
-    const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout};
-    layout_ = gpu::createPipelineLayout(device, setLayouts, {&push, 1});
-    gpu::GraphicsPipelineDesc d;
-    d.vertexSpirv = kSpv_vector_mesh_vert;
-    d.fragmentSpirv = kSpv_vector_mesh_frag;
-    d.layout = layout_.vk();
-    using shader::VectorMeshVertex;
-    d.bindings = {{0, sizeof(VectorMeshVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-    d.attributes = {
-        {shader::kMeshInputPosition, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(VectorMeshVertex, position)},
-        {shader::kMeshInputNormal, 0, VK_FORMAT_R8G8B8A8_SNORM, offsetof(VectorMeshVertex, normal)},
-        {shader::kMeshInputColor, 0, VK_FORMAT_R8G8B8A8_UNORM, offsetof(VectorMeshVertex, color)},
-        {shader::kMeshInputFeature, 0, VK_FORMAT_R32_UINT, offsetof(VectorMeshVertex, feature)},
-    };
-    // Solids are closed and wound outwards; a surface at altitude has both faces (FeatureMesh).
-    d.cullMode = VK_CULL_MODE_BACK_BIT;
-    d.colorFormat = services.colorFormat;
-    d.depthFormat = services.depthFormat;
-    d.name = "vector meshes";
-    pipeline_ = gpu::createGraphicsPipeline(device, d);
+constexpr VkShaderStageFlags kPushStages = VK_SHADER_STAGE_VERTEX_BIT;
+
+/// Concatenates one member vector of every chunk into `buffer` (made to fit).
+template <typename T, typename Member>
+void upload(const render::RecordContext& rc, gpu::Device& device, const vector::FeatureMesh& mesh, Member member,
+            VkBufferUsageFlags usage, VkPipelineStageFlags2 stage, VkAccessFlags2 access, const char* name, gpu::Buffer& buffer) {
+    size_t count = 0;
+    for (const vector::MeshChunk& c : mesh.chunks) count += (c.*member).size();
+    buffer = {};
+    if (count == 0) return;
+    // Room for kSlack more elements, never read: the synchronization validation of the Debian
+    // layers (1.3.239) takes an instanced draw of 6 vertices as reading 6 elements of an
+    // instance-rate buffer, past the end of a buffer of fewer, and reports the neighbouring
+    // allocation's next use as a hazard.
+    constexpr size_t kSlack = 6;
+    buffer = gpu::Buffer(device, (count + kSlack) * sizeof(T), usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::GpuOnly,
+                         name);
+    VkDeviceSize offset = 0;
+    for (const vector::MeshChunk& c : mesh.chunks) {
+        const auto& items = c.*member;
+        if (items.empty()) continue;
+        rc.uploader->toBuffer(rc.cmd, buffer, items.data(), items.size() * sizeof(T), offset);
+        offset += items.size() * sizeof(T);
+    }
+    gpu::bufferBarrier(rc.cmd, buffer, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, stage, access);
 }
 
-void MeshRenderer::setMesh(std::shared_ptr<const vector::FeatureMesh> mesh) { pending_ = std::move(mesh); }
+}  // namespace
+
+MeshRenderer::MeshRenderer(const render::RenderServices& services) : services_(services) {
+    const VkPushConstantRange push{kPushStages, 0, sizeof(shader::VectorMeshPush)};
+    const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout};
+    layout_ = gpu::createPipelineLayout(*services.device, setLayouts, {&push, 1});
+}
+
+void MeshRenderer::setMesh(std::shared_ptr<const vector::FeatureMesh> mesh) {
+    gpu::GraphicsPipelineDesc d;
+    d.layout = layout_.vk();
+    d.colorFormat = services_.colorFormat;
+    d.depthFormat = services_.depthFormat;
+    bool triangles = false, segments = false, markers = false;
+    for (const vector::MeshChunk& c : mesh->chunks) {
+        triangles = triangles || !c.indices.empty();
+        segments = segments || !c.segments.empty();
+        markers = markers || !c.markers.empty();
+    }
+    if (triangles && !meshPipeline_) {
+        using shader::VectorMeshVertex;
+        d.vertexSpirv = kSpv_vector_mesh_vert;
+        d.fragmentSpirv = kSpv_vector_mesh_frag;
+        d.bindings = {{0, sizeof(VectorMeshVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
+        d.attributes = {
+            {shader::kMeshInputPosition, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(VectorMeshVertex, position)},
+            {shader::kMeshInputNormal, 0, VK_FORMAT_R8G8B8A8_SNORM, offsetof(VectorMeshVertex, normal)},
+            {shader::kMeshInputColor, 0, VK_FORMAT_R8G8B8A8_UNORM, offsetof(VectorMeshVertex, color)},
+            {shader::kMeshInputFeature, 0, VK_FORMAT_R32_UINT, offsetof(VectorMeshVertex, feature)},
+        };
+        // Solids are closed and wound outwards; a surface at altitude has both faces (FeatureMesh).
+        d.cullMode = VK_CULL_MODE_BACK_BIT;
+        d.name = "vector meshes";
+        meshPipeline_ = gpu::createGraphicsPipeline(*services_.device, d);
+    }
+    // Segments and markers: screen quads, blended over what is drawn, hidden by what is nearer.
+    d.cullMode = VK_CULL_MODE_NONE;
+    d.alphaBlend = true;
+    d.depthWrite = false;
+    if (segments && !segmentPipeline_) {
+        using shader::VectorSegment;
+        d.vertexSpirv = kSpv_vector_segment_vert;
+        d.fragmentSpirv = kSpv_vector_segment_frag;
+        d.bindings = {{0, sizeof(VectorSegment), VK_VERTEX_INPUT_RATE_INSTANCE}};
+        d.attributes = {
+            {shader::kSegmentInputA, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(VectorSegment, a)},
+            {shader::kSegmentInputColor, 0, VK_FORMAT_R8G8B8A8_UNORM, offsetof(VectorSegment, color)},
+            {shader::kSegmentInputB, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(VectorSegment, b)},
+            {shader::kSegmentInputWidth, 0, VK_FORMAT_R32_SFLOAT, offsetof(VectorSegment, widthPx)},
+            {shader::kSegmentInputFeature, 0, VK_FORMAT_R32_UINT, offsetof(VectorSegment, feature)},
+        };
+        d.name = "vector segments";
+        segmentPipeline_ = gpu::createGraphicsPipeline(*services_.device, d);
+    }
+    if (markers && !markerPipeline_) {
+        using shader::VectorMarker;
+        d.vertexSpirv = kSpv_vector_marker_vert;
+        d.fragmentSpirv = kSpv_vector_marker_frag;
+        d.bindings = {{0, sizeof(VectorMarker), VK_VERTEX_INPUT_RATE_INSTANCE}};
+        d.attributes = {
+            {shader::kMarkerInputPosition, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(VectorMarker, position)},
+            {shader::kMarkerInputColor, 0, VK_FORMAT_R8G8B8A8_UNORM, offsetof(VectorMarker, color)},
+            {shader::kMarkerInputSize, 0, VK_FORMAT_R32_SFLOAT, offsetof(VectorMarker, sizePx)},
+            {shader::kMarkerInputFeature, 0, VK_FORMAT_R32_UINT, offsetof(VectorMarker, feature)},
+        };
+        d.name = "vector markers";
+        markerPipeline_ = gpu::createGraphicsPipeline(*services_.device, d);
+    }
+    pending_ = std::move(mesh);
+}
 
 void MeshRenderer::recordTransfers(const render::RecordContext& rc) {
     if (!pending_) return;
     mesh_ = std::move(pending_);
     pending_.reset();
     ranges_.clear();
-    size_t vertexCount = 0, indexCount = 0;
+    Range next;
     for (const vector::MeshChunk& c : mesh_->chunks) {
-        ranges_.push_back({uint32_t(indexCount), uint32_t(c.indices.size()), int32_t(vertexCount)});
-        vertexCount += c.vertices.size();
-        indexCount += c.indices.size();
+        Range r{next.firstIndex, uint32_t(c.indices.size()), next.vertexOffset,
+                next.firstSegment, uint32_t(c.segments.size()), next.firstMarker, uint32_t(c.markers.size())};
+        ranges_.push_back(r);
+        next.firstIndex += r.indexCount;
+        next.vertexOffset += int32_t(c.vertices.size());
+        next.firstSegment += r.segmentCount;
+        next.firstMarker += r.markerCount;
     }
-    const VkDeviceSize vbytes = vertexCount * sizeof(shader::VectorMeshVertex), ibytes = indexCount * sizeof(uint32_t);
-    if (vbytes == 0 || ibytes == 0) return;
     // New buffers each time (the old ones are retired once the frames using them are done).
-    vertices_ = gpu::Buffer(*device_, vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                            gpu::MemoryUsage::GpuOnly, "vector mesh vertices");
-    indices_ = gpu::Buffer(*device_, ibytes, VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                           gpu::MemoryUsage::GpuOnly, "vector mesh indices");
-    for (size_t i = 0; i < mesh_->chunks.size(); ++i) {
-        const vector::MeshChunk& c = mesh_->chunks[i];
-        rc.uploader->toBuffer(rc.cmd, vertices_, c.vertices.data(), c.vertices.size() * sizeof(shader::VectorMeshVertex),
-                              VkDeviceSize(ranges_[i].vertexOffset) * sizeof(shader::VectorMeshVertex));
-        rc.uploader->toBuffer(rc.cmd, indices_, c.indices.data(), c.indices.size() * sizeof(uint32_t),
-                              VkDeviceSize(ranges_[i].firstIndex) * sizeof(uint32_t));
-    }
-    gpu::bufferBarrier(rc.cmd, vertices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                       VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
-    gpu::bufferBarrier(rc.cmd, indices_, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                       VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_INDEX_READ_BIT);
+    gpu::Device& device = *services_.device;
+    using vector::MeshChunk;
+    upload<shader::VectorMeshVertex>(rc, device, *mesh_, &MeshChunk::vertices, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+                                     VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT,
+                                     "vector mesh vertices", vertices_);
+    upload<uint32_t>(rc, device, *mesh_, &MeshChunk::indices, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT,
+                     VK_ACCESS_2_INDEX_READ_BIT, "vector mesh indices", indices_);
+    upload<shader::VectorSegment>(rc, device, *mesh_, &MeshChunk::segments, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+                                  VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT,
+                                  "vector segments", segments_);
+    upload<shader::VectorMarker>(rc, device, *mesh_, &MeshChunk::markers, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+                                 VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT, "vector markers",
+                                 markers_);
 }
 
 void MeshRenderer::record(const render::RecordContext& rc) {
     chunksDrawn_ = 0;
-    if (!mesh_ || !vertices_ || !rc.frame || !rc.frame->camera) return;
+    if (!mesh_ || !rc.frame || !rc.frame->camera) return;
     const scene::Camera& camera = *rc.frame->camera;
-    const VkCommandBuffer cmd = rc.cmd;
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), shader::kFrameSet, 1, &rc.frameSet, 0, nullptr);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.vk());
-    const VkDeviceSize zero = 0;
-    const VkBuffer vb = vertices_.vk();
-    vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
-    vkCmdBindIndexBuffer(cmd, indices_.vk(), 0, VK_INDEX_TYPE_UINT32);
     const auto frustum = globe::ViewFrustum::perspective(camera.verticalFovRad(), rc.frame->aspect(), camera.nearPlane());
     const glm::dmat3 view(camera.viewRotation());
     const glm::dvec3 eye = camera.position();
-    shader::VectorMeshPush push{};
-    push.highlight = highlight_;
+    visible_.clear();
     for (size_t i = 0; i < mesh_->chunks.size(); ++i) {
         const vector::MeshChunk& c = mesh_->chunks[i];
         const double range = glm::length(c.center - eye);
@@ -96,11 +163,46 @@ void MeshRenderer::record(const render::RecordContext& rc) {
         if (range + c.radius < c.minRangeM || range - c.radius > c.maxRangeM) continue;
         if (globe::sphereBelowHorizon(eye, c.center, c.radius)) continue;
         if (!frustum.intersectsSphere(view * (c.center - eye), c.radius)) continue;
-        push.originFromEye = glm::vec3(c.origin - eye);   // double: large minus large
-        vkCmdPushConstants(cmd, layout_.vk(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(push), &push);
-        vkCmdDrawIndexed(cmd, ranges_[i].indexCount, 1, ranges_[i].firstIndex, ranges_[i].vertexOffset, 0);
-        ++chunksDrawn_;
+        visible_.push_back(uint32_t(i));
     }
+    chunksDrawn_ = uint32_t(visible_.size());
+    if (visible_.empty()) return;
+
+    const VkCommandBuffer cmd = rc.cmd;
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), shader::kFrameSet, 1, &rc.frameSet, 0, nullptr);
+    shader::VectorMeshPush push{};
+    push.highlight = highlight_;
+    const VkDeviceSize zero = 0;
+    // One kind at a time over the visible chunks: the triangles, then the segments, then the markers.
+    const auto each = [&](const gpu::Pipeline& pipeline, const gpu::Buffer& buffer, auto draw) {
+        if (!pipeline || !buffer) return;
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.vk());
+        const VkBuffer vb = buffer.vk();
+        vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
+        for (const uint32_t i : visible_) {
+            const Range& r = ranges_[i];
+            push.originFromEye = glm::vec3(mesh_->chunks[i].origin - eye);   // double: large minus large
+            if (!draw(r, /*check*/ true)) continue;
+            vkCmdPushConstants(cmd, layout_.vk(), kPushStages, 0, sizeof(push), &push);
+            draw(r, false);
+        }
+    };
+    if (indices_) vkCmdBindIndexBuffer(cmd, indices_.vk(), 0, VK_INDEX_TYPE_UINT32);
+    each(meshPipeline_, vertices_, [&](const Range& r, bool check) {
+        if (check) return r.indexCount > 0;
+        vkCmdDrawIndexed(cmd, r.indexCount, 1, r.firstIndex, r.vertexOffset, 0);
+        return true;
+    });
+    each(segmentPipeline_, segments_, [&](const Range& r, bool check) {
+        if (check) return r.segmentCount > 0;
+        vkCmdDraw(cmd, 6, r.segmentCount, 0, r.firstSegment);
+        return true;
+    });
+    each(markerPipeline_, markers_, [&](const Range& r, bool check) {
+        if (check) return r.markerCount > 0;
+        vkCmdDraw(cmd, 6, r.markerCount, 0, r.firstMarker);
+        return true;
+    });
 }
 
 }  // namespace orbis::layers

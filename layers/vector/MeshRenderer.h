@@ -1,31 +1,31 @@
 #pragma once
-// Draws a vector layer's meshes (FeatureMesh: extruded buildings, polygons at altitude) in the
-// Opaque pass: every chunk's vertices and indices in one vertex and one index buffer (GPU
-// memory, uploaded before the passes when a new mesh arrives), one pipeline
-// (shaders/vector/mesh.*, shared/VectorTypes.h), one draw per chunk that is in view, above the
-// horizon and within its camera range. Made only by a vector layer that has meshes to draw.
+// Draws a vector layer's 3-D features (FeatureMesh: extruded buildings and polygons at altitude
+// as lit triangles, lines and points at altitude as segments and markers) in the Opaque pass:
+// each kind's vertices or instances of every chunk in one buffer (GPU memory, uploaded before
+// the passes when a new mesh arrives), one pipeline per kind (shaders/vector/mesh.*,
+// segment.*, marker.*; shared/VectorTypes.h), made when the first mesh with that kind arrives.
+// The chunks in view, above the horizon and within their camera range are drawn: triangles
+// first (opaque), then segments and markers (blended, depth-tested, writing no depth). Made
+// only by a vector layer that has something in 3-D.
 
 #include "engine/gpu/Buffer.h"
 #include "engine/gpu/Handle.h"
+#include "engine/render/RenderContext.h"
 #include "layers/vector/FeatureMesh.h"
 
 #include <cstdint>
 #include <memory>
 #include <vector>
 
-namespace orbis::render {
-struct RenderServices;
-struct RecordContext;
-}  // namespace orbis::render
-
 namespace orbis::layers {
 
 class MeshRenderer {
 public:
-    /// The pipeline. Main thread, outside recording.
+    /// The pipeline layout. Main thread, outside recording.
     explicit MeshRenderer(const render::RenderServices& services);
 
-    /// A new mesh to draw from the next frame on (uploaded in recordTransfers).
+    /// A new mesh to draw from the next frame on (uploaded in recordTransfers); makes the
+    /// pipelines it needs. Main thread, outside recording.
     void setMesh(std::shared_ptr<const vector::FeatureMesh> mesh);
     /// The feature tinted as picked (meshFeatureId), 0: none.
     void setHighlight(uint32_t id) { highlight_ = id; }
@@ -35,22 +35,24 @@ public:
     /// Draws the chunks in view. Called while recording, inside the Opaque pass.
     void record(const render::RecordContext& rc);
 
-    bool empty() const { return !mesh_ || mesh_->chunks.empty(); }
-    uint64_t gpuBytes() const { return vertices_.size() + indices_.size(); }
+    uint64_t gpuBytes() const { return vertices_.size() + indices_.size() + segments_.size() + markers_.size(); }
     uint32_t chunksDrawn() const { return chunksDrawn_; }
+    bool hasSegmentPipeline() const { return bool(segmentPipeline_); }
 
 private:
     struct Range {
         uint32_t firstIndex = 0, indexCount = 0;
         int32_t vertexOffset = 0;
+        uint32_t firstSegment = 0, segmentCount = 0, firstMarker = 0, markerCount = 0;
     };
 
-    gpu::Device* device_ = nullptr;
+    render::RenderServices services_;
     gpu::PipelineLayout layout_;
-    gpu::Pipeline pipeline_;
+    gpu::Pipeline meshPipeline_, segmentPipeline_, markerPipeline_;
     std::shared_ptr<const vector::FeatureMesh> mesh_, pending_;
-    gpu::Buffer vertices_, indices_;
-    std::vector<Range> ranges_;   ///< per chunk of mesh_
+    gpu::Buffer vertices_, indices_, segments_, markers_;
+    std::vector<Range> ranges_;      ///< per chunk of mesh_
+    std::vector<uint32_t> visible_;  ///< this frame's chunks
     uint32_t highlight_ = 0;
     uint32_t chunksDrawn_ = 0;
 };

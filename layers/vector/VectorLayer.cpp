@@ -117,16 +117,6 @@ void VectorLayer::restartMeshes() {
     drapesSomething_ = true;
     if (!content_) return;
     const vector::MeshGround features(*content_, *styles_, settings_.altitude);
-    if (settings_.altitude != vector::AltitudeMode::Clamped) {
-        uint64_t flat = 0;
-        for (const vector::ContentLayer& layer : content_->layers)
-            for (const vector::Feature& f : layer.data.features) flat += f.kind != vector::GeometryKind::Polygons;
-        if (flat > 0 && meshWarning_.empty()) {
-            meshWarning_ = std::to_string(flat) + " line and point feature(s) are drawn on the terrain: altitude \"" +
-                           vector::altitudeModeName(settings_.altitude) + "\" applies to polygons only";
-            log::warn("vector layer \"", settings_.name, "\": ", meshWarning_);
-        }
-    }
     meshFeatures_ = features.features().size();
     if (meshFeatures_ == 0) {
         // Nothing to build; a mesh drawn before (a rule switched off) goes.
@@ -329,8 +319,9 @@ std::string VectorLayer::status() const {
     if (!labelError_.empty()) s << ", no labels: " << labelError_;
     if (meshLoading_ && !mesh_) s << ", building " << meshFeatures_ << " mesh feature(s)";
     if (mesh_ && !mesh_->chunks.empty())
-        s << ", " << mesh_->features << " meshes (" << mesh_->triangles << " triangles, " << (meshRenderer_ ? meshRenderer_->chunksDrawn() : 0)
-          << " of " << mesh_->chunks.size() << " chunks drawn)";
+        s << ", " << mesh_->features << " in 3-D (" << mesh_->triangles << " triangles, " << mesh_->segments << " segments, "
+          << mesh_->markers << " markers; " << (meshRenderer_ ? meshRenderer_->chunksDrawn() : 0) << " of " << mesh_->chunks.size()
+          << " chunks drawn)";
     if (labels_ && settings_.labels) {
         const vector::VectorLabelStats& l = labels_->stats();
         s << ", labels " << l.placed << " of " << l.candidates << " seen (" << l.labelled << " labelled), "

@@ -19,11 +19,12 @@
 // Polygons whose style has "extrude" are buildings: walls and a flat roof in the fill colour,
 // lit by the scene's sun, their base on the ground (FeatureMesh.h), drawn in the Opaque pass
 // (MeshRenderer); "extrusionScale" (live) multiplies every height. "relative" and "absolute"
-// put polygons at their own heights (Z above the ground, or above the ellipsoid in the
-// terrain's datum) as lit surfaces, extruded down to the ground when the style extrudes them;
-// lines and points stay on the terrain in those modes (a warning says so). The ground under
-// each mesh vertex is sampled on the main thread a slice a frame (MeshGround), the meshes built
-// on the worker pool; the renderer and its pipeline are made only when there is a mesh.
+// put every feature at its own heights (Z above the ground, or above the ellipsoid in the
+// terrain's datum): polygons as lit surfaces (extruded down to the ground when the style
+// extrudes them), lines as segments `width` pixels wide, points as disks of `iconSize`, hidden
+// by whatever is nearer. The ground under their vertices is sampled and the meshes built on the
+// worker pool (MeshGround, FeatureMesh); the renderer and each kind's pipeline are made only
+// when there is something of that kind to draw.
 //
 // Labels: when the style gives a "label", the features' text is drawn over the scene in the
 // Overlay pass (VectorLabels: real glyphs from DejaVu Sans with a halo, chosen so that none
@@ -198,7 +199,6 @@ private:
     jobs::Job<MeshBuild> meshJob_;
     std::shared_ptr<const vector::FeatureMesh> mesh_;
     std::unique_ptr<MeshRenderer> meshRenderer_;
-    std::string meshWarning_;
 };
 
 }  // namespace orbis::layers

@@ -4,6 +4,15 @@
 // (kLabelSpecHalo): every glyph's halo first, then every glyph's text, so that no glyph's halo
 // covers its neighbour's stroke where their quads overlap. Alpha blended in the Overlay pass
 // without a depth test: which labels are hidden was decided on the CPU.
+//
+// Extruded buildings and polygons at altitude (layers/vector/MeshRenderer.cpp,
+// shaders/vector/mesh.*): indexed triangles of VectorMeshVertex, positions relative to their
+// chunk's ECEF origin; the origin minus the eye (taken in double on the CPU) is the push
+// constant. Lit by the sun; the picked feature is tinted. Opaque, in the Opaque pass.
+// Lines and points at altitude (shaders/vector/segment.*, marker.*): one instance per segment
+// (VectorSegment: a quad `widthPx` wide on the screen, antialiased) or per point (VectorMarker:
+// a disk of `sizePx` with a dark rim), relative to the same chunk origins, depth-tested,
+// blended, after the meshes.
 #ifndef ORBIS_SHADERS_SHARED_VECTOR_TYPES_H
 #define ORBIS_SHADERS_SHARED_VECTOR_TYPES_H
 
@@ -50,7 +59,33 @@ struct VectorMeshVertex {
     uint feature;    // the feature's id (FeatureMesh.h: meshFeatureId), 1 and up
 };
 
-// Push constants, per chunk.
+// Vertex inputs of the segments and markers, one binding at the instance rate.
+ORBIS_CONST(uint, kSegmentInputA, 0)
+ORBIS_CONST(uint, kSegmentInputColor, 1)
+ORBIS_CONST(uint, kSegmentInputB, 2)
+ORBIS_CONST(uint, kSegmentInputWidth, 3)
+ORBIS_CONST(uint, kSegmentInputFeature, 4)
+ORBIS_CONST(uint, kMarkerInputPosition, 0)
+ORBIS_CONST(uint, kMarkerInputColor, 1)
+ORBIS_CONST(uint, kMarkerInputSize, 2)
+ORBIS_CONST(uint, kMarkerInputFeature, 3)
+
+struct VectorSegment {
+    vec3 a;          // metres, relative to the chunk's origin
+    uint color;      // sRGB RGBA8, alpha the opacity
+    vec3 b;
+    float widthPx;
+    uint feature;
+};
+
+struct VectorMarker {
+    vec3 position;   // metres, relative to the chunk's origin
+    uint color;      // sRGB RGBA8
+    float sizePx;    // the disk's diameter
+    uint feature;
+};
+
+// Push constants, per chunk (meshes, segments and markers).
 struct VectorMeshPush {
     vec3 originFromEye;   // the chunk's origin minus the eye (m, world axes)
     uint highlight;       // the picked feature's id, 0: none
@@ -72,6 +107,11 @@ static_assert(offsetof(orbis::shader::LabelGlyph, uv) == 24 && offsetof(orbis::s
               "LabelGlyph offsets changed");
 static_assert(sizeof(orbis::shader::VectorMeshVertex) == 24 && offsetof(orbis::shader::VectorMeshVertex, normal) == 12,
               "VectorMeshVertex layout changed");
+static_assert(sizeof(orbis::shader::VectorSegment) == 36 && offsetof(orbis::shader::VectorSegment, b) == 16 &&
+                  offsetof(orbis::shader::VectorSegment, feature) == 32,
+              "VectorSegment layout changed");
+static_assert(sizeof(orbis::shader::VectorMarker) == 24 && offsetof(orbis::shader::VectorMarker, sizePx) == 16,
+              "VectorMarker layout changed");
 static_assert(sizeof(orbis::shader::VectorMeshPush) == 16 && offsetof(orbis::shader::VectorMeshPush, highlight) == 12,
               "VectorMeshPush must match std430");
 #endif

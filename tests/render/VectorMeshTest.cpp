@@ -1,6 +1,6 @@
 // Extruded buildings and polygons at altitude on lavapipe with validation: a village of
-// buildings on the mountain's slope, lit by the morning sun, with a polygon floating 400 m
-// above the ground beside it (golden); each building's walls reach the terrain's ground;
+// buildings on the mountain's slope, lit by the morning sun, with a polygon, a line and points
+// floating above the ground (golden); each building's walls reach the terrain's ground;
 // a picked building turns yellow; the extrusion scale raises the roofs; a layer without meshes
 // builds no mesh pipeline, and a layer made only of meshes no drape.
 #include "globe/Ellipsoid.h"
@@ -42,11 +42,17 @@ std::string village() {
     return writeGeoJson("vector-mesh", "village.geojson", s.str());
 }
 
-/// A rectangle of 1 x 0.7 km, 400 m above the ground (relative), west of the village.
+/// Relative to the ground: a rectangle of 1 x 0.7 km 400 m above it, west of the village; a
+/// line 250 m above it across the village from west to east; three points 350 m above it.
 std::string floating() {
-    return writeGeoJson("vector-mesh", "floating.geojson",
-                        R"({"type": "Feature", "properties": {"name": "zone"}, "geometry": {"type": "Polygon", "coordinates": )"
-                        R"([[[6.972, 45.858, 400], [6.985, 45.858, 400], [6.985, 45.864, 400], [6.972, 45.864, 400], [6.972, 45.858, 400]]]}})");
+    return writeGeoJson(
+        "vector-mesh", "floating.geojson",
+        R"({"type": "Feature", "properties": {"name": "zone"}, "geometry": {"type": "Polygon", "coordinates": )"
+        R"([[[6.972, 45.858, 400], [6.985, 45.858, 400], [6.985, 45.864, 400], [6.972, 45.864, 400], [6.972, 45.858, 400]]]}},)"
+        R"({"type": "Feature", "properties": {"name": "cable"}, "geometry": {"type": "LineString", "coordinates": )"
+        R"([[6.975, 45.853, 250], [7.0, 45.858, 250], [7.02, 45.856, 250]]}},)"
+        R"({"type": "Feature", "properties": {"name": "beacons"}, "geometry": {"type": "MultiPoint", "coordinates": )"
+        R"([[6.995, 45.852, 350], [7.005, 45.852, 350], [7.015, 45.852, 350]]}})");
 }
 
 // From the south, 3 km from the village and above it, looking north and down.
@@ -66,7 +72,8 @@ protected:
     std::unique_ptr<scene::Scene> villageScene(const std::string& extra = "") {
         return load(vectorSceneJson(kVillageView,
                                     mountainTerrain() + "," + vectorLayerJson("Village", village(), kBuildingStyle + extra) + "," +
-                                        vectorLayerJson("Zone", floating(), R"(, "altitude": "relative", "style": {"fill": [0.2, 0.5, 1.0]})"),
+                                        vectorLayerJson("Zone", floating(),
+                                                        R"(, "altitude": "relative", "style": {"fill": [0.2, 0.5, 1.0], "color": [1, 0.2, 0.1], "width": 3, "iconSize": 10})"),
                                     "2026-06-21T07:30:00Z"));
     }
     scene::LayerRegistry registry_;
@@ -95,12 +102,22 @@ TEST_F(VectorMesh, AVillageOfBuildingsAndAFloatingPolygonOverTheTerrain) {
     EXPECT_EQ(village.drapeSource(), nullptr) << "every feature is a building: nothing to paint on the terrain";
     auto& zone = vectorAt(*scene, 2);
     ASSERT_NE(zone.mesh(), nullptr) << zone.error();
-    EXPECT_EQ(zone.mesh()->features, 1u);
+    EXPECT_EQ(zone.mesh()->features, 3u);
+    EXPECT_EQ(zone.mesh()->markers, 3u);
+    EXPECT_EQ(zone.mesh()->segments, 2u);
+    EXPECT_EQ(zone.drapeSource(), nullptr) << "everything in 3-D";
     // The zone's surface: the ground under its corners plus 400 m (the highest corner's).
     double ground = -1e9;
     for (const double lon : {6.972, 6.985})
         for (const double lat : {45.858, 45.864}) ground = std::max(ground, TerrainFixtures::height(lon, lat));
     EXPECT_NEAR(highestVertex(*zone.mesh()), ground + 400.0, 2.0);
+    // The line and the points stand out red over the grey terrain and the pale buildings.
+    size_t red = 0;
+    for (size_t i = 0; i < size_t(img.width) * img.height; ++i) {
+        const uint8_t* p = &img.pixels[i * 4];
+        red += int(p[0]) > 150 && int(p[1]) < 90 && int(p[2]) < 90;
+    }
+    EXPECT_GT(red, 150u);
 }
 
 TEST_F(VectorMesh, BuildingsStandOnTheGroundTheTerrainDraws) {

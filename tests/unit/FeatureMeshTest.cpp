@@ -213,6 +213,54 @@ TEST(FeatureMesh, TheGroundIsSampledASliceAtATime) {
     EXPECT_FLOAT_EQ(ground.heights(1)[0], 0.0f) << "unknown ground: the ellipsoid";
 }
 
+TEST(FeatureMesh, LinesAndPointsAtAltitudeAreSegmentsAndMarkers) {
+    Fixture f;
+    Feature line;
+    line.kind = GeometryKind::Lines;
+    line.parts = {0};
+    line.coords = {{30.0, 10.0, 500.0}, {30.35, 10.0, 700.0}, {30.35, 10.001, 700.0}};
+    line.hasZ = true;
+    FeatureStyle wide;
+    wide.widthPx = 4.0;
+    wide.opacity = 0.5;
+    f.add(line, wide);
+    Feature points;
+    points.kind = GeometryKind::Points;
+    points.parts = {0, 1};
+    points.coords = {{30.1, 10.1, 50.0}, {30.2, 10.1, 60.0}};
+    points.hasZ = true;
+    f.add(points, FeatureStyle{});
+    // Clamped: both draped, nothing in 3-D.
+    EXPECT_TRUE(MeshGround(f.content, f.styles, AltitudeMode::Clamped).features().empty());
+
+    const FeatureMesh mesh = f.build(AltitudeMode::Relative, 100.0);
+    EXPECT_EQ(mesh.features, 2u);
+    EXPECT_EQ(mesh.markers, 2u);
+    // 0.35 degrees at 10 N: cut into 4 pieces of at most 0.1 degree; the short leg in one.
+    EXPECT_EQ(mesh.segments, 4u + 1u);
+    const auto& ell = globe::Ellipsoid::wgs84();
+    std::vector<double> heights;
+    for (const MeshChunk& c : mesh.chunks) {
+        for (const auto& s : c.segments) {
+            EXPECT_FLOAT_EQ(s.widthPx, 4.0f);
+            EXPECT_EQ(s.color >> 24, 128u) << "the opacity in alpha";
+            heights.push_back(ell.toGeodetic(c.origin + glm::dvec3(s.a)).height);
+            heights.push_back(ell.toGeodetic(c.origin + glm::dvec3(s.b)).height);
+            EXPECT_LE(glm::length(c.origin + glm::dvec3(s.a) - c.center), c.radius + 1.0);
+        }
+        for (const auto& m : c.markers) {
+            EXPECT_EQ(m.feature, 2u);
+            const double h = ell.toGeodetic(c.origin + glm::dvec3(m.position)).height;
+            EXPECT_TRUE(std::abs(h - 150.0) < 0.05 || std::abs(h - 160.0) < 0.05) << h;
+        }
+    }
+    // Ground 100 + Z: 600 to 800 m, the heights interpolated along the long leg.
+    ASSERT_EQ(heights.size(), 10u);
+    EXPECT_NEAR(*std::min_element(heights.begin(), heights.end()), 600.0, 0.05);
+    EXPECT_NEAR(*std::max_element(heights.begin(), heights.end()), 800.0, 0.05);
+    EXPECT_NEAR(heights[1], 650.0, 0.05) << "a quarter of the way: 600 + 200 / 4";
+}
+
 TEST(FeatureMesh, AltitudeModeNames) {
     for (const AltitudeMode m : {AltitudeMode::Clamped, AltitudeMode::Relative, AltitudeMode::Absolute})
         EXPECT_EQ(parseAltitudeMode(altitudeModeName(m)), m);
