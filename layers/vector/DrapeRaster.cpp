@@ -20,9 +20,8 @@ constexpr double kMaxLonDeg = 32 * 360.0;
 constexpr double kMaxLatDeg = 1e6;
 /// Every part is thinned to this (px) in one pass: nothing visible changes.
 constexpr double kNearPx = 0.125;
-/// Douglas-Peucker tolerance (px) for a part still denser than the tile can show, which is
-/// more vertices than this many per pixel of the tile's side, in chunks of this many.
-constexpr double kSimplifyPx = 0.5;
+/// A part still denser than the tile can show (more vertices than this many per pixel of the
+/// tile's side) goes through Douglas-Peucker (DrapeTileOptions::simplifyPx), in chunks of this many.
 constexpr size_t kDenseVerticesPerSide = 4, kSimplifyChunk = 256;
 /// A marker's dark outline (px), at most this share of its radius on small markers.
 constexpr double kMarkerOutlinePx = 1.0, kMarkerOutlineShare = 0.25;
@@ -127,7 +126,7 @@ public:
     TilePainter(const DrapeTileOptions& o, std::vector<uint8_t>& rgba)
         : extent_(o.extent), size_(o.size), pxPerLon_(o.size / o.extent.width()), pxPerLat_(o.size / o.extent.height()),
           pixelScale_(std::isfinite(o.pixelScale) && o.pixelScale > 0.0 ? o.pixelScale : 1.0), rgba_(rgba), area_(o.size),
-          stroke_(o.size) {
+          stroke_(o.size), simplifyPx_(std::isfinite(o.simplifyPx) && o.simplifyPx > 0.0 ? o.simplifyPx : 0.5) {
         // A pixel's ground width over its height at the tile's middle latitude (bounded: near a
         // pole a stroke would span the tile across).
         xScale_ = std::clamp(std::cos(glm::radians(0.5 * (o.extent.south + o.extent.north))), 1.0 / 16.0, 1.0);
@@ -187,6 +186,7 @@ private:
     std::vector<uint8_t>& rgba_;
     AreaCoverage area_;
     StrokeCoverage stroke_;
+    double simplifyPx_;
     std::vector<PartBox> boxes_;
     std::vector<glm::dvec3> path_, spare_, poleRing_;   // reused between parts: no allocation per part once grown
 };
@@ -234,12 +234,12 @@ double TilePainter::thinPath(std::span<const glm::dvec3> part, double shiftDeg, 
 /// cost is quadratic at worst (a spiral): at most kSimplifyChunk distance checks a vertex,
 /// whatever the input, for one more kept vertex a chunk.
 void TilePainter::simplifyDense() {
-    if (path_.size() <= kDenseVerticesPerSide * size_t(size_)) return;
+    if (simplifyPx_ <= 0.5 && path_.size() <= kDenseVerticesPerSide * size_t(size_)) return;
     spare_.clear();
     for (size_t begin = 0; begin + 1 < path_.size(); begin += kSimplifyChunk) {
         const size_t last = std::min(begin + kSimplifyChunk, path_.size() - 1);
         const std::span<const glm::dvec3> chunk(path_.data() + begin, last - begin + 1);
-        const std::vector<uint32_t> kept = simplifyPart(chunk, kSimplifyPx, false);
+        const std::vector<uint32_t> kept = simplifyPart(chunk, simplifyPx_, false);
         for (size_t i = 0; i + 1 < kept.size(); ++i) spare_.push_back(chunk[kept[i]]);   // its last starts the next chunk
     }
     spare_.push_back(path_.back());

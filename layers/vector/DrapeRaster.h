@@ -51,6 +51,9 @@ struct DrapeTileOptions {
     int size = 256;
     /// Tile pixels per screen pixel: line widths and marker sizes (screen px) are multiplied by it.
     double pixelScale = 1.0;
+    /// Douglas-Peucker tolerance (tile px) for a part denser than the tile can show; above the
+    /// default every part is simplified to it (the quality knob "simplifyPx" of the layer).
+    double simplifyPx = 0.5;
 };
 
 /// The largest tile side, as for RasterSource::readImagery: the RGBA and two float coverage

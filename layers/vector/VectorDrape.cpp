@@ -24,9 +24,9 @@ int kindOrder(GeometryKind k) { return k == GeometryKind::Polygons ? 0 : k == Ge
 }  // namespace
 
 VectorDrape::VectorDrape(std::string name, std::shared_ptr<const VectorContent> content, std::shared_ptr<const ContentStyles> styles,
-                         TimeNs time, uint32_t maxLevel, std::optional<std::pair<size_t, size_t>> highlight)
+                         TimeNs time, uint32_t maxLevel, std::optional<std::pair<size_t, size_t>> highlight, double simplifyPx)
     : name_(std::move(name)), content_(std::move(content)), styles_(std::move(styles)), time_(time), maxLevel_(maxLevel),
-      highlight_(highlight) {
+      simplifyPx_(simplifyPx), highlight_(highlight) {
     if (highlight_ && highlight_->first < styles_->size() && highlight_->second < (*styles_)[highlight_->first].size()) {
         // The feature's own look, made to stand out: bright yellow, wider, filled.
         highlightStyle_ = (*styles_)[highlight_->first][highlight_->second];
@@ -98,6 +98,7 @@ Result<globe::ImageryTile> VectorDrape::readTile(const globe::TileImageRequest& 
     options.extent = e;
     options.size = request.size;
     options.pixelScale = request.tilePixelsPerScreenPixel;
+    options.simplifyPx = simplifyPx_;
     tile.anyValid = rasterizeDrapeTile(ordered, options, tile.rgba);
     return tile;
 }

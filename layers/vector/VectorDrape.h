@@ -23,8 +23,10 @@ class VectorDrape : public globe::TileImageSource {
 public:
     /// `maxLevel`: the finest tile level painted (finer tiles magnify it).
     /// `highlight`: a feature (layer, index) painted last, in the highlight's colours.
+    /// `simplifyPx`: DrapeTileOptions::simplifyPx.
     VectorDrape(std::string name, std::shared_ptr<const VectorContent> content, std::shared_ptr<const ContentStyles> styles,
-                TimeNs time, uint32_t maxLevel, std::optional<std::pair<size_t, size_t>> highlight = std::nullopt);
+                TimeNs time, uint32_t maxLevel, std::optional<std::pair<size_t, size_t>> highlight = std::nullopt,
+                double simplifyPx = 0.5);
 
     const std::string& name() const override { return name_; }
     uint32_t maxLevel(int) const override { return maxLevel_; }
@@ -42,6 +44,7 @@ private:
     std::shared_ptr<const ContentStyles> styles_;
     TimeNs time_;
     uint32_t maxLevel_;
+    double simplifyPx_;
     std::optional<std::pair<size_t, size_t>> highlight_;
     FeatureStyle highlightStyle_;
 };

@@ -6,6 +6,7 @@
 #include "layers/vector/LabelRenderer.h"
 #include "layers/vector/MeshRenderer.h"
 
+#include <cmath>
 #include <iomanip>
 #include <sstream>
 
@@ -197,7 +198,7 @@ void VectorLayer::republish() {
     }
     drape_ = std::make_shared<const vector::VectorDrape>(settings_.name.empty() ? settings_.content.read.source : settings_.name,
                                                          content_, drapeStyles_ ? drapeStyles_ : styles_, time_, settings_.maxLevel,
-                                                         highlight_);
+                                                         highlight_, settings_.simplifyPx);
     ++version_;
 }
 
@@ -263,6 +264,10 @@ std::vector<scene::LayerSetting> VectorLayer::liveSettings() const {
         {.name = "opacity", .label = "Opacity", .kind = Kind::Number, .value = settings_.opacity,
          .min = kOpacityRange.min, .max = kOpacityRange.max},
     };
+    out.push_back({.name = "maxLevel", .label = "Finest level painted", .kind = Kind::Integer, .value = double(settings_.maxLevel),
+                   .min = kMaxLevelRange.min, .max = kMaxLevelRange.max});
+    out.push_back({.name = "simplifyPx", .label = "Simplification (px)", .kind = Kind::Number, .value = settings_.simplifyPx,
+                   .min = kSimplifyRange.min, .max = kSimplifyRange.max});
     const vector::VectorStyle& style = settings_.content.style;
     if (meshFeatures_ > 0 || mesh_)
         out.push_back({.name = "extrusionScale", .label = "Extrusion scale", .kind = Kind::Number, .value = settings_.extrusionScale,
@@ -280,6 +285,13 @@ std::vector<scene::LayerSetting> VectorLayer::liveSettings() const {
 bool VectorLayer::setParameter(std::string_view name, double value) {
     if (name == "opacity" && kOpacityRange.contains(value)) {
         settings_.opacity = value;
+        return true;
+    }
+    if ((name == "maxLevel" && kMaxLevelRange.contains(value) && value == std::floor(value)) ||
+        (name == "simplifyPx" && kSimplifyRange.contains(value))) {
+        if (name == "maxLevel") settings_.maxLevel = uint32_t(value);
+        else settings_.simplifyPx = value;
+        if (content_) republish();
         return true;
     }
     if (name == "extrusionScale" && kExtrusionScaleRange.contains(value)) {

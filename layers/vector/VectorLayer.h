@@ -8,7 +8,7 @@
 //    "style": {...},                      (VectorStyle.h: defaults, rules, labels, extrusion)
 //    "time": {"begin": "start_date", "end": "end_date"},   fields; default: KML's own times
 //    "altitude": "clamped" | "relative" | "absolute", "extrusionScale": 1,
-//    "opacity": 1, "maxLevel": 18, "labels": true}
+//    "opacity": 1, "maxLevel": 18, "simplifyPx": 0.5, "labels": true}
 //
 // "altitude": "clamped" (the default): lines, points and flat polygons are painted into the
 // terrain's tiles (VectorDrape) and lie exactly on the surface drawn, at every zoom. A scene
@@ -63,6 +63,7 @@ struct VectorLayerSettings {
     vector::VectorContentOptions content;
     double opacity = 1.0;
     uint32_t maxLevel = 18;   ///< finest terrain tile level painted (~0.6 m pixels at 256)
+    double simplifyPx = 0.5;  ///< the drape's simplification (DrapeTileOptions::simplifyPx)
     bool labels = true;       ///< draw the style's labels
     vector::AltitudeMode altitude = vector::AltitudeMode::Clamped;
     double extrusionScale = 1.0;   ///< multiplies extruded heights
@@ -81,6 +82,7 @@ public:
     static constexpr scene::SettingRange kOpacityRange{0.0, 1.0};
     static constexpr scene::SettingRange kMaxLevelRange{0.0, 22.0};
     static constexpr scene::SettingRange kExtrusionScaleRange{0.0, 100.0};
+    static constexpr scene::SettingRange kSimplifyRange{0.125, 64.0};
 
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
 
@@ -114,7 +116,8 @@ public:
     void clearPick() override;
 
     // LiveSettings: "opacity", "labels" (when the style gives a label), "extrusionScale" (when
-    // there are meshes), and "rule<i>" (a style rule on or off).
+    // there are meshes), "rule<i>" (a style rule on or off), and the drape's quality knobs
+    // "maxLevel" and "simplifyPx" (`orbis bench --sweep`: error against run time).
     std::vector<scene::LayerSetting> liveSettings() const override;
     bool setParameter(std::string_view name, double value) override;
 

@@ -52,6 +52,7 @@ Result<std::unique_ptr<scene::Layer>> VectorLayer::create(const scene::LayerDesc
     s.extrusionScale = r.number("extrusionScale", 1.0, kExtrusionScaleRange.min, kExtrusionScaleRange.max).value_or(1.0);
     s.opacity = r.number("opacity", 1.0, kOpacityRange.min, kOpacityRange.max).value_or(1.0);
     s.maxLevel = uint32_t(r.number("maxLevel", 18.0, kMaxLevelRange.min, kMaxLevelRange.max).value_or(18.0));
+    s.simplifyPx = r.number("simplifyPx", 0.5, kSimplifyRange.min, kSimplifyRange.max).value_or(0.5);
     s.labels = r.boolean("labels", true).value_or(true);
     const nlohmann::json* style = r.object("style");
     if (auto done = r.finish(); !done) return done.error();

@@ -392,6 +392,28 @@ TEST(DrapeRaster, NonFiniteVerticesAreSkipped) {
     EXPECT_FALSE(draw(polygon, badStyle).painted);
 }
 
+TEST(DrapeRasterLines, ALargerSimplificationToleranceStrokesFewerSegmentsNearTheLine) {
+    // A zigzag of 1.5 px amplitude every 3 px across the tile: at 0.5 px every bend is kept; at
+    // 2 px the line is nearly straight, fewer segments, and no pixel strays more than 2 px.
+    std::vector<glm::dvec3> zigzag;
+    for (int i = 0; i <= 33; ++i) zigzag.push_back(px(1.0 + i * 1.5, 25.0 + ((i % 2) ? 1.5 : 0.0)));
+    const Feature line = feature(GeometryKind::Lines, {zigzag});
+    const FeatureStyle s = lineStyle(1.0);
+    const auto drawAt = [&](double tolerance) {
+        Tile t;
+        const DrapeItem item{&line, &s};
+        t.painted = rasterizeDrapeTile({&item, 1}, {.extent = kUnitExtent, .size = kSize, .simplifyPx = tolerance}, t.rgba, &t.stats);
+        return t;
+    };
+    const Tile exact = drawAt(0.5), simple = drawAt(2.0);
+    ASSERT_TRUE(exact.painted && simple.painted);
+    EXPECT_EQ(exact.stats.segments, 33u);
+    EXPECT_LT(simple.stats.segments, 8u);
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x)
+            EXPECT_TRUE(simple.alpha(x, y) == 0.0 || (y >= 22 && y <= 28)) << x << ", " << y;
+}
+
 TEST(DrapeRaster, ATwoMillionVertexRingRasterizesInBoundedTime) {
     // A wiggly circle of radius 40 px: far denser than the tile shows, thinned before filling.
     constexpr int kVertices = 2'000'000;
