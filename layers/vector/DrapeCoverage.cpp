@@ -231,4 +231,45 @@ bool paintMarker(std::vector<uint8_t>& rgba, int size, glm::dvec2 centre, double
     return changed;
 }
 
+bool paintIcon(std::vector<uint8_t>& rgba, int size, glm::dvec2 centre, double heightPx, const uint8_t* icon, int iconWidth,
+               int iconHeight, double alpha, double xScale) {
+    if (!icon || iconWidth <= 0 || iconHeight <= 0 || !(heightPx > 0.0) || !(xScale > 0.0) || !std::isfinite(centre.x) ||
+        !std::isfinite(centre.y))
+        return false;
+    const double h = heightPx, w = heightPx * iconWidth / iconHeight / xScale;
+    const glm::dvec2 corner = centre - 0.5 * glm::dvec2(w, h);
+    const int jMin = int(std::clamp(std::floor(corner.y), 0.0, double(size)));
+    const int jMax = int(std::clamp(std::ceil(corner.y + h), 0.0, double(size)));
+    const int iMin = int(std::clamp(std::floor(corner.x), 0.0, double(size)));
+    const int iMax = int(std::clamp(std::ceil(corner.x + w), 0.0, double(size)));
+    // Icon texels per pixel, across each way: that many samples a pixel, at most 8.
+    const int n = int(std::clamp(std::ceil(std::max(iconWidth / w, iconHeight / h)), 1.0, 8.0));
+    const auto texel = [&](int x, int y) { return icon + (size_t(y) * size_t(iconWidth) + size_t(x)) * 4; };
+    const auto a = float(std::clamp(alpha, 0.0, 1.0));
+    bool changed = false;
+    for (int j = jMin; j < jMax; ++j)
+        for (int i = iMin; i < iMax; ++i) {
+            // Premultiplied sums of the samples (a sample outside the icon is transparent).
+            glm::vec4 sum(0.0f);
+            for (int sy = 0; sy < n; ++sy)
+                for (int sx = 0; sx < n; ++sx) {
+                    const double u = (i + (sx + 0.5) / n - corner.x) / w * iconWidth - 0.5;
+                    const double v = (j + (sy + 0.5) / n - corner.y) / h * iconHeight - 0.5;
+                    if (u < -0.5 || v < -0.5 || u > iconWidth - 0.5 || v > iconHeight - 0.5) continue;
+                    const int x0 = std::clamp(int(std::floor(u)), 0, iconWidth - 1), y0 = std::clamp(int(std::floor(v)), 0, iconHeight - 1);
+                    const int x1 = std::min(x0 + 1, iconWidth - 1), y1 = std::min(y0 + 1, iconHeight - 1);
+                    const auto fx = float(std::clamp(u - x0, 0.0, 1.0)), fy = float(std::clamp(v - y0, 0.0, 1.0));
+                    const auto premul = [&](const uint8_t* t) { return glm::vec4(glm::vec3(t[0], t[1], t[2]) * (t[3] / 255.0f), t[3] / 255.0f); };
+                    sum += glm::mix(glm::mix(premul(texel(x0, y0)), premul(texel(x1, y0)), fx),
+                                    glm::mix(premul(texel(x0, y1)), premul(texel(x1, y1)), fx), fy);
+                }
+            sum /= float(n * n);
+            const float coverage = a * sum.a;
+            if (coverage < kMinAlpha) continue;
+            compositeOver(&rgba[(size_t(j) * size_t(size) + size_t(i)) * 4], glm::vec3(sum) / sum.a, coverage);
+            changed = true;
+        }
+    return changed;
+}
+
 }  // namespace orbis::vector::drape

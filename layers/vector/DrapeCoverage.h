@@ -81,4 +81,12 @@ private:
 bool paintMarker(std::vector<uint8_t>& rgba, int size, glm::dvec2 centre, double radius, double outlinePx,
                  const glm::dvec3& rgb, double alpha, double xScale = 1.0);
 
+/// An icon (straight-alpha sRGB RGBA8, `iconWidth` x `iconHeight`, top row first) centred at
+/// `centre` (pixel space), `heightPx` high and as wide as its aspect makes it on the ground
+/// (divided by `xScale` across), its alpha times `alpha`, composited "over". Each pixel takes
+/// the mean of n x n samples of the icon (bilinear; n up to 8 as the icon shrinks), so a
+/// large icon drawn small does not alias and its edge is antialiased. True when a pixel changed.
+bool paintIcon(std::vector<uint8_t>& rgba, int size, glm::dvec2 centre, double heightPx, const uint8_t* icon, int iconWidth,
+               int iconHeight, double alpha, double xScale);
+
 }  // namespace orbis::vector::drape

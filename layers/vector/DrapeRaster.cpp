@@ -134,8 +134,8 @@ public:
     }
 
     /// True when the feature changed a pixel.
-    bool paint(const Feature& f, const FeatureStyle& s) {
-        if (f.kind == GeometryKind::Points) return paintPoints(f, s);
+    bool paint(const Feature& f, const FeatureStyle& s, const ImageRgba8* icon) {
+        if (f.kind == GeometryKind::Points) return paintPoints(f, s, icon);
         partBoxes(f);
         if (f.kind == GeometryKind::Lines) return paintLines(f, s);
         return paintPolygons(f, s);
@@ -177,7 +177,7 @@ private:
     void strokeRing(std::span<const glm::dvec3> ring, bool aroundPole, double shiftDeg, const Stroke& s);
     bool paintPolygons(const Feature& f, const FeatureStyle& s);
     bool paintLines(const Feature& f, const FeatureStyle& s);
-    bool paintPoints(const Feature& f, const FeatureStyle& s);
+    bool paintPoints(const Feature& f, const FeatureStyle& s, const ImageRgba8* icon);
 
     globe::GeoExtent extent_;
     int size_;
@@ -352,7 +352,7 @@ bool TilePainter::paintLines(const Feature& f, const FeatureStyle& s) {
 }
 
 /// Each point is its own marker, composited in turn, like icons.
-bool TilePainter::paintPoints(const Feature& f, const FeatureStyle& s) {
+bool TilePainter::paintPoints(const Feature& f, const FeatureStyle& s, const ImageRgba8* icon) {
     const double diameter = std::min(s.iconSizePx * pixelScale_, 2.0 * size_);
     const double alpha = unit(s.opacity);
     if (!(diameter > 0.0) || alpha <= 0.0) return false;
@@ -360,10 +360,15 @@ bool TilePainter::paintPoints(const Feature& f, const FeatureStyle& s) {
     bool changed = false;
     for (const glm::dvec3& c : f.coords) {
         if (!usable(c)) continue;
-        const auto [k0, k1] = turnsMeeting(PartBox{c.x, c.x, c.y, c.y, false}, radius + 1.0);
-        for (int turn = k0; turn <= k1; ++turn)
-            changed = drape::paintMarker(rgba_, size_, toPixel(c.x + 360.0 * turn, c.y), radius, outline, s.color, alpha, xScale_) ||
+        const double reach = icon && icon->height > 0 ? 0.5 * diameter * std::max(1.0, double(icon->width) / icon->height) / xScale_ : radius;
+        const auto [k0, k1] = turnsMeeting(PartBox{c.x, c.x, c.y, c.y, false}, reach + 1.0);
+        for (int turn = k0; turn <= k1; ++turn) {
+            const glm::dvec2 centre = toPixel(c.x + 360.0 * turn, c.y);
+            changed = (icon ? drape::paintIcon(rgba_, size_, centre, diameter, icon->pixels.data(), int(icon->width), int(icon->height),
+                                               alpha, xScale_)
+                            : drape::paintMarker(rgba_, size_, centre, radius, outline, s.color, alpha, xScale_)) ||
                       changed;
+        }
     }
     return changed;
 }
@@ -391,7 +396,7 @@ bool rasterizeDrapeTile(std::span<const DrapeItem> items, const DrapeTileOptions
     size_t painted = 0;
     for (const DrapeItem& item : items) {
         if (!item.feature || !item.style || !item.style->visible) continue;
-        if (painter.paint(*item.feature, *item.style)) ++painted;
+        if (painter.paint(*item.feature, *item.style, item.icon)) ++painted;
     }
     if (stats) *stats = {.featuresPainted = painted, .segments = painter.segments()};
     return painted > 0;   // a composite that ran set alpha >= 1 (it skips alphas under half a step)

@@ -14,7 +14,7 @@
 // rasterisers), holes empty whatever way their rings were stored, the polygons of one feature
 // unioned; then, with `outline`, each ring is stroked. Lines are antialiased strokes with round
 // joins, one feature's coverage combined with max so that its joints are not darker. Points are
-// disks of the icon's size with a thin dark outline (icon images are not drawn here). Each
+// disks of the icon's size with a thin dark outline, or the item's icon image that high. Each
 // feature is composited once ("over", straight alpha); a point feature's markers one by one.
 //
 // Longitudes unwrapped across the antimeridian (179 .. 181) are painted at every whole-turn
@@ -27,6 +27,7 @@
 // Douglas-Peucker to 0.5 px (Simplify.h). An edge touches only the cells it crosses, a stroke
 // segment only the pixels near it. Non-finite coordinates are skipped.
 
+#include "base/Png.h"
 #include "globe/TileKey.h"
 #include "layers/vector/VectorReader.h"
 #include "layers/vector/VectorStyle.h"
@@ -42,6 +43,8 @@ namespace orbis::vector {
 struct DrapeItem {
     const Feature* feature = nullptr;
     const FeatureStyle* style = nullptr;
+    /// A point feature's icon (IconCache), drawn `iconSize` px high instead of the marker.
+    const ImageRgba8* icon = nullptr;
 };
 
 struct DrapeTileOptions {

@@ -24,9 +24,15 @@ int kindOrder(GeometryKind k) { return k == GeometryKind::Polygons ? 0 : k == Ge
 }  // namespace
 
 VectorDrape::VectorDrape(std::string name, std::shared_ptr<const VectorContent> content, std::shared_ptr<const ContentStyles> styles,
-                         TimeNs time, uint32_t maxLevel, std::optional<std::pair<size_t, size_t>> highlight, double simplifyPx)
+                         TimeNs time, uint32_t maxLevel, std::optional<std::pair<size_t, size_t>> highlight, double simplifyPx,
+                         std::shared_ptr<IconCache> icons)
     : name_(std::move(name)), content_(std::move(content)), styles_(std::move(styles)), time_(time), maxLevel_(maxLevel),
-      simplifyPx_(simplifyPx), highlight_(highlight) {
+      simplifyPx_(simplifyPx), icons_(std::move(icons)), highlight_(highlight) {
+    // The widest reach past a feature: half a stroke, half a marker, half an icon up to 4:1 wide
+    // (and the highlight's extra), plus a little.
+    for (const std::vector<FeatureStyle>& layer : *styles_)
+        for (const FeatureStyle& s : layer)
+            reachPx_ = std::max(reachPx_, 0.5 * std::max(s.widthPx, s.iconSizePx * (s.icon.empty() ? 1.0 : 4.0)) + 8.0);
     if (highlight_ && highlight_->first < styles_->size() && highlight_->second < (*styles_)[highlight_->first].size()) {
         // The feature's own look, made to stand out: bright yellow, wider, filled.
         highlightStyle_ = (*styles_)[highlight_->first][highlight_->second];
@@ -65,8 +71,8 @@ double VectorDrape::rangeForTile(const globe::GeoExtent& extent, int size, doubl
 Result<globe::ImageryTile> VectorDrape::readTile(const globe::TileImageRequest& request, const jobs::CancelToken* cancel) const {
     const globe::GeoExtent& e = request.extent;
     const double px = e.width() / request.size;
-    // Whatever is painted within a few screen pixels of the tile: the widest stroke or marker.
-    const double margin = 32.0 * request.tilePixelsPerScreenPixel * px;
+    // Whatever is painted within reach of the tile: the widest stroke, marker or icon.
+    const double margin = reachPx_ * request.tilePixelsPerScreenPixel * px;
     const globe::GeoExtent grown{e.west - margin, e.south - margin, e.east + margin, e.north + margin};
     const double range = rangeForTile(e, request.size, request.tilePixelsPerScreenPixel);
 
@@ -82,7 +88,9 @@ Result<globe::ImageryTile> VectorDrape::readTile(const globe::TileImageRequest& 
             if (layer.times.timed() && !layer.times.spans[i].shows(time_)) continue;
             if (!meets(f.bounds, grown)) continue;
             const bool highlighted = highlight_ && highlight_->first == l && highlight_->second == i;
-            items.push_back({highlighted ? 3 : kindOrder(f.kind), DrapeItem{&f, highlighted ? &highlightStyle_ : &s}});
+            const ImageRgba8* icon = nullptr;
+            if (f.kind == GeometryKind::Points && !s.icon.empty() && icons_) icon = icons_->get(s.icon).get();
+            items.push_back({highlighted ? 3 : kindOrder(f.kind), DrapeItem{&f, highlighted ? &highlightStyle_ : &s, icon}});
         }
     }
     if (cancel && cancel->cancelled()) throw jobs::Cancelled();

@@ -10,6 +10,7 @@
 // a feature shows in the tiles whose range is within its own.
 
 #include "globe/TileImageSource.h"
+#include "layers/vector/IconCache.h"
 #include "layers/vector/VectorContent.h"
 
 #include <memory>
@@ -23,10 +24,11 @@ class VectorDrape : public globe::TileImageSource {
 public:
     /// `maxLevel`: the finest tile level painted (finer tiles magnify it).
     /// `highlight`: a feature (layer, index) painted last, in the highlight's colours.
-    /// `simplifyPx`: DrapeTileOptions::simplifyPx.
+    /// `simplifyPx`: DrapeTileOptions::simplifyPx. `icons`: where the points' icons are read
+    /// (shared by the layer's drapes; none: markers).
     VectorDrape(std::string name, std::shared_ptr<const VectorContent> content, std::shared_ptr<const ContentStyles> styles,
                 TimeNs time, uint32_t maxLevel, std::optional<std::pair<size_t, size_t>> highlight = std::nullopt,
-                double simplifyPx = 0.5);
+                double simplifyPx = 0.5, std::shared_ptr<IconCache> icons = nullptr);
 
     const std::string& name() const override { return name_; }
     uint32_t maxLevel(int) const override { return maxLevel_; }
@@ -45,6 +47,8 @@ private:
     TimeNs time_;
     uint32_t maxLevel_;
     double simplifyPx_;
+    std::shared_ptr<IconCache> icons_;
+    double reachPx_ = 32.0;   ///< how far (screen px) a stroke, marker or icon reaches past its feature
     std::optional<std::pair<size_t, size_t>> highlight_;
     FeatureStyle highlightStyle_;
 };

@@ -7,12 +7,16 @@
 #include "layers/vector/MeshRenderer.h"
 
 #include <cmath>
+#include <filesystem>
 #include <iomanip>
 #include <sstream>
 
 namespace orbis::layers {
 
-VectorLayer::VectorLayer(VectorLayerSettings settings) : settings_(std::move(settings)) {}
+VectorLayer::VectorLayer(VectorLayerSettings settings)
+    : settings_(std::move(settings)),
+      // A KML's own icons are relative to the KML; the scene's were resolved when it was read.
+      icons_(std::make_shared<vector::IconCache>(std::filesystem::path(settings_.content.read.source).parent_path().string())) {}
 
 VectorLayer::~VectorLayer() {
     if (loading_) job_.wait();
@@ -198,7 +202,7 @@ void VectorLayer::republish() {
     }
     drape_ = std::make_shared<const vector::VectorDrape>(settings_.name.empty() ? settings_.content.read.source : settings_.name,
                                                          content_, drapeStyles_ ? drapeStyles_ : styles_, time_, settings_.maxLevel,
-                                                         highlight_, settings_.simplifyPx);
+                                                         highlight_, settings_.simplifyPx, icons_);
     ++version_;
 }
 
@@ -329,6 +333,7 @@ std::string VectorLayer::status() const {
       << " vertices";
     if (!content_->warnings.empty()) s << ", " << content_->warnings.size() << " warning(s)";
     if (!labelError_.empty()) s << ", no labels: " << labelError_;
+    if (const auto bad = icons_->errors(); !bad.empty()) s << ", " << bad.size() << " icon(s) unreadable: " << bad.front();
     if (meshLoading_ && !mesh_) s << ", building " << meshFeatures_ << " mesh feature(s)";
     if (mesh_ && !mesh_->chunks.empty())
         s << ", " << mesh_->features << " in 3-D (" << mesh_->triangles << " triangles, " << mesh_->segments << " segments, "

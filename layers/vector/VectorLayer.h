@@ -169,6 +169,7 @@ private:
     std::shared_ptr<vector::VectorContent> content_;
     std::shared_ptr<const vector::ContentStyles> styles_;
     std::shared_ptr<const vector::VectorDrape> drape_;
+    std::shared_ptr<vector::IconCache> icons_;   ///< the points' icons, read by the drape's painters
     uint64_t version_ = 0;
     TimeNs time_ = 0;
     uint64_t shownSignature_ = 0;

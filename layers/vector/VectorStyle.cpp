@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 namespace orbis::vector {
 namespace {
@@ -144,7 +145,12 @@ Result<VectorStyle::Patch> VectorStyle::readPatch(const json& object, const std:
     number("labelSize", p.labelSizePx, 1.0, 512.0);
     number("minRange", p.minRangeM, 0.0, 1e12);
     number("maxRange", p.maxRangeM, 0.0, 1e12);
-    if (r.has("icon")) p.icon = r.string("icon");
+    if (r.has("icon")) {
+        // A PNG, relative to the scene's folder.
+        p.icon = r.string("icon");
+        if (p.icon && !p.icon->empty() && std::filesystem::path(*p.icon).is_relative())
+            p.icon = (std::filesystem::path(file).parent_path() / *p.icon).lexically_normal().string();
+    }
     if (r.has("label")) {
         if (auto text = r.string("label")) {
             std::vector<bool> isField;

@@ -293,6 +293,48 @@ TEST_F(VectorRender, AKmlKeepsItsOwnStylesUnlessTheSceneOverridesThem) {
     EXPECT_EQ(layer.content()->featureCount, 4u);
 }
 
+TEST_F(VectorRender, PointsShowTheirIconsWithTheirLabelsBeside) {
+    // A KML whose IconStyle names a PNG beside it (a hut: a dark red roof over an orange wall,
+    // transparent around), labelled from the scene; one placemark's icon is missing: a marker.
+    const auto dir = std::filesystem::current_path() / "vector-render";
+    std::filesystem::create_directories(dir);
+    ImageRgba8 hut{32, 32, std::vector<uint8_t>(32 * 32 * 4, 0)};
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            uint8_t* t = &hut.pixels[(size_t(y) * 32 + x) * 4];
+            const bool roof = y >= 2 && y < 14 && std::abs(x - 16) <= (y - 2) * 14 / 12;
+            const bool wall = y >= 14 && y < 30 && x >= 6 && x < 26;
+            if (roof) t[0] = 150, t[1] = 20, t[2] = 20, t[3] = 255;
+            if (wall) t[0] = 255, t[1] = 140, t[2] = 0, t[3] = 255;
+        }
+    ASSERT_TRUE(writePng(dir / "hut.png", hut).ok());
+    const std::string kml = (dir / "huts.kml").string();
+    std::ofstream(kml) << R"KML(<?xml version="1.0" encoding="UTF-8"?>
+<kml xmlns="http://www.opengis.net/kml/2.2"><Document>
+  <Style id="hut"><IconStyle><scale>1.5</scale><Icon><href>hut.png</href></Icon></IconStyle></Style>
+  <Style id="lost"><IconStyle><Icon><href>no-such-icon.png</href></Icon></IconStyle></Style>
+  <Placemark><name>Refuge A</name><styleUrl>#hut</styleUrl><Point><coordinates>6.85,45.9,0</coordinates></Point></Placemark>
+  <Placemark><name>Refuge B</name><styleUrl>#hut</styleUrl><Point><coordinates>7.15,46.1,0</coordinates></Point></Placemark>
+  <Placemark><name>Refuge C</name><styleUrl>#hut</styleUrl><Point><coordinates>6.95,46.2,0</coordinates></Point></Placemark>
+  <Placemark><name>Lost</name><styleUrl>#lost</styleUrl><Point><coordinates>7.2,45.85,0</coordinates></Point></Placemark>
+</Document></kml>)KML";
+    const char* top = R"({"lon": 7.0, "lat": 46.0, "pitch": -90, "range": 90000})";
+    auto scene = load(sceneJson(top, mountain() + "," + vectorLayer(kml, R"(, "style": {"color": [0.2, 0.6, 1], "label": "{Name}"})")));
+    ASSERT_TRUE(scene);
+    const auto img = render(*scene);
+    EXPECT_TRUE(matchesGolden(img, "vector_icons"));
+    auto& layer = dynamic_cast<layers::VectorLayer&>(*scene->resources()[1].layer);
+    ASSERT_NE(layer.content(), nullptr) << layer.error();
+    size_t orange = 0;
+    for (size_t i = 0; i < size_t(img.width) * img.height; ++i) {
+        const uint8_t* p = &img.pixels[i * 4];
+        orange += int(p[0]) > int(p[1]) + 40 && int(p[1]) > int(p[2]) + 30;   // the walls, shaded by the terrain
+    }
+    EXPECT_GT(orange, 3u * 60u) << "three huts' walls, some 9 x 8 px each at this size";
+    EXPECT_NE(layer.status().find("1 icon(s) unreadable"), std::string::npos) << layer.status();
+    EXPECT_NE(layer.status().find("no-such-icon.png"), std::string::npos) << layer.status();
+}
+
 TEST_F(VectorRender, BadInputsNameTheFileAndTheKey) {
     // A missing file: the scene names it.
     auto desc = scene::parseSceneText(sceneJson(kRidgeView, mountain() + "," + vectorLayer("/nonexistent/roads.shp", "")), "test.json", ".");

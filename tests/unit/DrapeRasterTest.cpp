@@ -272,6 +272,42 @@ TEST(DrapeRasterPoints, AMarkerIsADiskOfItsSize) {
     EXPECT_NEAR(twice.alphaSum(), std::numbers::pi * 256, 0.02 * std::numbers::pi * 256);
 }
 
+TEST(DrapeRasterPoints, AnIconIsDrawnItsSizeHighInsteadOfTheMarker) {
+    // 8 x 4 texels: the left half opaque red, the right half transparent; drawn 16 px high it is
+    // 32 px wide, the red half on [34, 50) x [42, 58).
+    ImageRgba8 icon{8, 4, std::vector<uint8_t>(8 * 4 * 4, 0)};
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) {
+            uint8_t* t = &icon.pixels[(size_t(y) * 8 + x) * 4];
+            t[0] = 255, t[3] = 255;
+        }
+    FeatureStyle s = lineStyle(1.0, 1.0, {1, 1, 0});
+    s.iconSizePx = 16.0;
+    const Feature f = feature(GeometryKind::Points, {{px(50, 50)}});
+    const DrapeItem item{&f, &s, &icon};
+    Tile t;
+    t.painted = rasterizeDrapeTile({&item, 1}, {.extent = kUnitExtent, .size = kSize}, t.rgba);
+    ASSERT_TRUE(t.painted);
+    EXPECT_NEAR(t.alphaSum(), 16.0 * 16.0, 16.0) << "the red half, edges antialiased";
+    EXPECT_EQ(t.at(40, 50)[0], 255);
+    EXPECT_EQ(t.at(40, 50)[1], 0) << "the icon's colour, not the style's yellow";
+    EXPECT_EQ(t.at(40, 50)[3], 255);
+    EXPECT_EQ(t.at(55, 50)[3], 0) << "the transparent half";
+    EXPECT_EQ(t.at(40, 40)[3], 0) << "above the icon";
+    // A large icon drawn small is averaged, not sampled: a 64 x 64 checkerboard of black and
+    // white texels at 8 px is an even grey.
+    ImageRgba8 checker{64, 64, std::vector<uint8_t>(64 * 64 * 4, 255)};
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x)
+            if ((x + y) % 2) std::fill_n(&checker.pixels[(size_t(y) * 64 + x) * 4], 3, uint8_t(0));
+    s.iconSizePx = 8.0;
+    const DrapeItem small{&f, &s, &checker};
+    Tile g;
+    ASSERT_TRUE(rasterizeDrapeTile({&small, 1}, {.extent = kUnitExtent, .size = kSize}, g.rgba));
+    for (int y = 47; y < 53; ++y)
+        for (int x = 47; x < 53; ++x) EXPECT_NEAR(g.at(x, y)[0], 128, 12) << x << ", " << y;
+}
+
 // --- the antimeridian and the poles -----------------------------------------------------------
 
 TEST(DrapeRasterWrap, AnUnwrappedPolygonPaintsTheTilesOnBothSidesOfTheSeam) {

@@ -1,0 +1,42 @@
+#pragma once
+// The PNG icons of a vector layer's points, read once each and shared by the threads that paint
+// the drape's tiles. No Vulkan.
+//
+// Bounds: at most kMaxIcons icons, each at most kMaxIconSide pixels a side. An icon that cannot
+// be read (missing, not a PNG, too large, past the count) is null: its points are drawn as
+// markers, and the reason is logged once and kept in errors().
+
+#include "base/Png.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace orbis::vector {
+
+class IconCache {
+public:
+    static constexpr uint32_t kMaxIconSide = 1024;
+    static constexpr size_t kMaxIcons = 256;
+
+    /// `baseDir`: where relative paths are found (the source's folder: KML's own icons).
+    explicit IconCache(std::string baseDir = {}) : baseDir_(std::move(baseDir)) {}
+
+    /// The icon at `path` (absolute, or relative to the base folder); null when it cannot be
+    /// read. Any thread.
+    std::shared_ptr<const ImageRgba8> get(const std::string& path);
+    /// One line per icon that could not be read: its path and why.
+    std::vector<std::string> errors() const;
+
+private:
+    std::string baseDir_;
+    mutable std::mutex mutex_;
+    std::map<std::string, std::shared_ptr<const ImageRgba8>> icons_;
+    std::vector<std::string> errors_;
+};
+
+}  // namespace orbis::vector
