@@ -150,19 +150,29 @@ uint32_t TerrainTiles::addImagery(std::shared_ptr<const TileImageSource> source)
 void TerrainTiles::replaceImagery(uint32_t layer, std::shared_ptr<const TileImageSource> source) {
     if (layer == 0 || layer > imagery_.size()) return;
     imagery_[layer - 1] = std::move(source);
+    if (generations_.size() <= layer) generations_.resize(layer + 1, 0);
+    ++generations_[layer];
     for (auto it = entries_.begin(); it != entries_.end();) {
         Entry& e = it->second;
         if (it->first.layer != layer) {
             ++it;
             continue;
         }
-        if (e.state == DataState::Loading) {
+        if (e.busy()) {
             // A running load holds its own source; it finishes on its own and its result is
             // dropped (kept until then: it uses this object).
             e.job.cancel();
             if (!e.job.ready()) orphans_.push_back(std::move(e.job));
+            e.job = {};
             --loadingCount_;
             ++stats_.cancelled;
+            e.refreshing = false;
+        }
+        // What was painted stays on show until its repaint arrives (request starts it); what
+        // had nothing yet, or failed, starts again.
+        if (e.state == DataState::Ready || e.state == DataState::Empty) {
+            ++it;
+            continue;
         }
         cpuBytes_ -= e.bytes;
         it = entries_.erase(it);
@@ -170,11 +180,16 @@ void TerrainTiles::replaceImagery(uint32_t layer, std::shared_ptr<const TileImag
     stats_.loading = loadingCount_;
 }
 
+uint32_t TerrainTiles::dataGeneration(uint32_t layer, const TileKey& tile) const {
+    const Entry* e = find(layer, tile);
+    return e ? e->generation : 0;
+}
+
 TerrainTiles::~TerrainTiles() {
     for (auto& [key, e] : entries_)
-        if (e.state == DataState::Loading) e.job.cancel();
+        if (e.busy()) e.job.cancel();
     for (auto& [key, e] : entries_)
-        if (e.state == DataState::Loading) e.job.wait();
+        if (e.busy()) e.job.wait();
     for (auto& job : orphans_) job.wait();
 }
 
@@ -242,6 +257,10 @@ void TerrainTiles::request(uint32_t layer, const TileKey& tile, double distance)
         const DataKey key{layer, tile.ancestor(level)};
         Entry& e = entries_[key];
         e.lastUsed = frame_;
+        // Data from a replaced source serves while it is painted again.
+        const bool stale = (e.state == DataState::Ready || e.state == DataState::Empty) && e.generation != currentGeneration(layer);
+        if (stale && e.refreshing) e.job.setPriority(priorityFor(level, distance));
+        if (stale && !e.refreshing) startLoad(key, e, priorityFor(level, distance), true);
         switch (e.state) {
             case DataState::Ready:
                 continue;
@@ -261,7 +280,7 @@ void TerrainTiles::request(uint32_t layer, const TileKey& tile, double distance)
     }
 }
 
-void TerrainTiles::startLoad(const DataKey& key, Entry& entry, double priority) {
+void TerrainTiles::startLoad(const DataKey& key, Entry& entry, double priority, bool refresh) {
     ++stats_.started;
     std::shared_ptr<const ElevationData> parent;
     uint32_t parentLevel = 0;
@@ -279,17 +298,26 @@ void TerrainTiles::startLoad(const DataKey& key, Entry& entry, double priority) 
         r.nanoseconds = uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count());
         return r;
     };
+    entry.loadingGeneration = currentGeneration(key.layer);
     if (!pool_) {
         finishLoad(key, entry, work(jobs::CancelToken{}));
         return;
     }
-    entry.state = DataState::Loading;
+    if (refresh) entry.refreshing = true;
+    else entry.state = DataState::Loading;
     entry.job = pool_->submit(priority, jobs::CancelToken{}, std::move(work));
     ++loadingCount_;
 }
 
 void TerrainTiles::finishLoad(const DataKey& key, Entry& e, LoadResult r) {
     stats_.loadNanoseconds += r.nanoseconds;
+    // A repaint replaces the data it served meanwhile.
+    cpuBytes_ -= e.bytes;
+    e.bytes = 0;
+    e.elevation.reset();
+    e.imagery.reset();
+    e.refreshing = false;
+    e.generation = e.loadingGeneration;
     if (!r.error.empty()) {
         e.state = DataState::Failed;
         ++stats_.failed;
@@ -316,19 +344,28 @@ void TerrainTiles::collectFinished() {
     std::erase_if(orphans_, [](const jobs::Job<LoadResult>& job) { return job.ready(); });
     for (auto it = entries_.begin(); it != entries_.end();) {
         Entry& e = it->second;
-        if (e.state == DataState::Loading && e.job.ready()) {
+        if (e.busy() && e.job.ready()) {
             --loadingCount_;
-            if (e.job.cancelled()) {
+            // A cancelled load leaves nothing; a cancelled repaint leaves the old data.
+            const auto cancelled = [&] {
                 ++stats_.cancelled;
-                it = entries_.erase(it);
+                if (e.refreshing) {
+                    e.refreshing = false;
+                    e.job = {};
+                    ++it;
+                } else {
+                    it = entries_.erase(it);
+                }
+            };
+            if (e.job.cancelled()) {
+                cancelled();
                 continue;
             }
             LoadResult r;
             try {
                 r = e.job.get();
             } catch (const jobs::Cancelled&) {
-                ++stats_.cancelled;
-                it = entries_.erase(it);
+                cancelled();
                 continue;
             } catch (const std::exception& ex) {
                 r.error = std::string("tile load failed: ") + ex.what();
@@ -346,9 +383,14 @@ void TerrainTiles::endFrame() {
     // running one finishes and its result is kept if it arrives before the entry is gone).
     for (auto it = entries_.begin(); it != entries_.end();) {
         Entry& e = it->second;
-        if (e.state == DataState::Loading && e.lastUsed < frame_) {
+        if (e.busy() && e.lastUsed < frame_) {
             e.job.cancel();
-            if (e.job.ready()) {   // cancelled while queued: gone now
+            if (e.job.ready() && e.refreshing) {   // a repaint cancelled while queued: the old data stays
+                --loadingCount_;
+                ++stats_.cancelled;
+                e.refreshing = false;
+                e.job = {};
+            } else if (e.job.ready()) {   // cancelled while queued: gone now
                 --loadingCount_;
                 ++stats_.cancelled;
                 it = entries_.erase(it);
@@ -368,7 +410,7 @@ void TerrainTiles::trim() {
     if (cpuBytes_ <= settings_.cpuBudgetBytes) return;
     std::vector<std::pair<uint64_t, DataKey>> candidates;
     for (const auto& [key, e] : entries_)
-        if ((e.state == DataState::Ready || e.state == DataState::Empty || e.state == DataState::Failed) &&
+        if ((e.state == DataState::Ready || e.state == DataState::Empty || e.state == DataState::Failed) && !e.refreshing &&
             e.lastUsed < frame_ && key.tile.level > kPinnedLevels)
             candidates.emplace_back(e.lastUsed * 64 + (63 - std::min<uint64_t>(key.tile.level, 63)), key);
     // Oldest first; among equals, the finest first (a parent outlives its children).
@@ -393,7 +435,7 @@ std::vector<DataKey> TerrainTiles::loadedKeys() const {
 void TerrainTiles::waitIdle() {
     while (loadingCount_ > 0) {
         for (auto& [key, e] : entries_)
-            if (e.state == DataState::Loading) e.job.wait();
+            if (e.busy()) e.job.wait();
         collectFinished();
     }
 }

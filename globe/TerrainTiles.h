@@ -102,9 +102,14 @@ public:
 
     /// Adds an image layer after the others; returns its layer number. Main thread.
     uint32_t addImagery(std::shared_ptr<const TileImageSource> source);
-    /// Replaces an image layer's source (what it paints changed): its cached tiles are
-    /// dropped and loads in flight cancelled, so every tile is painted again. Main thread.
+    /// Replaces an image layer's source (what it paints changed): loads in flight are
+    /// cancelled, and each cached tile is painted again when it is next requested, its old
+    /// image served meanwhile (stale while repainting: a repaint never shows a hole). A tile's
+    /// dataGeneration tells which source its data came from. Main thread.
     void replaceImagery(uint32_t layer, std::shared_ptr<const TileImageSource> source);
+    /// How many times the layer's source was replaced before the tile's data was loaded (0 for
+    /// elevation, and for a tile not loaded).
+    uint32_t dataGeneration(uint32_t layer, const TileKey& tile) const;
 
     bool hasPool() const { return pool_ != nullptr; }
     /// Loads run on `pool` from now on (a source added later needs it). Main thread.
@@ -162,11 +167,19 @@ private:
         size_t bytes = 0;
         bool descend = false;
         uint64_t lastUsed = 0;
-        jobs::Job<LoadResult> job;
+        jobs::Job<LoadResult> job;   ///< while Loading, or refreshing
+        /// Ready or Empty data from an older source, being painted again (job runs).
+        bool refreshing = false;
+        uint32_t generation = 0;          ///< the source's generation the data came from
+        uint32_t loadingGeneration = 0;   ///< the generation the running job paints
+        bool busy() const { return state == DataState::Loading || refreshing; }
     };
 
     const Entry* find(uint32_t layer, const TileKey& tile) const;
-    void startLoad(const DataKey& key, Entry& entry, double priority);
+    /// Starts loading `key` (a Missing entry, or with `refresh` a stale Ready or Empty one, which
+    /// keeps its data until the new arrives).
+    void startLoad(const DataKey& key, Entry& entry, double priority, bool refresh = false);
+    uint32_t currentGeneration(uint32_t layer) const { return layer < generations_.size() ? generations_[layer] : 0; }
     void finishLoad(const DataKey& key, Entry& entry, LoadResult result);
     void collectFinished();
     void trim();
@@ -184,6 +197,7 @@ private:
     uint64_t frame_ = 0;
     uint64_t cpuBytes_ = 0;
     size_t loadingCount_ = 0;
+    std::vector<uint32_t> generations_;   ///< per layer: how many times its source was replaced
     uint32_t deepestElevation_ = 0;
     PagerStats stats_;
     std::vector<std::string> errors_;

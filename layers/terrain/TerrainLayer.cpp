@@ -219,8 +219,8 @@ void TerrainLayer::syncDrapes(const std::vector<scene::Drape>& drapes) {
         }
         const uint32_t layer = uint32_t(1 + imageryIndex_.size() + size_t(it - drapes_.begin()));
         if (it->version != drape.version) {
+            // Its tiles are painted again; each shows its old image until its new one is in.
             tiles_->replaceImagery(layer, drape.source);
-            gpuSlots_->forgetLayer(Kind::Imagery, layer);
             it->version = drape.version;
         }
         it->opacity = drape.opacity;
@@ -241,9 +241,22 @@ std::optional<std::pair<globe::TileKey, uint32_t>> TerrainLayer::residentData(ui
     std::optional<globe::TileKey> a = tiles_->readyAncestor(layer, tile, drape);
     while (a) {
         const globe::DataKey key{layer, *a};
-        if (auto slot = gpuSlots_->find(kind, key)) return std::make_pair(*a, *slot);
-        if (uploadBytes_ + gpuSlots_->slotBytes(kind) <= settings_.uploadBudgetBytes) {
-            if (auto slot = gpuSlots_->acquire(kind, key, false)) {
+        const uint32_t generation = tiles_->dataGeneration(layer, *a);
+        const bool fits = uploadBytes_ + gpuSlots_->slotBytes(kind) <= settings_.uploadBudgetBytes;
+        if (auto slot = gpuSlots_->find(kind, key)) {
+            // A repainted tile goes into its slot when the frame's uploads allow; until then
+            // the slot's old image is drawn.
+            if (gpuSlots_->generation(kind, *slot) != generation && fits) {
+                gpuSlots_->setGeneration(kind, *slot, generation);
+                uploads_.push_back({kind, *slot, *a, layer});
+                uploadBytes_ += gpuSlots_->slotBytes(kind);
+            } else if (gpuSlots_->generation(kind, *slot) != generation) {
+                deferred_ = true;
+            }
+            return std::make_pair(*a, *slot);
+        }
+        if (fits) {
+            if (auto slot = gpuSlots_->acquire(kind, key, false, generation)) {
                 uploads_.push_back({kind, *slot, *a, layer});
                 uploadBytes_ += gpuSlots_->slotBytes(kind);
                 return std::make_pair(*a, *slot);

@@ -73,7 +73,7 @@ std::optional<uint32_t> TileSlotPool::find(Kind kind, const globe::DataKey& key)
     return it->second;
 }
 
-std::optional<uint32_t> TileSlotPool::acquire(Kind kind, const globe::DataKey& key, bool mayExceedBudget) {
+std::optional<uint32_t> TileSlotPool::acquire(Kind kind, const globe::DataKey& key, bool mayExceedBudget, uint32_t generation) {
     Pool& p = pool(kind);
     if (p.freeSlots.empty()) {
         const bool fits = reservedBytes_ + allocatedBytes() + p.pageBytes <= budgetBytes_;
@@ -93,22 +93,9 @@ std::optional<uint32_t> TileSlotPool::acquire(Kind kind, const globe::DataKey& k
     }
     const uint32_t slot = p.freeSlots.back();
     p.freeSlots.pop_back();
-    p.slots[slot] = Slot{key, frame_, true};
+    p.slots[slot] = Slot{key, frame_, true, generation};
     p.resident[key] = slot;
     return slot;
-}
-
-void TileSlotPool::forgetLayer(Kind kind, uint32_t layer) {
-    Pool& p = pool(kind);
-    for (auto it = p.resident.begin(); it != p.resident.end();) {
-        if (it->first.layer != layer) {
-            ++it;
-            continue;
-        }
-        p.slots[it->second].taken = false;
-        p.freeSlots.push_back(it->second);
-        it = p.resident.erase(it);
-    }
 }
 
 bool TileSlotPool::evictOne(Pool& p) {

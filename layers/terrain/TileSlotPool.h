@@ -45,10 +45,12 @@ public:
     /// within the budget, else the least recently used one this frame does not use. Only
     /// `mayExceedBudget` (a mesh, without which a tile would be a hole) adds pages past the
     /// budget. Nothing when no slot can be had: the caller falls back to an ancestor.
-    std::optional<uint32_t> acquire(Kind kind, const globe::DataKey& key, bool mayExceedBudget);
-    /// Frees every slot holding data of data layer `layer` (its content changed). Main thread,
-    /// before the frame's slots are found.
-    void forgetLayer(Kind kind, uint32_t layer);
+    /// `generation`: which version of the key's data goes in (TerrainTiles::dataGeneration).
+    std::optional<uint32_t> acquire(Kind kind, const globe::DataKey& key, bool mayExceedBudget, uint32_t generation = 0);
+    /// The version of its key's data a slot holds; a newer one is uploaded into the same slot
+    /// (setGeneration), the old image drawn until then.
+    uint32_t generation(Kind kind, uint32_t slot) const { return pool(kind).slots[slot].generation; }
+    void setGeneration(Kind kind, uint32_t slot, uint32_t generation) { pool(kind).slots[slot].generation = generation; }
     /// The bytes of one slot of `kind` (what uploading it costs).
     uint64_t slotBytes(Kind kind) const;
 
@@ -80,6 +82,7 @@ private:
         globe::DataKey owner;
         uint64_t lastUsed = 0;
         bool taken = false;
+        uint32_t generation = 0;
     };
     struct Pool {
         uint32_t slotsPerPage = 0, maxPages = 0;

@@ -251,6 +251,10 @@ TEST_F(VectorRender, APickedFeatureShowsItsAttributesAndIsHighlighted) {
         }
         return n;
     };
+    // The frame right after the pick still shows every drape tile (its old image) while the
+    // tiles are painted again: no flicker.
+    const auto firstFrame = renderOnce(*renderer_, *scene);
+    EXPECT_GE(countRed(firstFrame), countRed(before) * 9 / 10) << "drape tiles missing while they were repainted";
     const auto highlighted = render(*scene);
     EXPECT_EQ(yellow(before), 0u);
     EXPECT_GT(yellow(highlighted), 30u);

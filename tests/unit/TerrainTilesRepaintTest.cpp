@@ -1,0 +1,81 @@
+// A terrain image layer whose source is replaced (a vector layer's drape repainted on a pick or
+// a rule switched off) keeps showing each tile's old image until its new one is painted: never
+// a hole. Loads of the old source in flight are dropped; the newest source wins.
+#include "base/ThreadPool.h"
+#include "globe/TerrainTiles.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+namespace orbis::globe {
+namespace {
+
+/// Paints every tile one grey level; waits while `hold` is set.
+class SolidSource : public TileImageSource {
+public:
+    SolidSource(uint8_t grey, std::atomic<bool>* hold = nullptr) : grey_(grey), hold_(hold) {}
+    const std::string& name() const override { return name_; }
+    uint32_t maxLevel(int) const override { return 3; }
+    uint32_t minLevel() const override { return 0; }
+    bool covers(const GeoExtent&) const override { return true; }
+    Result<ImageryTile> readTile(const TileImageRequest& r, const jobs::CancelToken*) const override {
+        while (hold_ && hold_->load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        return ImageryTile{r.size, std::vector<uint8_t>(size_t(r.size) * r.size * 4, grey_), true};
+    }
+
+private:
+    std::string name_ = "solid";
+    uint8_t grey_;
+    std::atomic<bool>* hold_;
+};
+
+uint8_t greyAt(const TerrainTiles& tiles, const TileKey& key) {
+    const auto data = tiles.imagery(1, key);
+    return data ? data->rgba[0] : 0;
+}
+
+TEST(TerrainTilesRepaint, TheOldImageServesUntilTheNewOneIsPainted) {
+    jobs::ThreadPool pool(1);
+    TerrainTilesSettings settings;
+    settings.imageSize = 16;
+    TerrainTiles tiles(settings, {}, {std::make_shared<SolidSource>(10)}, &pool);
+    const TileKey key{2, 3, 1};
+    uint64_t frame = 1;
+    const auto frameOf = [&] {
+        tiles.beginFrame(frame++);
+        tiles.request(1, key, 1000.0);
+        tiles.endFrame();
+    };
+    for (int i = 0; i < 4; ++i) {
+        frameOf();
+        tiles.waitIdle();
+    }
+    ASSERT_EQ(greyAt(tiles, key), 10);
+    EXPECT_EQ(tiles.dataGeneration(1, key), 0u);
+
+    std::atomic<bool> hold{true};
+    tiles.replaceImagery(1, std::make_shared<SolidSource>(20, &hold));
+    for (int i = 0; i < 5; ++i) {
+        frameOf();
+        EXPECT_EQ(tiles.state(1, key), DataState::Ready) << "the stale tile is still ready";
+        EXPECT_EQ(greyAt(tiles, key), 10) << "the old image while the new one is painted";
+        EXPECT_EQ(tiles.readyAncestor(1, key), key);
+    }
+    EXPECT_TRUE(tiles.loading());
+    // Replaced again while the repaint runs: that repaint is dropped, the newest source wins.
+    tiles.replaceImagery(1, std::make_shared<SolidSource>(30));
+    hold = false;
+    for (int i = 0; i < 6 && (greyAt(tiles, key) != 30 || tiles.loading()); ++i) {
+        frameOf();
+        tiles.waitIdle();
+    }
+    EXPECT_EQ(greyAt(tiles, key), 30);
+    EXPECT_EQ(tiles.dataGeneration(1, key), 2u);
+    EXPECT_FALSE(tiles.loading());
+}
+
+}  // namespace
+}  // namespace orbis::globe
