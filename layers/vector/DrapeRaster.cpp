@@ -59,7 +59,7 @@ public:
     explicit Sleeve(double tolerance) : tolerance_(tolerance) {}
 
     template <typename Emit>
-    void push(glm::dvec2 p, Emit&& emit) {
+    void push(glm::dvec3 p, Emit&& emit) {
         if (!started_) {
             emit(p);
             anchor_ = p, started_ = true;
@@ -78,8 +78,8 @@ public:
     }
 
 private:
-    bool narrow(glm::dvec2 p) {
-        const glm::dvec2 v = p - anchor_;
+    bool narrow(glm::dvec3 point) {
+        const glm::dvec2 p(point), v = p - glm::dvec2(anchor_);
         const double d2 = glm::dot(v, v), t2 = tolerance_ * tolerance_;
         if (d2 < back2_) return false;   // turning back
         if (d2 <= t2) return true;
@@ -101,7 +101,8 @@ private:
     }
 
     double tolerance_;
-    glm::dvec2 anchor_{}, last_{}, left_{}, right_{};
+    glm::dvec3 anchor_{}, last_{};   ///< z rides along (the distance along the part)
+    glm::dvec2 left_{}, right_{};
     double farthest2_ = 0.0, back2_ = 0.0;   ///< the farthest vertex since the anchor; nearer than back2_ turns back
     bool started_ = false, pending_ = false, open_ = false;
 };
@@ -146,6 +147,7 @@ private:
     struct Stroke {
         double radius = 0.0;
         float scale = 0.0f;
+        glm::dvec2 dash{0.0};   ///< on, off (tile px along the path); 0: solid
         bool valid() const { return radius > 0.0; }
     };
 
@@ -156,7 +158,9 @@ private:
     Stroke strokeFor(const FeatureStyle& s) const {
         const double w = std::min(s.widthPx * pixelScale_, 2.0 * size_);
         if (!(w > 0.0)) return {};
-        return w >= 1.0 ? Stroke{0.5 * w + 0.5, 1.0f} : Stroke{1.0, float(w)};
+        Stroke stroke = w >= 1.0 ? Stroke{0.5 * w + 0.5, 1.0f} : Stroke{1.0, float(w)};
+        if (s.dashPx.x > 0.0 && s.dashPx.y > 0.0) stroke.dash = s.dashPx * pixelScale_;
+        return stroke;
     }
 
     /// The whole turns k for which the box moved by 360 k meets the tile grown by `marginPx`.
@@ -202,28 +206,32 @@ double TilePainter::thinPath(std::span<const glm::dvec3> part, double shiftDeg, 
     const double loX = -marginPx / xScale_, hiX = size_ + marginPx / xScale_;
     unsigned runSides = 0;
     bool runOpen = false;
-    const auto append = [&](glm::dvec2 p) {
+    const auto append = [&](glm::dvec3 p) {
         const unsigned sides = unsigned(p.x < loX) | unsigned(p.x > hiX) << 1 | unsigned(p.y < lo) << 2 | unsigned(p.y > hi) << 3;
         if (!path_.empty() && (sides & runSides) != 0) {   // still beyond a side the run shares
-            if (runOpen) path_.back() = {p, 0.0};
-            else path_.push_back({p, 0.0}), runOpen = true;
+            if (runOpen) path_.back() = p;
+            else path_.push_back(p), runOpen = true;
             runSides &= sides;
             return;
         }
-        path_.push_back({p, 0.0});
+        path_.push_back(p);
         runSides = sides, runOpen = false;
     };
     Sleeve sleeve(kNearPx);
     bool started = false;
     glm::dvec2 first{}, previous{};
     double area2 = 0.0;
+    // The distance along the part from its first vertex, on the ground, in pixels of latitude
+    // at this tile's level (the same in every tile of the level: dashes join across tiles).
+    double along = 0.0;
     for (const glm::dvec3& c : part) {
         if (!usable(c)) continue;
         const glm::dvec2 g(c);
         if (!started) first = previous = g, started = true;
         area2 += (previous.x - first.x) * (g.y - first.y) - (g.x - first.x) * (previous.y - first.y);
+        along += glm::length(glm::dvec2((g.x - previous.x) * std::cos(glm::radians(0.5 * (g.y + previous.y))), g.y - previous.y)) * pxPerLat_;
         previous = g;
-        sleeve.push(toPixel(c.x + shiftDeg, c.y), append);
+        sleeve.push(glm::dvec3(toPixel(c.x + shiftDeg, c.y), along), append);
     }
     sleeve.finish(append);
     return area2;
@@ -247,7 +255,43 @@ void TilePainter::simplifyDense() {
 }
 
 void TilePainter::strokePath(const Stroke& s) {
-    for (size_t i = 0; i + 1 < path_.size(); ++i) stroke_.addSegment(glm::dvec2(path_[i]), glm::dvec2(path_[i + 1]), s.radius, s.scale);
+    // Dashes under a pixel long would be a grey line: drawn solid.
+    if (s.dash.x <= 0.0 || s.dash.x + s.dash.y < 1.0) {
+        for (size_t i = 0; i + 1 < path_.size(); ++i) stroke_.addSegment(glm::dvec2(path_[i]), glm::dvec2(path_[i + 1]), s.radius, s.scale);
+        return;
+    }
+    // Dashed: the "on" stretches of each segment, by the distance along the part that its
+    // vertices carry (z), only over the segment's stretch that can reach the tile.
+    const double period = s.dash.x + s.dash.y, reach = s.radius + 1.0;
+    for (size_t i = 0; i + 1 < path_.size(); ++i) {
+        const glm::dvec2 a(path_[i]), b(path_[i + 1]);
+        const double da = path_[i].z, length = path_[i + 1].z - da;
+        double t0 = 0.0, t1 = 1.0;
+        const glm::dvec2 d = b - a;
+        const double lo[2] = {-reach / xScale_, -reach}, hi[2] = {size_ + reach / xScale_, size_ + reach};
+        for (int k = 0; k < 2 && t0 <= t1; ++k) {
+            if (d[k] == 0.0) {
+                if (a[k] < lo[k] || a[k] > hi[k]) t0 = 2.0;
+                continue;
+            }
+            const double u = (lo[k] - a[k]) / d[k], v = (hi[k] - a[k]) / d[k];
+            t0 = std::max(t0, std::min(u, v)), t1 = std::min(t1, std::max(u, v));
+        }
+        if (t0 > t1) continue;
+        if (!(length > 0.0)) {   // no length along the part: on or off as its start is
+            if (std::fmod(da, period) < s.dash.x) stroke_.addSegment(a + d * t0, a + d * t1, s.radius, s.scale);
+            continue;
+        }
+        // Each dash is drawn `on` long with its round caps: its axis is shorter by the caps
+        // (a dash shorter than its width is a dot).
+        const double cap = std::max(s.radius - 0.5, 0.0), from = da + t0 * length, to = da + t1 * length;
+        for (double start = std::floor((from - cap) / period) * period; start < to + cap; start += period) {
+            double on0 = start + cap, on1 = start + s.dash.x - cap;
+            if (on0 > on1) on0 = on1 = start + 0.5 * s.dash.x;
+            on0 = std::max(on0, da), on1 = std::min(on1, da + length);
+            if (on0 <= on1) stroke_.addSegment(a + d * ((on0 - da) / length), a + d * ((on1 - da) / length), s.radius, s.scale);
+        }
+    }
 }
 
 /// A ring's outline: its stored edges but the seams (pole, 180), in runs between them, and its

@@ -141,6 +141,18 @@ Result<VectorStyle::Patch> VectorStyle::readPatch(const json& object, const std:
     number("opacity", p.opacity, 0.0, 1.0);
     number("fillOpacity", p.fillOpacity, 0.0, 1.0);
     number("width", p.widthPx, 0.0, 256.0);
+    if (r.has("dash")) {
+        // [on, off] or one length for both, in pixels; 0 or null: solid.
+        r.accept("dash");
+        const json& d = object["dash"];
+        const auto length = [](const json& v) { return v.is_number() && v.get<double>() >= 0.0 && v.get<double>() <= 1024.0; };
+        if (d.is_null()) p.dash = glm::dvec2(0.0);
+        else if (length(d)) p.dash = glm::dvec2(d.get<double>());
+        else if (d.is_array() && d.size() == 2 && length(d[0]) && length(d[1])) p.dash = glm::dvec2(d[0].get<double>(), d[1].get<double>());
+        else fail("dash", "expected [on, off] in pixels (0 to 1024 each), one length for both, or null; got " + d.dump());
+        if (p.dash && ((*p.dash)[0] == 0.0) != ((*p.dash)[1] == 0.0))
+            fail("dash", "a dash needs both lengths above 0 (or both 0: solid), got " + d.dump());
+    }
     number("iconSize", p.iconSizePx, 1.0, 1024.0);
     number("labelSize", p.labelSizePx, 1.0, 512.0);
     number("minRange", p.minRangeM, 0.0, 1e12);
@@ -314,6 +326,7 @@ void VectorStyle::apply(const Patch& p, std::span<const AttributeValue> attribut
     if (p.opacity) s.opacity = *p.opacity;
     if (p.fillOpacity) s.fillOpacity = *p.fillOpacity;
     if (p.widthPx) s.widthPx = *p.widthPx;
+    if (p.dash) s.dashPx = *p.dash;
     if (p.iconSizePx) s.iconSizePx = *p.iconSizePx;
     if (p.labelSizePx) s.labelSizePx = *p.labelSizePx;
     if (p.minRangeM) s.minRangeM = *p.minRangeM;

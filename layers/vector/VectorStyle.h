@@ -4,6 +4,7 @@
 //
 //   "style": {
 //     "color": [1, 0.8, 0], "opacity": 1, "width": 2,          lines, outlines, markers (px)
+//     "dash": [8, 4] | 6,                 on and off along lines and outlines (px; on the terrain)
 //     "fill": [0.2, 0.4, 1], "fillOpacity": 0.5, "outline": true,
 //     "icon": "icons/city.png", "iconSize": 16,                  points (px)
 //     "extrude": 30 | "height" | {"field": "levels", "scale": 3, "add": 0},   metres
@@ -61,6 +62,7 @@ struct FeatureStyle {
     glm::dvec3 color{1.0, 0.85, 0.0};
     double opacity = 1.0;
     double widthPx = 2.0;
+    glm::dvec2 dashPx{0.0};    ///< on, off (px) along lines and outlines; 0: solid
     glm::dvec3 fill{0.2, 0.45, 0.9};
     double fillOpacity = 0.4;
     bool outline = true;
@@ -111,6 +113,7 @@ private:
     struct Patch {
         std::optional<bool> visible, outline;
         std::optional<glm::dvec3> color, fill, labelColor;
+        std::optional<glm::dvec2> dash;
         std::optional<double> opacity, widthPx, fillOpacity, iconSizePx, labelSizePx, minRangeM, maxRangeM;
         std::optional<std::string> icon;
         std::optional<std::vector<Piece>> label;

@@ -297,9 +297,10 @@ TEST_F(VectorRender, AKmlKeepsItsOwnStylesUnlessTheSceneOverridesThem) {
     EXPECT_EQ(layer.content()->featureCount, 4u);
 }
 
-TEST_F(VectorRender, PointsShowTheirIconsWithTheirLabelsBeside) {
+TEST_F(VectorRender, PointsShowTheirIconsWithTheirLabelsBesideAndATrailIsDashed) {
     // A KML whose IconStyle names a PNG beside it (a hut: a dark red roof over an orange wall,
     // transparent around), labelled from the scene; one placemark's icon is missing: a marker.
+    // A dashed trail joins the huts.
     const auto dir = std::filesystem::current_path() / "vector-render";
     std::filesystem::create_directories(dir);
     ImageRgba8 hut{32, 32, std::vector<uint8_t>(32 * 32 * 4, 0)};
@@ -321,9 +322,12 @@ TEST_F(VectorRender, PointsShowTheirIconsWithTheirLabelsBeside) {
   <Placemark><name>Refuge B</name><styleUrl>#hut</styleUrl><Point><coordinates>7.15,46.1,0</coordinates></Point></Placemark>
   <Placemark><name>Refuge C</name><styleUrl>#hut</styleUrl><Point><coordinates>6.95,46.2,0</coordinates></Point></Placemark>
   <Placemark><name>Lost</name><styleUrl>#lost</styleUrl><Point><coordinates>7.2,45.85,0</coordinates></Point></Placemark>
+  <Placemark><name>Trail</name><LineString><coordinates>6.85,45.9 6.95,46.05 7.15,46.1 6.95,46.2</coordinates></LineString></Placemark>
 </Document></kml>)KML";
     const char* top = R"({"lon": 7.0, "lat": 46.0, "pitch": -90, "range": 90000})";
-    auto scene = load(sceneJson(top, mountain() + "," + vectorLayer(kml, R"(, "style": {"color": [0.2, 0.6, 1], "label": "{Name}"})")));
+    auto scene = load(sceneJson(top, mountain() + "," +
+                                         vectorLayer(kml, R"(, "style": {"color": [0.2, 0.6, 1], "label": "{Name}", "rules": [)"
+                                                          R"({"when": {"Name": "Trail"}, "color": [1, 1, 1], "width": 3, "dash": [10, 6]}]})")));
     ASSERT_TRUE(scene);
     const auto img = render(*scene);
     EXPECT_TRUE(matchesGolden(img, "vector_icons"));

@@ -428,6 +428,26 @@ TEST(DrapeRaster, NonFiniteVerticesAreSkipped) {
     EXPECT_FALSE(draw(polygon, badStyle).painted);
 }
 
+TEST(DrapeRasterLines, ADashedLineIsOnAndOffAlongItsLengthAndJoinsAcrossTiles) {
+    // From x = 10 in this tile to x = 190 in the next one east, 2 px wide, dashes of 6 on, 4 off:
+    // a column is painted where (x - 10) mod 10 < 6, whichever tile it is in.
+    const Feature line = feature(GeometryKind::Lines, {{px(10, 50), px(190, 50)}});
+    FeatureStyle s = lineStyle(2.0);
+    s.dashPx = {6.0, 4.0};
+    const Tile west = draw(line, s);
+    const Tile east = draw(line, s, GeoExtent{100.0, -50.0, 200.0, 50.0});
+    const FeatureStyle solid = lineStyle(2.0);
+    EXPECT_NEAR(west.alphaSum(), 0.6 * draw(line, solid).alphaSum(), 0.08 * draw(line, solid).alphaSum());
+    for (int g = 12; g < 188; ++g) {
+        const double phase = std::fmod(g + 0.5 - 10.0, 10.0);
+        if (phase < 1.5 || (phase > 4.5 && phase < 7.5) || phase > 8.5) continue;   // near a dash's end: round caps
+        const Tile& t = g < 100 ? west : east;
+        const double column = t.columnSum(g % 100);
+        if (phase < 6.0) EXPECT_NEAR(column, 2.0, 0.1) << "column " << g << " is on";
+        else EXPECT_NEAR(column, 0.0, 0.01) << "column " << g << " is off";
+    }
+}
+
 TEST(DrapeRasterLines, ALargerSimplificationToleranceStrokesFewerSegmentsNearTheLine) {
     // A zigzag of 1.5 px amplitude every 3 px across the tile: at 0.5 px every bend is kept; at
     // 2 px the line is nearly straight, fewer segments, and no pixel strays more than 2 px.

@@ -159,6 +159,17 @@ TEST(VectorStyle, ErrorsNameTheFileTheKeyAndTheProblem) {
     EXPECT_NE(message(R"J({"minRange": 10, "maxRange": 5})J").find("minRange is above maxRange"), std::string::npos);
     EXPECT_NE(message(R"J({"extrude": -3})J").find("0 or more"), std::string::npos);
     EXPECT_NE(message(R"J([1, 2])J").find("expected an object"), std::string::npos);
+    EXPECT_NE(message(R"J({"dash": [4]})J").find("/layers/1/style/dash: expected [on, off]"), std::string::npos);
+    EXPECT_NE(message(R"J({"dash": [4, 0]})J").find("both lengths above 0"), std::string::npos);
+    EXPECT_NE(message(R"J({"dash": "--"})J").find("/layers/1/style/dash"), std::string::npos);
+}
+
+TEST(VectorStyle, DashesAsAPairOrOneLengthAndSolidByRule) {
+    auto style = styleFrom(R"J({"dash": [8, 3], "rules": [{"when": {"kind": "town"}, "dash": 5}, {"when": {"kind": "road"}, "dash": null}]})J");
+    ASSERT_TRUE(style) << style.message();
+    EXPECT_EQ(style->evaluate(attrs("A", 1, 1.0, "city")).dashPx, glm::dvec2(8.0, 3.0));
+    EXPECT_EQ(style->evaluate(attrs("B", 1, 1.0, "town")).dashPx, glm::dvec2(5.0, 5.0));
+    EXPECT_EQ(style->evaluate(attrs("C", 1, 1.0, "road")).dashPx, glm::dvec2(0.0));
 }
 
 TEST(VectorStyle, AttributeTextOfEachType) {
