@@ -127,7 +127,7 @@ public:
     TilePainter(const DrapeTileOptions& o, std::vector<uint8_t>& rgba)
         : extent_(o.extent), size_(o.size), pxPerLon_(o.size / o.extent.width()), pxPerLat_(o.size / o.extent.height()),
           pixelScale_(std::isfinite(o.pixelScale) && o.pixelScale > 0.0 ? o.pixelScale : 1.0), rgba_(rgba), area_(o.size),
-          stroke_(o.size), simplifyPx_(std::isfinite(o.simplifyPx) && o.simplifyPx > 0.0 ? o.simplifyPx : 0.5) {
+          stroke_(o.size), simplifyPx_(std::isfinite(o.simplifyPx) && o.simplifyPx > 0.0 ? o.simplifyPx : 0.5), rangeM_(o.rangeM) {
         // A pixel's ground width over its height at the tile's middle latitude (bounded: near a
         // pole a stroke would span the tile across).
         xScale_ = std::clamp(std::cos(glm::radians(0.5 * (o.extent.south + o.extent.north))), 1.0 / 16.0, 1.0);
@@ -191,6 +191,7 @@ private:
     AreaCoverage area_;
     StrokeCoverage stroke_;
     double simplifyPx_;
+    double rangeM_;
     std::vector<PartBox> boxes_;
     std::vector<glm::dvec3> path_, spare_, poleRing_;   // reused between parts: no allocation per part once grown
 };
@@ -397,7 +398,7 @@ bool TilePainter::paintLines(const Feature& f, const FeatureStyle& s) {
 
 /// Each point is its own marker, composited in turn, like icons.
 bool TilePainter::paintPoints(const Feature& f, const FeatureStyle& s, const ImageRgba8* icon) {
-    const double diameter = std::min(s.iconSizePx * pixelScale_, 2.0 * size_);
+    const double diameter = std::min(s.iconSizeAt(rangeM_) * pixelScale_, 2.0 * size_);
     const double alpha = unit(s.opacity);
     if (!(diameter > 0.0) || alpha <= 0.0) return false;
     const double radius = 0.5 * diameter, outline = std::min(kMarkerOutlinePx, kMarkerOutlineShare * radius);

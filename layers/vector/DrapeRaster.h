@@ -57,6 +57,9 @@ struct DrapeTileOptions {
     /// Douglas-Peucker tolerance (tile px) for a part denser than the tile can show; above the
     /// default every part is simplified to it (the quality knob "simplifyPx" of the layer).
     double simplifyPx = 0.5;
+    /// The camera's range (m) from which the tile is drawn: icons that scale with it
+    /// (FeatureStyle::iconSizeAt).
+    double rangeM = 0.0;
 };
 
 /// The largest tile side, as for RasterSource::readImagery: the RGBA and two float coverage

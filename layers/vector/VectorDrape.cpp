@@ -107,6 +107,7 @@ Result<globe::ImageryTile> VectorDrape::readTile(const globe::TileImageRequest& 
     options.size = request.size;
     options.pixelScale = request.tilePixelsPerScreenPixel;
     options.simplifyPx = simplifyPx_;
+    options.rangeM = range;
     tile.anyValid = rasterizeDrapeTile(ordered, options, tile.rgba);
     return tile;
 }

@@ -208,7 +208,7 @@ LabelCandidate VectorLabels::candidateOf(const Entry& e, const TextLayout& layou
         boxMax = glm::max(boxMax, p);
     }
     if (e.anchor->kind == GeometryKind::Points) {
-        const double iconHalf = 0.5 * e.style->iconSizePx + options_.gapPx;
+        const double iconHalf = 0.5 * s.iconPx + options_.gapPx;
         boxMin = glm::min(boxMin, s.anchorPx - iconHalf);
         boxMax = glm::max(boxMax, s.anchorPx + iconHalf);
     }
@@ -238,10 +238,10 @@ bool VectorLabels::gatherOnce(const scene::FrameContext& frame, const glm::dmat4
         atlasFull = atlasFull || layout.incomplete;
         if (layout.quads.empty()) continue;
 
-        Seen s{index, px, glm::dvec2(0.0), 0.0};
+        Seen s{index, px, glm::dvec2(0.0), 0.0, e.style->iconSizeAt(distance)};
         const glm::dvec2 lo(layout.min), hi(layout.max);
         if (e.anchor->kind == GeometryKind::Points)   // right of the icon, centred on the point's height
-            s.offset = glm::dvec2(0.5 * e.style->iconSizePx + options_.iconGapPx, -0.5 * (lo.y + hi.y));
+            s.offset = glm::dvec2(0.5 * s.iconPx + options_.iconGapPx, -0.5 * (lo.y + hi.y));
         else   // centred on the anchor
             s.offset = -0.5 * (lo + hi);
         if (e.anchor->kind == GeometryKind::Lines && !alongLine(e, layout, project, s)) continue;

@@ -122,6 +122,7 @@ private:
         uint32_t entry;
         glm::dvec2 anchorPx, offset;
         double angle;
+        double iconPx = 0.0;   ///< a point's icon as seen from the camera's range
     };
 
     struct Projection;

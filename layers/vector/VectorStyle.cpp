@@ -141,6 +141,17 @@ Result<VectorStyle::Patch> VectorStyle::readPatch(const json& object, const std:
     number("opacity", p.opacity, 0.0, 1.0);
     number("fillOpacity", p.fillOpacity, 0.0, 1.0);
     number("width", p.widthPx, 0.0, 256.0);
+    if (const json* scale = r.has("iconScale") ? r.object("iconScale") : nullptr) {
+        scene::JsonReader x(*scale, file, path + "/iconScale");
+        const auto near = x.number("near", std::nullopt, 0.0, 1e12), far = x.number("far", std::nullopt, 0.0, 1e12);
+        const auto factor = x.number("scale", std::nullopt, 0.01, 100.0);
+        if (auto done = x.finish(); !done) {
+            if (!error) error = done.error();
+        } else if (near && far && factor) {
+            if (*far > *near) p.iconScale = glm::dvec3(*near, *far, *factor);
+            else fail("iconScale/far", "far must be beyond near");
+        }
+    }
     if (r.has("dash")) {
         // [on, off] or one length for both, in pixels; 0 or null: solid.
         r.accept("dash");
@@ -327,6 +338,7 @@ void VectorStyle::apply(const Patch& p, std::span<const AttributeValue> attribut
     if (p.fillOpacity) s.fillOpacity = *p.fillOpacity;
     if (p.widthPx) s.widthPx = *p.widthPx;
     if (p.dash) s.dashPx = *p.dash;
+    if (p.iconScale) s.iconNearM = p.iconScale->x, s.iconFarM = p.iconScale->y, s.iconFarScale = p.iconScale->z;
     if (p.iconSizePx) s.iconSizePx = *p.iconSizePx;
     if (p.labelSizePx) s.labelSizePx = *p.labelSizePx;
     if (p.minRangeM) s.minRangeM = *p.minRangeM;

@@ -7,6 +7,8 @@
 //     "dash": [8, 4] | 6,                 on and off along lines and outlines (px; on the terrain)
 //     "fill": [0.2, 0.4, 1], "fillOpacity": 0.5, "outline": true,
 //     "icon": "icons/city.png", "iconSize": 16,                  points (px)
+//     "iconScale": {"near": 1e4, "far": 1e6, "scale": 0.5},      size x 1 nearer than near,
+//                                            x scale past far, linear between (camera range, m)
 //     "extrude": 30 | "height" | {"field": "levels", "scale": 3, "add": 0},   metres
 //     "label": "{name} ({pop_est})", "labelColor": [1, 1, 1], "labelSize": 14,
 //     "minRange": 0, "maxRange": 2e7,                            camera distance (m)
@@ -40,6 +42,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -68,6 +71,15 @@ struct FeatureStyle {
     bool outline = true;
     std::string icon;          ///< a PNG's path (resolved against the scene's folder), empty: a marker
     double iconSizePx = 12.0;
+    /// Icons and markers scale with the camera's range: x 1 up to iconNearM, x iconFarScale
+    /// from iconFarM on, linear between (iconFarM 0: a constant size).
+    double iconNearM = 0.0, iconFarM = 0.0, iconFarScale = 1.0;
+    /// The icon's or marker's size (px) seen from `rangeM`.
+    double iconSizeAt(double rangeM) const {
+        if (!(iconFarM > iconNearM)) return iconSizePx;
+        const double t = std::clamp((rangeM - iconNearM) / (iconFarM - iconNearM), 0.0, 1.0);
+        return iconSizePx * (1.0 + t * (iconFarScale - 1.0));
+    }
     std::optional<double> extrudeM;   ///< height of an extruded polygon; none: flat
     std::string label;         ///< the text, the template filled in; empty: no label
     glm::dvec3 labelColor{1.0, 1.0, 1.0};
@@ -114,6 +126,7 @@ private:
         std::optional<bool> visible, outline;
         std::optional<glm::dvec3> color, fill, labelColor;
         std::optional<glm::dvec2> dash;
+        std::optional<glm::dvec3> iconScale;   ///< near, far, scale
         std::optional<double> opacity, widthPx, fillOpacity, iconSizePx, labelSizePx, minRangeM, maxRangeM;
         std::optional<std::string> icon;
         std::optional<std::vector<Piece>> label;

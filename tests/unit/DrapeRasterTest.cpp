@@ -272,6 +272,19 @@ TEST(DrapeRasterPoints, AMarkerIsADiskOfItsSize) {
     EXPECT_NEAR(twice.alphaSum(), std::numbers::pi * 256, 0.02 * std::numbers::pi * 256);
 }
 
+TEST(DrapeRasterPoints, AMarkerScalesWithTheRangeTheTileIsDrawnFrom) {
+    FeatureStyle s = lineStyle(1.0, 1.0, {1, 1, 0});
+    s.iconSizePx = 16.0;
+    s.iconNearM = 1000.0, s.iconFarM = 2000.0, s.iconFarScale = 0.5;
+    const Feature f = feature(GeometryKind::Points, {{px(50, 50)}});
+    const DrapeItem item{&f, &s};
+    for (const auto& [range, radius] : {std::pair{500.0, 8.0}, std::pair{1500.0, 6.0}, std::pair{5000.0, 4.0}}) {
+        Tile t;
+        ASSERT_TRUE(rasterizeDrapeTile({&item, 1}, {.extent = kUnitExtent, .size = kSize, .rangeM = range}, t.rgba));
+        EXPECT_NEAR(t.alphaSum(), std::numbers::pi * radius * radius, 0.05 * std::numbers::pi * radius * radius) << range;
+    }
+}
+
 TEST(DrapeRasterPoints, AnIconIsDrawnItsSizeHighInsteadOfTheMarker) {
     // 8 x 4 texels: the left half opaque red, the right half transparent; drawn 16 px high it is
     // 32 px wide, the red half on [34, 50) x [42, 58).

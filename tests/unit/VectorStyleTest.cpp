@@ -164,6 +164,23 @@ TEST(VectorStyle, ErrorsNameTheFileTheKeyAndTheProblem) {
     EXPECT_NE(message(R"J({"dash": "--"})J").find("/layers/1/style/dash"), std::string::npos);
 }
 
+TEST(VectorStyle, IconsScaleWithTheCameraRangeBetweenNearAndFar) {
+    auto style = styleFrom(R"J({"iconSize": 20, "iconScale": {"near": 1000, "far": 11000, "scale": 0.5}})J");
+    ASSERT_TRUE(style) << style.message();
+    const FeatureStyle s = style->evaluate(attrs("A", 1, 1.0, "city"));
+    EXPECT_DOUBLE_EQ(s.iconSizeAt(0.0), 20.0);
+    EXPECT_DOUBLE_EQ(s.iconSizeAt(1000.0), 20.0);
+    EXPECT_DOUBLE_EQ(s.iconSizeAt(6000.0), 15.0);
+    EXPECT_DOUBLE_EQ(s.iconSizeAt(1e7), 10.0);
+    EXPECT_DOUBLE_EQ(FeatureStyle{}.iconSizeAt(1e7), FeatureStyle{}.iconSizePx) << "no scale: constant";
+    auto bad = styleFrom(R"J({"iconScale": {"near": 5, "far": 1, "scale": 1}})J");
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.message().find("/layers/1/style/iconScale/far: far must be beyond near"), std::string::npos) << bad.message();
+    auto missing = styleFrom(R"J({"iconScale": {"near": 5}})J");
+    ASSERT_FALSE(missing);
+    EXPECT_NE(missing.message().find("/layers/1/style/iconScale/far"), std::string::npos) << missing.message();
+}
+
 TEST(VectorStyle, DashesAsAPairOrOneLengthAndSolidByRule) {
     auto style = styleFrom(R"J({"dash": [8, 3], "rules": [{"when": {"kind": "town"}, "dash": 5}, {"when": {"kind": "road"}, "dash": null}]})J");
     ASSERT_TRUE(style) << style.message();
