@@ -7,6 +7,7 @@
 #include "globe/Ellipsoid.h"
 #include "layers/vector/VectorLayer.h"
 #include "tests/render/RenderHelpers.h"
+#include "tests/render/SceneGpuTest.h"
 #include "tests/render/TerrainFixtures.h"
 #include "tests/render/VectorScenes.h"
 #include "tests/support/GoldenImage.h"
@@ -91,14 +92,9 @@ const char* kRegionStyle =
     R"( "labelSize": 13, "labelColor": [0.75, 0.95, 1.0]})";
 const char* kWorldView = R"({"lon": -12, "lat": 18, "range": 15000000})";
 
-class VectorLabel : public GpuTest {
+class VectorLabel : public SceneGpuTest {
 protected:
-    void SetUp() override {
-        GpuTest::SetUp();
-        layers::registerBuiltinLayers(registry_);
-    }
-    std::unique_ptr<scene::Scene> load(const std::string& json) { return buildScene(json, registry_); }
-    ImageRgba8 render(scene::Scene& scene, uint32_t w = 480, uint32_t h = 320) { return renderSettled(renderer_, device(), scene, w, h); }
+    ImageRgba8 render(scene::Scene& scene, uint32_t w = 480, uint32_t h = 320) { return renderScene(scene, w, h); }
     static layers::VectorLayer& vectorAt(scene::Scene& scene, size_t i) {
         return dynamic_cast<layers::VectorLayer&>(*scene.resources()[i].layer);
     }
@@ -110,8 +106,6 @@ protected:
                 out.insert(out.end(), v->labels()->placed().begin(), v->labels()->placed().end());
         return out;
     }
-    scene::LayerRegistry registry_;
-    std::unique_ptr<render::Renderer> renderer_;
 };
 
 bool overlap(glm::dvec2 amin, glm::dvec2 amax, glm::dvec2 bmin, glm::dvec2 bmax) {

@@ -6,6 +6,7 @@
 #include "globe/Ellipsoid.h"
 #include "layers/vector/VectorLayer.h"
 #include "tests/render/RenderHelpers.h"
+#include "tests/render/SceneGpuTest.h"
 #include "tests/render/TerrainFixtures.h"
 #include "tests/render/VectorScenes.h"
 #include "tests/support/GoldenImage.h"
@@ -59,16 +60,9 @@ std::string floating() {
 const char* kVillageView = R"({"lon": 7.0, "lat": 45.835, "height": 3800, "heading": 0, "pitch": -12, "range": 1})";
 const char* kBuildingStyle = R"(, "style": {"fill": [0.85, 0.78, 0.68], "extrude": "height"})";
 
-class VectorMesh : public GpuTest {
+class VectorMesh : public SceneGpuTest {
 protected:
-    void SetUp() override {
-        GpuTest::SetUp();
-        layers::registerBuiltinLayers(registry_);
-    }
-    std::unique_ptr<scene::Scene> load(const std::string& json) { return buildScene(json, registry_); }
-    ImageRgba8 render(scene::Scene& scene, uint32_t w = 320, uint32_t h = 240) {
-        return renderSettled(renderer_, device(), scene, w, h);
-    }
+    ImageRgba8 render(scene::Scene& scene, uint32_t w = 320, uint32_t h = 240) { return renderScene(scene, w, h); }
     std::unique_ptr<scene::Scene> villageScene(const std::string& extra = "") {
         return load(vectorSceneJson(kVillageView,
                                     mountainTerrain() + "," + vectorLayerJson("Village", village(), kBuildingStyle + extra) + "," +
@@ -76,8 +70,6 @@ protected:
                                                         R"(, "altitude": "relative", "style": {"fill": [0.2, 0.5, 1.0], "color": [1, 0.2, 0.1], "width": 3, "iconSize": 10})"),
                                     "2026-06-21T07:30:00Z"));
     }
-    scene::LayerRegistry registry_;
-    std::unique_ptr<render::Renderer> renderer_;
 };
 
 layers::VectorLayer& vectorAt(scene::Scene& scene, size_t i) { return dynamic_cast<layers::VectorLayer&>(*scene.resources()[i].layer); }

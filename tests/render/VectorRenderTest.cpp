@@ -6,6 +6,7 @@
 #include "layers/terrain/TerrainLayer.h"
 #include "layers/vector/VectorLayer.h"
 #include "tests/render/RenderHelpers.h"
+#include "tests/render/SceneGpuTest.h"
 #include "tests/render/TerrainFixtures.h"
 #include "tests/render/VectorScenes.h"
 #include "tests/support/GoldenImage.h"
@@ -54,18 +55,9 @@ size_t countRed(const ImageRgba8& img) {
     return n;
 }
 
-class VectorRender : public GpuTest {
+class VectorRender : public SceneGpuTest {
 protected:
-    void SetUp() override {
-        GpuTest::SetUp();
-        layers::registerBuiltinLayers(registry_);
-    }
-    std::unique_ptr<scene::Scene> load(const std::string& json) { return buildScene(json, registry_); }
-    ImageRgba8 render(scene::Scene& scene, uint32_t w = 320, uint32_t h = 240) {
-        return renderSettled(renderer_, device(), scene, w, h);
-    }
-    scene::LayerRegistry registry_;
-    std::unique_ptr<render::Renderer> renderer_;
+    ImageRgba8 render(scene::Scene& scene, uint32_t w = 320, uint32_t h = 240) { return renderScene(scene, w, h); }
 };
 
 // A line from south to north over the summit, seen from the south, low: it climbs the near
