@@ -14,7 +14,9 @@
 // terrain's tiles (VectorDrape) and lie exactly on the surface drawn, at every zoom. A scene
 // needs a terrain layer for them to show. Lines and outlines are about `width` screen pixels
 // wide (the tiles are painted for the size they are drawn at, within a factor of sqrt 2 either
-// way as the terrain refines), points are disks of `iconSize` pixels.
+// way as the terrain refines), points are disks of `iconSize` pixels or the style's PNG `icon`
+// that high (IconCache), lines and outlines may be dashed; when a repaint (a pick, a rule, the
+// time) makes a new drape, each tile's old image stays until its new one is in.
 //
 // Polygons whose style has "extrude" are buildings: walls and a flat roof in the fill colour,
 // lit by the scene's sun, their base on the ground (FeatureMesh.h), drawn in the Opaque pass
