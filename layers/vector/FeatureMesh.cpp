@@ -51,12 +51,15 @@ struct ChunkWriter {
         chunk.vertices.push_back({relative(ecef), packNormal(normal), color, id});
         return uint32_t(chunk.vertices.size() - 1);
     }
-    /// A triangle facing `normal` (its winding made so), or both faces.
-    void triangle(uint32_t a, uint32_t b, uint32_t c, const glm::dvec3& facing, bool twoSided) {
+    enum class Faces { Front, Both, Blended };
+    /// A triangle facing `normal` (its winding made so), or both faces, or one to blend (drawn
+    /// from both sides without culling).
+    void triangle(uint32_t a, uint32_t b, uint32_t c, const glm::dvec3& facing, Faces faces) {
         const glm::dvec3 pa(chunk.vertices[a].position), pb(chunk.vertices[b].position), pc(chunk.vertices[c].position);
         if (glm::dot(glm::cross(pb - pa, pc - pa), facing) < 0.0) std::swap(b, c);
-        chunk.indices.insert(chunk.indices.end(), {a, b, c});
-        if (twoSided) chunk.indices.insert(chunk.indices.end(), {a, c, b});
+        auto& out = faces == Faces::Blended ? chunk.translucent : chunk.indices;
+        out.insert(out.end(), {a, b, c});
+        if (faces == Faces::Both) chunk.indices.insert(chunk.indices.end(), {a, c, b});
     }
 };
 
@@ -71,6 +74,7 @@ struct PolygonInput {
 /// the heights interpolated.
 void emitSurface(ChunkWriter& w, const PolygonInput& in, const LocalPlane& plane, std::span<const uint32_t> tris,
                  uint32_t color, uint32_t id) {
+    const auto faces = (color >> 24) < 255u ? ChunkWriter::Faces::Blended : ChunkWriter::Faces::Both;
     const auto& ell = globe::Ellipsoid::wgs84();
     double longest = 0.0;
     for (size_t t = 0; t < tris.size(); t += 3)
@@ -116,8 +120,8 @@ void emitSurface(ChunkWriter& w, const PolygonInput& in, const LocalPlane& plane
         const glm::dvec3 up = upAt(ll.x, ll.y);
         for (int j = 0; j < n; ++j)
             for (int i = 0; i + j < n; ++i) {
-                w.triangle(at(i, j), at(i + 1, j), at(i, j + 1), up, true);
-                if (i + j + 1 < n) w.triangle(at(i + 1, j), at(i + 1, j + 1), at(i, j + 1), up, true);
+                w.triangle(at(i, j), at(i + 1, j), at(i, j + 1), up, faces);
+                if (i + j + 1 < n) w.triangle(at(i + 1, j), at(i + 1, j + 1), at(i, j + 1), up, faces);
             }
     }
 }
@@ -133,7 +137,7 @@ void emitSolid(ChunkWriter& w, const PolygonInput& in, const LocalPlane& plane, 
     }
     for (size_t t = 0; t < tris.size(); t += 3) {
         const glm::dvec2 ll = plane.lonLat(in.plane[tris[t]]);
-        w.triangle(base + tris[t], base + tris[t + 1], base + tris[t + 2], upAt(ll.x, ll.y), false);
+        w.triangle(base + tris[t], base + tris[t + 1], base + tris[t + 2], upAt(ll.x, ll.y), ChunkWriter::Faces::Front);
     }
     for (size_t r = 0; r < in.starts.size(); ++r) {
         const uint32_t begin = in.starts[r], end = r + 1 < in.starts.size() ? in.starts[r + 1] : uint32_t(in.plane.size());
@@ -154,8 +158,8 @@ void emitSolid(ChunkWriter& w, const PolygonInput& in, const LocalPlane& plane, 
             const uint32_t bb = w.vertex(ell.toEcef(lb.x, lb.y, bottom), out, color, id);
             const uint32_t bt = w.vertex(ell.toEcef(lb.x, lb.y, roof), out, color, id);
             const uint32_t at = w.vertex(ell.toEcef(la.x, la.y, roof), out, color, id);
-            w.triangle(ab, bb, bt, out, false);
-            w.triangle(ab, bt, at, out, false);
+            w.triangle(ab, bb, bt, out, ChunkWriter::Faces::Front);
+            w.triangle(ab, bt, at, out, ChunkWriter::Faces::Front);
         }
     }
 }
@@ -239,7 +243,7 @@ bool MeshGround::sample(const HeightFn& ground, size_t maxSamples) {
 uint64_t FeatureMesh::bytes() const {
     uint64_t b = 0;
     for (const MeshChunk& c : chunks)
-        b += c.vertices.size() * sizeof(shader::VectorMeshVertex) + c.indices.size() * 4 +
+        b += c.vertices.size() * sizeof(shader::VectorMeshVertex) + (c.indices.size() + c.translucent.size()) * 4 +
              c.segments.size() * sizeof(shader::VectorSegment) + c.markers.size() * sizeof(shader::VectorMarker);
     return b;
 }
@@ -291,10 +295,11 @@ FeatureMesh buildFeatureMesh(const VectorContent& content, const ContentStyles& 
         }
         ChunkWriter w{out.chunks[it->second], bounds[it->second].first, bounds[it->second].second};
         const uint32_t id = uint32_t(layerBase[l] + i + 1);
-        const uint32_t color = packColor(style.fill);
+        // Solids are opaque; a surface at altitude has its fill's opacity.
+        const uint32_t color = packColor(style.fill, style.extrudeM ? 1.0 : style.fillOpacity);
         const bool extruded = style.extrudeM.has_value();
         const double height = extruded ? std::max(0.0, *style.extrudeM * options.extrusionScale) : 0.0;
-        const size_t verticesBefore = w.chunk.vertices.size(), indicesBefore = w.chunk.indices.size();
+        const size_t verticesBefore = w.chunk.vertices.size(), indicesBefore = w.chunk.indices.size() + w.chunk.translucent.size();
         const size_t segmentsBefore = w.chunk.segments.size(), markersBefore = w.chunk.markers.size();
         if (f.kind == GeometryKind::Lines) emitLines(w, f, surfaceAt, style, id);
         if (f.kind == GeometryKind::Points)
@@ -339,7 +344,7 @@ FeatureMesh buildFeatureMesh(const VectorContent& content, const ContentStyles& 
         }
         const size_t segments = w.chunk.segments.size() - segmentsBefore, markers = w.chunk.markers.size() - markersBefore;
         if (w.chunk.vertices.size() > verticesBefore || segments > 0 || markers > 0) ++out.features;
-        out.triangles += (w.chunk.indices.size() - indicesBefore) / 3;
+        out.triangles += (w.chunk.indices.size() + w.chunk.translucent.size() - indicesBefore) / 3;
         out.segments += segments;
         out.markers += markers;
     }

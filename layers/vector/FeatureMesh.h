@@ -15,8 +15,8 @@
 // max s(v) + height; its walls go down to min g(v) less a skirt (a tenth of the building's
 // height, at least kSkirtMetres), so that no gap opens under a wall where the terrain drawn,
 // coarser than the DEM, lies lower than the ground sampled. A polygon at altitude without
-// extrusion is its surface s(v), cut into triangles no longer than kMaxEdgeDeg so that it
-// follows the Earth's curve; a line's segments are cut the same way, heights interpolated.
+// extrusion is its surface s(v) (its fill at its fillOpacity: below 1, blended), cut into
+// triangles no longer than kMaxEdgeDeg so that it follows the Earth's curve; a line's segments are cut the same way, heights interpolated.
 //
 // Meshes are cut into chunks (the level-kChunkLevel tile of a polygon's first vertex, and the
 // style's camera range): each chunk has an ECEF origin (double) and float vertices relative to
@@ -101,10 +101,11 @@ struct MeshChunk {
     double radius = 0.0;
     double minRangeM = 0.0, maxRangeM = 0.0;   ///< the camera range it is drawn within
     std::vector<shader::VectorMeshVertex> vertices;
-    std::vector<uint32_t> indices;
+    std::vector<uint32_t> indices;       ///< opaque triangles (solids, and surfaces of fillOpacity 1)
+    std::vector<uint32_t> translucent;   ///< surfaces below fillOpacity 1: one face each, blended
     std::vector<shader::VectorSegment> segments;   ///< lines at altitude
     std::vector<shader::VectorMarker> markers;     ///< points at altitude
-    bool empty() const { return indices.empty() && segments.empty() && markers.empty(); }
+    bool empty() const { return indices.empty() && translucent.empty() && segments.empty() && markers.empty(); }
 };
 
 struct FeatureMesh {

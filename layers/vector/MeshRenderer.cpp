@@ -59,14 +59,15 @@ void MeshRenderer::setMesh(std::shared_ptr<const vector::FeatureMesh> mesh) {
     d.layout = layout_.vk();
     d.colorFormat = services_.colorFormat;
     d.depthFormat = services_.depthFormat;
-    bool triangles = false, segments = false, markers = false;
+    bool triangles = false, translucent = false, segments = false, markers = false;
     for (const vector::MeshChunk& c : mesh->chunks) {
         triangles = triangles || !c.indices.empty();
+        translucent = translucent || !c.translucent.empty();
         segments = segments || !c.segments.empty();
         markers = markers || !c.markers.empty();
     }
-    if (triangles && !meshPipeline_) {
-        using shader::VectorMeshVertex;
+    using shader::VectorMeshVertex;
+    if ((triangles && !meshPipeline_) || (translucent && !translucentPipeline_)) {
         d.vertexSpirv = kSpv_vector_mesh_vert;
         d.fragmentSpirv = kSpv_vector_mesh_frag;
         d.bindings = {{0, sizeof(VectorMeshVertex), VK_VERTEX_INPUT_RATE_VERTEX}};
@@ -79,7 +80,13 @@ void MeshRenderer::setMesh(std::shared_ptr<const vector::FeatureMesh> mesh) {
         // Solids are closed and wound outwards; a surface at altitude has both faces (FeatureMesh).
         d.cullMode = VK_CULL_MODE_BACK_BIT;
         d.name = "vector meshes";
-        meshPipeline_ = gpu::createGraphicsPipeline(*services_.device, d);
+        if (triangles && !meshPipeline_) meshPipeline_ = gpu::createGraphicsPipeline(*services_.device, d);
+        // Translucent surfaces: one face each, seen from either side, blended over what is drawn.
+        d.cullMode = VK_CULL_MODE_NONE;
+        d.alphaBlend = true;
+        d.depthWrite = false;
+        d.name = "vector translucent surfaces";
+        if (translucent && !translucentPipeline_) translucentPipeline_ = gpu::createGraphicsPipeline(*services_.device, d);
     }
     // Segments and markers: screen quads, blended over what is drawn, hidden by what is nearer.
     d.cullMode = VK_CULL_MODE_NONE;
@@ -124,10 +131,11 @@ void MeshRenderer::recordTransfers(const render::RecordContext& rc) {
     ranges_.clear();
     Range next;
     for (const vector::MeshChunk& c : mesh_->chunks) {
-        Range r{next.firstIndex, uint32_t(c.indices.size()), next.vertexOffset,
+        Range r{next.firstIndex, uint32_t(c.indices.size()), next.firstTranslucent, uint32_t(c.translucent.size()), next.vertexOffset,
                 next.firstSegment, uint32_t(c.segments.size()), next.firstMarker, uint32_t(c.markers.size())};
         ranges_.push_back(r);
         next.firstIndex += r.indexCount;
+        next.firstTranslucent += r.translucentCount;
         next.vertexOffset += int32_t(c.vertices.size());
         next.firstSegment += r.segmentCount;
         next.firstMarker += r.markerCount;
@@ -140,6 +148,8 @@ void MeshRenderer::recordTransfers(const render::RecordContext& rc) {
                                      "vector mesh vertices", vertices_);
     upload<uint32_t>(rc, device, *mesh_, &MeshChunk::indices, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT,
                      VK_ACCESS_2_INDEX_READ_BIT, "vector mesh indices", indices_);
+    upload<uint32_t>(rc, device, *mesh_, &MeshChunk::translucent, VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
+                     VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_INDEX_READ_BIT, "vector translucent indices", translucent_);
     upload<shader::VectorSegment>(rc, device, *mesh_, &MeshChunk::segments, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
                                   VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT,
                                   "vector segments", segments_);
@@ -187,12 +197,22 @@ void MeshRenderer::record(const render::RecordContext& rc) {
             draw(r, false);
         }
     };
-    if (indices_) vkCmdBindIndexBuffer(cmd, indices_.vk(), 0, VK_INDEX_TYPE_UINT32);
-    each(meshPipeline_, vertices_, [&](const Range& r, bool check) {
-        if (check) return r.indexCount > 0;
-        vkCmdDrawIndexed(cmd, r.indexCount, 1, r.firstIndex, r.vertexOffset, 0);
-        return true;
-    });
+    if (indices_) {
+        vkCmdBindIndexBuffer(cmd, indices_.vk(), 0, VK_INDEX_TYPE_UINT32);
+        each(meshPipeline_, vertices_, [&](const Range& r, bool check) {
+            if (check) return r.indexCount > 0;
+            vkCmdDrawIndexed(cmd, r.indexCount, 1, r.firstIndex, r.vertexOffset, 0);
+            return true;
+        });
+    }
+    if (translucent_) {
+        vkCmdBindIndexBuffer(cmd, translucent_.vk(), 0, VK_INDEX_TYPE_UINT32);
+        each(translucentPipeline_, vertices_, [&](const Range& r, bool check) {
+            if (check) return r.translucentCount > 0;
+            vkCmdDrawIndexed(cmd, r.translucentCount, 1, r.firstTranslucent, r.vertexOffset, 0);
+            return true;
+        });
+    }
     each(segmentPipeline_, segments_, [&](const Range& r, bool check) {
         if (check) return r.segmentCount > 0;
         vkCmdDraw(cmd, 6, r.segmentCount, 0, r.firstSegment);

@@ -4,8 +4,9 @@
 // each kind's vertices or instances of every chunk in one buffer (GPU memory, uploaded before
 // the passes when a new mesh arrives), one pipeline per kind (shaders/vector/mesh.*,
 // segment.*, marker.*; shared/VectorTypes.h), made when the first mesh with that kind arrives.
-// The chunks in view, above the horizon and within their camera range are drawn: triangles
-// first (opaque), then segments and markers (blended, depth-tested, writing no depth). Made
+// The chunks in view, above the horizon and within their camera range are drawn: opaque
+// triangles first, then translucent surfaces, segments and markers (blended, depth-tested,
+// writing no depth). Made
 // only by a vector layer that has something in 3-D.
 
 #include "engine/gpu/Buffer.h"
@@ -35,22 +36,24 @@ public:
     /// Draws the chunks in view. Called while recording, inside the Opaque pass.
     void record(const render::RecordContext& rc);
 
-    uint64_t gpuBytes() const { return vertices_.size() + indices_.size() + segments_.size() + markers_.size(); }
+    uint64_t gpuBytes() const {
+        return vertices_.size() + indices_.size() + translucent_.size() + segments_.size() + markers_.size();
+    }
     uint32_t chunksDrawn() const { return chunksDrawn_; }
     bool hasSegmentPipeline() const { return bool(segmentPipeline_); }
 
 private:
     struct Range {
-        uint32_t firstIndex = 0, indexCount = 0;
+        uint32_t firstIndex = 0, indexCount = 0, firstTranslucent = 0, translucentCount = 0;
         int32_t vertexOffset = 0;
         uint32_t firstSegment = 0, segmentCount = 0, firstMarker = 0, markerCount = 0;
     };
 
     render::RenderServices services_;
     gpu::PipelineLayout layout_;
-    gpu::Pipeline meshPipeline_, segmentPipeline_, markerPipeline_;
+    gpu::Pipeline meshPipeline_, translucentPipeline_, segmentPipeline_, markerPipeline_;
     std::shared_ptr<const vector::FeatureMesh> mesh_, pending_;
-    gpu::Buffer vertices_, indices_, segments_, markers_;
+    gpu::Buffer vertices_, indices_, translucent_, segments_, markers_;
     std::vector<Range> ranges_;      ///< per chunk of mesh_
     std::vector<uint32_t> visible_;  ///< this frame's chunks
     uint32_t highlight_ = 0;

@@ -22,8 +22,8 @@
 // lit by the scene's sun, their base on the ground (FeatureMesh.h), drawn in the Opaque pass
 // (MeshRenderer); "extrusionScale" (live) multiplies every height. "relative" and "absolute"
 // put every feature at its own heights (Z above the ground, or above the ellipsoid in the
-// terrain's datum): polygons as lit surfaces (extruded down to the ground when the style
-// extrudes them), lines as segments `width` pixels wide, points as disks of `iconSize`, hidden
+// terrain's datum): polygons as lit surfaces at their fillOpacity (extruded down to the ground,
+// opaque, when the style extrudes them), lines as segments `width` pixels wide, points as disks of `iconSize`, hidden
 // by whatever is nearer. The ground under their vertices is sampled and the meshes built on the
 // worker pool (MeshGround, FeatureMesh); the renderer and each kind's pipeline are made only
 // when there is something of that kind to draw.

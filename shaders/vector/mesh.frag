@@ -6,6 +6,7 @@
 // The fill colour lit by the sun (or a headlight when the scene has no sun lighting), with a
 // sky ambient term so that walls turned away stay readable; both faces of a two-sided surface
 // are lit. The picked feature turns the highlight's yellow (the drape's, VectorDrape.cpp).
+// Alpha is the vertex colour's (a surface's fillOpacity), premultiplied.
 
 layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 
@@ -29,5 +30,7 @@ void main() {
     vec3 toLight = sun ? frame.sunDirection : toEye;
     float diffuse = max(dot(n, toLight), 0.0);
     float ambient = sun ? 0.25 : 0.3;
-    outColor = vec4(base * (ambient + (1.0 - ambient) * diffuse), 1.0);
+    // Premultiplied: solids are opaque, a translucent surface blends "over".
+    float alpha = vHighlighted != 0u ? 1.0 : vColor.a;
+    outColor = vec4(base * (ambient + (1.0 - ambient) * diffuse) * alpha, alpha);
 }

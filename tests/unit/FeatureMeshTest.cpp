@@ -153,7 +153,9 @@ TEST(FeatureMesh, ExtrusionScaleAndRelativeAndAbsoluteHeights) {
 
 TEST(FeatureMesh, APolygonAtAltitudeIsTwoSidedAndFollowsTheCurve) {
     Fixture f;
-    f.add(polygon({square(20.0, -10.0, 2.0, true, 3000.0)}, true), FeatureStyle{});
+    FeatureStyle opaque;
+    opaque.fillOpacity = 1.0;
+    f.add(polygon({square(20.0, -10.0, 2.0, true, 3000.0)}, true), opaque);
     const FeatureMesh mesh = f.build(AltitudeMode::Absolute, 0.0);
     ASSERT_FALSE(mesh.chunks.empty());
     const MeshChunk& c = mesh.chunks[0];
@@ -166,6 +168,15 @@ TEST(FeatureMesh, APolygonAtAltitudeIsTwoSidedAndFollowsTheCurve) {
             const glm::dvec3 a(c.vertices[c.indices[t + e]].position), b(c.vertices[c.indices[t + (e + 1) % 3]].position);
             EXPECT_LT(glm::length(a - b), kMaxEdgeDeg * 111'320.0 * 1.5);
         }
+    EXPECT_TRUE(c.translucent.empty());
+    // Below fillOpacity 1: the same triangles once each, to blend, its opacity in alpha.
+    f.styles[0][0].fillOpacity = 0.4;
+    const FeatureMesh blended = f.build(AltitudeMode::Absolute, 0.0);
+    ASSERT_EQ(blended.chunks.size(), mesh.chunks.size());
+    EXPECT_TRUE(blended.chunks[0].indices.empty());
+    EXPECT_EQ(blended.chunks[0].translucent.size() * 2, c.indices.size());
+    EXPECT_EQ(blended.chunks[0].vertices[0].color >> 24, 102u);
+    EXPECT_EQ(blended.triangles * 2, mesh.triangles);
     // In the clamped mode the same polygon is not a mesh: the drape paints it.
     MeshGround clamped(f.content, f.styles, AltitudeMode::Clamped);
     EXPECT_TRUE(clamped.features().empty());
