@@ -60,8 +60,11 @@ void VectorLayer::pollMeshes() {
     MeshBuild build;
     try {
         build = meshJob_.get();
-    } catch (const std::exception&) {
-        // Cancelled: a newer build follows.
+    } catch (const jobs::Cancelled&) {
+        // A newer build follows.
+    } catch (const std::exception& e) {
+        error_ = settings_.content.read.source + ": building its meshes failed: " + e.what();
+        log::error("vector layer \"", settings_.name, "\": ", error_);
     }
     meshJob_ = {};
     if (!build.mesh) return;
