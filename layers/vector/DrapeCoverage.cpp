@@ -131,25 +131,32 @@ StrokeCoverage::StrokeCoverage(int size) : size_(size), coverage_(size_t(size) *
     x0_ = y0_ = size_;
 }
 
-void StrokeCoverage::addSegment(glm::dvec2 a, glm::dvec2 b, double radius, float scale) {
+bool StrokeCoverage::reach(glm::dvec2 a, glm::dvec2 b, double radius, double& t0, double& t1) const {
     // Liang-Barsky against the tile grown by the radius: what lies past it cannot reach a pixel
     // centre, and a point of the tile nearest the segment is nearest its clipped part.
-    const double k = xScale_, rx = radius / k;   // the radius in pixels across, on the ground
+    const double rx = radius / xScale_;   // the radius in pixels across, on the ground
     const glm::dvec2 d = b - a;
-    double t0 = 0.0, t1 = 1.0;
+    t0 = 0.0, t1 = 1.0;
     const double p[4] = {-d.x, d.x, -d.y, d.y};
     const double q[4] = {a.x + rx, size_ + rx - a.x, a.y + radius, size_ + radius - a.y};
     for (int k = 0; k < 4; ++k) {
         if (p[k] == 0.0) {
-            if (q[k] < 0.0) return;
+            if (q[k] < 0.0) return false;
             continue;
         }
         const double t = q[k] / p[k];
         if (p[k] < 0.0) t0 = std::max(t0, t);
         else t1 = std::min(t1, t);
-        if (t0 > t1) return;
+        if (t0 > t1) return false;
     }
-    if (!(t0 <= t1)) return;   // NaN
+    return t0 <= t1;   // false for NaN
+}
+
+void StrokeCoverage::addSegment(glm::dvec2 a, glm::dvec2 b, double radius, float scale) {
+    double t0 = 0.0, t1 = 1.0;
+    if (!reach(a, b, radius, t0, t1)) return;
+    const double k = xScale_, rx = radius / k;
+    const glm::dvec2 d = b - a;
     ++segments_;
     const glm::dvec2 s = a + d * t0, e = a + d * t1, se = e - s;
     const glm::dvec2 seK{se.x * k, se.y};   // on the ground

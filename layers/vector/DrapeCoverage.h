@@ -59,6 +59,10 @@ public:
     /// sums to w); a thinner one radius 1 and scale w. Touches only pixels near the segment
     /// (clipped to the tile first).
     void addSegment(glm::dvec2 a, glm::dvec2 b, double radius, float scale);
+    /// The stretch [t0, t1] of a -> b (a + (b - a) t) that a capsule of `radius` around it
+    /// could paint a pixel centre from: the segment clipped to the tile grown by the radius
+    /// (Liang-Barsky). False when none.
+    bool reach(glm::dvec2 a, glm::dvec2 b, double radius, double& t0, double& t1) const;
     /// Ground length of a pixel's width over its height (the cosine of the tile's latitude:
     /// a degree of longitude is shorter than one of latitude). Distances are measured on the
     /// ground, so that a stroke is as wide running north as running east.

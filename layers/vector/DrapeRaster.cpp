@@ -263,22 +263,12 @@ void TilePainter::strokePath(const Stroke& s) {
     }
     // Dashed: the "on" stretches of each segment, by the distance along the part that its
     // vertices carry (z), only over the segment's stretch that can reach the tile.
-    const double period = s.dash.x + s.dash.y, reach = s.radius + 1.0;
+    const double period = s.dash.x + s.dash.y;
     for (size_t i = 0; i + 1 < path_.size(); ++i) {
-        const glm::dvec2 a(path_[i]), b(path_[i + 1]);
+        const glm::dvec2 a(path_[i]), b(path_[i + 1]), d = b - a;
         const double da = path_[i].z, length = path_[i + 1].z - da;
         double t0 = 0.0, t1 = 1.0;
-        const glm::dvec2 d = b - a;
-        const double lo[2] = {-reach / xScale_, -reach}, hi[2] = {size_ + reach / xScale_, size_ + reach};
-        for (int k = 0; k < 2 && t0 <= t1; ++k) {
-            if (d[k] == 0.0) {
-                if (a[k] < lo[k] || a[k] > hi[k]) t0 = 2.0;
-                continue;
-            }
-            const double u = (lo[k] - a[k]) / d[k], v = (hi[k] - a[k]) / d[k];
-            t0 = std::max(t0, std::min(u, v)), t1 = std::min(t1, std::max(u, v));
-        }
-        if (t0 > t1) continue;
+        if (!stroke_.reach(a, b, s.radius, t0, t1)) continue;
         if (!(length > 0.0)) {   // no length along the part: on or off as its start is
             if (std::fmod(da, period) < s.dash.x) stroke_.addSegment(a + d * t0, a + d * t1, s.radius, s.scale);
             continue;

@@ -205,7 +205,7 @@ const char* altitudeModeName(AltitudeMode mode) {
     return "?";
 }
 
-bool drawnAsMesh(const Feature& feature, const FeatureStyle& style, AltitudeMode mode) {
+bool drawnIn3d(const Feature& feature, const FeatureStyle& style, AltitudeMode mode) {
     if (feature.coords.empty()) return false;
     if (feature.kind != GeometryKind::Polygons) return mode != AltitudeMode::Clamped;
     if (feature.polygons.empty()) return false;
@@ -217,7 +217,7 @@ MeshGround::MeshGround(const VectorContent& content, const ContentStyles& styles
     for (size_t l = 0; l < content.layers.size() && l < styles.size(); ++l) {
         const auto& features = content.layers[l].data.features;
         for (size_t i = 0; i < features.size() && i < styles[l].size(); ++i) {
-            if (!drawnAsMesh(features[i], styles[l][i], mode)) continue;
+            if (!drawnIn3d(features[i], styles[l][i], mode)) continue;
             features_.emplace_back(uint32_t(l), uint32_t(i));
             first_.push_back(first_.back() + features[i].coords.size());
         }

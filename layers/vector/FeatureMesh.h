@@ -53,7 +53,7 @@ inline constexpr double kSkirtMetres = 2.0;
 inline constexpr double kMaxEdgeDeg = 0.1;       ///< ~11 km: a chord sags < 2.5 m below the curve
 
 /// Whether a feature with this style is drawn in 3-D in this mode (else: draped).
-bool drawnAsMesh(const Feature& feature, const FeatureStyle& style, AltitudeMode mode);
+bool drawnIn3d(const Feature& feature, const FeatureStyle& style, AltitudeMode mode);
 
 /// The ground under every vertex of the features drawn as meshes, sampled a slice at a time
 /// (any thread; one at a time).
