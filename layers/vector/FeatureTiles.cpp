@@ -1,119 +1,183 @@
 #include "layers/vector/FeatureTiles.h"
+#include "layers/vector/LonLatGeometry.h"
 
 #include "layers/vector/FeatureClip.h"
 #include "layers/vector/Simplify.h"
 
 #include <algorithm>
+#include <chrono>
+#include <unordered_set>
 
 namespace orbis::vector {
 namespace {
 
-uint64_t featureBytes(const Feature& f) {
-    uint64_t bytes = sizeof(Feature) + f.coords.size() * sizeof(glm::dvec3) + (f.parts.size() + f.polygons.size()) * sizeof(uint32_t) +
-                     f.containsPole.size() + f.attributes.size() * sizeof(AttributeValue);
-    for (const AttributeValue& a : f.attributes)
-        if (const auto* s = std::get_if<std::string>(&a)) bytes += s->capacity();
-    return bytes;
+/// Bytes counted for a page besides its features (the entry, an empty page's content).
+constexpr uint64_t kPageOverhead = 512;
+
+/// The box of a clipped feature's coordinates (all in the page's frame: no wrap to undo).
+LonLatBounds coordsBounds(const Feature& f) {
+    LonLatBounds b{f.coords[0].x, f.coords[0].y, f.coords[0].x, f.coords[0].y, false};
+    for (const glm::dvec3& c : f.coords) {
+        b.west = std::min(b.west, c.x), b.east = std::max(b.east, c.x);
+        b.south = std::min(b.south, c.y), b.north = std::max(b.north, c.y);
+    }
+    if (b.west < -180.0) b.west += 360.0, b.east += 360.0;   // a margin past -180: west within [-180, 180)
+    if (b.west >= 180.0) b.west -= 360.0, b.east -= 360.0;
+    return b;
+}
+
+/// Adds `more`'s features to `data`, layer by layer, but for those `data` has already (the same
+/// fid: a feature met by both boxes of a page across the antimeridian).
+void merge(VectorData& data, VectorData&& more) {
+    for (size_t l = 0; l < data.layers.size() && l < more.layers.size(); ++l) {
+        VectorLayer& into = data.layers[l];
+        std::unordered_set<int64_t> have;
+        for (const Feature& f : into.features) have.insert(f.fid);
+        for (Feature& f : more.layers[l].features)
+            if (f.fid < 0 || !have.contains(f.fid)) into.features.push_back(std::move(f));
+    }
 }
 
 }  // namespace
 
 Result<FeatureTile> loadFeatureTile(const FeatureTilesOptions& options, const globe::TileKey& key) {
     const globe::GeoExtent e = key.extent();
-    VectorReadOptions read = options.read;
-    read.within = LonLatBounds{.west = e.west, .south = e.south, .east = e.east, .north = e.north, .empty = false};
-    auto data = readVector(read);
-    if (!data) return data.error();
+    const double m = options.margin * key.sizeDeg();
+    const globe::GeoExtent grown{e.west - m, std::max(e.south - m, -90.0), e.east + m, std::min(e.north + m, 90.0)};
+    // OGR is asked for boxes within -180..180: a margin past the antimeridian is a second box.
+    std::vector<LonLatBounds> boxes{{std::max(grown.west, -180.0), grown.south, std::min(grown.east, 180.0), grown.north, false}};
+    if (grown.west < -180.0) boxes.push_back({grown.west + 360.0, grown.south, 180.0, grown.north, false});
+    if (grown.east > 180.0) boxes.push_back({-180.0, grown.south, grown.east - 360.0, grown.north, false});
+    VectorData data;
+    for (size_t b = 0; b < boxes.size(); ++b) {
+        VectorReadOptions read = options.content.read;
+        read.within = boxes[b];
+        auto part = readVector(read);
+        if (!part) return part.error();
+        if (b == 0) data = std::move(*part);
+        else merge(data, std::move(*part));
+    }
+    // The finest pages serve every finer tile: every vertex stays.
+    const double tolerance = key.level < options.pageLevel ? 0.5 * key.sizeDeg() / std::max(1.0, options.tilePixels) : 0.0;
+    for (VectorLayer& layer : data.layers) {
+        std::vector<Feature> kept;
+        std::vector<LonLatBounds> boxes;
+        layer.vertexCount = 0;
+        for (const Feature& f : layer.features) {
+            auto piece = clipFeature(f, grown);
+            if (piece && tolerance > 0.0) piece = simplifyFeature(*piece, tolerance);
+            if (!piece) continue;
+            piece->bounds = coordsBounds(*piece);
+            boxes.push_back(piece->bounds);
+            layer.vertexCount += piece->coords.size();
+            kept.push_back(std::move(*piece));
+        }
+        layer.features = std::move(kept);
+        layer.bounds = coverBounds(boxes);
+    }
+    auto content = contentFromData(std::move(data), options.content);
+    if (!content) return content.error();
     FeatureTile tile;
     tile.key = key;
-    const double tolerance = key.sizeDeg() / std::max(1.0, options.tilePixels);
-    for (VectorLayer& layer : data->layers) {
-        for (std::string& w : layer.warnings) tile.warnings.push_back(std::move(w));
-        for (const Feature& f : layer.features) {
-            auto piece = clipFeature(f, e);
-            if (!piece) continue;
-            auto simple = simplifyFeature(*piece, tolerance);
-            if (!simple) continue;
-            tile.bytes += featureBytes(*simple);
-            tile.features.push_back(std::move(*simple));
-        }
-    }
+    tile.bytes = (*content)->bytes + kPageOverhead;
+    tile.content = std::move(*content);
     return tile;
 }
 
-FeatureTiles::FeatureTiles(FeatureTilesOptions options, jobs::ThreadPool& pool) : options_(std::move(options)), pool_(pool) {}
+FeatureTiles::FeatureTiles(FeatureTilesOptions options) : options_(std::move(options)) {}
 
-FeatureTiles::~FeatureTiles() {
-    for (auto& [key, entry] : entries_)
-        if (entry.job.valid() && !entry.job.ready()) entry.cancel.cancel();
-    for (auto& [key, entry] : entries_)
-        if (entry.job.valid()) entry.job.wait();   // the jobs read options_: they end before it goes
+globe::TileKey FeatureTiles::pageFor(const globe::TileKey& key) const {
+    return key.level <= options_.pageLevel ? key : key.ancestor(options_.pageLevel);
 }
 
-const FeatureTile* FeatureTiles::request(const globe::TileKey& key, double priority, uint64_t frame) {
-    Entry& entry = entries_[key];
-    entry.lastFrame = frame;
-    if (entry.tile) return entry.tile.get();
-    if (entry.failed) return nullptr;
-    if (!entry.job.valid()) {
-        entry.cancel = jobs::CancelToken::create();
-        const FeatureTilesOptions* options = &options_;
-        entry.job = pool_.submit(priority, entry.cancel, [options, key](const jobs::CancelToken& cancel) {
-            cancel.throwIfCancelled();
-            return loadFeatureTile(*options, key);
-        });
-    } else {
-        entry.job.setPriority(priority);
-    }
-    return nullptr;
-}
-
-void FeatureTiles::poll(uint64_t frame) {
-    for (auto it = entries_.begin(); it != entries_.end();) {
-        Entry& entry = it->second;
-        if (entry.job.valid() && entry.job.ready()) {
-            if (entry.job.cancelled()) {
-                it = entries_.erase(it);   // asked for again later: loaded again
-                continue;
-            }
-            try {
-                Result<FeatureTile> loaded = entry.job.get();
-                if (loaded) {
-                    entry.tile = std::make_shared<FeatureTile>(std::move(*loaded));
-                    bytes_ += entry.tile->bytes;
-                } else {
-                    entry.failed = true;
-                    errors_.push_back("tile " + it->first.toString() + ": " + loaded.message());
-                }
-            } catch (const std::exception& e) {
-                entry.failed = true;
-                errors_.push_back("tile " + it->first.toString() + ": " + e.what());
-            }
-            entry.job = {};
-        } else if (entry.job.valid() && entry.lastFrame + 1 < frame) {
-            entry.cancel.cancel();   // no frame wants it any more
+Result<std::shared_ptr<const FeatureTile>> FeatureTiles::acquire(const globe::TileKey& key, const jobs::CancelToken* cancel) {
+    const globe::TileKey page = pageFor(key);
+    std::shared_future<Loaded> future;
+    std::promise<Loaded> promise;
+    bool reader = false;
+    {
+        std::lock_guard lock(mutex_);
+        auto it = entries_.find(page);
+        if (it != entries_.end()) {
+            future = it->second.future;
+            uses_.splice(uses_.begin(), uses_, it->second.use);
+        } else {
+            uses_.push_front(page);
+            Entry entry;
+            entry.future = future = promise.get_future().share();
+            entry.use = uses_.begin();
+            entries_.emplace(page, std::move(entry));
+            reader = true;
+            ++reads_;
         }
-        ++it;
     }
-    if (bytes_ <= options_.budgetBytes) return;
-    // Least recently requested first; never a tile of this frame.
-    std::vector<std::pair<uint64_t, globe::TileKey>> loaded;
-    for (const auto& [key, entry] : entries_)
-        if (entry.tile && entry.lastFrame < frame) loaded.push_back({entry.lastFrame, key});
-    std::sort(loaded.begin(), loaded.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (const auto& [last, key] : loaded) {
-        if (bytes_ <= options_.budgetBytes) break;
-        bytes_ -= entries_[key].tile->bytes;
-        entries_.erase(key);
+    if (!reader) {
+        while (future.wait_for(std::chrono::milliseconds(10)) != std::future_status::ready)
+            if (cancel && cancel->cancelled()) throw jobs::Cancelled();
+        return future.get();
     }
+    // This thread reads it; whoever asks meanwhile waits for this read.
+    Loaded loaded = makeError("not read");
+    try {
+        auto tile = loadFeatureTile(options_, page);
+        if (tile) loaded = std::shared_ptr<const FeatureTile>(std::make_shared<FeatureTile>(std::move(*tile)));
+        else loaded = tile.error();
+    } catch (const std::exception& e) {
+        loaded = makeError(options_.content.read.source + ": " + e.what());
+    }
+    {
+        std::lock_guard lock(mutex_);
+        Entry& entry = entries_.at(page);   // unread entries are never evicted
+        entry.done = true;
+        if (loaded) {
+            entry.bytes = (*loaded)->bytes;
+            bytes_ += entry.bytes;
+            evictLocked(page);
+        } else {
+            errors_.push_back("feature tile " + page.toString() + ": " + loaded.message());
+        }
+    }
+    promise.set_value(loaded);
+    return loaded;
+}
+
+void FeatureTiles::evictLocked(const globe::TileKey& keep) {
+    for (auto it = uses_.end(); bytes_ > options_.budgetBytes && it != uses_.begin();) {
+        --it;
+        const auto entry = entries_.find(*it);
+        if (*it == keep || !entry->second.done || entry->second.bytes == 0) continue;   // being read, or failed (kept)
+        bytes_ -= entry->second.bytes;
+        entries_.erase(entry);
+        it = uses_.erase(it);
+    }
+}
+
+uint64_t FeatureTiles::bytes() const {
+    std::lock_guard lock(mutex_);
+    return bytes_;
 }
 
 size_t FeatureTiles::loadedCount() const {
-    return size_t(std::count_if(entries_.begin(), entries_.end(), [](const auto& e) { return e.second.tile != nullptr; }));
+    std::lock_guard lock(mutex_);
+    return size_t(std::count_if(entries_.begin(), entries_.end(), [](const auto& e) { return e.second.bytes > 0; }));
 }
 
-size_t FeatureTiles::pendingCount() const {
-    return size_t(std::count_if(entries_.begin(), entries_.end(), [](const auto& e) { return e.second.job.valid(); }));
+uint64_t FeatureTiles::reads() const {
+    std::lock_guard lock(mutex_);
+    return reads_;
+}
+
+std::vector<std::string> FeatureTiles::errors() const {
+    std::lock_guard lock(mutex_);
+    return errors_;
+}
+
+std::vector<std::shared_ptr<const FeatureTile>> FeatureTiles::loaded() const {
+    std::lock_guard lock(mutex_);
+    std::vector<std::shared_ptr<const FeatureTile>> out;
+    for (const auto& [key, entry] : entries_)
+        if (entry.bytes > 0) out.push_back(*entry.future.get());
+    return out;
 }
 
 }  // namespace orbis::vector

@@ -1,19 +1,29 @@
 #pragma once
-// The feature tiles of a vector source, loaded on the engine's worker pool as the view asks for
-// them and kept within a memory budget, so that only what is seen is in memory (the vector
-// layer's pager). A tile holds the source's features near it (OGR's spatial filter: a source with
-// a spatial index reads only those), clipped to the tile and simplified for its texel. No Vulkan.
+// The vector layer's pager: a large source kept as feature tiles on the globe's quadtree, read
+// as the view asks for them and held within a memory budget, so that only what is seen is in
+// memory. A page holds the source's features near its tile (OGR's spatial filter: a source with
+// a spatial index, GeoPackage, FlatGeobuf, Shapefile with .qix, reads only those), clipped to
+// the tile grown by a margin and simplified for the tile's texel, with their styles bound and
+// their times worked out (a VectorContent of its own). No Vulkan.
 //
-// Main thread: request() each tile a frame needs, then poll() once a frame. Loads run on the
-// pool; a load that no frame asked for since it was queued is cancelled; past the budget, the
-// tiles least recently requested go first (never one requested this frame).
+// Pages are read on the thread that asks (the terrain's workers, painting drape tiles): a tile
+// of level L takes the page of its ancestor at min(L, pageLevel). The finest pages keep every
+// vertex, as they serve every finer tile. Two threads asking for one page share one read. Past
+// the budget the pages least recently asked for go (a painter holding one keeps it until done).
+//
+// The margin is a quarter of the tile on each side: a drape tile paints strokes and markers
+// that reach up to about a sixth of it past its edge, so the seams that clipping cuts along a
+// page's edge (a polygon's clipped outline) lie outside anything a tile of that page paints.
 
 #include "base/ThreadPool.h"
 #include "globe/TileKey.h"
-#include "layers/vector/VectorReader.h"
+#include "layers/vector/VectorContent.h"
 
 #include <cstdint>
+#include <future>
+#include <list>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -22,52 +32,60 @@ namespace orbis::vector {
 
 struct FeatureTile {
     globe::TileKey key;
-    std::vector<Feature> features;   ///< clipped to the tile, simplified for its texel
-    uint64_t bytes = 0;              ///< what the features hold (estimated)
-    std::vector<std::string> warnings;
+    /// The features near the tile, clipped to its extent grown by the margin and simplified;
+    /// each layer's style bound and times worked out as for the whole source.
+    std::shared_ptr<const VectorContent> content;
+    uint64_t bytes = 0;   ///< what the features hold (estimated)
 };
 
 struct FeatureTilesOptions {
-    VectorReadOptions read;           ///< source, layers, where or sql (within is set per tile)
-    double tilePixels = 256.0;        ///< a tile's texels across: the simplification tolerance is its size / this
+    VectorContentOptions content;     ///< source, layers, where or sql (within is set per page), style, times
+    uint32_t pageLevel = 12;          ///< the finest pages (about 5 km at level 12); finer tiles use them
+    double tilePixels = 256.0;        ///< a coarser page is simplified to half its size / this
+    double margin = 0.25;             ///< of the tile's size, on each side
     uint64_t budgetBytes = 256ull << 20;
 };
 
 class FeatureTiles {
 public:
-    FeatureTiles(FeatureTilesOptions options, jobs::ThreadPool& pool);
-    ~FeatureTiles();
+    explicit FeatureTiles(FeatureTilesOptions options);
 
-    /// The tile if loaded (and marks it used this frame); else queues its load at `priority`
-    /// (higher first) and returns null. A tile that failed to load returns null and is not
-    /// retried; its error is in errors().
-    const FeatureTile* request(const globe::TileKey& key, double priority, uint64_t frame);
-    /// Takes finished loads, cancels loads no frame asked for since `frame - 1`, and evicts past
-    /// the budget. Main thread, once a frame.
-    void poll(uint64_t frame);
+    /// The page holding what tiles of `key` need, read on this thread when it is not in
+    /// memory (another thread reading it: waited for, `cancel` checked meanwhile, throwing
+    /// jobs::Cancelled). A page that failed to read fails again without a new read; its error
+    /// is in errors(). Any thread.
+    Result<std::shared_ptr<const FeatureTile>> acquire(const globe::TileKey& key, const jobs::CancelToken* cancel = nullptr);
+    /// The page a tile of `key` takes.
+    globe::TileKey pageFor(const globe::TileKey& key) const;
 
-    uint64_t bytes() const { return bytes_; }
+    const FeatureTilesOptions& options() const { return options_; }
+    uint64_t bytes() const;
     size_t loadedCount() const;
-    size_t pendingCount() const;
-    const std::vector<std::string>& errors() const { return errors_; }
+    uint64_t reads() const;   ///< pages read since the start (reads again after eviction count)
+    std::vector<std::string> errors() const;
+    /// The pages in memory now.
+    std::vector<std::shared_ptr<const FeatureTile>> loaded() const;
 
 private:
+    using Loaded = Result<std::shared_ptr<const FeatureTile>>;
     struct Entry {
-        std::shared_ptr<FeatureTile> tile;   ///< null while loading or after a failure
-        jobs::Job<Result<FeatureTile>> job;
-        jobs::CancelToken cancel;
-        uint64_t lastFrame = 0;
-        bool failed = false;
+        std::shared_future<Loaded> future;
+        std::list<globe::TileKey>::iterator use;   ///< its place in uses_ (most recent first)
+        uint64_t bytes = 0;
+        bool done = false;
     };
+    void evictLocked(const globe::TileKey& keep);
 
     FeatureTilesOptions options_;
-    jobs::ThreadPool& pool_;
+    mutable std::mutex mutex_;
     std::unordered_map<globe::TileKey, Entry, globe::TileKeyHash> entries_;
-    uint64_t bytes_ = 0;
+    std::list<globe::TileKey> uses_;
+    uint64_t bytes_ = 0, reads_ = 0;
     std::vector<std::string> errors_;
 };
 
-/// One tile's features (what a load job does): read within its extent, clipped, simplified.
+/// One page (what acquire reads): the features near `key`'s extent grown by the margin, clipped
+/// to it, simplified for its level (not at pageLevel or finer), styled and timed.
 Result<FeatureTile> loadFeatureTile(const FeatureTilesOptions& options, const globe::TileKey& key);
 
 }  // namespace orbis::vector

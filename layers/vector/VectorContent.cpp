@@ -2,12 +2,24 @@
 
 namespace orbis::vector {
 
+uint64_t featureBytes(const Feature& f) {
+    uint64_t bytes = sizeof(Feature) + f.coords.size() * sizeof(glm::dvec3) + (f.parts.size() + f.polygons.size()) * sizeof(uint32_t) +
+                     f.containsPole.size() + f.attributes.size() * sizeof(AttributeValue);
+    for (const AttributeValue& a : f.attributes)
+        if (const auto* text = std::get_if<std::string>(&a)) bytes += text->capacity();
+    return bytes;
+}
+
 Result<std::shared_ptr<VectorContent>> loadVectorContent(const VectorContentOptions& options) {
     auto data = readVector(options.read);
     if (!data) return data.error();
+    return contentFromData(std::move(*data), options);
+}
+
+Result<std::shared_ptr<VectorContent>> contentFromData(VectorData data, const VectorContentOptions& options) {
     auto content = std::make_shared<VectorContent>();
-    content->source = data->source;
-    for (VectorLayer& layer : data->layers) {
+    content->source = data.source;
+    for (VectorLayer& layer : data.layers) {
         ContentLayer out;
         out.style = options.style;
         if (auto bound = out.style.bind(layer.fields, layer.name); !bound)
@@ -23,10 +35,7 @@ Result<std::shared_ptr<VectorContent>> loadVectorContent(const VectorContentOpti
             content->lastTime = out.times.last;
         content->featureCount += layer.features.size();
         content->vertexCount += layer.vertexCount;
-        for (const Feature& f : layer.features)
-            content->bytes += sizeof(Feature) + f.coords.size() * sizeof(glm::dvec3) +
-                              (f.parts.size() + f.polygons.size()) * sizeof(uint32_t) +
-                              f.attributes.size() * sizeof(AttributeValue);
+        for (const Feature& f : layer.features) content->bytes += featureBytes(f);
         out.data = std::move(layer);
         content->layers.push_back(std::move(out));
     }

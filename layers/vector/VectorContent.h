@@ -50,9 +50,16 @@ struct VectorContent {
 /// Each feature's style, per layer, in feature order.
 using ContentStyles = std::vector<std::vector<FeatureStyle>>;
 
+/// About the bytes a feature holds (coordinates, indices, attributes and their text).
+uint64_t featureBytes(const Feature& feature);
+
 /// Reads the source and binds the style to each layer's fields. Errors name the source, and
 /// the layer and the rule or field where one is wrong.
 Result<std::shared_ptr<VectorContent>> loadVectorContent(const VectorContentOptions& options);
+
+/// The second half of loadVectorContent, for features already read (and perhaps clipped: a
+/// feature tile's): the style bound to each layer's fields, the times worked out.
+Result<std::shared_ptr<VectorContent>> contentFromData(VectorData data, const VectorContentOptions& options);
 
 /// Every feature's style from its layer's bound style (and its own, a KML's).
 ContentStyles styleContent(const VectorContent& content);

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <chrono>
 #include <filesystem>
+#include <set>
 #include <string>
 #include <thread>
 
@@ -19,98 +19,143 @@ const fs::path kCountries = fs::path(ORBIS_SHARED_DATA_DIR) / "vector" / "natura
 #define REQUIRE_COUNTRIES() \
     if (!fs::exists(kCountries)) GTEST_SKIP() << "../shared/data is absent: no " << kCountries
 
-/// Requests `keys` frame after frame until all are loaded (or failed), at most 10 s.
-bool loadAll(FeatureTiles& tiles, const std::vector<TileKey>& keys, uint64_t& frame) {
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-    while (std::chrono::steady_clock::now() < deadline) {
-        ++frame;
-        size_t ready = 0;
-        for (const TileKey& k : keys) ready += tiles.request(k, 1.0, frame) ? 1 : 0;
-        tiles.poll(frame);
-        if (ready == keys.size()) return true;
-        if (ready + tiles.errors().size() >= keys.size() && tiles.pendingCount() == 0) return false;
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-    return false;
+FeatureTilesOptions countries() {
+    FeatureTilesOptions o;
+    o.content.read.source = kCountries.string();
+    o.pageLevel = 4;
+    return o;
 }
 
-TEST(FeatureTiles, TilesLoadOnThePoolClippedToTheirExtent) {
+globe::GeoExtent grownExtent(const FeatureTilesOptions& o, const TileKey& key) {
+    const globe::GeoExtent e = key.extent();
+    const double m = o.margin * key.sizeDeg();
+    return {e.west - m, e.south - m, e.east + m, e.north + m};
+}
+
+TEST(FeatureTiles, APageHoldsItsFeaturesClippedToItsGrownTileAndIsReadOnce) {
     REQUIRE_COUNTRIES();
-    jobs::ThreadPool pool(2, "test-vector");
-    FeatureTilesOptions o;
-    o.read.source = kCountries.string();
-    FeatureTiles tiles(o, pool);
+    FeatureTiles tiles(countries());
     const TileKey europe = TileKey::containing(10.0, 50.0, 3);
-    uint64_t frame = 0;
-    EXPECT_EQ(tiles.request(europe, 1.0, ++frame), nullptr);   // queued
-    ASSERT_TRUE(loadAll(tiles, {europe}, frame));
-    const FeatureTile* tile = tiles.request(europe, 1.0, ++frame);
-    ASSERT_TRUE(tile);
-    EXPECT_GT(tile->features.size(), 5u);
-    EXPECT_LT(tile->features.size(), 40u);
-    const globe::GeoExtent e = europe.extent();
-    for (const Feature& f : tile->features)
-        for (const glm::dvec3& c : f.coords) ASSERT_TRUE(c.x >= e.west && c.x <= e.east && c.y >= e.south && c.y <= e.north);
-    EXPECT_GT(tiles.bytes(), 0u);
-    EXPECT_EQ(tiles.bytes(), tile->bytes);
-}
-
-TEST(FeatureTiles, PastTheBudgetTheLeastRecentlyUsedTilesGoAndComeBackWhenAskedFor) {
-    REQUIRE_COUNTRIES();
-    jobs::ThreadPool pool(2, "test-vector");
-    FeatureTilesOptions o;
-    o.read.source = kCountries.string();
-    o.budgetBytes = 1;   // only the tiles of the current frame stay
-    FeatureTiles tiles(o, pool);
-    uint64_t frame = 0;
-    const TileKey a = TileKey::containing(10.0, 50.0, 3), b = TileKey::containing(-60.0, -10.0, 3);
-    ASSERT_TRUE(loadAll(tiles, {a}, frame));
-    ASSERT_TRUE(loadAll(tiles, {b}, frame));   // a is no longer asked for: evicted
-    EXPECT_EQ(tiles.loadedCount(), 1u);
-    EXPECT_EQ(tiles.request(a, 1.0, ++frame), nullptr);   // gone, queued again
-    ASSERT_TRUE(loadAll(tiles, {a}, frame));
-    EXPECT_TRUE(tiles.request(a, 1.0, ++frame));
-}
-
-TEST(FeatureTiles, ALoadNoFrameWantsAnyMoreIsCancelled) {
-    REQUIRE_COUNTRIES();
-    jobs::ThreadPool pool(1, "test-vector");
-    std::atomic<bool> release{false};
-    auto blocker = pool.submit(10.0, jobs::CancelToken{}, [&](const jobs::CancelToken&) {
-        while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-        return 0;
-    });
-    FeatureTilesOptions o;
-    o.read.source = kCountries.string();
-    FeatureTiles tiles(o, pool);
-    const TileKey k = TileKey::containing(10.0, 50.0, 3);
-    EXPECT_EQ(tiles.request(k, 1.0, 1), nullptr);   // queued behind the blocker
-    tiles.poll(1);
-    tiles.poll(3);   // frames 2 and 3 did not ask for it
-    release = true;
-    blocker.wait();
-    for (uint64_t frame = 4; frame < 2000 && tiles.pendingCount() > 0; ++frame) {
-        tiles.poll(frame);
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    auto page = tiles.acquire(europe);
+    ASSERT_TRUE(page) << page.message();
+    const VectorContent& content = *(*page)->content;
+    ASSERT_EQ(content.layers.size(), 1u);
+    const std::vector<Feature>& features = content.layers[0].data.features;
+    EXPECT_GT(features.size(), 5u);
+    EXPECT_LT(features.size(), 60u);
+    const globe::GeoExtent g = grownExtent(tiles.options(), europe);
+    for (const Feature& f : features) {
+        for (const glm::dvec3& c : f.coords) ASSERT_TRUE(c.x >= g.west && c.x <= g.east && c.y >= g.south && c.y <= g.north);
+        // Tight bounds (the drape culls by them), not the page's box.
+        EXPECT_LE(f.bounds.east - f.bounds.west, g.east - g.west);
     }
-    EXPECT_EQ(tiles.pendingCount(), 0u);
-    EXPECT_EQ(tiles.loadedCount(), 0u);   // it never loaded
-    EXPECT_TRUE(tiles.errors().empty());
+    EXPECT_EQ(tiles.bytes(), (*page)->bytes);
+    EXPECT_GT(tiles.bytes(), 1000u);
+    // Asked again: the same page, no new read.
+    auto again = tiles.acquire(europe);
+    ASSERT_TRUE(again);
+    EXPECT_EQ(again->get(), page->get());
+    EXPECT_EQ(tiles.reads(), 1u);
 }
 
-TEST(FeatureTiles, AFailedTileSaysWhyAndIsNotRetried) {
-    jobs::ThreadPool pool(1, "test-vector");
+TEST(FeatureTiles, TilesFinerThanThePageLevelShareTheirAncestorsPageWithEveryVertex) {
+    REQUIRE_COUNTRIES();
+    FeatureTiles tiles(countries());
+    const TileKey fine = TileKey::containing(2.35, 48.85, 9);
+    EXPECT_EQ(tiles.pageFor(fine), fine.ancestor(4));
+    EXPECT_EQ(tiles.pageFor(fine.ancestor(2)), fine.ancestor(2));
+    auto page = tiles.acquire(fine);
+    ASSERT_TRUE(page);
+    EXPECT_EQ((*page)->key, fine.ancestor(4));
+    ASSERT_TRUE(tiles.acquire(TileKey::containing(2.5, 48.9, 10)));
+    EXPECT_EQ(tiles.reads(), 1u);
+    // A coarse page is simplified for its texel: the world at level 0 has far fewer vertices
+    // than what the countries hold.
+    auto world = tiles.acquire(TileKey{0, 0, 0});
+    auto whole = loadVectorContent(tiles.options().content);
+    ASSERT_TRUE(world && whole);
+    EXPECT_LT((*world)->content->vertexCount, (*whole)->vertexCount / 2);
+    EXPECT_GT((*world)->content->featureCount, 20u);
+}
+
+TEST(FeatureTiles, APageAcrossTheAntimeridianHoldsBothSidesOnceEach) {
+    REQUIRE_COUNTRIES();
+    FeatureTiles tiles(countries());
+    // The level-4 tile west of 180 at Fiji: its margin reaches past the antimeridian.
+    const TileKey fiji = TileKey::containing(179.0, -17.0, 4);
+    auto page = tiles.acquire(fiji);
+    ASSERT_TRUE(page) << page.message();
+    const std::vector<Feature>& features = (*page)->content->layers[0].data.features;
+    std::set<int64_t> fids;
+    bool pastTheAntimeridian = false;
+    const globe::GeoExtent g = grownExtent(tiles.options(), fiji);
+    for (const Feature& f : features) {
+        EXPECT_TRUE(fids.insert(f.fid).second) << "fid " << f.fid << " twice";
+        for (const glm::dvec3& c : f.coords) {
+            ASSERT_TRUE(c.x >= g.west && c.x <= g.east) << c.x;
+            pastTheAntimeridian |= c.x > 180.0;
+        }
+    }
+    EXPECT_TRUE(pastTheAntimeridian);   // Fiji's eastern islands, unwrapped
+}
+
+TEST(FeatureTiles, PastTheBudgetTheLeastRecentlyUsedPagesGoAndAreReadAgain) {
+    REQUIRE_COUNTRIES();
+    FeatureTilesOptions o = countries();
+    o.budgetBytes = 1;   // only the page just read stays
+    FeatureTiles tiles(o);
+    const TileKey a = TileKey::containing(10.0, 50.0, 3), b = TileKey::containing(-60.0, -10.0, 3);
+    auto held = tiles.acquire(a);
+    ASSERT_TRUE(held);
+    ASSERT_TRUE(tiles.acquire(b));
+    EXPECT_EQ(tiles.loadedCount(), 1u);
+    EXPECT_EQ(tiles.bytes(), (*tiles.acquire(b))->bytes);
+    EXPECT_FALSE((*held)->content->layers[0].data.features.empty());   // a holder keeps its page
+    ASSERT_TRUE(tiles.acquire(a));
+    EXPECT_EQ(tiles.reads(), 3u);
+}
+
+TEST(FeatureTiles, ThreadsAskingForOnePageShareOneRead) {
+    REQUIRE_COUNTRIES();
+    FeatureTiles tiles(countries());
+    const TileKey k = TileKey::containing(100.0, 30.0, 3);
+    std::atomic<int> ok{0};
+    std::vector<std::thread> threads;
+    for (int i = 0; i < 6; ++i)
+        threads.emplace_back([&] { ok += tiles.acquire(k) ? 1 : 0; });
+    for (std::thread& t : threads) t.join();
+    EXPECT_EQ(ok.load(), 6);
+    EXPECT_EQ(tiles.reads(), 1u);
+    EXPECT_EQ(tiles.loaded().size(), 1u);
+}
+
+TEST(FeatureTiles, AFailedPageSaysWhyAndIsNotReadAgain) {
     FeatureTilesOptions o;
-    o.read.source = "/nonexistent/roads.gpkg";
-    FeatureTiles tiles(o, pool);
-    uint64_t frame = 0;
+    o.content.read.source = "/nonexistent/roads.gpkg";
+    FeatureTiles tiles(o);
     const TileKey k = TileKey::containing(0.0, 0.0, 2);
-    EXPECT_FALSE(loadAll(tiles, {k}, frame));
+    auto page = tiles.acquire(k);
+    ASSERT_FALSE(page);
+    EXPECT_NE(page.message().find("/nonexistent/roads.gpkg: no such file"), std::string::npos) << page.message();
     ASSERT_EQ(tiles.errors().size(), 1u);
-    EXPECT_NE(tiles.errors()[0].find("/nonexistent/roads.gpkg: no such file"), std::string::npos) << tiles.errors()[0];
-    EXPECT_EQ(tiles.request(k, 1.0, ++frame), nullptr);   // not retried
-    tiles.poll(frame);
-    EXPECT_EQ(tiles.pendingCount(), 0u);
+    EXPECT_NE(tiles.errors()[0].find("feature tile"), std::string::npos) << tiles.errors()[0];
+    EXPECT_FALSE(tiles.acquire(k));
+    EXPECT_EQ(tiles.reads(), 1u);
+}
+
+TEST(FeatureTiles, ABadRuleFieldIsAnErrorOfEveryPage) {
+    REQUIRE_COUNTRIES();
+    FeatureTilesOptions o = countries();
+    auto style = VectorStyle::read(nullptr, "scene.json", "/layers/0/style");
+    ASSERT_TRUE(style);
+    nlohmann::json j = {{"label", "{no_such_field}"}};
+    auto bad = VectorStyle::read(&j, "scene.json", "/layers/0/style");
+    ASSERT_TRUE(bad);
+    o.content.style = *bad;
+    FeatureTiles tiles(o);
+    auto page = tiles.acquire(TileKey::containing(10.0, 50.0, 3));
+    ASSERT_FALSE(page);
+    EXPECT_NE(page.message().find("no_such_field"), std::string::npos) << page.message();
 }
 
 }  // namespace
