@@ -23,30 +23,34 @@ int kindOrder(GeometryKind k) { return k == GeometryKind::Polygons ? 0 : k == Ge
 
 }  // namespace
 
-VectorDrape::VectorDrape(std::string name, std::shared_ptr<const VectorContent> content, std::shared_ptr<const ContentStyles> styles,
-                         TimeNs time, uint32_t maxLevel, std::optional<std::pair<size_t, size_t>> highlight, double simplifyPx,
-                         std::shared_ptr<IconCache> icons)
-    : name_(std::move(name)), content_(std::move(content)), styles_(std::move(styles)), time_(time), maxLevel_(maxLevel),
-      simplifyPx_(simplifyPx), icons_(std::move(icons)), highlight_(highlight) {
-    // The widest reach past a feature: half a stroke, half a marker, half an icon up to 4:1 wide
-    // (and the highlight's extra), plus a little.
+FeatureStyle highlighted(FeatureStyle s) {
+    s.visible = true;
+    s.color = {1.0, 0.95, 0.1};
+    s.opacity = 1.0;
+    s.widthPx += 3.0;
+    s.fill = {1.0, 0.95, 0.1};
+    s.fillOpacity = std::max(s.fillOpacity, 0.35);
+    s.outline = true;
+    s.iconSizePx += 6.0;
+    return s;
+}
+
+VectorDrape::VectorDrape(DrapeState state, std::shared_ptr<const VectorContent> content, std::shared_ptr<const ContentStyles> styles)
+    : state_(std::move(state)), content_(std::move(content)), styles_(std::move(styles)) {
     for (const std::vector<FeatureStyle>& layer : *styles_)
-        for (const FeatureStyle& s : layer)
-            reachPx_ = std::max(reachPx_, 0.5 * std::max(s.widthPx, s.iconSizePx * (s.icon.empty() ? 1.0 : 4.0)) + 8.0);
-    if (highlight_ && highlight_->first < styles_->size() && highlight_->second < (*styles_)[highlight_->first].size()) {
-        // The feature's own look, made to stand out: bright yellow, wider, filled.
-        highlightStyle_ = (*styles_)[highlight_->first][highlight_->second];
-        highlightStyle_.visible = true;
-        highlightStyle_.color = {1.0, 0.95, 0.1};
-        highlightStyle_.opacity = 1.0;
-        highlightStyle_.widthPx += 3.0;
-        highlightStyle_.fill = {1.0, 0.95, 0.1};
-        highlightStyle_.fillOpacity = std::max(highlightStyle_.fillOpacity, 0.35);
-        highlightStyle_.outline = true;
-        highlightStyle_.iconSizePx += 6.0;
-    } else {
-        highlight_.reset();
-    }
+        for (const FeatureStyle& s : layer) reachPx_ = std::max(reachPx_, featureReachPx(s));
+    const auto& h = state_.highlight;
+    if (h && h->layer < styles_->size() && h->feature < (*styles_)[h->layer].size())
+        highlightStyle_ = highlighted((*styles_)[h->layer][h->feature]);
+    else
+        state_.highlight.reset();
+}
+
+VectorDrape::VectorDrape(DrapeState state, std::shared_ptr<FeatureTiles> pages, const VectorStyle& style,
+                         std::optional<LonLatBounds> bounds)
+    : state_(std::move(state)), pages_(std::move(pages)), bounds_(bounds), maxRangeM_(style.maxRangeM()) {
+    reachPx_ = std::max(reachPx_, style.reachPx());
+    for (size_t i = 0; i < style.ruleCount(); ++i) rulesOn_.push_back(style.ruleEnabled(i));
 }
 
 bool VectorDrape::covers(const globe::GeoExtent& extent) const {
@@ -54,6 +58,7 @@ bool VectorDrape::covers(const globe::GeoExtent& extent) const {
     // extent (at least a few pixels of any tile that asks).
     const double margin = 0.1 * extent.width();
     const globe::GeoExtent grown{extent.west - margin, extent.south - margin, extent.east + margin, extent.north + margin};
+    if (pages_) return !bounds_ || meets(*bounds_, grown);
     for (const ContentLayer& layer : content_->layers)
         if (meets(layer.data.bounds, grown)) return true;
     return false;
@@ -77,21 +82,17 @@ Result<globe::ImageryTile> VectorDrape::readTile(const globe::TileImageRequest& 
     const double range = rangeForTile(e, request.size, request.tilePixelsPerScreenPixel);
 
     std::vector<std::pair<int, DrapeItem>> items;
-    for (size_t l = 0; l < content_->layers.size(); ++l) {
-        const ContentLayer& layer = content_->layers[l];
-        if (!meets(layer.data.bounds, grown)) continue;
-        const std::vector<FeatureStyle>& styles = (*styles_)[l];
-        for (size_t i = 0; i < layer.data.features.size(); ++i) {
-            const Feature& f = layer.data.features[i];
-            const FeatureStyle& s = styles[i];
-            if (!s.visible || range < s.minRangeM || range > s.maxRangeM) continue;
-            if (layer.times.timed() && !layer.times.spans[i].shows(time_)) continue;
-            if (!meets(f.bounds, grown)) continue;
-            const bool highlighted = highlight_ && highlight_->first == l && highlight_->second == i;
-            const ImageRgba8* icon = nullptr;
-            if (f.kind == GeometryKind::Points && !s.icon.empty() && icons_) icon = icons_->get(s.icon).get();
-            items.push_back({highlighted ? 3 : kindOrder(f.kind), DrapeItem{&f, highlighted ? &highlightStyle_ : &s, icon}});
-        }
+    std::deque<FeatureStyle> evaluated;
+    std::shared_ptr<const FeatureTile> page;   // held while painting
+    if (!pages_) {
+        collect(*content_, styles_.get(), grown, range, evaluated, items);
+    } else if (range <= maxRangeM_) {
+        // The tile's key from its extent (the quadtree's tiles are 180 / 2^level degrees).
+        const auto level = uint32_t(std::clamp(std::lround(std::log2(180.0 / e.height())), 0l, long(globe::TileKey::kMaxLevel)));
+        auto got = pages_->acquire(globe::TileKey::containing(0.5 * (e.west + e.east), 0.5 * (e.south + e.north), level), cancel);
+        if (!got) return got.error();
+        page = std::move(*got);
+        collect(*page->content, nullptr, grown, range, evaluated, items);
     }
     if (cancel && cancel->cancelled()) throw jobs::Cancelled();
     std::stable_sort(items.begin(), items.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -106,10 +107,44 @@ Result<globe::ImageryTile> VectorDrape::readTile(const globe::TileImageRequest& 
     options.extent = e;
     options.size = request.size;
     options.pixelScale = request.tilePixelsPerScreenPixel;
-    options.simplifyPx = simplifyPx_;
+    options.simplifyPx = state_.simplifyPx;
     options.rangeM = range;
     tile.anyValid = rasterizeDrapeTile(ordered, options, tile.rgba);
     return tile;
+}
+
+void VectorDrape::collect(const VectorContent& content, const ContentStyles* styles, const globe::GeoExtent& grown, double range,
+                          std::deque<FeatureStyle>& evaluated, std::vector<std::pair<int, DrapeItem>>& items) const {
+    const std::optional<DrapeFeature>& h = state_.highlight;
+    for (size_t l = 0; l < content.layers.size(); ++l) {
+        const ContentLayer& layer = content.layers[l];
+        if (!meets(layer.data.bounds, grown)) continue;
+        // A page's style, its rules switched as the layer has them now.
+        std::optional<VectorStyle> style;
+        if (!styles) {
+            style = layer.style;
+            for (size_t i = 0; i < rulesOn_.size() && i < style->ruleCount(); ++i) style->setRuleEnabled(i, rulesOn_[i]);
+        }
+        for (size_t i = 0; i < layer.data.features.size(); ++i) {
+            const Feature& f = layer.data.features[i];
+            if (!meets(f.bounds, grown)) continue;
+            if (layer.times.timed() && !layer.times.spans[i].shows(state_.time)) continue;
+            const bool lit = h && h->layer == l && (styles ? h->feature == i : h->fid == f.fid && f.fid >= 0);
+            const FeatureStyle* s = nullptr;
+            if (styles) {
+                s = lit ? &highlightStyle_ : &(*styles)[l][i];
+            } else {
+                const SourceStyle* own = f.style >= 0 && size_t(f.style) < layer.data.styles.size() ? &layer.data.styles[size_t(f.style)] : nullptr;
+                FeatureStyle featureStyle = style->evaluate(f.attributes, own);
+                if (!featureStyle.visible && !lit) continue;
+                s = &evaluated.emplace_back(lit ? highlighted(std::move(featureStyle)) : std::move(featureStyle));
+            }
+            if (!s->visible || range < s->minRangeM || range > s->maxRangeM) continue;
+            const ImageRgba8* icon = nullptr;
+            if (f.kind == GeometryKind::Points && !s->icon.empty() && state_.icons) icon = state_.icons->get(s->icon).get();
+            items.push_back({lit ? 3 : kindOrder(f.kind), DrapeItem{&f, s, icon}});
+        }
+    }
 }
 
 }  // namespace orbis::vector

@@ -8,11 +8,18 @@
 // Visibility by camera range (a style's minRange/maxRange) is taken per tile: a tile of level
 // L is drawn from about rangeForLevel(L) (the terrain refines tiles by screen-space error), so
 // a feature shows in the tiles whose range is within its own.
+//
+// A large source is paged (FeatureTiles): each tile paints from the page that holds its area,
+// read by the painting thread the first time a tile of it is asked for.
 
 #include "globe/TileImageSource.h"
+#include "layers/vector/DrapeRaster.h"
+#include "layers/vector/FeatureTiles.h"
 #include "layers/vector/IconCache.h"
 #include "layers/vector/VectorContent.h"
 
+#include <deque>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -20,18 +27,36 @@
 
 namespace orbis::vector {
 
+/// A feature of a drape's content: by its index in its layer (a whole source) or, for a
+/// paged source, by its fid (its index differs from page to page).
+struct DrapeFeature {
+    size_t layer = 0;
+    size_t feature = 0;
+    int64_t fid = -1;
+};
+
+/// What one state of a drape paints, besides the features.
+struct DrapeState {
+    std::string name;               ///< for messages
+    TimeNs time = 0;
+    uint32_t maxLevel = 18;         ///< the finest tile level painted (finer tiles magnify it)
+    double simplifyPx = 0.5;        ///< DrapeTileOptions::simplifyPx
+    std::shared_ptr<IconCache> icons;   ///< where the points' icons are read (none: markers)
+    std::optional<DrapeFeature> highlight;   ///< painted last, in the highlight's colours
+};
+
 class VectorDrape : public globe::TileImageSource {
 public:
-    /// `maxLevel`: the finest tile level painted (finer tiles magnify it).
-    /// `highlight`: a feature (layer, index) painted last, in the highlight's colours.
-    /// `simplifyPx`: DrapeTileOptions::simplifyPx. `icons`: where the points' icons are read
-    /// (shared by the layer's drapes; none: markers).
-    VectorDrape(std::string name, std::shared_ptr<const VectorContent> content, std::shared_ptr<const ContentStyles> styles,
-                TimeNs time, uint32_t maxLevel, std::optional<std::pair<size_t, size_t>> highlight = std::nullopt,
-                double simplifyPx = 0.5, std::shared_ptr<IconCache> icons = nullptr);
+    /// A whole source in memory, each feature's style given.
+    VectorDrape(DrapeState state, std::shared_ptr<const VectorContent> content, std::shared_ptr<const ContentStyles> styles);
+    /// A paged source: each tile paints the features of its page (read on the painting thread
+    /// when it is not in memory), styled by `style` (its rules switched as the layer has them)
+    /// over each page's bound style. `bounds`: the source's extent, when OGR knows it. Tiles
+    /// seen from farther than any style shows a feature read no page.
+    VectorDrape(DrapeState state, std::shared_ptr<FeatureTiles> pages, const VectorStyle& style, std::optional<LonLatBounds> bounds);
 
-    const std::string& name() const override { return name_; }
-    uint32_t maxLevel(int) const override { return maxLevel_; }
+    const std::string& name() const override { return state_.name; }
+    uint32_t maxLevel(int) const override { return state_.maxLevel; }
     uint32_t minLevel() const override { return 0; }
     bool covers(const globe::GeoExtent& extent) const override;
     Result<globe::ImageryTile> readTile(const globe::TileImageRequest& request, const jobs::CancelToken* cancel) const override;
@@ -41,16 +66,23 @@ public:
     static double rangeForTile(const globe::GeoExtent& extent, int size, double tilePixelsPerScreenPixel);
 
 private:
-    std::string name_;
+    /// The features of `content` within `grown` shown at `range`, with their styles (given, or
+    /// evaluated into `evaluated`), appended to `items` with their paint order.
+    void collect(const VectorContent& content, const ContentStyles* styles, const globe::GeoExtent& grown, double range,
+                 std::deque<FeatureStyle>& evaluated, std::vector<std::pair<int, DrapeItem>>& items) const;
+
+    DrapeState state_;
     std::shared_ptr<const VectorContent> content_;
     std::shared_ptr<const ContentStyles> styles_;
-    TimeNs time_;
-    uint32_t maxLevel_;
-    double simplifyPx_;
-    std::shared_ptr<IconCache> icons_;
+    std::shared_ptr<FeatureTiles> pages_;
+    std::vector<bool> rulesOn_;                 ///< paged: the rules switched on
+    std::optional<LonLatBounds> bounds_;        ///< paged: the source's extent
+    double maxRangeM_ = std::numeric_limits<double>::infinity();
     double reachPx_ = 32.0;   ///< how far (screen px) a stroke, marker or icon reaches past its feature
-    std::optional<std::pair<size_t, size_t>> highlight_;
-    FeatureStyle highlightStyle_;
+    FeatureStyle highlightStyle_;   ///< whole: the highlighted feature's
 };
+
+/// A feature's style made to stand out: bright yellow, wider, filled.
+FeatureStyle highlighted(FeatureStyle style);
 
 }  // namespace orbis::vector

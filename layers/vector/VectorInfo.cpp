@@ -16,18 +16,10 @@ namespace {
 
 using detail::GdalErrorScope;
 
-/// The layer's extent in WGS84 lon/lat (densified edges, so projected boxes are covered);
-/// west > east when it crosses the antimeridian, as OGR reports it. Null when unknown.
 nlohmann::ordered_json extentJson(OGRLayer& layer, OGRCoordinateTransformation* transform) {
-    OGREnvelope e;
-    if (layer.GetExtent(&e, TRUE) != OGRERR_NONE) return nullptr;
-    double west = e.MinX, south = e.MinY, east = e.MaxX, north = e.MaxY;
-    if (transform && !transform->TransformBounds(e.MinX, e.MinY, e.MaxX, e.MaxY, &west, &south, &east, &north, 21))
-        return nullptr;
-    // PROJ's densified edges may overshoot the globe's edges by a rounding error.
-    const auto lon = [](double v) { return std::clamp(v, -180.0, 180.0); };
-    const auto lat = [](double v) { return std::clamp(v, -90.0, 90.0); };
-    return {{"west", lon(west)}, {"south", lat(south)}, {"east", lon(east)}, {"north", lat(north)}};
+    const auto b = detail::layerExtent(layer, transform);
+    if (!b) return nullptr;
+    return {{"west", b->west}, {"south", b->south}, {"east", b->east}, {"north", b->north}};
 }
 
 nlohmann::ordered_json layerJson(OGRLayer& layer, const std::string& source) {

@@ -4,8 +4,10 @@
 #include "engine/render/RenderContext.h"
 #include "layers/vector/FeaturePick.h"
 #include "layers/vector/LabelRenderer.h"
+#include "layers/vector/LonLatGeometry.h"
 #include "layers/vector/MeshRenderer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -44,14 +46,49 @@ void VectorLayer::onPrepare(const render::RenderServices& services) {
     // Read on the pool: the first frames draw the rest of the scene meanwhile. The labels'
     // anchors (an interior point of each polygon) are worked out there too.
     loading_ = true;
-    const auto read = [options = settings_.content, labelled](const jobs::CancelToken&) -> Result<Loaded> {
-        auto content = vector::loadVectorContent(options);
+    const auto read = [settings = settings_, labelled](const jobs::CancelToken&) -> Result<Loaded> {
+        auto paged = openPaged(settings);
+        if (!paged || paged->pages) return paged;
+        auto content = vector::loadVectorContent(settings.content);
         if (!content) return content.error();
         Loaded loaded{std::move(*content), nullptr};
         if (labelled) loaded.anchors = std::make_shared<const vector::ContentAnchors>(vector::labelAnchors(*loaded.content));
         return loaded;
     };
     job_ = services.jobs().submit(0.0, jobs::CancelToken{}, read);
+}
+
+Result<VectorLayer::Loaded> VectorLayer::openPaged(const VectorLayerSettings& settings) {
+    Loaded out;
+    const vector::VectorStyle& style = settings.content.style;
+    // Labels and meshes need every feature at once (the scene file refuses "paging": true with them).
+    const bool drapedOnly = !style.namesLabel() && !style.namesExtrusion() && settings.altitude == vector::AltitudeMode::Clamped;
+    if (settings.paging == Paging::Off || !drapedOnly) return out;
+    auto summary = vector::summarizeVector(settings.content.read);
+    if (!summary) return summary.error();
+    uint64_t count = 0;
+    bool counted = true;
+    std::vector<vector::LonLatBounds> boxes;
+    for (const vector::LayerSummary& layer : *summary) {
+        // The style is checked against the fields now: a bad rule is the layer's error, once.
+        vector::VectorStyle bound = style;
+        if (auto ok = bound.bind(layer.fields, layer.name); !ok) return makeError(settings.content.read.source + ": " + ok.message());
+        if (layer.featureCount < 0) counted = false;
+        else count += uint64_t(layer.featureCount);
+        if (layer.bounds) boxes.push_back(*layer.bounds);
+    }
+    if (settings.paging == Paging::Auto && (!counted || count <= settings.pageAbove)) return out;
+    vector::FeatureTilesOptions options;
+    options.content = settings.content;
+    options.pageLevel = settings.pageLevel;
+    options.budgetBytes = settings.pageBudgetBytes;
+    // Pages reach as far past their tile as the widest stroke or icon paints (tiles drawn at up
+    // to about 2 tile pixels per screen pixel).
+    options.margin = std::clamp(2.0 * style.reachPx() / options.tilePixels, options.margin, 1.0);
+    out.pages = std::make_shared<vector::FeatureTiles>(std::move(options));
+    if (boxes.size() == summary->size() && !boxes.empty()) out.bounds = vector::coverBounds(boxes);
+    out.features = count;
+    return out;
 }
 
 void VectorLayer::pollMeshes() {
@@ -92,6 +129,13 @@ void VectorLayer::poll() {
         log::error("vector layer \"", settings_.name, "\": ", error_);
         return;
     }
+    if (r->pages) {
+        pages_ = std::move(r->pages);
+        pagedBounds_ = r->bounds;
+        pagedFeatures_ = r->features;
+        republish();
+        return;
+    }
     content_ = std::move(r->content);
     anchors_ = std::move(r->anchors);
     for (const std::string& w : content_->warnings) log::warn("vector layer \"", settings_.name, "\": ", w);
@@ -103,7 +147,16 @@ void VectorLayer::poll() {
 }
 
 void VectorLayer::update(const scene::FrameContext& frame) {
+    const TimeNs before = time_;
     time_ = frame.time;
+    if (pages_ && time_ != before) {
+        // Paged: paint again when the features shown by a page in memory change.
+        for (const auto& page : pages_->loaded())
+            if (vector::shownAtSignature(*page->content, before) != vector::shownAtSignature(*page->content, time_)) {
+                republish();
+                break;
+            }
+    }
     if (!content_) return;
     // Features with times come and go with the clock: paint again only when the set changes.
     const uint64_t shown = vector::shownAtSignature(*content_, time_);
@@ -198,43 +251,85 @@ void VectorLayer::updateLabels(const scene::FrameContext& frame) {
 }
 
 void VectorLayer::republish() {
-    // The labels' board is found through the drapes: a layer drawing labels keeps one.
-    if (!drapesSomething_ && !labels_) {
+    const vector::DrapeState state{.name = settings_.name.empty() ? settings_.content.read.source : settings_.name,
+                                   .time = time_,
+                                   .maxLevel = settings_.maxLevel,
+                                   .simplifyPx = settings_.simplifyPx,
+                                   .icons = icons_,
+                                   .highlight = highlight_};
+    if (pages_) {
+        drape_ = std::make_shared<const vector::VectorDrape>(state, pages_, settings_.content.style, pagedBounds_);
+    } else if (!drapesSomething_ && !labels_) {
+        // The labels' board is found through the drapes: a layer drawing labels keeps one.
         drape_.reset();
         return;
+    } else {
+        drape_ = std::make_shared<const vector::VectorDrape>(state, content_, drapeStyles_ ? drapeStyles_ : styles_);
     }
-    drape_ = std::make_shared<const vector::VectorDrape>(settings_.name.empty() ? settings_.content.read.source : settings_.name,
-                                                         content_, drapeStyles_ ? drapeStyles_ : styles_, time_, settings_.maxLevel,
-                                                         highlight_, settings_.simplifyPx, icons_);
     ++version_;
 }
 
-std::optional<scene::PickedAttributes> VectorLayer::pickAt(double lonDeg, double latDeg, double metresPerPixel) {
-    std::optional<vector::PickedFeature> hit;
-    if (content_)
-        hit = vector::pickFeature(*content_, *styles_, {.lonDeg = lonDeg, .latDeg = latDeg, .metresPerPixel = metresPerPixel, .time = time_});
-    const std::optional<std::pair<size_t, size_t>> now = hit ? std::optional(std::make_pair(hit->layer, hit->feature)) : std::nullopt;
-    if (now != highlight_) {
-        highlight_ = now;
-        if (meshRenderer_) meshRenderer_->setHighlight(hit ? vector::meshFeatureId(*content_, hit->layer, hit->feature) : 0);
-        republish();
-    }
-    if (!hit) return std::nullopt;
-    const vector::VectorLayer& source = content_->layers[hit->layer].data;
-    const vector::Feature& f = source.features[hit->feature];
+namespace {
+
+scene::PickedAttributes pickedAttributes(const std::string& layerName, const vector::VectorContent& content, const vector::PickedFeature& hit) {
+    const vector::VectorLayer& source = content.layers[hit.layer].data;
+    const vector::Feature& f = source.features[hit.feature];
     scene::PickedAttributes out;
-    out.layer = (settings_.name.empty() ? settings_.content.read.source : settings_.name) + " / " + source.name;
+    out.layer = layerName + " / " + source.name;
     out.feature = "fid " + std::to_string(f.fid);
     for (size_t i = 0; i < source.fields.size() && i < f.attributes.size(); ++i)
         out.fields.emplace_back(source.fields[i].name, vector::attributeText(f.attributes[i]));
     return out;
 }
 
+}  // namespace
+
+std::optional<scene::PickedAttributes> VectorLayer::pickPaged(const vector::PickQuery& q) {
+    // What lies within the widest reach of the point, read whole (through the source's spatial
+    // index), not cut into pages.
+    const double reachDeg = (settings_.content.style.reachPx() + q.slopPx) * q.metresPerPixel / 111320.0;
+    const double reachLon = std::min(180.0, reachDeg / std::max(0.01, std::cos(q.latDeg * M_PI / 180.0)));
+    vector::VectorContentOptions options = settings_.content;
+    options.read.within = vector::LonLatBounds{std::max(-180.0, q.lonDeg - reachLon), std::max(-90.0, q.latDeg - reachDeg),
+                                               std::min(180.0, q.lonDeg + reachLon), std::min(90.0, q.latDeg + reachDeg), false};
+    auto near = vector::loadVectorContent(options);
+    if (!near) {
+        log::warn("vector layer \"", settings_.name, "\": picking: ", near.message());
+        return std::nullopt;
+    }
+    const vector::ContentStyles styles = vector::styleContent(**near);
+    const auto hit = vector::pickFeature(**near, styles, q);
+    std::optional<vector::DrapeFeature> now;
+    if (hit) now = vector::DrapeFeature{hit->layer, hit->feature, (*near)->layers[hit->layer].data.features[hit->feature].fid};
+    if (now.has_value() != highlight_.has_value() || (now && (now->layer != highlight_->layer || now->fid != highlight_->fid))) {
+        highlight_ = now;
+        republish();
+    }
+    if (!hit) return std::nullopt;
+    return pickedAttributes(settings_.name.empty() ? settings_.content.read.source : settings_.name, **near, *hit);
+}
+
+std::optional<scene::PickedAttributes> VectorLayer::pickAt(double lonDeg, double latDeg, double metresPerPixel) {
+    const vector::PickQuery query{.lonDeg = lonDeg, .latDeg = latDeg, .metresPerPixel = metresPerPixel, .time = time_};
+    if (pages_) return pickPaged(query);
+    std::optional<vector::PickedFeature> hit;
+    if (content_) hit = vector::pickFeature(*content_, *styles_, query);
+    std::optional<vector::DrapeFeature> now;
+    if (hit) now = vector::DrapeFeature{hit->layer, hit->feature, content_->layers[hit->layer].data.features[hit->feature].fid};
+    if (now.has_value() != highlight_.has_value() || (now && (now->layer != highlight_->layer || now->feature != highlight_->feature))) {
+        highlight_ = now;
+        if (meshRenderer_) meshRenderer_->setHighlight(hit ? vector::meshFeatureId(*content_, hit->layer, hit->feature) : 0);
+        republish();
+    }
+    if (!hit) return std::nullopt;
+    return pickedAttributes(settings_.name.empty() ? settings_.content.read.source : settings_.name, *content_, *hit);
+}
+
 void VectorLayer::clearPick() {
     if (!highlight_) return;
     highlight_.reset();
     if (meshRenderer_) meshRenderer_->setHighlight(0);
-    if (content_) republish();
+    if (content_ || pages_) republish();
 }
 
 bool VectorLayer::drawsIn(scene::Pass pass) const {
@@ -259,6 +354,10 @@ void VectorLayer::recordTransfers(const render::RecordContext& context) {
 void VectorLayer::record(scene::Pass pass, const render::RecordContext& context) {
     if (pass == scene::Pass::Opaque && meshRenderer_) meshRenderer_->record(context);
     if (pass == scene::Pass::Overlay && labelRenderer_) labelRenderer_->record(context);
+}
+
+uint64_t VectorLayer::cacheBytes() const {
+    return (content_ ? content_->bytes : 0) + (mesh_ ? mesh_->bytes() : 0) + (pages_ ? pages_->bytes() : 0);
 }
 
 uint64_t VectorLayer::gpuBytes() const {
@@ -298,7 +397,7 @@ bool VectorLayer::setParameter(std::string_view name, double value) {
         (name == "simplifyPx" && kSimplifyRange.contains(value))) {
         if (name == "maxLevel") settings_.maxLevel = uint32_t(value);
         else settings_.simplifyPx = value;
-        if (content_) republish();
+        if (content_ || pages_) republish();
         return true;
     }
     if (name == "extrusionScale" && kExtrusionScaleRange.contains(value)) {
@@ -314,6 +413,7 @@ bool VectorLayer::setParameter(std::string_view name, double value) {
     for (size_t i = 0; i < style.ruleCount(); ++i) {
         if (name != "rule" + std::to_string(i) || (value != 0.0 && value != 1.0)) continue;
         style.setRuleEnabled(i, value != 0.0);
+        if (pages_) republish();   // the drape switches the pages' rules itself
         if (content_) {
             for (vector::ContentLayer& layer : content_->layers) layer.style.setRuleEnabled(i, value != 0.0);
             styles_ = std::make_shared<const vector::ContentStyles>(vector::styleContent(*content_));
@@ -330,8 +430,15 @@ bool VectorLayer::setParameter(std::string_view name, double value) {
 std::string VectorLayer::status() const {
     if (!error_.empty()) return "error: " + error_;
     if (loading_) return "reading " + settings_.content.read.source;
-    if (!content_) return {};
     std::ostringstream s;
+    if (pages_) {
+        s << pagedFeatures_ << " features, paged: " << pages_->loadedCount() << " feature tile(s) in memory (" << std::fixed
+          << std::setprecision(1) << double(pages_->bytes()) / (1 << 20) << " of " << double(settings_.pageBudgetBytes) / (1 << 20)
+          << " MB), " << pages_->reads() << " read";
+        if (const auto bad = pages_->errors(); !bad.empty()) s << ", " << bad.size() << " unreadable: " << bad.front();
+        return s.str();
+    }
+    if (!content_) return {};
     s << content_->featureCount << " features in " << content_->layers.size() << " layer(s), " << content_->vertexCount
       << " vertices";
     if (!content_->warnings.empty()) s << ", " << content_->warnings.size() << " warning(s)";

@@ -8,7 +8,8 @@
 //    "style": {...},                      (VectorStyle.h: defaults, rules, labels, extrusion)
 //    "time": {"begin": "start_date", "end": "end_date"},   fields; default: KML's own times
 //    "altitude": "clamped" | "relative" | "absolute", "extrusionScale": 1,
-//    "opacity": 1, "maxLevel": 18, "simplifyPx": 0.5, "labels": true}
+//    "opacity": 1, "maxLevel": 18, "simplifyPx": 0.5, "labels": true,
+//    "paging": "auto" | true | false, "pageLevel": 12, "pageBudgetMB": 256}
 //
 // "altitude": "clamped" (the default): lines, points and flat polygons are painted into the
 // terrain's tiles (VectorDrape) and lie exactly on the surface drawn, at every zoom. A scene
@@ -38,6 +39,15 @@
 //
 // The source is read on the worker pool when the layer is first shown; until then (and when
 // reading fails: status() says why) nothing is drawn.
+//
+// Paging: a large source (more than 100 000 features with "paging": "auto", any with true) is
+// not read whole. Its layers' metadata is read first (fields, counts, extent: the style is
+// checked against the fields then); then each terrain tile's drape reads the feature tile
+// (page) that holds its area, on the terrain's worker, through OGR's spatial filter, and pages
+// stay within "pageBudgetMB", the least recently used going first (FeatureTiles). A click reads
+// the features under the point. A paged layer is draped only: labels, extrusion and altitude
+// modes need the whole source ("paging": true with them is an error; "auto" reads such a
+// source whole).
 
 #include "base/ThreadPool.h"
 #include "engine/scene/Layer.h"
@@ -46,6 +56,8 @@
 #include "engine/scene/SceneDesc.h"
 #include "engine/render/RenderContext.h"
 #include "layers/vector/FeatureMesh.h"
+#include "layers/vector/FeaturePick.h"
+#include "layers/vector/FeatureTiles.h"
 #include "layers/vector/LabelAnchors.h"
 #include "layers/vector/LabelBoard.h"
 #include "layers/vector/VectorContent.h"
@@ -60,6 +72,10 @@
 
 namespace orbis::layers {
 
+/// Whether a source is read whole or paged (FeatureTiles): "auto" pages a source of more than
+/// `pageAbove` features when it is only draped.
+enum class Paging { Auto, On, Off };
+
 struct VectorLayerSettings {
     std::string name;
     vector::VectorContentOptions content;
@@ -69,6 +85,10 @@ struct VectorLayerSettings {
     bool labels = true;       ///< draw the style's labels
     vector::AltitudeMode altitude = vector::AltitudeMode::Clamped;
     double extrusionScale = 1.0;   ///< multiplies extruded heights
+    Paging paging = Paging::Auto;
+    uint64_t pageAbove = 100'000;  ///< features: "auto" pages a larger source
+    uint32_t pageLevel = 12;       ///< FeatureTilesOptions::pageLevel
+    uint64_t pageBudgetBytes = 256ull << 20;
 };
 
 class LabelRenderer;
@@ -126,11 +146,13 @@ public:
     // LayerStats
     uint64_t gpuBytes() const override;
     /// The features read, and the meshes (kept on the CPU after their upload).
-    uint64_t cacheBytes() const override { return (content_ ? content_->bytes : 0) + (mesh_ ? mesh_->bytes() : 0); }
-    uint64_t itemsDrawn() const override { return content_ ? content_->featureCount : 0; }
+    uint64_t cacheBytes() const override;
+    uint64_t itemsDrawn() const override { return content_ ? content_->featureCount : pagedFeatures_; }
 
-    /// What was read; null while loading or after an error.
+    /// What was read; null while loading, after an error, or when the source is paged.
     const vector::VectorContent* content() const { return content_.get(); }
+    /// The pages of a paged source; null when it is read whole.
+    const vector::FeatureTiles* pages() const { return pages_.get(); }
     const std::string& error() const { return error_; }
     /// The labels on the CPU (the last frame's candidates and placed boxes, timings); null when
     /// the style gives no label, before prepare, or when the fonts could not be read.
@@ -147,7 +169,16 @@ private:
     struct Loaded {
         std::shared_ptr<vector::VectorContent> content;
         std::shared_ptr<const vector::ContentAnchors> anchors;
+        // Or a paged source: its pages, extent and feature count.
+        std::shared_ptr<vector::FeatureTiles> pages;
+        std::optional<vector::LonLatBounds> bounds;
+        uint64_t features = 0;
     };
+    /// A paged source's pager, when the settings and the source's size ask for one (the read's
+    /// first step, on the pool); null: read it whole.
+    static Result<Loaded> openPaged(const VectorLayerSettings& settings);
+    /// Paged: the features near a ground point (for a click).
+    std::optional<scene::PickedAttributes> pickPaged(const vector::PickQuery& query);
 
     void onPrepare(const render::RenderServices& services) override;
     /// A new drape for the current content, styles and time (and new meshes).
@@ -175,7 +206,10 @@ private:
     uint64_t version_ = 0;
     TimeNs time_ = 0;
     uint64_t shownSignature_ = 0;
-    std::optional<std::pair<size_t, size_t>> highlight_;   ///< the picked feature (layer, index)
+    std::optional<vector::DrapeFeature> highlight_;   ///< the picked feature
+    std::shared_ptr<vector::FeatureTiles> pages_;
+    std::optional<vector::LonLatBounds> pagedBounds_;
+    uint64_t pagedFeatures_ = 0;
     std::shared_ptr<const vector::ContentAnchors> anchors_;
     std::optional<vector::VectorLabels> labels_;
     std::unique_ptr<LabelRenderer> labelRenderer_;

@@ -54,12 +54,25 @@ Result<std::unique_ptr<scene::Layer>> VectorLayer::create(const scene::LayerDesc
     s.maxLevel = uint32_t(r.number("maxLevel", 18.0, kMaxLevelRange.min, kMaxLevelRange.max).value_or(18.0));
     s.simplifyPx = r.number("simplifyPx", 0.5, kSimplifyRange.min, kSimplifyRange.max).value_or(0.5);
     s.labels = r.boolean("labels", true).value_or(true);
+    if (const nlohmann::json* paging = desc.settings.contains("paging") ? &desc.settings["paging"] : nullptr) {
+        r.accept("paging");
+        if (paging->is_boolean()) s.paging = paging->get<bool>() ? Paging::On : Paging::Off;
+        else if (!(paging->is_string() && paging->get<std::string>() == "auto"))
+            r.fail("paging", "expected \"auto\" (page a source of more than 100 000 features), true or false, got " + paging->dump());
+    }
+    s.pageLevel = uint32_t(r.number("pageLevel", 12.0, 0.0, 18.0).value_or(12.0));
+    s.pageBudgetBytes = uint64_t(r.number("pageBudgetMB", 256.0, 1.0, 65536.0).value_or(256.0) * double(1 << 20));
     const nlohmann::json* style = r.object("style");
     if (auto done = r.finish(); !done) return done.error();
 
     auto parsed = vector::VectorStyle::read(style, scene.file.string(), desc.jsonPath + "/style");
     if (!parsed) return parsed.error();
     s.content.style = std::move(*parsed);
+    if (s.paging == Paging::On &&
+        (s.content.style.namesLabel() || s.content.style.namesExtrusion() || s.altitude != vector::AltitudeMode::Clamped))
+        return makeError(scene.file.string() + ": " + desc.jsonPath +
+                         "/paging: a paged source is draped only; its labels, \"extrude\" and \"altitude\" need the whole source "
+                         "(give \"paging\": false, or leave them out)");
     if (!isConnection(read.source) && !std::filesystem::exists(read.source))
         return makeError(scene.file.string() + ": " + desc.jsonPath + "/path: " + read.source + ": no such file");
     return std::unique_ptr<scene::Layer>(std::make_unique<VectorLayer>(std::move(s)));

@@ -126,4 +126,16 @@ Result<LayerCrs> layerCrs(OGRLayer& layer, const std::string& source) {
     return out;
 }
 
+std::optional<LonLatBox> layerExtent(OGRLayer& layer, OGRCoordinateTransformation* transform) {
+    OGREnvelope e;
+    if (layer.GetExtent(&e, TRUE) != OGRERR_NONE) return std::nullopt;
+    LonLatBox b{e.MinX, e.MinY, e.MaxX, e.MaxY};
+    if (transform && !transform->TransformBounds(e.MinX, e.MinY, e.MaxX, e.MaxY, &b.west, &b.south, &b.east, &b.north, 21))
+        return std::nullopt;
+    // PROJ's densified edges may overshoot the globe's edges by a rounding error.
+    b.west = std::clamp(b.west, -180.0, 180.0), b.east = std::clamp(b.east, -180.0, 180.0);
+    b.south = std::clamp(b.south, -90.0, 90.0), b.north = std::clamp(b.north, -90.0, 90.0);
+    return b;
+}
+
 }  // namespace orbis::vector::detail

@@ -9,6 +9,7 @@
 #include <ogr_spatialref.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -64,6 +65,14 @@ struct LayerCrs {
 /// [-180, 360] x [-90, 90] is taken as lon/lat with a warning; otherwise, and for a CRS PROJ
 /// cannot transform, an error naming the source, the layer and the CRS.
 Result<LayerCrs> layerCrs(OGRLayer& layer, const std::string& source);
+
+/// The layer's extent in WGS84 lon/lat (its box transformed with densified edges, so that
+/// projected boxes are covered; clamped to the globe), west > east when it crosses the
+/// antimeridian as OGR reports it. None when OGR cannot tell or transform it.
+struct LonLatBox {
+    double west, south, east, north;
+};
+std::optional<LonLatBox> layerExtent(OGRLayer& layer, OGRCoordinateTransformation* transform);
 
 /// "EPSG:4267" when the CRS (or, for an unnamed one, its best identified match) has an EPSG
 /// code, else its name; sets `epsg` to the code or 0.

@@ -223,7 +223,41 @@ Result<VectorData> readSql(GDALDataset& dataset, const VectorReadOptions& o) {
     return data;
 }
 
+LayerSummary summarize(OGRLayer& layer, const std::string& source) {
+    LayerSummary out;
+    out.name = layer.GetName();
+    out.fields = detail::readFields(*layer.GetLayerDefn());
+    out.featureCount = layer.GetFeatureCount(TRUE);
+    auto crs = detail::layerCrs(layer, source);
+    if (const auto b = detail::layerExtent(layer, crs ? crs->transform.get() : nullptr))
+        out.bounds = LonLatBounds{b->west, b->south, b->east < b->west ? b->east + 360.0 : b->east, b->north, false};
+    return out;
+}
+
 }  // namespace
+
+Result<std::vector<LayerSummary>> summarizeVector(const VectorReadOptions& options) {
+    if (auto ok = checkOptions(options); !ok) return ok.error();
+    auto dataset = detail::openVectorSource(options.source);
+    if (!dataset) return dataset.error();
+    GdalErrorScope quiet;
+    std::vector<LayerSummary> out;
+    if (!options.sql.empty()) {
+        SqlResult result;
+        result.dataset = dataset->get();
+        result.layer = (*dataset)->ExecuteSQL(options.sql.c_str(), nullptr, "OGRSQL");
+        if (!result.layer) return makeError(options.source + ": bad SQL statement \"" + options.sql + "\" (" + quiet.message("it selects no layer") + ")");
+        out.push_back(summarize(*result.layer, options.source));
+        return out;
+    }
+    auto layers = chooseLayers(**dataset, options);
+    if (!layers) return layers.error();
+    for (OGRLayer* layer : *layers) {
+        if (auto ok = applyWhere(*layer, options); !ok) return ok.error();
+        out.push_back(summarize(*layer, options.source));
+    }
+    return out;
+}
 
 std::optional<size_t> findField(std::span<const FieldInfo> fields, const std::string& name) {
     for (size_t i = 0; i < fields.size(); ++i)

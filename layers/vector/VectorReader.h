@@ -153,6 +153,17 @@ struct VectorData {
 /// without a CRS whose coordinates are not lon/lat. An empty layer is not an error.
 Result<VectorData> readVector(const VectorReadOptions& options);
 
+/// What a read with these options covers, from OGR's metadata (no feature is converted): for
+/// each layer it would read, its fields, its feature count (after `where`; -1 when OGR
+/// cannot tell) and its extent on the globe (none when unknown). Whether to page a source.
+struct LayerSummary {
+    std::string name;
+    std::vector<FieldInfo> fields;
+    int64_t featureCount = -1;
+    std::optional<LonLatBounds> bounds;
+};
+Result<std::vector<LayerSummary>> summarizeVector(const VectorReadOptions& options);
+
 /// What a source holds, as JSON, without reading its features: per layer the geometry type,
 /// the feature count, the CRS (name and EPSG code), the fields and the extent in WGS84
 /// lon/lat. For `orbis info`.

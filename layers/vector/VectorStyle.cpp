@@ -387,6 +387,33 @@ FeatureStyle VectorStyle::evaluate(std::span<const AttributeValue> attributes, c
     return s;
 }
 
+double featureReachPx(const FeatureStyle& s) { return 0.5 * std::max(s.widthPx, s.iconSizePx * (s.icon.empty() ? 1.0 : 4.0)) + 8.0; }
+
+bool VectorStyle::namesExtrusion() const {
+    return defaults_.extrude || std::any_of(rules_.begin(), rules_.end(), [](const Rule& r) { return r.patch.extrude.has_value(); });
+}
+
+double VectorStyle::reachPx() const {
+    // Each property's largest value comes from the defaults or one rule: the largest reach
+    // of the defaults alone and of each rule over them.
+    FeatureStyle base;
+    apply(defaults_, {}, base);
+    double reach = featureReachPx(base);
+    for (const Rule& rule : rules_) {
+        FeatureStyle s = base;
+        apply(rule.patch, {}, s);
+        reach = std::max(reach, featureReachPx(s));
+    }
+    return reach;
+}
+
+double VectorStyle::maxRangeM() const {
+    double range = defaults_.maxRangeM.value_or(FeatureStyle{}.maxRangeM);
+    for (const Rule& rule : rules_)
+        if (rule.enabled && rule.patch.maxRangeM) range = std::max(range, *rule.patch.maxRangeM);
+    return range;
+}
+
 bool VectorStyle::namesLabel() const {
     const auto names = [](const Patch& p) { return p.label && !p.label->empty(); };
     if (names(defaults_)) return true;

@@ -108,6 +108,15 @@ public:
     /// its label renderer; a style without one builds nothing for labels.
     bool namesLabel() const;
 
+    /// True when the defaults or any rule extrude (polygons become meshes).
+    bool namesExtrusion() const;
+
+    /// How far (screen px) a stroke, marker or icon of any feature can reach past the feature,
+    /// whatever its attributes (a paged drape's margin; a source's own styles aside).
+    double reachPx() const;
+    /// The farthest camera range (m) from which any feature can show: past it, nothing does.
+    double maxRangeM() const;
+
     size_t ruleCount() const { return rules_.size(); }
     const std::string& ruleName(size_t i) const { return rules_[i].name; }
     bool ruleEnabled(size_t i) const { return rules_[i].enabled; }
@@ -158,6 +167,10 @@ private:
     std::vector<Rule> rules_;
     std::string file_, path_;
 };
+
+/// How far (screen px) a feature of this style paints past the feature: half its widest
+/// stroke, marker or icon (icons up to 4:1 wide), plus room for the highlight.
+double featureReachPx(const FeatureStyle& style);
 
 /// A field value as text (labels, the feature panel): integers as they are, reals with up to
 /// 6 significant digits, null as "".

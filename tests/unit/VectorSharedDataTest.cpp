@@ -301,5 +301,42 @@ TEST(VectorSharedData, EveryNaturalEarthCountryIsTriangulatedExactlyInTheLonLatP
     EXPECT_GT(triangles, 9000u);
 }
 
+TEST(VectorSharedData, ASummaryCountsFieldsAndBoundsWithoutReadingFeatures) {
+    REQUIRE_SHARED("naturalearth_lowres.shp");
+    VectorReadOptions o;
+    o.source = (kDir / "naturalearth_lowres.shp").string();
+    auto all = summarizeVector(o);
+    ASSERT_TRUE(all) << all.message();
+    ASSERT_EQ(all->size(), 1u);
+    const LayerSummary& layer = (*all)[0];
+    EXPECT_EQ(layer.name, "naturalearth_lowres");
+    EXPECT_EQ(layer.featureCount, 177);
+    EXPECT_TRUE(findField(layer.fields, "pop_est").has_value());
+    ASSERT_TRUE(layer.bounds.has_value());
+    EXPECT_NEAR(layer.bounds->west, -180.0, 1e-6);
+    EXPECT_NEAR(layer.bounds->east, 180.0, 1e-6);
+    EXPECT_NEAR(layer.bounds->south, -90.0, 1e-6);
+    // A where filter counts what it keeps; an SQL statement is summarised as its result.
+    o.where = "continent = 'Oceania'";
+    auto oceania = summarizeVector(o);
+    ASSERT_TRUE(oceania) << oceania.message();
+    EXPECT_GT((*oceania)[0].featureCount, 3);
+    EXPECT_LT((*oceania)[0].featureCount, 15);
+    o.where.clear();
+    o.sql = "SELECT name FROM naturalearth_lowres";
+    auto sql = summarizeVector(o);
+    ASSERT_TRUE(sql) << sql.message();
+    EXPECT_EQ((*sql)[0].fields.size(), 1u);
+    o.sql = "SELECT nothing FROM nowhere";
+    auto bad = summarizeVector(o);
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.message().find("bad SQL statement"), std::string::npos) << bad.message();
+    o.sql.clear();
+    o.layers = {"roads"};
+    auto missing = summarizeVector(o);
+    ASSERT_FALSE(missing);
+    EXPECT_NE(missing.message().find("no layer 'roads'"), std::string::npos) << missing.message();
+}
+
 }  // namespace
 }  // namespace orbis::vector

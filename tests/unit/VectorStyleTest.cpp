@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -255,6 +256,24 @@ TEST(VectorStyle, AKmlKeepsItsOwnStylesUnlessTheSceneNamesTheProperty) {
     EXPECT_EQ(a2.widthPx, 7.0);
     EXPECT_EQ(a2.color, glm::dvec3(1, 0, 0));
     EXPECT_EQ(overridden->evaluate(layer.features[1].attributes, ownStyle(1)).color, glm::dvec3(0, 0, 1));
+}
+
+TEST(VectorStyle, ItsWidestReachFarthestRangeAndExtrusionAreKnownWithoutData) {
+    auto plain = styleFrom(R"({"width": 2})");
+    ASSERT_TRUE(plain) << plain.message();
+    EXPECT_FALSE(plain->namesExtrusion());
+    EXPECT_TRUE(std::isinf(plain->maxRangeM()));
+    const double base = plain->reachPx();
+    EXPECT_GE(base, 0.5 * FeatureStyle{}.iconSizePx);
+    // A rule with a wide line or an icon reaches farther; ranges: the farthest any rule allows.
+    auto wide = styleFrom(R"({"maxRange": 1e6, "rules": [{"when": {"kind": "road"}, "width": 40, "maxRange": 3e6},)"
+                          R"( {"when": {"kind": "hut"}, "icon": "hut.png", "iconSize": 20, "extrude": {"field": "height"}}]})");
+    ASSERT_TRUE(wide) << wide.message();
+    EXPECT_GE(wide->reachPx(), 0.5 * 20 * 4);   // an icon may be 4:1 wide
+    EXPECT_EQ(wide->maxRangeM(), 3e6);
+    EXPECT_TRUE(wide->namesExtrusion());
+    wide->setRuleEnabled(0, false);
+    EXPECT_EQ(wide->maxRangeM(), 1e6);
 }
 
 }  // namespace

@@ -1,0 +1,134 @@
+// A paged vector source (FeatureTiles) on lavapipe with validation: it draws what the same
+// source read whole draws (Europe, across the antimeridian, around the South Pole, and closer
+// than its finest pages), a click reads the feature under it and highlights it, the pages stay
+// within their budget, and the scene's paging keys are checked.
+#include "layers/vector/VectorLayer.h"
+#include "tests/render/RenderHelpers.h"
+#include "tests/render/SceneGpuTest.h"
+#include "tests/render/VectorScenes.h"
+
+#include "tests/support/GoldenImage.h"
+#include "engine/scene/SceneDesc.h"
+
+#include <iostream>
+#include <filesystem>
+
+namespace orbis::test {
+namespace {
+
+const std::string kCountries = std::string(ORBIS_SHARED_DATA_DIR) + "/vector/naturalearth_lowres.shp";
+
+#define REQUIRE_DATA()                                                                                          \
+    if (!std::filesystem::exists(kCountries)) GTEST_SKIP() << "../shared/data is absent: no " << kCountries;   \
+    if (!std::filesystem::exists(std::string(ORBIS_SOURCE_DIR) + "/assets/generated/world-relief.tif"))         \
+    GTEST_SKIP() << "assets/generated not built"
+
+const char* kStyle = R"(, "style": {"color": [1, 0, 0], "width": 2, "fill": [1, 0.9, 0.1], "fillOpacity": 0.5})";
+
+class VectorPaging : public SceneGpuTest {
+protected:
+    std::unique_ptr<scene::Scene> countries(const std::string& view, const std::string& paging, const char* style = kStyle) {
+        return load(vectorSceneJson(view, worldTerrain() + "," + vectorLayerJson("Countries", kCountries, style + paging),
+                                    "2026-12-21T12:00:00Z"));
+    }
+    static layers::VectorLayer& vectorLayer(scene::Scene& scene) {
+        return dynamic_cast<layers::VectorLayer&>(*scene.resources()[1].layer);
+    }
+};
+
+TEST_F(VectorPaging, APagedSourceDrawsWhatTheWholeSourceDraws) {
+    REQUIRE_DATA();
+    // Level-3 pages (22.5 degrees), so that every view uses pages of several levels, and the
+    // closest one tiles finer than the finest page.
+    const std::string paged = R"(, "paging": true, "pageLevel": 3)";
+    const std::pair<const char*, const char*> views[] = {
+        {"europe", R"({"lon": 10, "lat": 48, "range": 5000000})"},
+        {"antimeridian", R"({"lon": 180, "lat": -17, "range": 2500000})"},
+        {"south_pole", R"({"lon": 0, "lat": -90, "range": 9000000})"},
+        {"close", R"({"lon": 6.5, "lat": 46.4, "range": 150000})"},
+    };
+    for (const auto& [name, view] : views) {
+        SCOPED_TRACE(name);
+        auto whole = countries(view, R"(, "paging": false)");
+        auto pages = countries(view, paged);
+        ASSERT_TRUE(whole && pages);
+        const auto a = renderScene(*whole, 320, 240), b = renderScene(*pages, 320, 240);
+        ASSERT_NE(vectorLayer(*whole).content(), nullptr);
+        ASSERT_NE(vectorLayer(*pages).pages(), nullptr);
+        EXPECT_EQ(vectorLayer(*pages).content(), nullptr);
+        EXPECT_GT(vectorLayer(*pages).pages()->loadedCount(), 0u);
+        EXPECT_TRUE(vectorLayer(*pages).pages()->errors().empty());
+        // Coarse pages are simplified to half a texel before the painter simplifies: edges may
+        // move by a fraction of a pixel, nothing more.
+        const size_t total = size_t(a.width) * a.height;
+        std::cout << name << ": " << countDifferentPixels(a, b, 24) << " pixels differ by > 24, " << countDifferentPixels(a, b, 96)
+                  << " by > 96, of " << total << "\n";
+        EXPECT_TRUE(imagesAgree(a, b, std::string("paging_") + name, 96));
+        EXPECT_TRUE(imagesAgree(a, b, std::string("paging_") + name, 24, total / 200));
+    }
+}
+
+TEST_F(VectorPaging, AClickReadsTheFeatureUnderItAndHighlightsIt) {
+    REQUIRE_DATA();
+    auto scene = countries(R"({"lon": 2.5, "lat": 46.5, "range": 3000000})", R"(, "paging": true, "pageLevel": 4)",
+                           R"(, "style": {"color": [0, 0, 1], "width": 1, "fill": [0.1, 0.2, 1], "fillOpacity": 0.5})");
+    ASSERT_TRUE(scene);
+    const auto before = renderScene(*scene, 320, 240);
+    auto& layer = vectorLayer(*scene);
+    EXPECT_NE(layer.status().find("paged"), std::string::npos) << layer.status();
+    const auto picked = layer.asPickable()->pickAt(2.5, 46.5, 10000.0);
+    ASSERT_TRUE(picked.has_value());
+    EXPECT_EQ(picked->layer, "Countries / naturalearth_lowres");
+    bool france = false;
+    for (const auto& [field, value] : picked->fields) france |= field == "name" && value == "France";
+    EXPECT_TRUE(france);
+    const auto highlighted = renderScene(*scene, 320, 240);
+    // France turns yellow (its fill and its outline, over blue before).
+    const auto yellow = [](const ImageRgba8& img) {
+        size_t n = 0;
+        for (size_t i = 0; i < img.pixels.size(); i += 4)
+            n += int(img.pixels[i]) > int(img.pixels[i + 2]) + 40 && int(img.pixels[i + 1]) > int(img.pixels[i + 2]) + 40;
+        return n;
+    };
+    EXPECT_GT(yellow(highlighted), yellow(before) + 100);
+    EXPECT_FALSE(layer.asPickable()->pickAt(-30.0, 40.0, 10000.0).has_value());   // the Atlantic
+    EXPECT_EQ(countDifferentPixels(renderScene(*scene, 320, 240), before, 8), 0u);           // the highlight went
+}
+
+TEST_F(VectorPaging, PagesStayWithinTheirBudgetAsTheViewMoves) {
+    REQUIRE_DATA();
+    auto scene = countries(R"({"lon": 10, "lat": 48, "range": 3000000})", R"(, "paging": true, "pageLevel": 6, "pageBudgetMB": 1)");
+    ASSERT_TRUE(scene);
+    auto& layer = vectorLayer(*scene);
+    uint64_t reads = 0;
+    for (const char* view : {R"({"lon": 10, "lat": 48, "range": 3000000})", R"({"lon": 100, "lat": 30, "range": 3000000})",
+                             R"({"lon": -70, "lat": -20, "range": 3000000})", R"({"lon": 10, "lat": 48, "range": 3000000})"}) {
+        Error error;
+        const auto vp = scene::readViewpoint(nlohmann::json::parse(view), "test", "/viewpoint", &error);
+        ASSERT_TRUE(vp.has_value());
+        scene->camera().setPose(globe::poseFromViewpoint(*vp));
+        renderScene(*scene, 320, 240);
+        // The budget holds but for the page read last (never dropped while it is being used).
+        EXPECT_LE(layer.pages()->bytes(), (1u << 20) + 1024u * 1024u);
+        EXPECT_GT(layer.pages()->reads(), reads);
+        reads = layer.pages()->reads();
+    }
+    EXPECT_TRUE(layer.pages()->errors().empty());
+}
+
+TEST_F(VectorPaging, BadPagingKeysNameTheKey) {
+    REQUIRE_DATA();
+    for (const char* extra : {R"(, "paging": "maybe")", R"(, "pageLevel": 40)", R"(, "pageBudgetMB": 0)",
+                              R"(, "paging": true, "style": {"label": "{name}"})", R"(, "paging": true, "altitude": "relative")"}) {
+        auto d = scene::parseSceneText(
+            vectorSceneJson(R"({"lon": 0, "lat": 0, "range": 1e7})", worldTerrain() + "," + vectorLayerJson("C", kCountries, extra), "2026-01-01T00:00:00Z"),
+            "test.json", ".");
+        ASSERT_TRUE(d.ok());
+        auto s = scene::Scene::build(std::move(d).value(), registry_);
+        ASSERT_FALSE(s.ok()) << extra;
+        EXPECT_NE(s.message().find("/layers/1/pag"), std::string::npos) << s.message();
+    }
+}
+
+}  // namespace
+}  // namespace orbis::test
