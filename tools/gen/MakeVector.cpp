@@ -7,8 +7,9 @@
 // city: building footprints (rectangles 8 to 40 m a side, turned by a block's angle, one in ten
 // with a courtyard) on a grid of 100 m blocks around the centre, with "height" (m: 3 to 150,
 // most low), "levels" and "kind" (house, office, tower). network: a street grid's polylines
-// (200 m blocks, each street a line of 20 m steps with a little wobble, "class" primary /
-// secondary / residential and "name") until the vertex count is reached. Lon/lat, EPSG:4326.
+// (200 m blocks in a square around the centre, each street 1 km of 20 m steps with a little
+// wobble, "class" primary / secondary / residential and "name") until the vertex count is
+// reached. Lon/lat, EPSG:4326.
 // Deterministic: the same arguments give the same file.
 #include "tools/gen/SplitMix.h"
 
@@ -109,12 +110,16 @@ int writeNetwork(GDALDataset& ds, const Options& o) {
     const Local local(o.lon, o.lat);
     constexpr int kSteps = 50;   // 1 km streets of 20 m steps
     const long streets = (o.count + kSteps) / (kSteps + 1);
-    const long perAxis = std::max(1L, streets / 2);
+    // A square of the grid: `rows` streets of 1 km end to end, `perAxis` of them side by side
+    // 200 m apart (rows x 1 km = perAxis x 200 m), in each direction.
+    const long rows = std::max(1L, long(std::ceil(std::sqrt(double(streets) / 10.0))));
+    const long perAxis = std::max(1L, (streets / 2 + rows - 1) / rows);
     long vertices = 0, written = 0;
     for (long s = 0; vertices < o.count; ++s, ++written) {
         if (written % 10000 == 0) ds.StartTransaction();
         const bool eastward = s % 2 == 0;
-        const double offset = (double((s / 2) % perAxis) - perAxis / 2.0) * 200.0, start = (double((s / 2) / perAxis) - 0.5) * 1000.0;
+        const double offset = (double((s / 2) % perAxis) - perAxis / 2.0) * 200.0,
+                     start = (double((s / 2) / perAxis) - rows / 2.0) * 1000.0;
         OGRLineString line;
         const int steps = int(std::min<long>(kSteps, o.count - vertices - 1));
         for (int i = 0; i <= steps; ++i) {
