@@ -48,33 +48,31 @@ Result<FeatureTile> loadFeatureTile(const FeatureTilesOptions& options, const gl
     std::vector<LonLatBounds> boxes{{std::max(grown.west, -180.0), grown.south, std::min(grown.east, 180.0), grown.north, false}};
     if (grown.west < -180.0) boxes.push_back({grown.west + 360.0, grown.south, 180.0, grown.north, false});
     if (grown.east > 180.0) boxes.push_back({-180.0, grown.south, grown.east - 360.0, grown.north, false});
+    // Each feature is clipped and simplified as it is read: a read holds only what the page keeps.
+    // The finest pages serve every finer tile: every vertex stays.
+    const double tolerance = key.level < options.pageLevel ? 0.5 * key.sizeDeg() / std::max(1.0, options.tilePixels) : 0.0;
+    const auto shape = [&grown, tolerance](Feature& f) {
+        auto piece = clipFeature(f, grown);
+        if (piece && tolerance > 0.0) piece = simplifyFeature(*piece, tolerance);
+        if (!piece) return false;
+        f = std::move(*piece);
+        f.bounds = coordsBounds(f);
+        return true;
+    };
     VectorData data;
     for (size_t b = 0; b < boxes.size(); ++b) {
         VectorReadOptions read = options.content.read;
         read.within = boxes[b];
+        read.shape = shape;
         auto part = readVector(read);
         if (!part) return part.error();
         if (b == 0) data = std::move(*part);
         else merge(data, std::move(*part));
     }
-    // The finest pages serve every finer tile: every vertex stays.
-    const double tolerance = key.level < options.pageLevel ? 0.5 * key.sizeDeg() / std::max(1.0, options.tilePixels) : 0.0;
-    for (VectorLayer& layer : data.layers) {
-        std::vector<Feature> kept;
-        std::vector<LonLatBounds> boxes;
-        layer.vertexCount = 0;
-        for (const Feature& f : layer.features) {
-            auto piece = clipFeature(f, grown);
-            if (piece && tolerance > 0.0) piece = simplifyFeature(*piece, tolerance);
-            if (!piece) continue;
-            piece->bounds = coordsBounds(*piece);
-            boxes.push_back(piece->bounds);
-            layer.vertexCount += piece->coords.size();
-            kept.push_back(std::move(*piece));
-        }
-        layer.features = std::move(kept);
-        layer.bounds = coverBounds(boxes);
-    }
+    // In the source's order (a spatial filter reads in its index's order), so that pages paint
+    // overlapping features in the order the whole source does.
+    for (VectorLayer& layer : data.layers)
+        std::stable_sort(layer.features.begin(), layer.features.end(), [](const Feature& a, const Feature& b) { return a.fid < b.fid; });
     auto content = contentFromData(std::move(data), options.content);
     if (!content) return content.error();
     FeatureTile tile;
@@ -84,9 +82,23 @@ Result<FeatureTile> loadFeatureTile(const FeatureTilesOptions& options, const gl
     return tile;
 }
 
-FeatureTiles::FeatureTiles(FeatureTilesOptions options) : options_(std::move(options)) {}
+FeatureTiles::FeatureTiles(FeatureTilesOptions options) : options_(std::move(options)) {
+    // The finest tile whose page holds the whole source: coarser tiles share its page.
+    const std::optional<LonLatBounds>& b = options_.sourceBounds;
+    if (!b || b->empty || b->east > 180.0) return;
+    for (uint32_t level = options_.pageLevel + 1; level-- > 0;) {
+        const globe::TileKey k = globe::TileKey::containing(0.5 * (b->west + b->east), 0.5 * (b->south + b->north), level);
+        const globe::GeoExtent e = k.extent();
+        const double m = options_.margin * k.sizeDeg();
+        if (b->west >= e.west - m && b->east <= e.east + m && b->south >= e.south - m && b->north <= e.north + m) {
+            overview_ = k;
+            break;
+        }
+    }
+}
 
 globe::TileKey FeatureTiles::pageFor(const globe::TileKey& key) const {
+    if (overview_ && key.level <= overview_->level) return *overview_;
     return key.level <= options_.pageLevel ? key : key.ancestor(options_.pageLevel);
 }
 

@@ -7,8 +7,10 @@
 // their times worked out (a VectorContent of its own). No Vulkan.
 //
 // Pages are read on the thread that asks (the terrain's workers, painting drape tiles): a tile
-// of level L takes the page of its ancestor at min(L, pageLevel). The finest pages keep every
-// vertex, as they serve every finer tile. Two threads asking for one page share one read. Past
+// of level L takes the page of its ancestor at min(L, pageLevel), and the tiles coarser than
+// the finest one that holds the whole source take that one's page (the overview). Features are
+// clipped and simplified as they are read, so a read holds what its page keeps, not what it
+// scans. The finest pages keep every vertex, as they serve every finer tile. Two threads asking for one page share one read. Past
 // the budget the pages least recently asked for go (a painter holding one keeps it until done).
 //
 // The margin is a quarter of the tile on each side: a drape tile paints strokes and markers
@@ -24,6 +26,7 @@
 #include <list>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -44,6 +47,9 @@ struct FeatureTilesOptions {
     double tilePixels = 256.0;        ///< a coarser page is simplified to half its size / this
     double margin = 0.25;             ///< of the tile's size, on each side
     uint64_t budgetBytes = 256ull << 20;
+    /// The source's extent, when known: tiles coarser than the finest one whose page holds the
+    /// whole source share that page (one read for every overview).
+    std::optional<LonLatBounds> sourceBounds;
 };
 
 class FeatureTiles {
@@ -77,6 +83,7 @@ private:
     void evictLocked(const globe::TileKey& keep);
 
     FeatureTilesOptions options_;
+    std::optional<globe::TileKey> overview_;   ///< the page of every tile at its level or coarser
     mutable std::mutex mutex_;
     std::unordered_map<globe::TileKey, Entry, globe::TileKeyHash> entries_;
     std::list<globe::TileKey> uses_;

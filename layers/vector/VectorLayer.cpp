@@ -85,8 +85,9 @@ Result<VectorLayer::Loaded> VectorLayer::openPaged(const VectorLayerSettings& se
     // Pages reach as far past their tile as the widest stroke or icon paints (tiles drawn at up
     // to about 2 tile pixels per screen pixel).
     options.margin = std::clamp(2.0 * style.reachPx() / options.tilePixels, options.margin, 1.0);
-    out.pages = std::make_shared<vector::FeatureTiles>(std::move(options));
     if (boxes.size() == summary->size() && !boxes.empty()) out.bounds = vector::coverBounds(boxes);
+    options.sourceBounds = out.bounds;
+    out.pages = std::make_shared<vector::FeatureTiles>(std::move(options));
     out.features = count;
     return out;
 }

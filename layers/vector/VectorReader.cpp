@@ -30,6 +30,7 @@ struct SqlResult {
 /// How far a read has come across layers (the total limits are per read).
 struct ReadBudget {
     const VectorLimits& limits;
+    const std::function<bool(Feature&)>& shape;   ///< VectorReadOptions::shape
     uint64_t features = 0, vertices = 0;
     bool exhausted = false;
 };
@@ -99,6 +100,9 @@ private:
             warn("skipped " + converted.skipped);
             return;
         }
+        if (budget_.shape)
+            std::erase_if(converted.features, [&](Feature& f) { return !budget_.shape(f); });
+        if (converted.features.empty()) return;
         uint64_t vertices = 0;
         for (const Feature& f : converted.features) vertices += f.coords.size();
         if (budget_.vertices + vertices > budget_.limits.maxTotalVertices) {
@@ -214,7 +218,7 @@ Result<VectorData> readSql(GDALDataset& dataset, const VectorReadOptions& o) {
                              (why.empty() ? "it selects no layer" : why) + ")");
         }
     }
-    ReadBudget budget{o.limits};
+    ReadBudget budget{o.limits, o.shape};
     auto layer = readLayer(*result.layer, o.source, o.sql, budget, dataset.GetStyleTable(), o.within);
     if (!layer) return layer.error();
     VectorData data;
@@ -280,7 +284,7 @@ Result<VectorData> readVector(const VectorReadOptions& options) {
     if (!layers) return layers.error();
     VectorData data;
     data.source = options.source;
-    ReadBudget budget{options.limits};
+    ReadBudget budget{options.limits, options.shape};
     for (OGRLayer* layer : *layers) {
         if (auto ok = applyWhere(*layer, options); !ok) return ok.error();
         auto read = readLayer(*layer, options.source, options.where, budget, (*dataset)->GetStyleTable(), options.within);

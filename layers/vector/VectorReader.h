@@ -30,6 +30,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -139,6 +140,11 @@ struct VectorReadOptions {
     /// its edges densified), so sources with a spatial index (GeoPackage, FlatGeobuf,
     /// Shapefile with .qix, PostGIS) read only what is near. Features are not clipped.
     std::optional<LonLatBounds> within;
+    /// Called on each feature as it is read, before it is kept: it may change the feature (a
+    /// feature tile clips and simplifies it, so that a read holds only what it keeps) and
+    /// returns false to drop it; one that moves vertices sets the feature's bounds again. The
+    /// limits count what is kept.
+    std::function<bool(Feature&)> shape;
     VectorLimits limits;
 };
 
@@ -155,7 +161,8 @@ Result<VectorData> readVector(const VectorReadOptions& options);
 
 /// What a read with these options covers, from OGR's metadata (no feature is converted): for
 /// each layer it would read, its fields, its feature count (after `where`; -1 when OGR
-/// cannot tell) and its extent on the globe (none when unknown). Whether to page a source.
+/// cannot tell) and its extent on the globe (none when unknown; some drivers give the whole
+/// layer's even with `where`, a box that still covers every feature). Whether to page a source.
 struct LayerSummary {
     std::string name;
     std::vector<FieldInfo> fields;

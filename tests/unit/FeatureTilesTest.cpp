@@ -158,5 +158,29 @@ TEST(FeatureTiles, ABadRuleFieldIsAnErrorOfEveryPage) {
     EXPECT_NE(page.message().find("no_such_field"), std::string::npos) << page.message();
 }
 
+TEST(FeatureTiles, TilesCoarserThanTheSourceShareOneOverviewPage) {
+    REQUIRE_COUNTRIES();
+    // Only Switzerland (about 4.6 by 2 degrees): the level-5 tile around it (5.6 degrees) holds
+    // it whole with its margin, a level-6 one does not; every coarser tile takes that page.
+    FeatureTilesOptions o = countries();
+    o.pageLevel = 6;
+    o.content.read.where = "name = 'Switzerland'";
+    auto swiss = readVector(o.content.read);   // (OGR's extent of a shapefile ignores the where filter)
+    ASSERT_TRUE(swiss) << swiss.message();
+    o.sourceBounds = swiss->layers[0].bounds;
+    FeatureTiles tiles(o);
+    const TileKey overview = tiles.pageFor(TileKey{0, 1, 0});
+    EXPECT_EQ(overview.level, 5u);
+    for (uint32_t level = 0; level <= overview.level; ++level)
+        EXPECT_EQ(tiles.pageFor(TileKey::containing(8.0, 46.8, level)), overview) << level;
+    // Finer tiles have their own pages.
+    EXPECT_EQ(tiles.pageFor(TileKey::containing(8.0, 46.8, 6)).level, 6u);
+    for (uint32_t level = 0; level <= overview.level; ++level) ASSERT_TRUE(tiles.acquire(TileKey::containing(8.0, 46.8, level)));
+    EXPECT_EQ(tiles.reads(), 1u);
+    auto page = tiles.acquire(TileKey{0, 0, 0});
+    ASSERT_TRUE(page);
+    EXPECT_EQ((*page)->content->featureCount, 1u);
+}
+
 }  // namespace
 }  // namespace orbis::vector

@@ -88,6 +88,31 @@ TEST(VectorReader, LineAcrossTheAntimeridianIsUnwrapped) {
     EXPECT_EQ(layer.crs, "EPSG:4326");
 }
 
+TEST(VectorReader, AShapeChangesOrDropsEachFeatureAsItIsReadAndTheLimitsCountWhatIsKept) {
+    const auto file = writeGeoJson("shaped", {feature(R"({"type": "LineString", "coordinates": [[0, 0], [1, 0], [2, 0]]})", R"({"n": 1})"),
+                                              feature(R"({"type": "LineString", "coordinates": [[0, 1], [1, 1], [2, 1]]})", R"({"n": 2})"),
+                                              feature(R"({"type": "LineString", "coordinates": [[0, 2], [1, 2], [2, 2]]})", R"({"n": 3})")});
+    VectorReadOptions o;
+    o.source = file.string();
+    int seen = 0;
+    o.shape = [&seen](Feature& f) {
+        ++seen;
+        if (f.coords[0].y == 1.0) return false;    // dropped
+        f.coords.pop_back();                       // changed: the last vertex goes
+        return true;
+    };
+    o.limits.maxTotalVertices = 4;   // two shaped lines fit, three whole ones would not
+    auto data = readVector(o);
+    ASSERT_TRUE(data) << data.message();
+    EXPECT_EQ(seen, 3);
+    const VectorLayer& layer = data->layers[0];
+    ASSERT_EQ(layer.features.size(), 2u);
+    EXPECT_EQ(layer.features[0].coords.size(), 2u);
+    EXPECT_EQ(layer.features[1].coords[0].y, 2.0);
+    EXPECT_EQ(layer.vertexCount, 4u);
+    EXPECT_TRUE(layer.warnings.empty());
+}
+
 TEST(VectorReader, PolygonWithAHoleKeepsItsRings) {
     const auto file = writeGeoJson(
         "holed", {feature(R"({"type": "Polygon", "coordinates": [[[0,0],[10,0],[10,10],[0,10],[0,0]], [[2,2],[2,4],[4,4],[4,2],[2,2]]]})")});
