@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
+#include <unordered_map>
 #include <unordered_set>
 
 namespace orbis::vector {
@@ -144,6 +146,7 @@ Result<std::shared_ptr<const FeatureTile>> FeatureTiles::acquire(const globe::Ti
         if (loaded) {
             entry.bytes = (*loaded)->bytes;
             bytes_ += entry.bytes;
+            ++changes_;
             evictLocked(page);
         } else {
             errors_.push_back("feature tile " + page.toString() + ": " + loaded.message());
@@ -160,6 +163,7 @@ void FeatureTiles::evictLocked(const globe::TileKey& keep) {
         if (*it == keep || !entry->second.done || entry->second.bytes == 0) continue;   // being read, or failed (kept)
         bytes_ -= entry->second.bytes;
         entries_.erase(entry);
+        ++changes_;
         it = uses_.erase(it);
     }
 }
@@ -189,6 +193,81 @@ std::vector<std::shared_ptr<const FeatureTile>> FeatureTiles::loaded() const {
     std::vector<std::shared_ptr<const FeatureTile>> out;
     for (const auto& [key, entry] : entries_)
         if (entry.bytes > 0) out.push_back(*entry.future.get());
+    return out;
+}
+
+uint64_t FeatureTiles::changes() const {
+    std::lock_guard lock(mutex_);
+    return changes_;
+}
+
+std::shared_ptr<VectorContent> labelledFeatures(std::span<const std::shared_ptr<const FeatureTile>> pages, const VectorStyle& style) {
+    auto out = std::make_shared<VectorContent>();
+    // Each labelled feature's best piece: (page, layer, index) by (layer, fid).
+    struct Piece {
+        size_t page, feature;
+        uint32_t level;
+        size_t size;
+    };
+    std::vector<std::unordered_map<int64_t, Piece>> best;
+    std::vector<std::vector<Piece>> unnamed;   // no fid: every piece
+    for (size_t p = 0; p < pages.size(); ++p) {
+        const VectorContent& content = *pages[p]->content;
+        if (out->layers.size() < content.layers.size()) {
+            out->source = content.source;
+            out->layers.resize(content.layers.size());
+            best.resize(content.layers.size());
+            unnamed.resize(content.layers.size());
+        }
+        for (size_t l = 0; l < content.layers.size(); ++l) {
+            const ContentLayer& layer = content.layers[l];
+            ContentLayer& into = out->layers[l];
+            if (into.data.name.empty()) {
+                into.data.name = layer.data.name, into.data.fields = layer.data.fields;
+                into.data.geometryType = layer.data.geometryType, into.data.crs = layer.data.crs, into.data.crsName = layer.data.crsName;
+                into.style = style;
+                if (!into.style.bind(layer.data.fields, layer.data.name)) into.style = layer.style;   // as the page was read
+            }
+            for (size_t i = 0; i < layer.data.features.size(); ++i) {
+                const Feature& f = layer.data.features[i];
+                const SourceStyle* own = f.style >= 0 && size_t(f.style) < layer.data.styles.size() ? &layer.data.styles[size_t(f.style)] : nullptr;
+                const FeatureStyle s = into.style.evaluate(f.attributes, own);
+                if (!s.visible || s.label.empty()) continue;
+                const Piece piece{p, i, pages[p]->key.level, f.coords.size()};
+                if (f.fid < 0) {
+                    unnamed[l].push_back(piece);
+                    continue;
+                }
+                auto [it, added] = best[l].try_emplace(f.fid, piece);
+                if (!added && (piece.level > it->second.level || (piece.level == it->second.level && piece.size > it->second.size)))
+                    it->second = piece;
+            }
+        }
+    }
+    for (size_t l = 0; l < out->layers.size(); ++l) {
+        std::vector<Piece> chosen = std::move(unnamed[l]);
+        for (const auto& [fid, piece] : best[l]) chosen.push_back(piece);
+        ContentLayer& into = out->layers[l];
+        std::vector<LonLatBounds> boxes;
+        std::map<std::pair<size_t, int32_t>, int32_t> ownStyles;   // (page, its style) -> ours
+        for (const Piece& piece : chosen) {
+            const ContentLayer& from = pages[piece.page]->content->layers[l];
+            Feature f = from.data.features[piece.feature];
+            if (f.style >= 0 && size_t(f.style) < from.data.styles.size()) {
+                auto [it, added] = ownStyles.try_emplace({piece.page, f.style}, int32_t(into.data.styles.size()));
+                if (added) into.data.styles.push_back(from.data.styles[size_t(f.style)]);
+                f.style = it->second;
+            }
+            if (from.times.timed()) into.times.spans.push_back(from.times.spans[piece.feature]);
+            boxes.push_back(f.bounds);
+            into.data.vertexCount += f.coords.size();
+            out->bytes += featureBytes(f);
+            into.data.features.push_back(std::move(f));
+        }
+        into.data.bounds = coverBounds(boxes);
+        out->featureCount += into.data.features.size();
+        out->vertexCount += into.data.vertexCount;
+    }
     return out;
 }
 

@@ -26,6 +26,7 @@
 #include <list>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -71,6 +72,8 @@ public:
     std::vector<std::string> errors() const;
     /// The pages in memory now.
     std::vector<std::shared_ptr<const FeatureTile>> loaded() const;
+    /// Counts the pages read and dropped: what is in memory changed when it did.
+    uint64_t changes() const;
 
 private:
     using Loaded = Result<std::shared_ptr<const FeatureTile>>;
@@ -87,9 +90,16 @@ private:
     mutable std::mutex mutex_;
     std::unordered_map<globe::TileKey, Entry, globe::TileKeyHash> entries_;
     std::list<globe::TileKey> uses_;
-    uint64_t bytes_ = 0, reads_ = 0;
+    uint64_t bytes_ = 0, reads_ = 0, changes_ = 0;
     std::vector<std::string> errors_;
 };
+
+/// The labelled features of `pages` as one content, each feature once (by layer and fid: the
+/// piece from the finest page, the largest among pages of one level; features without a fid
+/// from every page), with their times and own styles: what labels need of a paged source.
+/// `style`: the layer's style as the scene has it (its rules switched on or off), bound to the
+/// pages' fields.
+std::shared_ptr<VectorContent> labelledFeatures(std::span<const std::shared_ptr<const FeatureTile>> pages, const VectorStyle& style);
 
 /// One page (what acquire reads): the features near `key`'s extent grown by the margin, clipped
 /// to it, simplified for its level (not at pageLevel or finer), styled and timed.

@@ -96,7 +96,7 @@ Result<VectorLabels> VectorLabels::create(const VectorLabelOptions& options) {
 }
 
 void VectorLabels::setContent(std::shared_ptr<const VectorContent> content, std::shared_ptr<const ContentStyles> styles,
-                              std::shared_ptr<const ContentAnchors> anchors) {
+                              std::shared_ptr<const ContentAnchors> anchors, bool idsByFid) {
     content_ = std::move(content);
     styles_ = std::move(styles);
     anchors_ = std::move(anchors);
@@ -113,7 +113,8 @@ void VectorLabels::setContent(std::shared_ptr<const VectorContent> content, std:
             Entry& e = entries_.emplace_back();
             e.layer = l;
             e.feature = i;
-            e.id = uint64_t(l) << 40 | i;
+            const int64_t fid = l < content_->layers.size() && i < content_->layers[l].data.features.size() ? content_->layers[l].data.features[i].fid : -1;
+            e.id = uint64_t(l) << 40 | (idsByFid && fid >= 0 ? uint64_t(fid) & ((1ull << 40) - 1) : i);
             e.priority = labelPriority(a.kind, a.sizeM, s.rule);
             e.anchor = &a;
             e.style = &s;

@@ -76,8 +76,11 @@ public:
     static Result<VectorLabels> create(const VectorLabelOptions& options = {});
 
     /// New content or new styles: the labelled features again, their layouts made anew.
+    /// `idsByFid`: a label's id comes from its feature's layer and fid, not its index, so that
+    /// the placement's hysteresis holds across contents that hold a feature at another index (a
+    /// paged source's labelled features, gathered again as pages come and go).
     void setContent(std::shared_ptr<const VectorContent> content, std::shared_ptr<const ContentStyles> styles,
-                    std::shared_ptr<const ContentAnchors> anchors);
+                    std::shared_ptr<const ContentAnchors> anchors, bool idsByFid = false);
     /// This frame's labels and glyphs, placed by this object alone: gather, place, build.
     void update(const scene::FrameContext& frame);
     /// Nothing to draw (labels switched off); last frame's choice is forgotten.

@@ -22,6 +22,7 @@ VectorLayer::VectorLayer(VectorLayerSettings settings)
 
 VectorLayer::~VectorLayer() {
     if (loading_) job_.wait();
+    if (pagedLabelLoading_) pagedLabelJob_.wait();
     if (meshLoading_) {
         meshJob_.cancel();
         meshJob_.wait();
@@ -61,8 +62,8 @@ void VectorLayer::onPrepare(const render::RenderServices& services) {
 Result<VectorLayer::Loaded> VectorLayer::openPaged(const VectorLayerSettings& settings) {
     Loaded out;
     const vector::VectorStyle& style = settings.content.style;
-    // Labels and meshes need every feature at once (the scene file refuses "paging": true with them).
-    const bool drapedOnly = !style.namesLabel() && !style.namesExtrusion() && settings.altitude == vector::AltitudeMode::Clamped;
+    // Meshes need every feature at once (the scene file refuses "paging": true with them).
+    const bool drapedOnly = !style.namesExtrusion() && settings.altitude == vector::AltitudeMode::Clamped;
     if (settings.paging == Paging::Off || !drapedOnly) return out;
     auto summary = vector::summarizeVector(settings.content.read);
     if (!summary) return summary.error();
@@ -116,6 +117,7 @@ void VectorLayer::pollMeshes() {
 
 void VectorLayer::poll() {
     pollMeshes();
+    pollPagedLabels();
     if (!loading_ || !job_.ready()) return;
     loading_ = false;
     Result<Loaded> r = makeError("vector: the read was cancelled");
@@ -157,6 +159,11 @@ void VectorLayer::update(const scene::FrameContext& frame) {
                 republish();
                 break;
             }
+    }
+    if (pages_) {
+        updatePagedLabels();
+        updateLabels(frame);
+        return;
     }
     if (!content_) return;
     // Features with times come and go with the clock: paint again only when the set changes.
@@ -226,6 +233,36 @@ void VectorLayer::updateMeshes(const scene::FrameContext& frame) {
             build.mesh = std::make_shared<const vector::FeatureMesh>(vector::buildFeatureMesh(*content, *styles, *build.ground, options, &cancel));
             return build;
         });
+}
+
+void VectorLayer::updatePagedLabels() {
+    if (!labels_ || !settings_.labels || pagedLabelLoading_) return;
+    const uint64_t changes = pages_->changes();
+    if (changes == pagedLabelChanges_ && !pagedLabelsStale_) return;
+    pagedLabelChanges_ = changes;
+    pagedLabelsStale_ = false;
+    pagedLabelLoading_ = true;
+    pagedLabelJob_ = services_.jobs().submit(0.0, jobs::CancelToken{},
+                                             [pages = pages_->loaded(), style = settings_.content.style](const jobs::CancelToken&) {
+                                                 Loaded out;
+                                                 out.content = vector::labelledFeatures(pages, style);
+                                                 out.anchors = std::make_shared<const vector::ContentAnchors>(vector::labelAnchors(*out.content));
+                                                 return out;
+                                             });
+}
+
+void VectorLayer::pollPagedLabels() {
+    if (!pagedLabelLoading_ || !pagedLabelJob_.ready()) return;
+    pagedLabelLoading_ = false;
+    try {
+        Loaded got = pagedLabelJob_.get();
+        auto styles = std::make_shared<const vector::ContentStyles>(vector::styleContent(*got.content));
+        labels_->setContent(std::move(got.content), std::move(styles), std::move(got.anchors), true);
+    } catch (const std::exception& e) {
+        labelError_ = e.what();
+        log::error("vector layer \"", settings_.name, "\": labels: ", labelError_);
+    }
+    pagedLabelJob_ = {};
 }
 
 void VectorLayer::updateLabels(const scene::FrameContext& frame) {
@@ -414,7 +451,10 @@ bool VectorLayer::setParameter(std::string_view name, double value) {
     for (size_t i = 0; i < style.ruleCount(); ++i) {
         if (name != "rule" + std::to_string(i) || (value != 0.0 && value != 1.0)) continue;
         style.setRuleEnabled(i, value != 0.0);
-        if (pages_) republish();   // the drape switches the pages' rules itself
+        if (pages_) {
+            republish();   // the drape switches the pages' rules itself
+            pagedLabelsStale_ = true;
+        }
         if (content_) {
             for (vector::ContentLayer& layer : content_->layers) layer.style.setRuleEnabled(i, value != 0.0);
             styles_ = std::make_shared<const vector::ContentStyles>(vector::styleContent(*content_));
@@ -437,12 +477,13 @@ std::string VectorLayer::status() const {
           << std::setprecision(1) << double(pages_->bytes()) / (1 << 20) << " of " << double(settings_.pageBudgetBytes) / (1 << 20)
           << " MB), " << pages_->reads() << " read";
         if (const auto bad = pages_->errors(); !bad.empty()) s << ", " << bad.size() << " unreadable: " << bad.front();
-        return s.str();
+    } else if (!content_) {
+        return {};
+    } else {
+        s << content_->featureCount << " features in " << content_->layers.size() << " layer(s), " << content_->vertexCount
+          << " vertices";
+        if (!content_->warnings.empty()) s << ", " << content_->warnings.size() << " warning(s)";
     }
-    if (!content_) return {};
-    s << content_->featureCount << " features in " << content_->layers.size() << " layer(s), " << content_->vertexCount
-      << " vertices";
-    if (!content_->warnings.empty()) s << ", " << content_->warnings.size() << " warning(s)";
     if (!labelError_.empty()) s << ", no labels: " << labelError_;
     if (const auto bad = icons_->errors(); !bad.empty()) s << ", " << bad.size() << " icon(s) unreadable: " << bad.front();
     if (meshLoading_ && !mesh_) s << ", building " << meshFeatures_ << " mesh feature(s)";

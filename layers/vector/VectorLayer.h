@@ -45,9 +45,10 @@
 // checked against the fields then); then each terrain tile's drape reads the feature tile
 // (page) that holds its area, on the terrain's worker, through OGR's spatial filter, and pages
 // stay within "pageBudgetMB", the least recently used going first (FeatureTiles). A click reads
-// the features under the point. A paged layer is draped only: labels, extrusion and altitude
-// modes need the whole source ("paging": true with them is an error; "auto" reads such a
-// source whole).
+// the features under the point. Labels come from the pages in memory: their labelled features,
+// each once, gathered on the pool whenever pages come or go (labelledFeatures), with ids by
+// fid so that the labels shown stay put. Extrusion and the altitude modes need the whole source
+// ("paging": true with them is an error; "auto" reads such a source whole).
 
 #include "base/ThreadPool.h"
 #include "engine/scene/Layer.h"
@@ -193,7 +194,10 @@ private:
     bool meshPending() const { return meshLoading_ || meshStale_; }
     /// Gathers this frame's labels and submits them to the scene's shared board.
     void updateLabels(const scene::FrameContext& frame);
-    bool drawingLabels() const { return labels_ && settings_.labels && content_; }
+    bool drawingLabels() const { return labels_ && settings_.labels && (content_ || pages_); }
+    /// Paged: gathers the labelled features of the pages in memory again when they changed.
+    void updatePagedLabels();
+    void pollPagedLabels();
 
     VectorLayerSettings settings_;
     jobs::Job<Result<Loaded>> job_;
@@ -208,6 +212,10 @@ private:
     uint64_t shownSignature_ = 0;
     std::optional<vector::DrapeFeature> highlight_;   ///< the picked feature
     std::shared_ptr<vector::FeatureTiles> pages_;
+    // Paged labels: the gathering on the pool, the pages' changes it saw, a restyle to redo.
+    jobs::Job<Loaded> pagedLabelJob_;
+    bool pagedLabelLoading_ = false, pagedLabelsStale_ = false;
+    uint64_t pagedLabelChanges_ = ~0ull;
     std::optional<vector::LonLatBounds> pagedBounds_;
     uint64_t pagedFeatures_ = 0;
     std::shared_ptr<const vector::ContentAnchors> anchors_;

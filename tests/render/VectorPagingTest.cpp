@@ -11,6 +11,7 @@
 #include "engine/scene/SceneDesc.h"
 
 #include <iostream>
+#include <set>
 #include <filesystem>
 
 namespace orbis::test {
@@ -116,10 +117,49 @@ TEST_F(VectorPaging, PagesStayWithinTheirBudgetAsTheViewMoves) {
     EXPECT_TRUE(layer.pages()->errors().empty());
 }
 
+TEST_F(VectorPaging, LabelsComeFromThePagesInMemoryWithoutOverlapAndStayPut) {
+    REQUIRE_DATA();
+    const char* labelled = R"(, "style": {"color": [1, 0, 0], "width": 1, "fillOpacity": 0, "label": "{name}"})";
+    const char* view = R"({"lon": 10, "lat": 48, "range": 5000000})";
+    auto whole = countries(view, R"(, "paging": false)", labelled);
+    auto paged = countries(view, R"(, "paging": true, "pageLevel": 3)", labelled);
+    ASSERT_TRUE(whole && paged);
+    renderScene(*whole, 640, 480);
+    renderScene(*paged, 640, 480);
+    const auto ids = [](const layers::VectorLayer& layer) {
+        std::set<uint64_t> out;
+        for (const vector::PlacedLabel& p : layer.labels()->placed()) out.insert(p.id & ((1ull << 40) - 1));   // fid (= index in a shapefile)
+        return out;
+    };
+    const auto& pagedLayer = vectorLayer(*paged);
+    ASSERT_NE(pagedLayer.labels(), nullptr);
+    const std::set<uint64_t> a = ids(vectorLayer(*whole)), b = ids(pagedLayer);
+    ASSERT_GT(a.size(), 10u);
+    size_t common = 0;
+    for (uint64_t id : b) common += a.contains(id);
+    std::cout << "labels: whole " << a.size() << ", paged " << b.size() << ", in both " << common << "\n";
+    // A polygon cut by pages is labelled on its largest piece in the finest page: a few labels
+    // move or trade places, most are the same.
+    EXPECT_GE(common * 10, a.size() * 7);
+    EXPECT_NE(pagedLayer.status().find("labels"), std::string::npos) << pagedLayer.status();
+    // No two drawn labels overlap.
+    const auto placed = pagedLayer.labels()->placed();
+    for (size_t i = 0; i < placed.size(); ++i)
+        for (size_t j = i + 1; j < placed.size(); ++j)
+            EXPECT_FALSE(placed[i].min.x < placed[j].max.x && placed[j].min.x < placed[i].max.x && placed[i].min.y < placed[j].max.y &&
+                         placed[j].min.y < placed[i].max.y)
+                << i << " and " << j << " overlap";
+    // Frames that load nothing new keep the same labels.
+    for (int frame = 0; frame < 3; ++frame) {
+        renderOnce(*renderer_, *paged);
+        EXPECT_EQ(ids(pagedLayer), b);
+    }
+}
+
 TEST_F(VectorPaging, BadPagingKeysNameTheKey) {
     REQUIRE_DATA();
     for (const char* extra : {R"(, "paging": "maybe")", R"(, "pageLevel": 40)", R"(, "pageBudgetMB": 0)",
-                              R"(, "paging": true, "style": {"label": "{name}"})", R"(, "paging": true, "altitude": "relative")"}) {
+                              R"(, "paging": true, "style": {"extrude": 10})", R"(, "paging": true, "altitude": "relative")"}) {
         auto d = scene::parseSceneText(
             vectorSceneJson(R"({"lon": 0, "lat": 0, "range": 1e7})", worldTerrain() + "," + vectorLayerJson("C", kCountries, extra), "2026-01-01T00:00:00Z"),
             "test.json", ".");

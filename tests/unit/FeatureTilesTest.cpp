@@ -182,5 +182,38 @@ TEST(FeatureTiles, TilesCoarserThanTheSourceShareOneOverviewPage) {
     EXPECT_EQ((*page)->content->featureCount, 1u);
 }
 
+TEST(FeatureTiles, LabelledFeaturesTakeEachFeatureOnceFromTheFinestPage) {
+    REQUIRE_COUNTRIES();
+    FeatureTiles tiles(countries());
+    auto coarse = tiles.acquire(TileKey::containing(10.0, 50.0, 2));
+    auto fine = tiles.acquire(TileKey::containing(10.0, 50.0, 3));
+    ASSERT_TRUE(coarse && fine);
+    nlohmann::json j = {{"label", "{name}"}, {"rules", {{{"when", {{"name", "Germany"}}}, {"visible", false}}}}};
+    auto style = VectorStyle::read(&j, "scene.json", "/layers/0/style");
+    ASSERT_TRUE(style) << style.message();
+    const std::vector<std::shared_ptr<const FeatureTile>> pages{*coarse, *fine};
+    auto merged = labelledFeatures(pages, *style);
+    ASSERT_EQ(merged->layers.size(), 1u);
+    const auto& features = merged->layers[0].data.features;
+    std::set<int64_t> fids;
+    const auto nameField = findField(merged->layers[0].data.fields, "name");
+    ASSERT_TRUE(nameField);
+    for (const Feature& f : features) {
+        EXPECT_TRUE(fids.insert(f.fid).second) << "fid " << f.fid << " twice";
+        EXPECT_NE(attributeText(f.attributes[*nameField]), "Germany");   // hidden: not labelled
+        // A feature in both pages comes from the finer one.
+        for (const Feature& g : (*fine)->content->layers[0].data.features)
+            if (g.fid == f.fid) {
+                EXPECT_EQ(f.coords.size(), g.coords.size()) << f.fid;
+            }
+    }
+    EXPECT_GT(features.size(), 10u);
+    EXPECT_EQ(merged->featureCount, features.size());
+    // Switching the rule off labels Germany again.
+    style->setRuleEnabled(0, false);
+    auto again = labelledFeatures(pages, *style);
+    EXPECT_EQ(again->featureCount, merged->featureCount + 1);
+}
+
 }  // namespace
 }  // namespace orbis::vector
