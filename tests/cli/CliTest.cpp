@@ -196,6 +196,11 @@ TEST_F(CliGpu, RenderCityShowcaseWritesPng) {
     expectShowcaseRenders("vector-city");
 }
 
+// The paging showcase: a generated 2 M-vertex road network read a feature tile at a time.
+TEST_F(CliGpu, RenderRoadsShowcaseWritesPng) {
+    expectShowcaseRenders("vector-roads");
+}
+
 TEST_F(CliGpu, UnwritableOutputExitsOne) {
     const CliRun r = run(std::string("render ") + ORBIS_DEFAULT_SCENE + " -o /nonexistent/dir/x.png --size 32x32");
     EXPECT_EQ(r.exitCode, 1) << r.output;
