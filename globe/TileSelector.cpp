@@ -232,8 +232,10 @@ double TileSelector::curvatureError(const TileKey& key, int gridSize, const Elli
     return ellipsoid.equatorialRadius() * (1.0 - std::cos(0.5 * cell));
 }
 
-bool TileSelector::wasRefined(const TileKey& key) const {
-    return std::binary_search(refinedPrev_.begin(), refinedPrev_.end(), key);
+bool TileSelector::wasRefined(const Node& node) const {
+    const auto it = std::lower_bound(refinedPrev_.begin(), refinedPrev_.end(), Refined{node.key, {}});
+    return it != refinedPrev_.end() && it->key == node.key && it->range.minHeight == node.range.minHeight &&
+           it->range.maxHeight == node.range.maxHeight;
 }
 
 bool TileSelector::wantsRefine(const Node& node) const {
@@ -242,7 +244,7 @@ bool TileSelector::wantsRefine(const Node& node) const {
     if (node.key.level < settings_.minLevel) return true;
     if (node.sse > settings_.maxScreenSpaceError) return true;
     // Hysteresis: once refined, a tile only merges back clearly below the threshold.
-    return node.sse > settings_.maxScreenSpaceError * (1.0 - settings_.hysteresis) && wasRefined(node.key);
+    return node.sse > settings_.maxScreenSpaceError * (1.0 - settings_.hysteresis) && wasRefined(node);
 }
 
 bool TileSelector::evaluate(const TileKey& key, const HeightRangeFn& heightRange, Node& out) {
@@ -267,6 +269,7 @@ bool TileSelector::evaluate(const TileKey& key, const HeightRangeFn& heightRange
     out.distance = distance;
     out.sse = geometricError_[key.level] * sseFactor_ / std::max(distance, minDistance_);
     out.facing = centerDist > 0.0 ? -centerView.z / centerDist : 1.0;
+    out.range = range;
     out.refine = false;
     return true;
 }
@@ -329,7 +332,7 @@ void TileSelector::expandFrontier(const HeightRangeFn& heightRange) {
             selected_.push_back({n.key, n.sse, n.distance});
             continue;
         }
-        refinedNow_.push_back(n.key);
+        refinedNow_.push_back({n.key, n.range});
         for (const TileKey& child : n.key.children()) {
             Node c;
             if (evaluate(child, heightRange, c)) next_.push_back(c);

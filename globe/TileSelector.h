@@ -43,7 +43,9 @@ struct SelectorSettings {
     /// spending tiles that add nothing. The default keeps refining on the grid's error alone.
     uint32_t detailLevel = 30;
     /// A tile refined last frame stays refined until its error drops below
-    /// maxScreenSpaceError * (1 - hysteresis).
+    /// maxScreenSpaceError * (1 - hysteresis), as long as its heights are known as well as
+    /// then (a tile refined on the padded heights of a coarse ancestor is judged again once its
+    /// own arrive: the selection of a still view does not depend on the order data came in).
     double hysteresis = 0.15;
     /// Safety net on the number of selected tiles. Only pathological views reach it (a camera
     /// a few metres above a pole, where every pole tile touches the camera): refinement then
@@ -120,7 +122,14 @@ private:
         double sse;
         double distance;
         double facing;   // cosine between the view axis and the direction to the tile
+        TileHeightRange range;   // the heights its error was judged with
         bool refine;
+    };
+    /// A tile refined by a select(), and the heights it was judged with.
+    struct Refined {
+        TileKey key;
+        TileHeightRange range;
+        bool operator<(const Refined& o) const { return key < o.key; }
     };
     // select()'s steps.
     /// Clears the per-select state and derives what the view fixes.
@@ -134,7 +143,9 @@ private:
 
     bool evaluate(const TileKey& key, const HeightRangeFn& heightRange, Node& out);
     bool wantsRefine(const Node& node) const;
-    bool wasRefined(const TileKey& key) const;
+    /// Whether the last select() refined the tile with the heights known now (refining on
+    /// heights since narrowed is not held: the selection does not depend on when data came).
+    bool wasRefined(const Node& node) const;
 
     SelectorSettings settings_;
     const Ellipsoid* ellipsoid_;
@@ -142,7 +153,7 @@ private:
     // Per-select state (members so that their capacity is reused from frame to frame).
     std::vector<Node> frontier_, next_;
     std::vector<uint32_t> candidates_;
-    std::vector<TileKey> refinedPrev_, refinedNow_;   // sorted after each select()
+    std::vector<Refined> refinedPrev_, refinedNow_;   // sorted after each select()
     std::vector<SelectedTile> selected_;
     SelectionStats stats_;
 

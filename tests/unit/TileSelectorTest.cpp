@@ -518,6 +518,27 @@ TEST(TileSelector, HysteresisKeepsTilesThroughJitterAtTheThreshold) {
     EXPECT_EQ(keysOf(sel.select(lookingDownFrom(10.3, 20.7, hi), flat)), select(0.0, hi));
 }
 
+TEST(TileSelector, HysteresisDoesNotHoldARefinementMadeOnHeightsSinceNarrowed) {
+    // A still camera whose nadir tile, on the flat ground it has, errs by 0.9 x the threshold
+    // (inside the hysteresis band). Judged first on wide padded heights (no data of its own
+    // yet), the tile is nearer, errs more and refines; once the flat heights are known it merges, as a
+    // fresh selection would: what is drawn does not depend on the order data came in.
+    const TileKey nadir = TileKey::containing(10.3, 20.7, 8);
+    const double sseFactor = kViewportPx / (2.0 * std::tan(0.5 * kFov));
+    const double threshold = TileSelector::geometricError(nadir, 65) * sseFactor / 2.0;
+    const double height = threshold / 0.9;
+    const SelectorView view = lookingDownFrom(10.3, 20.7, height);
+    // (Heights a coarse ancestor's padded range could give: up to a fifth of the way up.)
+    const auto unknown = [height](const TileKey&) { return TileHeightRange{-500.0, 0.2 * height}; };
+    TileSelector sel;
+    ASSERT_TRUE(refinedSet(sel.select(view, unknown)).count(nadir));
+    EXPECT_TRUE(refinedSet(sel.select(view, unknown)).count(nadir));   // the same heights: held
+    TileSelector fresh;
+    ASSERT_FALSE(refinedSet(fresh.select(view, flat)).count(nadir));
+    EXPECT_FALSE(refinedSet(sel.select(view, flat)).count(nadir));
+    EXPECT_EQ(keysOf(sel.selection()), keysOf(fresh.selection()));
+}
+
 TEST(TileSelector, IdenticalInputsGiveIdenticalOutputInDepthFirstOrder) {
     const SelectorView views[] = {viewOf(poseFromViewpoint({-122.4, 37.8, 0.0, 45.0, -30.0, 20000.0})),
                                   viewOf(poseFromViewpoint({-122.3, 37.7, 0.0, 50.0, -25.0, 18000.0})),
