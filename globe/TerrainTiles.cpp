@@ -152,6 +152,9 @@ void TerrainTiles::replaceImagery(uint32_t layer, std::shared_ptr<const TileImag
     imagery_[layer - 1] = std::move(source);
     if (generations_.size() <= layer) generations_.resize(layer + 1, 0);
     ++generations_[layer];
+    // Tiles finer than the new source paints are never asked for again: were they kept, their
+    // old images would stand in for their ancestors' new ones for good.
+    const uint32_t finest = maxDataLevel(layer);
     for (auto it = entries_.begin(); it != entries_.end();) {
         Entry& e = it->second;
         if (it->first.layer != layer) {
@@ -170,7 +173,7 @@ void TerrainTiles::replaceImagery(uint32_t layer, std::shared_ptr<const TileImag
         }
         // What was painted stays on show until its repaint arrives (request starts it); what
         // had nothing yet, or failed, starts again.
-        if (e.state == DataState::Ready || e.state == DataState::Empty) {
+        if ((e.state == DataState::Ready || e.state == DataState::Empty) && it->first.tile.level <= finest) {
             ++it;
             continue;
         }

@@ -16,9 +16,9 @@ namespace {
 /// Paints every tile one grey level; waits while `hold` is set.
 class SolidSource : public TileImageSource {
 public:
-    SolidSource(uint8_t grey, std::atomic<bool>* hold = nullptr) : grey_(grey), hold_(hold) {}
+    SolidSource(uint8_t grey, std::atomic<bool>* hold = nullptr, uint32_t maxLevel = 3) : grey_(grey), hold_(hold), maxLevel_(maxLevel) {}
     const std::string& name() const override { return name_; }
-    uint32_t maxLevel(int) const override { return 3; }
+    uint32_t maxLevel(int) const override { return maxLevel_; }
     uint32_t minLevel() const override { return 0; }
     bool covers(const GeoExtent&) const override { return true; }
     Result<ImageryTile> readTile(const TileImageRequest& r, const jobs::CancelToken*) const override {
@@ -30,6 +30,7 @@ private:
     std::string name_ = "solid";
     uint8_t grey_;
     std::atomic<bool>* hold_;
+    uint32_t maxLevel_;
 };
 
 uint8_t greyAt(const TerrainTiles& tiles, const TileKey& key) {
@@ -75,6 +76,36 @@ TEST(TerrainTilesRepaint, TheOldImageServesUntilTheNewOneIsPainted) {
     EXPECT_EQ(greyAt(tiles, key), 30);
     EXPECT_EQ(tiles.dataGeneration(1, key), 2u);
     EXPECT_FALSE(tiles.loading());
+}
+
+TEST(TerrainTilesRepaint, TilesFinerThanTheNewSourcePaintsGoWithTheirOldImages) {
+    // A drape whose finest level drops (the vector layer's maxLevel lowered): the finer tiles
+    // it painted before are never asked for again, so they must not keep serving old images.
+    jobs::ThreadPool pool(1);
+    TerrainTilesSettings settings;
+    settings.imageSize = 16;
+    TerrainTiles tiles(settings, {}, {std::make_shared<SolidSource>(10)}, &pool);
+    const TileKey fine{3, 6, 2};
+    uint64_t frame = 1;
+    for (int i = 0; i < 5; ++i) {
+        tiles.beginFrame(frame++);
+        tiles.request(1, fine, 1000.0);
+        tiles.endFrame();
+        tiles.waitIdle();
+    }
+    ASSERT_EQ(tiles.readyAncestor(1, fine), fine);
+    tiles.replaceImagery(1, std::make_shared<SolidSource>(20, nullptr, 1));
+    EXPECT_EQ(tiles.state(1, fine), DataState::Missing);
+    for (int i = 0; i < 5; ++i) {
+        tiles.beginFrame(frame++);
+        tiles.request(1, fine, 1000.0);
+        tiles.endFrame();
+        tiles.waitIdle();
+    }
+    const auto ready = tiles.readyAncestor(1, fine);
+    ASSERT_TRUE(ready);
+    EXPECT_EQ(ready->level, 1u);
+    EXPECT_EQ(greyAt(tiles, *ready), 20);
 }
 
 }  // namespace
