@@ -294,7 +294,8 @@ FeatureMesh buildFeatureMesh(const VectorContent& content, const ContentStyles& 
             bounds.emplace_back(glm::dvec3(1e300), glm::dvec3(-1e300));
         }
         ChunkWriter w{out.chunks[it->second], bounds[it->second].first, bounds[it->second].second};
-        const uint32_t id = uint32_t(layerBase[l] + i + 1);
+        const int64_t fid = layer.data.features[i].fid;
+        const uint32_t id = options.idsByFid && fid >= 0 ? uint32_t(fid + 1) : uint32_t(layerBase[l] + i + 1);
         // Solids are opaque; a surface at altitude has its fill's opacity.
         const uint32_t color = packColor(style.fill, style.extrudeM ? 1.0 : style.fillOpacity);
         const bool extruded = style.extrudeM.has_value();

@@ -93,6 +93,9 @@ struct MeshOptions {
     AltitudeMode mode = AltitudeMode::Clamped;
     double extrusionScale = 1.0;   ///< multiplies every extruded height (a live setting)
     TimeNs time = 0;               ///< features with times show when they include it
+    /// The vertices' feature id is 1 + the feature's fid (a paged source's tiles: ids that
+    /// agree between tiles), not its place in the content.
+    bool idsByFid = false;
 };
 
 struct MeshChunk {

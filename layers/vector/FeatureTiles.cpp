@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <unordered_map>
 #include <unordered_set>
@@ -44,7 +45,7 @@ void merge(VectorData& data, VectorData&& more) {
 
 Result<FeatureTile> loadFeatureTile(const FeatureTilesOptions& options, const globe::TileKey& key) {
     const globe::GeoExtent e = key.extent();
-    const double m = options.margin * key.sizeDeg();
+    const double m = options.owned ? 0.0 : options.margin * key.sizeDeg();
     const globe::GeoExtent grown{e.west - m, std::max(e.south - m, -90.0), e.east + m, std::min(e.north + m, 90.0)};
     // OGR is asked for boxes within -180..180: a margin past the antimeridian is a second box.
     std::vector<LonLatBounds> boxes{{std::max(grown.west, -180.0), grown.south, std::min(grown.east, 180.0), grown.north, false}};
@@ -52,8 +53,16 @@ Result<FeatureTile> loadFeatureTile(const FeatureTilesOptions& options, const gl
     if (grown.east > 180.0) boxes.push_back({-180.0, grown.south, grown.east - 360.0, grown.north, false});
     // Each feature is clipped and simplified as it is read: a read holds only what the page keeps.
     // The finest pages serve every finer tile: every vertex stays.
-    const double tolerance = key.level < options.pageLevel ? 0.5 * key.sizeDeg() / std::max(1.0, options.tilePixels) : 0.0;
-    const auto shape = [&grown, tolerance](Feature& f) {
+    const double tolerance =
+        key.level < options.pageLevel && !options.owned ? 0.5 * key.sizeDeg() / std::max(1.0, options.tilePixels) : 0.0;
+    const auto shape = [&grown, &e, tolerance, owned = options.owned](Feature& f) {
+        if (owned) {
+            // The centre of its box, its longitude within [-180, 180): in this tile or not.
+            double lon = 0.5 * (f.bounds.west + f.bounds.east);
+            lon -= 360.0 * std::floor((lon + 180.0) / 360.0);
+            const double lat = 0.5 * (f.bounds.south + f.bounds.north);
+            return lon >= e.west && lon < e.east && lat >= e.south && (lat < e.north || e.north >= 90.0);
+        }
         auto piece = clipFeature(f, grown);
         if (piece && tolerance > 0.0) piece = simplifyFeature(*piece, tolerance);
         if (!piece) return false;

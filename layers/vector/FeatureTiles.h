@@ -51,6 +51,9 @@ struct FeatureTilesOptions {
     /// The source's extent, when known: tiles coarser than the finest one whose page holds the
     /// whole source share that page (one read for every overview).
     std::optional<LonLatBounds> sourceBounds;
+    /// Each feature in the one tile that holds the centre of its box, whole (neither clipped
+    /// nor simplified, no margin): what meshes need, a building drawn once and entire.
+    bool owned = false;
 };
 
 class FeatureTiles {

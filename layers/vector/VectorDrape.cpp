@@ -137,6 +137,7 @@ void VectorDrape::collect(const VectorContent& content, const ContentStyles* sty
                 const SourceStyle* own = f.style >= 0 && size_t(f.style) < layer.data.styles.size() ? &layer.data.styles[size_t(f.style)] : nullptr;
                 FeatureStyle featureStyle = style->evaluate(f.attributes, own);
                 if (!featureStyle.visible && !lit) continue;
+                if (state_.meshes && drawnIn3d(f, featureStyle, *state_.meshes)) continue;
                 s = &evaluated.emplace_back(lit ? highlighted(std::move(featureStyle)) : std::move(featureStyle));
             }
             if (!s->visible || range < s->minRangeM || range > s->maxRangeM) continue;

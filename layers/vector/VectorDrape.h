@@ -14,6 +14,7 @@
 
 #include "globe/TileImageSource.h"
 #include "layers/vector/DrapeRaster.h"
+#include "layers/vector/FeatureMesh.h"
 #include "layers/vector/FeatureTiles.h"
 #include "layers/vector/IconCache.h"
 #include "layers/vector/VectorContent.h"
@@ -43,6 +44,9 @@ struct DrapeState {
     double simplifyPx = 0.5;        ///< DrapeTileOptions::simplifyPx
     std::shared_ptr<IconCache> icons;   ///< where the points' icons are read (none: markers)
     std::optional<DrapeFeature> highlight;   ///< painted last, in the highlight's colours
+    /// Paged: the features drawn as meshes in this altitude mode are left out (a whole
+    /// source's styles hide them already).
+    std::optional<AltitudeMode> meshes;
 };
 
 class VectorDrape : public globe::TileImageSource {

@@ -47,8 +47,9 @@
 // stay within "pageBudgetMB", the least recently used going first (FeatureTiles). A click reads
 // the features under the point. Labels come from the pages in memory: their labelled features,
 // each once, gathered on the pool whenever pages come or go (labelledFeatures), with ids by
-// fid so that the labels shown stay put. Extrusion and the altitude modes need the whole source
-// ("paging": true with them is an error; "auto" reads such a source whole).
+// fid so that the labels shown stay put. Features in 3-D (extruded, or at their altitude) are
+// meshed a level-14 tile (about 1.2 km) at a time, each feature in the tile that holds its
+// centre, for the tiles in view within the styles' range, nearest first within the budget.
 
 #include "base/ThreadPool.h"
 #include "engine/scene/Layer.h"
@@ -65,6 +66,7 @@
 #include "layers/vector/VectorDrape.h"
 #include "layers/vector/VectorLabels.h"
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -125,7 +127,7 @@ public:
     bool drawsIn(scene::Pass pass) const override;
     void recordTransfers(const render::RecordContext& context) override;
     void record(scene::Pass pass, const render::RecordContext& context) override;
-    bool busy() const override { return loading_ || meshPending(); }
+    bool busy() const override { return loading_ || meshPending() || tileMeshesPending_ > 0 || tileMeshesChanged_; }
     std::string status() const override;
 
     // DrapedContent
@@ -212,6 +214,31 @@ private:
     uint64_t shownSignature_ = 0;
     std::optional<vector::DrapeFeature> highlight_;   ///< the picked feature
     std::shared_ptr<vector::FeatureTiles> pages_;
+    // Paged meshes (a paged source with features in 3-D): the tiles of kMeshLevel near the view,
+    // each read (its features whole) and meshed on the pool, kept within the budget nearest
+    // first, drawn together; a generation for the settings they were built with.
+    static constexpr uint32_t kMeshLevel = 14;
+    struct TileMesh {
+        std::shared_ptr<const vector::FeatureMesh> mesh;
+        uint64_t generation = 0;
+        uint64_t lastWanted = 0;
+    };
+    struct TileMeshBuild {
+        globe::TileKey key;
+        uint64_t generation = 0;
+        std::shared_ptr<const vector::FeatureMesh> mesh;
+    };
+    void updatePagedMeshes(const scene::FrameContext& frame);
+    void pollPagedMeshes();
+    /// The tiles of kMeshLevel the view wants meshes of, nearest first.
+    std::vector<globe::TileKey> wantedMeshTiles(const scene::FrameContext& frame) const;
+    bool pagedMeshes_ = false;
+    std::map<globe::TileKey, TileMesh> tileMeshes_;
+    std::vector<jobs::Job<TileMeshBuild>> tileJobs_;
+    std::vector<globe::TileKey> tileJobKeys_;
+    uint64_t tileMeshGeneration_ = 1, meshFrame_ = 0;
+    size_t tileMeshesPending_ = 0;   ///< wanted tiles without a mesh of this generation
+    bool tileMeshesChanged_ = false;
     // Paged labels: the gathering on the pool, the pages' changes it saw, a restyle to redo.
     jobs::Job<Loaded> pagedLabelJob_;
     bool pagedLabelLoading_ = false, pagedLabelsStale_ = false;

@@ -68,10 +68,6 @@ Result<std::unique_ptr<scene::Layer>> VectorLayer::create(const scene::LayerDesc
     auto parsed = vector::VectorStyle::read(style, scene.file.string(), desc.jsonPath + "/style");
     if (!parsed) return parsed.error();
     s.content.style = std::move(*parsed);
-    if (s.paging == Paging::On && (s.content.style.namesExtrusion() || s.altitude != vector::AltitudeMode::Clamped))
-        return makeError(scene.file.string() + ": " + desc.jsonPath +
-                         "/paging: a paged source is draped; \"extrude\" and \"altitude\" need the whole source "
-                         "(give \"paging\": false, or leave them out)");
     if (!isConnection(read.source) && !std::filesystem::exists(read.source))
         return makeError(scene.file.string() + ": " + desc.jsonPath + "/path: " + read.source + ": no such file");
     return std::unique_ptr<scene::Layer>(std::make_unique<VectorLayer>(std::move(s)));

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <string>
 #include <thread>
@@ -213,6 +214,27 @@ TEST(FeatureTiles, LabelledFeaturesTakeEachFeatureOnceFromTheFinestPage) {
     style->setRuleEnabled(0, false);
     auto again = labelledFeatures(pages, *style);
     EXPECT_EQ(again->featureCount, merged->featureCount + 1);
+}
+
+TEST(FeatureTiles, OwnedPagesHoldEachFeatureWholeInTheOneTileThatHoldsItsCentre) {
+    REQUIRE_COUNTRIES();
+    FeatureTilesOptions o = countries();
+    o.owned = true;
+    o.pageLevel = 1;
+    auto whole = loadVectorContent(o.content);
+    ASSERT_TRUE(whole) << whole.message();
+    std::map<int64_t, size_t> vertices;   // fid -> vertices, over every level-1 tile
+    for (uint32_t y = 0; y < TileKey::tilesY(1); ++y)
+        for (uint32_t x = 0; x < TileKey::tilesX(1); ++x) {
+            auto page = loadFeatureTile(o, TileKey{1, x, y});
+            ASSERT_TRUE(page) << page.message();
+            for (const Feature& f : page->content->layers[0].data.features) {
+                EXPECT_TRUE(vertices.emplace(f.fid, f.coords.size()).second) << "fid " << f.fid << " in two tiles";
+            }
+        }
+    const auto& features = (*whole)->layers[0].data.features;
+    EXPECT_EQ(vertices.size(), features.size());
+    for (const Feature& f : features) EXPECT_EQ(vertices[f.fid], f.coords.size()) << "fid " << f.fid << " cut or simplified";
 }
 
 }  // namespace
