@@ -338,8 +338,13 @@ void VectorLayer::updatePagedMeshes(const scene::FrameContext& frame) {
                 const vector::ContentStyles styles = vector::styleContent(content);
                 vector::MeshGround sampled(content, styles, meshOptions.mode);
                 sampled.sample(ground, sampled.samples());
+                bool drapes = false;
+                for (size_t l = 0; l < content.layers.size() && !drapes; ++l)
+                    for (size_t i = 0; i < content.layers[l].data.features.size() && !drapes; ++i)
+                        drapes = styles[l][i].visible && !vector::drawnIn3d(content.layers[l].data.features[i], styles[l][i], meshOptions.mode);
                 return {key, generation,
-                        std::make_shared<const vector::FeatureMesh>(vector::buildFeatureMesh(content, styles, sampled, meshOptions, &cancel))};
+                        std::make_shared<const vector::FeatureMesh>(vector::buildFeatureMesh(content, styles, sampled, meshOptions, &cancel)),
+                        drapes};
             }));
     }
     // Past the budget, the meshes wanted least recently go.
@@ -385,6 +390,10 @@ void VectorLayer::pollPagedMeshes() {
                 for (const std::string& w : build.mesh->warnings) log::warn("vector layer \"", settings_.name, "\": ", w);
                 tileMeshes_[build.key] = {std::move(build.mesh), build.generation, meshFrame_};
                 tileMeshesChanged_ = true;
+                if (build.drapes && !pagedDrapes_) {
+                    pagedDrapes_ = true;
+                    republish();
+                }
             }
         } catch (const jobs::Cancelled&) {
         } catch (const std::exception& e) {
@@ -457,7 +466,10 @@ void VectorLayer::republish() {
                                    .icons = icons_,
                                    .highlight = highlight_,
                                    .meshes = pagedMeshes_ ? std::optional(settings_.altitude) : std::nullopt};
-    if (pages_) {
+    if (pages_ && pagedMeshes_ && !pagedDrapes_ && !labels_) {
+        drape_.reset();   // nothing met yet that is not a mesh
+        return;
+    } else if (pages_) {
         drape_ = std::make_shared<const vector::VectorDrape>(state, pages_, settings_.content.style, pagedBounds_);
     } else if (!drapesSomething_ && !labels_) {
         // The labels' board is found through the drapes: a layer drawing labels keeps one.

@@ -227,6 +227,7 @@ private:
         globe::TileKey key;
         uint64_t generation = 0;
         std::shared_ptr<const vector::FeatureMesh> mesh;
+        bool drapes = false;   ///< the tile has a feature to paint on the terrain
     };
     void updatePagedMeshes(const scene::FrameContext& frame);
     void pollPagedMeshes();
@@ -239,6 +240,9 @@ private:
     uint64_t tileMeshGeneration_ = 1, meshFrame_ = 0;
     size_t tileMeshesPending_ = 0;   ///< wanted tiles without a mesh of this generation
     bool tileMeshesChanged_ = false;
+    /// Paged with meshes: whether a feature to paint on the terrain was met. Until then no
+    /// drape is published (an empty drape still makes the terrain refine to its finest level).
+    bool pagedDrapes_ = false;
     // Paged labels: the gathering on the pool, the pages' changes it saw, a restyle to redo.
     jobs::Job<Loaded> pagedLabelJob_;
     bool pagedLabelLoading_ = false, pagedLabelsStale_ = false;

@@ -181,6 +181,10 @@ TEST_F(VectorPaging, PagedBuildingsAreMeshedATileAtATimeAsTheWholeSourceIs) {
     ASSERT_NE(layer.pages(), nullptr);
     ASSERT_NE(layer.mesh(), nullptr) << layer.status();
     EXPECT_TRUE(layer.hasMeshRenderer());
+    // Every feature is a building: no drape (an empty one would still make the terrain refine
+    // to the drape's finest level), as for the whole source.
+    EXPECT_EQ(layer.drapeSource(), nullptr);
+    EXPECT_EQ(vectorLayer(*whole).drapeSource(), nullptr);
     // Every building in view once: as many triangles as the whole source's (all 3000 are within
     // reach of this view), in several tiles' chunks.
     EXPECT_EQ(layer.mesh()->features, vectorLayer(*whole).mesh()->features);

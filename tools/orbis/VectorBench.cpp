@@ -8,6 +8,7 @@
 #include "tools/orbis/BenchModes.h"
 
 #include "layers/vector/FeatureClip.h"
+#include "layers/vector/FeatureTiles.h"
 #include "layers/vector/Simplify.h"
 #include "layers/vector/Triangulate.h"
 #include "layers/vector/VectorReader.h"
@@ -119,6 +120,18 @@ int vectorBench(const std::string& file, long level, long runs) {
         char label[64];
         std::snprintf(label, sizeof label, "read tile %s alone", key.toString().c_str());
         std::printf("%-34s %10.1f %10.1f %10.1f   %zu features\n", label, tileRead.median, tileRead.min, tileRead.p95, tileFeatures);
+        // The same tile as the pager reads it: its box grown by the margin, each feature clipped
+        // (and styled, timed) as it is read.
+        vector::FeatureTilesOptions pageOptions;
+        pageOptions.content.read = options;
+        pageOptions.pageLevel = uint32_t(level);
+        size_t pageFeatures = 0;
+        const Stats pageRead = timeRuns(runs, [&] {
+            auto page = vector::loadFeatureTile(pageOptions, key);
+            pageFeatures = page ? size_t(page->content->featureCount) : 0;
+        });
+        std::printf("%-34s %10.1f %10.1f %10.1f   %zu features\n", "read it as a page (grown, clipped)", pageRead.median, pageRead.min,
+                    pageRead.p95, pageFeatures);
     }
     // Simplification for a 256-pixel tile's texel at a few levels: what it keeps, and its cost.
     std::printf("%-34s %10s %10s %10s   %s\n", "simplify to a 256-px tile's texel", "median ms", "min", "p95", "vertices kept");
