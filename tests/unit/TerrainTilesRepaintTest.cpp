@@ -33,16 +33,35 @@ private:
     uint32_t maxLevel_;
 };
 
+/// Frames asking for `key` in layer 1, each waited for.
+void settle(TerrainTiles& tiles, const TileKey& key, uint64_t& frame, int frames) {
+    for (int i = 0; i < frames; ++i) {
+        tiles.beginFrame(frame++);
+        tiles.request(1, key, 1000.0);
+        tiles.endFrame();
+        tiles.waitIdle();
+    }
+}
+
 uint8_t greyAt(const TerrainTiles& tiles, const TileKey& key) {
     const auto data = tiles.imagery(1, key);
     return data ? data->rgba[0] : 0;
 }
 
-TEST(TerrainTilesRepaint, TheOldImageServesUntilTheNewOneIsPainted) {
-    jobs::ThreadPool pool(1);
+/// One image layer of 16-pixel tiles, first painted grey 10, loaded on one worker.
+TerrainTilesSettings smallImages() {
     TerrainTilesSettings settings;
     settings.imageSize = 16;
-    TerrainTiles tiles(settings, {}, {std::make_shared<SolidSource>(10)}, &pool);
+    return settings;
+}
+
+class TerrainTilesRepaint : public ::testing::Test {
+protected:
+    jobs::ThreadPool pool{1};
+    TerrainTiles tiles{smallImages(), {}, {std::make_shared<SolidSource>(10)}, &pool};
+};
+
+TEST_F(TerrainTilesRepaint, TheOldImageServesUntilTheNewOneIsPainted) {
     const TileKey key{2, 3, 1};
     uint64_t frame = 1;
     const auto frameOf = [&] {
@@ -50,10 +69,7 @@ TEST(TerrainTilesRepaint, TheOldImageServesUntilTheNewOneIsPainted) {
         tiles.request(1, key, 1000.0);
         tiles.endFrame();
     };
-    for (int i = 0; i < 4; ++i) {
-        frameOf();
-        tiles.waitIdle();
-    }
+    settle(tiles, key, frame, 4);
     ASSERT_EQ(greyAt(tiles, key), 10);
     EXPECT_EQ(tiles.dataGeneration(1, key), 0u);
 
@@ -78,30 +94,16 @@ TEST(TerrainTilesRepaint, TheOldImageServesUntilTheNewOneIsPainted) {
     EXPECT_FALSE(tiles.loading());
 }
 
-TEST(TerrainTilesRepaint, TilesFinerThanTheNewSourcePaintsGoWithTheirOldImages) {
+TEST_F(TerrainTilesRepaint, TilesFinerThanTheNewSourcePaintsGoWithTheirOldImages) {
     // A drape whose finest level drops (the vector layer's maxLevel lowered): the finer tiles
     // it painted before are never asked for again, so they must not keep serving old images.
-    jobs::ThreadPool pool(1);
-    TerrainTilesSettings settings;
-    settings.imageSize = 16;
-    TerrainTiles tiles(settings, {}, {std::make_shared<SolidSource>(10)}, &pool);
     const TileKey fine{3, 6, 2};
     uint64_t frame = 1;
-    for (int i = 0; i < 5; ++i) {
-        tiles.beginFrame(frame++);
-        tiles.request(1, fine, 1000.0);
-        tiles.endFrame();
-        tiles.waitIdle();
-    }
+    settle(tiles, fine, frame, 5);
     ASSERT_EQ(tiles.readyAncestor(1, fine), fine);
     tiles.replaceImagery(1, std::make_shared<SolidSource>(20, nullptr, 1));
     EXPECT_EQ(tiles.state(1, fine), DataState::Missing);
-    for (int i = 0; i < 5; ++i) {
-        tiles.beginFrame(frame++);
-        tiles.request(1, fine, 1000.0);
-        tiles.endFrame();
-        tiles.waitIdle();
-    }
+    settle(tiles, fine, frame, 5);
     const auto ready = tiles.readyAncestor(1, fine);
     ASSERT_TRUE(ready);
     EXPECT_EQ(ready->level, 1u);
