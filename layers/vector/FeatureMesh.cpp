@@ -303,10 +303,20 @@ FeatureMesh buildFeatureMesh(const VectorContent& content, const ContentStyles& 
         const size_t verticesBefore = w.chunk.vertices.size(), indicesBefore = w.chunk.indices.size() + w.chunk.translucent.size();
         const size_t segmentsBefore = w.chunk.segments.size(), markersBefore = w.chunk.markers.size();
         if (f.kind == GeometryKind::Lines) emitLines(w, f, surfaceAt, style, id);
-        if (f.kind == GeometryKind::Points)
+        if (f.kind == GeometryKind::Points) {
+            // Its icon when it has one the atlas holds (its index within the atlas's cells).
+            uint32_t icon = 0;
+            float aspect = 1.0f;
+            if (!style.icon.empty() && options.icons)
+                if (const auto got = options.icons->indexed(style.icon);
+                    got && got->first < shader::kMeshIconCells * shader::kMeshIconCells && got->second->height > 0) {
+                    icon = got->first + 1;
+                    aspect = float(got->second->width) / float(got->second->height);
+                }
             for (size_t c = 0; c < f.coords.size(); ++c)
                 w.chunk.markers.push_back({w.relative(ell.toEcef(f.coords[c].x, f.coords[c].y, surfaceAt(c))),
-                                           packColor(style.color, style.opacity), float(style.iconSizePx), id});
+                                           packColor(style.color, style.opacity), float(style.iconSizePx), id, icon, aspect});
+        }
         for (size_t p = 0; f.kind == GeometryKind::Polygons && p < f.polygons.size(); ++p) {
             const LocalPlane plane(f.coords[f.parts[f.polygons[p]]].x, f.coords[f.parts[f.polygons[p]]].y);
             in.plane.clear();

@@ -23,6 +23,7 @@
 // it, a bounding sphere for culling, and the range it is drawn within.
 
 #include "base/TimeFormat.h"
+#include "layers/vector/IconCache.h"
 #include "layers/vector/VectorContent.h"
 #include "shared/VectorTypes.h"
 
@@ -96,6 +97,9 @@ struct MeshOptions {
     /// The vertices' feature id is 1 + the feature's fid (a paged source's tiles: ids that
     /// agree between tiles), not its place in the content.
     bool idsByFid = false;
+    /// Where points' icons are read (the layer's, shared with its drape): a point whose style
+    /// names a readable icon among the atlas's first cells is drawn as it; none: disks.
+    IconCache* icons = nullptr;
 };
 
 struct MeshChunk {

@@ -2,6 +2,7 @@
 
 #include "base/Log.h"
 
+#include <algorithm>
 #include <filesystem>
 
 namespace orbis::vector {
@@ -30,7 +31,24 @@ std::shared_ptr<const ImageRgba8> IconCache::get(const std::string& path) {
         log::warn("vector icon ", why, " (its points are drawn as markers)");
     }
     icons_.emplace(path, icon);
+    order_.push_back(path);
     return icon;
+}
+
+std::optional<std::pair<uint32_t, std::shared_ptr<const ImageRgba8>>> IconCache::indexed(const std::string& path) {
+    auto icon = get(path);
+    if (!icon) return std::nullopt;
+    std::lock_guard lock(mutex_);
+    const auto it = std::find(order_.begin(), order_.end(), path);
+    return std::make_pair(uint32_t(it - order_.begin()), std::move(icon));
+}
+
+std::vector<std::shared_ptr<const ImageRgba8>> IconCache::byIndex() const {
+    std::lock_guard lock(mutex_);
+    std::vector<std::shared_ptr<const ImageRgba8>> out;
+    out.reserve(order_.size());
+    for (const std::string& path : order_) out.push_back(icons_.at(path));
+    return out;
 }
 
 std::vector<std::string> IconCache::errors() const {

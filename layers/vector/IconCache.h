@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,12 @@ public:
     /// The icon at `path` (absolute, or relative to the base folder); null when it cannot be
     /// read. Any thread.
     std::shared_ptr<const ImageRgba8> get(const std::string& path);
+    /// The icon and its index: its place among the paths asked for so far, in the order they
+    /// were first asked for (the 3-D markers name their icon by it); none when it cannot be
+    /// read. Any thread.
+    std::optional<std::pair<uint32_t, std::shared_ptr<const ImageRgba8>>> indexed(const std::string& path);
+    /// Every path asked for so far, by index: its icon, or null where it could not be read.
+    std::vector<std::shared_ptr<const ImageRgba8>> byIndex() const;
     /// One line per icon that could not be read: its path and why.
     std::vector<std::string> errors() const;
 
@@ -36,6 +43,7 @@ private:
     std::string baseDir_;
     mutable std::mutex mutex_;
     std::map<std::string, std::shared_ptr<const ImageRgba8>> icons_;
+    std::vector<std::string> order_;   ///< icons_' paths in the order first asked for
     std::vector<std::string> errors_;
 };
 

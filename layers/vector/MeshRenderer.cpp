@@ -14,6 +14,8 @@
 #include "spv/vector/segment.frag.h"
 #include "spv/vector/segment.vert.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 
 namespace orbis::layers {
@@ -48,10 +50,58 @@ void upload(const render::RecordContext& rc, gpu::Device& device, const vector::
 
 }  // namespace
 
-MeshRenderer::MeshRenderer(const render::RenderServices& services) : services_(services) {
+static_assert(shader::kMeshSet == shader::kFrameSet + 1, "a layer's own set follows the frame's");
+
+MeshRenderer::MeshRenderer(const render::RenderServices& services, std::shared_ptr<vector::IconCache> icons)
+    : services_(services), icons_(std::move(icons)) {
     const VkPushConstantRange push{kPushStages, 0, sizeof(shader::VectorMeshPush)};
-    const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout};
+    // The markers' icon atlas is the layout's second set (the other kinds do not read it).
+    sets_ = gpu::createDescriptorSets(*services.device, shader::kMeshBindings, 1);
+    const VkDescriptorSetLayout setLayouts[] = {services.frameSetLayout, sets_.layout.vk()};
     layout_ = gpu::createPipelineLayout(*services.device, setLayouts, {&push, 1});
+}
+
+void MeshRenderer::refreshAtlas() {
+    if (!atlas_) {
+        gpu::ImageDesc image;
+        image.format = VK_FORMAT_R8G8B8A8_SRGB;
+        image.extent = {kAtlasPx, kAtlasPx, 1};
+        image.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+        image.name = "vector marker icons";
+        atlas_ = gpu::Image(*services_.device, image);
+        sampler_ = gpu::createSampler(*services_.device, {.filter = VK_FILTER_LINEAR});
+        gpu::DescriptorWriter(sets_.sets[0]).sampledImage(shader::kMeshBindingIcons, sampler_.vk(), atlas_.view()).update(*services_.device);
+        atlasPixels_.assign(size_t(kAtlasPx) * kAtlasPx * 4, 0);   // the image starts undefined: clear it
+    }
+    const auto icons = icons_ ? icons_->byIndex() : std::vector<std::shared_ptr<const ImageRgba8>>{};
+    if (icons.size() <= atlasIcons_ && atlasIcons_ > 0) return;
+    atlasPixels_.assign(size_t(kAtlasPx) * kAtlasPx * 4, 0);
+    constexpr uint32_t cell = shader::kMeshIconCellPx, cells = shader::kMeshIconCells;
+    for (size_t i = 0; i < icons.size() && i < size_t(cells) * cells; ++i) {
+        const ImageRgba8* icon = icons[i].get();
+        if (!icon || icon->width == 0 || icon->height == 0) continue;
+        // Fitted into the cell and centred (the marker shader finds it so), sampled bilinearly
+        // from the icon, over a box of its pixels when it shrinks.
+        const double scale = double(cell) / std::max(icon->width, icon->height);
+        const uint32_t w = std::max(1u, uint32_t(std::lround(icon->width * scale))), h = std::max(1u, uint32_t(std::lround(icon->height * scale)));
+        const uint32_t x0 = uint32_t(i % cells) * cell + (cell - w) / 2, y0 = uint32_t(i / cells) * cell + (cell - h) / 2;
+        const int box = std::max(1, int(std::ceil(1.0 / scale)));
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < w; ++x) {
+                uint32_t sum[4] = {0, 0, 0, 0}, n = 0;
+                const int sx = int((x + 0.5) / scale - 0.5 * box), sy = int((y + 0.5) / scale - 0.5 * box);
+                for (int dy = 0; dy < box; ++dy)
+                    for (int dx = 0; dx < box; ++dx) {
+                        const int px = std::clamp(sx + dx, 0, int(icon->width) - 1), py = std::clamp(sy + dy, 0, int(icon->height) - 1);
+                        const uint8_t* p = &icon->pixels[(size_t(py) * icon->width + size_t(px)) * 4];
+                        for (int c = 0; c < 4; ++c) sum[c] += p[c];
+                        ++n;
+                    }
+                uint8_t* out = &atlasPixels_[(size_t(y0 + y) * kAtlasPx + x0 + x) * 4];
+                for (int c = 0; c < 4; ++c) out[c] = uint8_t(sum[c] / n);
+            }
+    }
+    atlasIcons_ = std::max<size_t>(icons.size(), 1);
 }
 
 void MeshRenderer::setMesh(std::shared_ptr<const vector::FeatureMesh> mesh) {
@@ -118,13 +168,21 @@ void MeshRenderer::setMesh(std::shared_ptr<const vector::FeatureMesh> mesh) {
             {shader::kMarkerInputSize, 0, VK_FORMAT_R32_SFLOAT, offsetof(VectorMarker, sizePx)},
             {shader::kMarkerInputFeature, 0, VK_FORMAT_R32_UINT, offsetof(VectorMarker, feature)},
         };
+        d.attributes.push_back({shader::kMarkerInputIcon, 0, VK_FORMAT_R32_UINT, offsetof(VectorMarker, icon)});
+        d.attributes.push_back({shader::kMarkerInputAspect, 0, VK_FORMAT_R32_SFLOAT, offsetof(VectorMarker, aspect)});
         d.name = "vector markers";
         markerPipeline_ = gpu::createGraphicsPipeline(*services_.device, d);
     }
+    if (markers) refreshAtlas();
     pending_ = std::move(mesh);
 }
 
 void MeshRenderer::recordTransfers(const render::RecordContext& rc) {
+    if (!atlasPixels_.empty()) {
+        rc.uploader->toImage(rc.cmd, atlas_, atlasPixels_.data(), atlasPixels_.size(), 0, {0, 0, 0}, {kAtlasPx, kAtlasPx, 1});
+        gpu::transition(rc.cmd, atlas_, gpu::ImageUse::SampledFragment);
+        atlasPixels_.clear();
+    }
     if (!pending_) return;
     mesh_ = std::move(pending_);
     pending_.reset();
@@ -218,6 +276,7 @@ void MeshRenderer::record(const render::RecordContext& rc) {
         vkCmdDraw(cmd, 6, r.segmentCount, 0, r.firstSegment);
         return true;
     });
+    if (markerPipeline_ && markers_) vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), shader::kMeshSet, 1, &sets_.sets[0], 0, nullptr);
     each(markerPipeline_, markers_, [&](const Range& r, bool check) {
         if (check) return r.markerCount > 0;
         vkCmdDraw(cmd, 6, r.markerCount, 0, r.firstMarker);

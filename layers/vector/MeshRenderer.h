@@ -6,13 +6,18 @@
 // segment.*, marker.*; shared/VectorTypes.h), made when the first mesh with that kind arrives.
 // The chunks in view, above the horizon and within their camera range are drawn: opaque
 // triangles first, then translucent surfaces, segments and markers (blended, depth-tested,
-// writing no depth). Made
-// only by a vector layer that has something in 3-D.
+// writing no depth). A marker with an icon draws it from an atlas of the layer's icons
+// (IconCache's index: cell i holds icon i, fitted, for the first kMeshIconCells^2 of them), made
+// with the marker pipeline and filled again when the layer has read more icons. Made only by a
+// vector layer that has something in 3-D.
 
 #include "engine/gpu/Buffer.h"
+#include "engine/gpu/Descriptors.h"
 #include "engine/gpu/Handle.h"
+#include "engine/gpu/Image.h"
 #include "engine/render/RenderContext.h"
 #include "layers/vector/FeatureMesh.h"
+#include "layers/vector/IconCache.h"
 
 #include <cstdint>
 #include <memory>
@@ -22,8 +27,9 @@ namespace orbis::layers {
 
 class MeshRenderer {
 public:
-    /// The pipeline layout. Main thread, outside recording.
-    explicit MeshRenderer(const render::RenderServices& services);
+    /// The pipeline layout. `icons`: the layer's icons, which markers name by index (none:
+    /// disks only). Main thread, outside recording.
+    explicit MeshRenderer(const render::RenderServices& services, std::shared_ptr<vector::IconCache> icons = nullptr);
 
     /// A new mesh to draw from the next frame on (uploaded in recordTransfers); makes the
     /// pipelines it needs. Main thread, outside recording.
@@ -37,7 +43,8 @@ public:
     void record(const render::RecordContext& rc);
 
     uint64_t gpuBytes() const {
-        return vertices_.size() + indices_.size() + translucent_.size() + segments_.size() + markers_.size();
+        return vertices_.size() + indices_.size() + translucent_.size() + segments_.size() + markers_.size() +
+               (atlas_ ? uint64_t(kAtlasPx) * kAtlasPx * 4 : 0);
     }
     uint32_t chunksDrawn() const { return chunksDrawn_; }
     bool hasSegmentPipeline() const { return bool(segmentPipeline_); }
@@ -49,7 +56,17 @@ private:
         uint32_t firstSegment = 0, segmentCount = 0, firstMarker = 0, markerCount = 0;
     };
 
+    static constexpr uint32_t kAtlasPx = shader::kMeshIconCells * shader::kMeshIconCellPx;
+    /// Fills the atlas with the icons read so far when there are more than it holds now.
+    void refreshAtlas();
+
     render::RenderServices services_;
+    std::shared_ptr<vector::IconCache> icons_;
+    gpu::Image atlas_;
+    gpu::Sampler sampler_;
+    gpu::DescriptorSets sets_;
+    std::vector<uint8_t> atlasPixels_;   ///< to upload (empty: nothing new)
+    size_t atlasIcons_ = 0;              ///< the icons it holds
     gpu::PipelineLayout layout_;
     gpu::Pipeline meshPipeline_, translucentPipeline_, segmentPipeline_, markerPipeline_;
     std::shared_ptr<const vector::FeatureMesh> mesh_, pending_;

@@ -80,7 +80,7 @@ void VectorLayer::pollMeshes() {
     if (build.generation == meshGeneration_) ground_ = std::move(build.ground);
     mesh_ = std::move(build.mesh);
     for (const std::string& w : mesh_->warnings) log::warn("vector layer \"", settings_.name, "\": ", w);
-    if (!meshRenderer_ && !mesh_->chunks.empty()) meshRenderer_ = std::make_unique<MeshRenderer>(services_);
+    if (!meshRenderer_ && !mesh_->chunks.empty()) meshRenderer_ = std::make_unique<MeshRenderer>(services_, icons_);
     if (meshRenderer_) meshRenderer_->setMesh(mesh_);
 }
 
@@ -189,7 +189,8 @@ void VectorLayer::updateMeshes(const scene::FrameContext& frame) {
     meshLoading_ = true;
     // The ground is sampled on the pool (once; the next builds reuse it), from a snapshot that
     // any thread may ask; the content and styles are shared read-only.
-    const vector::MeshOptions options{.mode = settings_.altitude, .extrusionScale = settings_.extrusionScale, .time = time_};
+    const vector::MeshOptions options{
+        .mode = settings_.altitude, .extrusionScale = settings_.extrusionScale, .time = time_, .icons = icons_.get()};
     scene::GroundHeightFn groundFn;
     if (!ground_ && frame.groundSnapshot) groundFn = frame.groundSnapshot();
     meshJob_ = services_.jobs().submit(

@@ -24,7 +24,7 @@
 // (MeshRenderer); "extrusionScale" (live) multiplies every height. "relative" and "absolute"
 // put every feature at its own heights (Z above the ground, or above the ellipsoid in the
 // terrain's datum): polygons as lit surfaces at their fillOpacity (extruded down to the ground,
-// opaque, when the style extrudes them), lines as segments `width` pixels wide, points as disks of `iconSize`, hidden
+// opaque, when the style extrudes them), lines as segments `width` pixels wide, points as disks of `iconSize` or their icon that high, hidden
 // by whatever is nearer. The ground under their vertices is sampled and the meshes built on the
 // worker pool (MeshGround, FeatureMesh); the renderer and each kind's pipeline are made only
 // when there is something of that kind to draw.

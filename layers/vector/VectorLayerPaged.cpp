@@ -128,7 +128,7 @@ void VectorLayer::updatePagedMeshes(const scene::FrameContext& frame) {
         options.pageLevel = kMeshLevel;
         options.owned = true;
         const vector::MeshOptions meshOptions{
-            .mode = settings_.altitude, .extrusionScale = settings_.extrusionScale, .time = time_, .idsByFid = true};
+            .mode = settings_.altitude, .extrusionScale = settings_.extrusionScale, .time = time_, .idsByFid = true, .icons = icons_.get()};
         scene::GroundHeightFn ground = frame.groundSnapshot ? frame.groundSnapshot() : scene::GroundHeightFn{};
         tileJobKeys_.push_back(key);
         tileJobs_.push_back(services_.jobs().submit(
@@ -177,7 +177,7 @@ void VectorLayer::updatePagedMeshes(const scene::FrameContext& frame) {
         combined->segments += m.segments, combined->markers += m.markers, combined->forced += m.forced;
     }
     mesh_ = std::move(combined);
-    if (!meshRenderer_ && !mesh_->chunks.empty()) meshRenderer_ = std::make_unique<MeshRenderer>(services_);
+    if (!meshRenderer_ && !mesh_->chunks.empty()) meshRenderer_ = std::make_unique<MeshRenderer>(services_, icons_);
     if (meshRenderer_) meshRenderer_->setMesh(mesh_);
 }
 

@@ -51,6 +51,12 @@
 #include "spv/terrain/terrain.vert.h"
 #include "spv/vector/label.frag.h"
 #include "spv/vector/label.vert.h"
+#include "spv/vector/marker.frag.h"
+#include "spv/vector/marker.vert.h"
+#include "spv/vector/mesh.frag.h"
+#include "spv/vector/mesh.vert.h"
+#include "spv/vector/segment.frag.h"
+#include "spv/vector/segment.vert.h"
 #include "spv/volume/raycast.comp.h"
 
 namespace orbis::contract {
@@ -108,6 +114,14 @@ std::vector<PipelineContract> pipelines() {
          ORBIS_SPECS(kVolumeSpecConstants), {kVolumeGroupSize, kVolumeGroupSize, 1}},
         {"volume composite", {ORBIS_SHADER(common, fullscreen, vert), ORBIS_SHADER(common, composite, frag)},
          {frame, ORBIS_SET(kVolumeSet, kVolumeBindings)}},
+        // Vector meshes (layers/vector/MeshRenderer.cpp): one layout, the icon atlas for the markers.
+        {"vector meshes", {ORBIS_SHADER(vector, mesh, vert), ORBIS_SHADER(vector, mesh, frag)}, {frame}, nullptr, {}, {},
+         {kMeshInputPosition, kMeshInputNormal, kMeshInputColor, kMeshInputFeature}},
+        {"vector segments", {ORBIS_SHADER(vector, segment, vert), ORBIS_SHADER(vector, segment, frag)}, {frame}, nullptr, {}, {},
+         {kSegmentInputA, kSegmentInputColor, kSegmentInputB, kSegmentInputWidth, kSegmentInputFeature}},
+        {"vector markers", {ORBIS_SHADER(vector, marker, vert), ORBIS_SHADER(vector, marker, frag)},
+         {frame, ORBIS_SET(kMeshSet, kMeshBindings)}, nullptr, {}, {},
+         {kMarkerInputPosition, kMarkerInputColor, kMarkerInputSize, kMarkerInputFeature, kMarkerInputIcon, kMarkerInputAspect}},
         // Vector labels (layers/vector/LabelRenderer.cpp): halos and text, one pipeline each.
         {"vector labels", {ORBIS_SHADER(vector, label, vert), ORBIS_SHADER(vector, label, frag)},
          {frame, ORBIS_SET(kLabelSet, kLabelBindings)}, ORBIS_SPECS(kLabelSpecConstants), {},

@@ -69,6 +69,15 @@ ORBIS_CONST(uint, kMarkerInputPosition, 0)
 ORBIS_CONST(uint, kMarkerInputColor, 1)
 ORBIS_CONST(uint, kMarkerInputSize, 2)
 ORBIS_CONST(uint, kMarkerInputFeature, 3)
+ORBIS_CONST(uint, kMarkerInputIcon, 4)
+ORBIS_CONST(uint, kMarkerInputAspect, 5)
+
+// The 3-D markers' icons (MeshRenderer): one atlas of kMeshIconCells x kMeshIconCells square
+// cells of kMeshIconCellPx, icon i (IconCache's index) in cell i, fitted and centred.
+ORBIS_CONST(uint, kMeshSet, 1)
+ORBIS_CONST(uint, kMeshBindingIcons, 0)   // sampler2D: the icon atlas (sRGB RGBA8)
+ORBIS_CONST(uint, kMeshIconCells, 8)
+ORBIS_CONST(uint, kMeshIconCellPx, 64)
 
 struct VectorSegment {
     vec3 a;          // metres, relative to the chunk's origin
@@ -81,8 +90,10 @@ struct VectorSegment {
 struct VectorMarker {
     vec3 position;   // metres, relative to the chunk's origin
     uint color;      // sRGB RGBA8
-    float sizePx;    // the disk's diameter
+    float sizePx;    // the disk's diameter, or the icon's height
     uint feature;
+    uint icon;       // 0: a disk; else 1 + the icon's cell in the atlas
+    float aspect;    // the icon's width over its height
 };
 
 // Push constants, per chunk (meshes, segments and markers).
@@ -100,6 +111,10 @@ inline constexpr DescriptorBinding kLabelBindings[] = {
     {kLabelBindingAtlas, DescriptorKind::CombinedImageSampler, 1, kStageFragment},
 };
 inline constexpr SpecConstant kLabelSpecConstants[] = {{kLabelSpecHalo, SpecType::Bool}};
+/// Set kMeshSet (layers/vector/MeshRenderer.cpp): one, the 3-D markers' icon atlas.
+inline constexpr DescriptorBinding kMeshBindings[] = {
+    {kMeshBindingIcons, DescriptorKind::CombinedImageSampler, 1, kStageFragment},
+};
 }  // namespace orbis::shader
 static_assert(sizeof(orbis::shader::LabelGlyph) == 56, "LabelGlyph layout changed");
 static_assert(offsetof(orbis::shader::LabelGlyph, uv) == 24 && offsetof(orbis::shader::LabelGlyph, edges) == 40 &&
@@ -110,7 +125,8 @@ static_assert(sizeof(orbis::shader::VectorMeshVertex) == 24 && offsetof(orbis::s
 static_assert(sizeof(orbis::shader::VectorSegment) == 36 && offsetof(orbis::shader::VectorSegment, b) == 16 &&
                   offsetof(orbis::shader::VectorSegment, feature) == 32,
               "VectorSegment layout changed");
-static_assert(sizeof(orbis::shader::VectorMarker) == 24 && offsetof(orbis::shader::VectorMarker, sizePx) == 16,
+static_assert(sizeof(orbis::shader::VectorMarker) == 32 && offsetof(orbis::shader::VectorMarker, sizePx) == 16 &&
+                  offsetof(orbis::shader::VectorMarker, icon) == 24,
               "VectorMarker layout changed");
 static_assert(sizeof(orbis::shader::VectorMeshPush) == 16 && offsetof(orbis::shader::VectorMeshPush, highlight) == 12,
               "VectorMeshPush must match std430");

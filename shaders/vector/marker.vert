@@ -4,7 +4,8 @@
 #include "shared/VectorTypes.h"
 
 // One point at altitude: a square of its size (and a pixel for the antialiasing) around its
-// projection, facing the screen. A point behind the eye is dropped.
+// projection, facing the screen, or its icon `sizePx` high and `aspect` times as wide. A point
+// behind the eye is dropped.
 
 layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 layout(push_constant) uniform PushBlock { VectorMeshPush pc; };
@@ -13,10 +14,15 @@ layout(location = kMarkerInputPosition) in vec3 inPosition;
 layout(location = kMarkerInputColor) in vec4 inColor;
 layout(location = kMarkerInputSize) in float inSize;
 layout(location = kMarkerInputFeature) in uint inFeature;
+layout(location = kMarkerInputIcon) in uint inIcon;
+layout(location = kMarkerInputAspect) in float inAspect;
 
 layout(location = 0) out vec2 vPixel;   // pixels from the centre
 layout(location = 1) flat out float vRadius;
 layout(location = 2) flat out vec4 vColor;
+layout(location = 3) out vec2 vUv;      // across an icon's quad, 0 to 1 from its top left
+layout(location = 4) flat out uint vIcon;
+layout(location = 5) flat out float vAspect;
 
 const vec2 kCorners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
 
@@ -28,9 +34,15 @@ void main() {
     }
     bool highlighted = pc.highlight != 0u && inFeature == pc.highlight;
     float radius = 0.5 * (inSize + (highlighted ? 6.0 : 0.0));
-    vec2 offset = kCorners[gl_VertexIndex] * (radius + 1.0);
+    vec2 corner = kCorners[gl_VertexIndex];
+    // An icon covers its quad exactly (its own alpha is its edge); a disk gets a pixel more.
+    vec2 extent = inIcon != 0u ? vec2(radius * inAspect, radius) : vec2(radius + 1.0);
+    vec2 offset = corner * extent;
     gl_Position = p + vec4(offset / (0.5 * frame.viewportSize) * p.w, 0.0, 0.0);
     vPixel = offset;
     vRadius = radius;
-    vColor = highlighted ? vec4(1.0, 0.95, 0.1, 1.0) : inColor;
+    vColor = highlighted && inIcon == 0u ? vec4(1.0, 0.95, 0.1, 1.0) : inColor;
+    vUv = 0.5 * corner + 0.5;
+    vIcon = inIcon;
+    vAspect = inAspect;
 }
