@@ -315,7 +315,8 @@ FeatureMesh buildFeatureMesh(const VectorContent& content, const ContentStyles& 
                 }
             for (size_t c = 0; c < f.coords.size(); ++c)
                 w.chunk.markers.push_back({w.relative(ell.toEcef(f.coords[c].x, f.coords[c].y, surfaceAt(c))),
-                                           packColor(style.color, style.opacity), float(style.iconSizePx), id, icon, aspect});
+                                           packColor(style.color, style.opacity), float(style.iconSizePx), id, icon, aspect,
+                                           glm::vec3(float(style.iconNearM), float(style.iconFarM), float(style.iconFarScale))});
         }
         for (size_t p = 0; f.kind == GeometryKind::Polygons && p < f.polygons.size(); ++p) {
             const LocalPlane plane(f.coords[f.parts[f.polygons[p]]].x, f.coords[f.parts[f.polygons[p]]].y);

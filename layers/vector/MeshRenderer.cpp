@@ -170,6 +170,7 @@ void MeshRenderer::setMesh(std::shared_ptr<const vector::FeatureMesh> mesh) {
         };
         d.attributes.push_back({shader::kMarkerInputIcon, 0, VK_FORMAT_R32_UINT, offsetof(VectorMarker, icon)});
         d.attributes.push_back({shader::kMarkerInputAspect, 0, VK_FORMAT_R32_SFLOAT, offsetof(VectorMarker, aspect)});
+        d.attributes.push_back({shader::kMarkerInputScale, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(VectorMarker, scale)});
         d.name = "vector markers";
         markerPipeline_ = gpu::createGraphicsPipeline(*services_.device, d);
     }

@@ -71,6 +71,7 @@ ORBIS_CONST(uint, kMarkerInputSize, 2)
 ORBIS_CONST(uint, kMarkerInputFeature, 3)
 ORBIS_CONST(uint, kMarkerInputIcon, 4)
 ORBIS_CONST(uint, kMarkerInputAspect, 5)
+ORBIS_CONST(uint, kMarkerInputScale, 6)
 
 // The 3-D markers' icons (MeshRenderer): one atlas of kMeshIconCells x kMeshIconCells square
 // cells of kMeshIconCellPx, icon i (IconCache's index) in cell i, fitted and centred.
@@ -94,6 +95,8 @@ struct VectorMarker {
     uint feature;
     uint icon;       // 0: a disk; else 1 + the icon's cell in the atlas
     float aspect;    // the icon's width over its height
+    vec3 scale;      // near, far (m), farScale: the size x 1 nearer than near, x farScale past
+                     // far, linear between (far <= near: a constant size); FeatureStyle::iconSizeAt
 };
 
 // Push constants, per chunk (meshes, segments and markers).
@@ -125,8 +128,8 @@ static_assert(sizeof(orbis::shader::VectorMeshVertex) == 24 && offsetof(orbis::s
 static_assert(sizeof(orbis::shader::VectorSegment) == 36 && offsetof(orbis::shader::VectorSegment, b) == 16 &&
                   offsetof(orbis::shader::VectorSegment, feature) == 32,
               "VectorSegment layout changed");
-static_assert(sizeof(orbis::shader::VectorMarker) == 32 && offsetof(orbis::shader::VectorMarker, sizePx) == 16 &&
-                  offsetof(orbis::shader::VectorMarker, icon) == 24,
+static_assert(sizeof(orbis::shader::VectorMarker) == 44 && offsetof(orbis::shader::VectorMarker, sizePx) == 16 &&
+                  offsetof(orbis::shader::VectorMarker, icon) == 24 && offsetof(orbis::shader::VectorMarker, scale) == 32,
               "VectorMarker layout changed");
 static_assert(sizeof(orbis::shader::VectorMeshPush) == 16 && offsetof(orbis::shader::VectorMeshPush, highlight) == 12,
               "VectorMeshPush must match std430");

@@ -4,8 +4,8 @@
 #include "shared/VectorTypes.h"
 
 // One point at altitude: a square of its size (and a pixel for the antialiasing) around its
-// projection, facing the screen, or its icon `sizePx` high and `aspect` times as wide. A point
-// behind the eye is dropped.
+// projection, facing the screen, or its icon `sizePx` high and `aspect` times as wide, both
+// scaled with the camera's range when the style says so. A point behind the eye is dropped.
 
 layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 layout(push_constant) uniform PushBlock { VectorMeshPush pc; };
@@ -16,6 +16,7 @@ layout(location = kMarkerInputSize) in float inSize;
 layout(location = kMarkerInputFeature) in uint inFeature;
 layout(location = kMarkerInputIcon) in uint inIcon;
 layout(location = kMarkerInputAspect) in float inAspect;
+layout(location = kMarkerInputScale) in vec3 inScale;
 
 layout(location = 0) out vec2 vPixel;   // pixels from the centre
 layout(location = 1) flat out float vRadius;
@@ -33,7 +34,13 @@ void main() {
         return;
     }
     bool highlighted = pc.highlight != 0u && inFeature == pc.highlight;
-    float radius = 0.5 * (inSize + (highlighted ? 6.0 : 0.0));
+    // Scaled with the camera's range as the drape scales its icons (FeatureStyle::iconSizeAt).
+    float size = inSize;
+    if (inScale.y > inScale.x) {
+        float range = length(inPosition + pc.originFromEye);
+        size *= 1.0 + clamp((range - inScale.x) / (inScale.y - inScale.x), 0.0, 1.0) * (inScale.z - 1.0);
+    }
+    float radius = 0.5 * (size + (highlighted ? 6.0 : 0.0));
     vec2 corner = kCorners[gl_VertexIndex];
     // An icon covers its quad exactly (its own alpha is its edge); a disk gets a pixel more.
     vec2 extent = inIcon != 0u ? vec2(radius * inAspect, radius) : vec2(radius + 1.0);

@@ -1,8 +1,9 @@
 // Extruded buildings and polygons at altitude on lavapipe with validation: a village of
 // buildings on the mountain's slope, lit by the morning sun, with a polygon, a line and points
 // floating above the ground (golden); each building's walls reach the terrain's ground;
-// a picked building turns yellow; the extrusion scale raises the roofs; a layer without meshes
-// builds no mesh pipeline, and a layer made only of meshes no drape.
+// a picked building turns yellow; the extrusion scale raises the roofs; a point at altitude shows
+// its icon upright, as wide as it is, scaled with the range; a layer without meshes builds no
+// mesh pipeline, and a layer made only of meshes no drape.
 #include "base/Png.h"
 #include "globe/Ellipsoid.h"
 #include "layers/vector/VectorLayer.h"
@@ -204,39 +205,15 @@ TEST_F(VectorMesh, LayersBuildOnlyWhatTheyDraw) {
     EXPECT_NE(bad.message().find("\"floating\""), std::string::npos) << bad.message();
 }
 
-TEST_F(VectorMesh, APointAtAltitudeShowsItsIconUprightAndAsWideAsItIs) {
-    // A 2:1 icon in four colours (magenta and cyan on top, yellow and green below), 24 px high,
-    // on a point 350 m above the ground: drawn 48 x 24 pixels, the right way up.
-    const auto dir = std::filesystem::current_path() / "vector-mesh";
-    std::filesystem::create_directories(dir);
-    ImageRgba8 icon{32, 16, std::vector<uint8_t>(32 * 16 * 4, 255)};
-    for (uint32_t y = 0; y < 16; ++y)
-        for (uint32_t x = 0; x < 32; ++x) {
-            uint8_t* p = &icon.pixels[(size_t(y) * 32 + x) * 4];
-            const bool right = x >= 16, bottom = y >= 8;
-            p[0] = !bottom && right ? 0 : 255;     // magenta, cyan / yellow, green
-            p[1] = !bottom && !right ? 0 : 255;
-            p[2] = bottom ? 0 : 255;
-            if (bottom && right) p[0] = 0;
-        }
-    ASSERT_TRUE(writePng(dir / "quad.png", icon).ok());
-    const std::string point = writeGeoJson("vector-mesh", "beacon.geojson",
-                                           R"({"type": "Feature", "properties": {"name": "beacon"}, "geometry": {"type": "Point", "coordinates": [7.0, 45.852, 350]}})");
-    auto scene = load(vectorSceneJson(kVillageView,
-                                      mountainTerrain() + "," +
-                                          vectorLayerJson("Beacon", point,
-                                                          R"(, "altitude": "relative", "style": {"icon": )" + jsonString((dir / "quad.png").string()) +
-                                                              R"(, "iconSize": 24})"),
-                                      "2026-06-21T07:30:00Z"));
-    ASSERT_TRUE(scene);
-    const auto img = render(*scene);
-    ASSERT_TRUE(vectorAt(*scene, 1).hasMeshRenderer());
-    struct Box {
-        double x = 0, y = 0;
-        size_t n = 0;
-        uint32_t x0 = 1u << 30, x1 = 0, y0 = 1u << 30, y1 = 0;
-    };
-    std::map<int, Box> boxes;   // 0 magenta, 1 cyan, 2 yellow, 3 green
+/// The bounding boxes and centres of the four colours of the test icon in `img` (0 magenta,
+/// 1 cyan, 2 yellow, 3 green).
+struct ColourBox {
+    double x = 0, y = 0;
+    size_t n = 0;
+    uint32_t x0 = 1u << 30, x1 = 0, y0 = 1u << 30, y1 = 0;
+};
+std::map<int, ColourBox> iconQuarters(const ImageRgba8& img) {
+    std::map<int, ColourBox> boxes;
     for (uint32_t y = 0; y < img.height; ++y)
         for (uint32_t x = 0; x < img.width; ++x) {
             const uint8_t* p = &img.pixels[(size_t(y) * img.width + x) * 4];
@@ -247,23 +224,60 @@ TEST_F(VectorMesh, APointAtAltitudeShowsItsIconUprightAndAsWideAsItIs) {
             if (hi[0] && hi[1] && lo[2]) kind = 2;
             if (lo[0] && hi[1] && lo[2]) kind = 3;
             if (kind < 0) continue;
-            Box& b = boxes[kind];
+            ColourBox& b = boxes[kind];
             b.x += x, b.y += y, ++b.n;
             b.x0 = std::min(b.x0, x), b.x1 = std::max(b.x1, x), b.y0 = std::min(b.y0, y), b.y1 = std::max(b.y1, y);
         }
-    ASSERT_EQ(boxes.size(), 4u) << "each quarter of the icon shows";
-    for (auto& [kind, b] : boxes) {
-        EXPECT_GT(b.n, 60u) << kind;   // about 24 x 12
-        b.x /= double(b.n), b.y /= double(b.n);
-    }
-    EXPECT_LT(boxes[0].x, boxes[1].x);   // magenta left of cyan
-    EXPECT_LT(boxes[2].x, boxes[3].x);
-    EXPECT_LT(boxes[0].y, boxes[2].y);   // magenta above yellow
-    EXPECT_LT(boxes[1].y, boxes[3].y);
-    const double width = double(std::max(boxes[1].x1, boxes[3].x1) - std::min(boxes[0].x0, boxes[2].x0) + 1);
-    const double height = double(std::max(boxes[2].y1, boxes[3].y1) - std::min(boxes[0].y0, boxes[1].y0) + 1);
-    EXPECT_NEAR(height, 24.0, 3.0);
-    EXPECT_NEAR(width, 48.0, 4.0);
+    for (auto& [kind, b] : boxes) b.x /= double(b.n), b.y /= double(b.n);
+    return boxes;
+}
+
+TEST_F(VectorMesh, APointAtAltitudeShowsItsIconUprightAsWideAsItIsAndScaledWithRange) {
+    // A 2:1 icon in four colours (magenta and cyan on top, yellow and green below), 24 px high,
+    // on a point 350 m above the ground: drawn 48 x 24 pixels, the right way up; with an
+    // iconScale of 0.5 beyond 2 km (the camera is 3 km away), 24 x 12.
+    const auto dir = std::filesystem::current_path() / "vector-mesh";
+    std::filesystem::create_directories(dir);
+    ImageRgba8 icon{32, 16, std::vector<uint8_t>(32 * 16 * 4, 255)};
+    for (uint32_t y = 0; y < 16; ++y)
+        for (uint32_t x = 0; x < 32; ++x) {
+            uint8_t* p = &icon.pixels[(size_t(y) * 32 + x) * 4];
+            const bool right = x >= 16, bottom = y >= 8;
+            p[0] = (!bottom && right) || (bottom && right) ? 0 : 255;   // magenta, cyan / yellow, green
+            p[1] = !bottom && !right ? 0 : 255;
+            p[2] = bottom ? 0 : 255;
+        }
+    ASSERT_TRUE(writePng(dir / "quad.png", icon).ok());
+    const std::string point = writeGeoJson("vector-mesh", "beacon.geojson",
+                                           R"({"type": "Feature", "properties": {"name": "beacon"}, "geometry": {"type": "Point", "coordinates": [7.0, 45.852, 350]}})");
+    const auto extent = [&](const std::string& scale) {
+        auto scene = load(vectorSceneJson(
+            kVillageView,
+            mountainTerrain() + "," +
+                vectorLayerJson("Beacon", point,
+                                R"(, "altitude": "relative", "style": {"icon": )" + jsonString((dir / "quad.png").string()) + R"(, "iconSize": 24)" +
+                                    scale + "}"),
+            "2026-06-21T07:30:00Z"));
+        EXPECT_TRUE(scene);
+        if (!scene) return glm::dvec2(0.0);
+        const auto img = render(*scene);
+        EXPECT_TRUE(vectorAt(*scene, 1).hasMeshRenderer());
+        auto boxes = iconQuarters(img);
+        EXPECT_EQ(boxes.size(), 4u) << "each quarter of the icon shows";
+        if (boxes.size() != 4) return glm::dvec2(0.0);
+        EXPECT_LT(boxes[0].x, boxes[1].x);   // magenta left of cyan
+        EXPECT_LT(boxes[2].x, boxes[3].x);
+        EXPECT_LT(boxes[0].y, boxes[2].y);   // magenta above yellow
+        EXPECT_LT(boxes[1].y, boxes[3].y);
+        return glm::dvec2(double(std::max(boxes[1].x1, boxes[3].x1) - std::min(boxes[0].x0, boxes[2].x0) + 1),
+                          double(std::max(boxes[2].y1, boxes[3].y1) - std::min(boxes[0].y0, boxes[1].y0) + 1));
+    };
+    const glm::dvec2 full = extent("");
+    EXPECT_NEAR(full.y, 24.0, 3.0);
+    EXPECT_NEAR(full.x, 48.0, 4.0);
+    const glm::dvec2 far = extent(R"(, "iconScale": {"near": 1000, "far": 2000, "scale": 0.5})");
+    EXPECT_NEAR(far.y, 12.0, 2.0);
+    EXPECT_NEAR(far.x, 24.0, 3.0);
 }
 
 }  // namespace
