@@ -31,7 +31,8 @@ namespace orbis::vector {
 struct VectorContent;
 
 struct LabelAnchor {
-    static constexpr size_t kPathSamples = 9;
+    /// Odd: the middle sample is the anchor (the labels follow the line's bends through them).
+    static constexpr size_t kPathSamples = 65;
 
     bool valid = false;                 ///< false: no geometry to label (an empty feature)
     GeometryKind kind = GeometryKind::Points;

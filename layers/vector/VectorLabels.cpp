@@ -176,33 +176,91 @@ struct VectorLabels::Projection {
 
 bool VectorLabels::alongLine(const Entry& e, const TextLayout& layout, const Projection& project, Seen& s) const {
     const auto& wgs84 = globe::Ellipsoid::wgs84();
-    glm::dvec2 ahead, previous, current;
-    if (!project(wgs84.toEcef(e.anchor->ahead.x, e.anchor->ahead.y, e.heightM), ahead)) return false;
-    // The line's length on screen (its parts in front of the eye), at the anchor's height.
-    double onScreen = 0.0;
-    bool hasPrevious = false;
-    for (const glm::dvec2& ll : e.anchor->path) {
-        const bool front = project(wgs84.toEcef(ll.x, ll.y, e.heightM), current);
-        if (front && hasPrevious) onScreen += glm::length(current - previous);
-        previous = current;
-        hasPrevious = front;
+    // The line on the screen at the anchor's height: the run of its samples in front of the eye
+    // through the anchor (the middle sample), and the distance along it.
+    const std::vector<glm::dvec2>& path = e.anchor->path;
+    const size_t n = path.size(), mid = n / 2;
+    std::vector<glm::dvec2> px(n);
+    std::vector<char> front(n);
+    for (size_t i = 0; i < n; ++i) front[i] = project(wgs84.toEcef(path[i].x, path[i].y, e.heightM), px[i]) ? 1 : 0;
+    size_t first = mid, last = mid;
+    if (n > 0 && front[mid]) {
+        while (first > 0 && front[first - 1]) --first;
+        while (last + 1 < n && front[last + 1]) ++last;
     }
-    if (onScreen < double(layout.width) + 2.0 * (options_.haloPx + options_.gapPx)) return false;
+    // Lengths over every part in front (as a line that leaves the view and comes back).
+    double onScreen = 0.0;
+    for (size_t i = 1; i < n; ++i)
+        if (front[i] && front[i - 1]) onScreen += glm::length(px[i] - px[i - 1]);
+    const double need = double(layout.width) + 2.0 * (options_.haloPx + options_.gapPx);
+    if (onScreen < need) return false;
+    glm::dvec2 ahead;
+    if (!project(wgs84.toEcef(e.anchor->ahead.x, e.anchor->ahead.y, e.heightM), ahead)) return false;
     const glm::dvec2 direction = ahead - s.anchorPx;
     if (!(glm::length(direction) > 0.0)) return false;
-    // Upright: text never reads upside down.
+    // Straight along the line at the anchor, upright: text never reads upside down.
     s.angle = std::atan2(direction.y, direction.x);
     if (s.angle > 0.5 * kPi) s.angle -= kPi;
     if (s.angle < -0.5 * kPi) s.angle += kPi;
+    s.bent.clear();
+    if (n == 0 || !front[mid] || last == first) return true;
+
+    // Bent: each glyph's middle at its distance from the label's middle along the line, turned
+    // with the line there. Only where the whole label fits on the run through the anchor and
+    // the line bends gently under it; else the straight label stands.
+    std::vector<double> arc(n, 0.0);
+    for (size_t i = first + 1; i <= last; ++i) arc[i] = arc[i - 1] + glm::length(px[i] - px[i - 1]);
+    const double centre = arc[mid], half = 0.5 * need;
+    if (centre - half < 0.0 || centre + half > arc[last]) return true;
+    // The point at `at` along the run, and the direction of the segment it lies on.
+    const auto along = [&](double at, glm::dvec2& tangent) {
+        size_t i = first;
+        while (i + 1 < last && arc[i + 1] < at) ++i;
+        const double len = arc[i + 1] - arc[i];
+        tangent = len > 0.0 ? (px[i + 1] - px[i]) / len : glm::dvec2(std::cos(s.angle), std::sin(s.angle));
+        return px[i] + tangent * std::clamp(at - arc[i], 0.0, len);
+    };
+    glm::dvec2 t0, t1;
+    const bool reverse = along(centre + half, t1).x < along(centre - half, t0).x;   // read left to right
+    constexpr double kMaxBend = kMaxBendDeg * kPi / 180.0;
+    double previous = 0.0;
+    for (size_t k = 0; k < layout.quads.size(); ++k) {
+        const GlyphQuad& q = layout.quads[k];
+        const double middle = 0.5 * double(q.min.x + q.max.x) + s.offset.x;   // from the label's middle
+        glm::dvec2 tangent;
+        const glm::dvec2 at = along(reverse ? centre - middle : centre + middle, tangent);
+        if (reverse) tangent = -tangent;
+        const double angle = std::atan2(tangent.y, tangent.x);
+        if (k > 0 && std::abs(std::remainder(angle - previous, 2.0 * kPi)) > kMaxBend) {
+            s.bent.clear();
+            return true;
+        }
+        previous = angle;
+        const glm::dvec2 corner = at + rotate(glm::dvec2(double(q.min.x) - 0.5 * double(q.min.x + q.max.x), double(q.min.y) + s.offset.y),
+                                              std::cos(angle), std::sin(angle));
+        s.bent.emplace_back(corner, angle);
+    }
     return true;
 }
 
 LabelCandidate VectorLabels::candidateOf(const Entry& e, const TextLayout& layout, const Seen& s) const {
     // The text's box (halo and gap included), turned, and the icon's.
     const double grow = options_.haloPx + options_.gapPx;
+    glm::dvec2 boxMin(std::numeric_limits<double>::max()), boxMax(std::numeric_limits<double>::lowest());
+    if (!s.bent.empty()) {   // bent: the glyphs' boxes together
+        for (size_t k = 0; k < s.bent.size() && k < layout.quads.size(); ++k) {
+            const glm::dvec2 size = glm::dvec2(layout.quads[k].max - layout.quads[k].min);
+            const double c = std::cos(s.bent[k].z), sn = std::sin(s.bent[k].z);
+            for (const glm::dvec2 corner : {glm::dvec2(-grow), glm::dvec2(size.x + grow, -grow), glm::dvec2(-grow, size.y + grow), size + grow}) {
+                const glm::dvec2 p = glm::dvec2(s.bent[k]) + rotate(corner, c, sn);
+                boxMin = glm::min(boxMin, p);
+                boxMax = glm::max(boxMax, p);
+            }
+        }
+        return {.id = idBase_ + e.id, .priority = e.priority, .min = boxMin, .max = boxMax};
+    }
     const glm::dvec2 lo = glm::dvec2(layout.min) - grow, hi = glm::dvec2(layout.max) + grow;
     const double c = std::cos(s.angle), sn = std::sin(s.angle);
-    glm::dvec2 boxMin(std::numeric_limits<double>::max()), boxMax(std::numeric_limits<double>::lowest());
     for (const glm::dvec2 corner : {lo, glm::dvec2(hi.x, lo.y), glm::dvec2(lo.x, hi.y), hi}) {
         const glm::dvec2 p = s.anchorPx + rotate(corner + s.offset, c, sn);
         boxMin = glm::min(boxMin, p);
@@ -266,12 +324,20 @@ void VectorLabels::addGlyphs(const Seen& s) {
     const double haloEdge = std::max(onEdge - options_.haloPx * valuePerScreenPixel, double(atlas_.sdfValuePerPixel()));
     const uint32_t text = packSrgb(glm::dvec4(e.style->labelColor, 1.0));
     const uint32_t halo = packSrgb(haloColor(e.style->labelColor));
-    for (const GlyphQuad& q : layout.quads) {
+    for (size_t k = 0; k < layout.quads.size(); ++k) {
+        const GlyphQuad& q = layout.quads[k];
         const glm::dvec2 lo(q.min), hi(q.max);
         shader::LabelGlyph g{};
-        g.origin = glm::vec2(origin + rotate(lo, c, sn));
-        g.axisX = glm::vec2(rotate(glm::dvec2(hi.x - lo.x, 0.0), c, sn));
-        g.axisY = glm::vec2(rotate(glm::dvec2(0.0, hi.y - lo.y), c, sn));
+        if (k < s.bent.size()) {   // bent along a line: each glyph at its own place and angle
+            const double gc = std::cos(s.bent[k].z), gs = std::sin(s.bent[k].z);
+            g.origin = glm::vec2(glm::dvec2(s.bent[k]));
+            g.axisX = glm::vec2(rotate(glm::dvec2(hi.x - lo.x, 0.0), gc, gs));
+            g.axisY = glm::vec2(rotate(glm::dvec2(0.0, hi.y - lo.y), gc, gs));
+        } else {
+            g.origin = glm::vec2(origin + rotate(lo, c, sn));
+            g.axisX = glm::vec2(rotate(glm::dvec2(hi.x - lo.x, 0.0), c, sn));
+            g.axisY = glm::vec2(rotate(glm::dvec2(0.0, hi.y - lo.y), c, sn));
+        }
         g.uv = glm::vec4(q.uvMin, q.uvMax);
         g.edges = glm::vec2(float(onEdge), float(haloEdge));
         g.color = text;

@@ -20,8 +20,9 @@
 // Label boxes: a point's text stands right of its icon (iconSize, drawn on the terrain by the
 // drape), centred on the point's height, the icon inside its box; a polygon's text is centred
 // on its interior point and wrapped at spaces into lines of 8 em at most; a line's text is
-// centred on its middle and turned along it (kept upright). Every box is grown by the halo and
-// `gapPx`.
+// centred on its middle and follows it glyph by glyph where it bends gently, else runs straight
+// along it (kept upright; its box is the glyphs' bounding box). Every box is grown by the halo
+// and `gapPx`.
 
 #include "base/Result.h"
 #include "engine/scene/FrameContext.h"
@@ -126,6 +127,9 @@ private:
         glm::dvec2 anchorPx, offset;
         double angle;
         double iconPx = 0.0;   ///< a point's icon as seen from the camera's range
+        /// A line's label bent along it: each glyph quad's place (its left end on the baseline,
+        /// in window pixels) and angle. Empty: the text is straight, turned by `angle`.
+        std::vector<glm::dvec3> bent;
     };
 
     struct Projection;
@@ -134,9 +138,11 @@ private:
         : options_(options), atlas_(std::move(atlas)) {}
     /// The candidates of this frame; false when a layout found the atlas full.
     bool gatherOnce(const scene::FrameContext& frame, const glm::dmat4& clipFromEye);
-    /// A line's label: turned along the line at its anchor; false when the line is shorter on
-    /// screen than the label.
+    /// A line's label: along the line, centred on its anchor, each glyph turned with the line
+    /// where it bends gently (at most kMaxBendDeg between neighbouring glyphs), else straight
+    /// along it; upright; false when the line is shorter on screen than the label.
     bool alongLine(const Entry& e, const TextLayout& layout, const Projection& project, Seen& s) const;
+    static constexpr double kMaxBendDeg = 25.0;
     /// The label's box for the placer.
     LabelCandidate candidateOf(const Entry& e, const TextLayout& layout, const Seen& s) const;
     void locate(Entry& e, const scene::FrameContext& frame);

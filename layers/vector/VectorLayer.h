@@ -33,7 +33,8 @@
 // Overlay pass (VectorLabels: real glyphs from DejaVu Sans with a halo, chosen so that none
 // overlap and none flickers as the camera moves, none hidden by the globe or the terrain;
 // LabelRenderer draws them). A point's label stands beside its icon, a polygon's at an interior
-// point, a line's along the line at its middle where the line is long enough on screen
+// point, a line's along the line at its middle, bent with it where it bends gently, where the
+// line is long enough on screen
 // (LabelAnchors.h). "labels": false (and the live setting "labels") hides them. A style
 // without a label builds nothing for labels.
 //

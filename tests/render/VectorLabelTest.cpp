@@ -24,6 +24,7 @@ namespace orbis::test {
 namespace {
 
 using vector::LabelCandidate;
+constexpr double kPi = 3.14159265358979323846;
 using vector::PlacedLabel;
 
 std::string writeGeoJson(const std::string& name, const std::string& features) {
@@ -251,6 +252,45 @@ TEST_F(VectorLabel, ASlowPanChangesTheLabelsOnlyWhereABoxCrossesAThreshold) {
     EXPECT_GE(changes, 1) << "labels crossed the screen's edge: some must have changed";
     EXPECT_LE(changes, crossings);
     EXPECT_LE(changes, 8) << "a slow pan flickers";
+}
+
+TEST_F(VectorLabel, ALineLabelFollowsTheLineWhereItBendsAndStaysUpright) {
+    // A rainbow: half a circle of 10 degrees around (0, 0), drawn from east to west, seen from
+    // 3000 km. Its label reads left to right over the top, each glyph turned with the arc (the
+    // first rising, the last falling); a line straight on the screen (the equator under the
+    // eye) has all its glyphs at one angle.
+    std::ostringstream arc, straight;
+    arc << "[";
+    for (int i = 0; i <= 36; ++i) {
+        const double t = kPi * i / 36.0;
+        arc << (i ? ", " : "") << "[" << 10.0 * std::cos(t) << ", " << 10.0 * std::sin(t) << "]";
+    }
+    arc << "]";
+    straight << "[[-12, 0], [12, 0]]";   // the equator below the eye: straight on the screen
+    const char* style = R"(, "style": {"width": 2, "label": "{name}", "labelSize": 16})";
+    const auto angles = [&](const std::string& coords) {
+        const std::string path = writeGeoJson("bend.geojson", feature("Curving river", "LineString", coords));
+        auto scene = load(sceneJson(R"({"lon": 0, "lat": 0, "range": 3000000})", std::string(kGlobe) + "," + vectorLayer("Bend", path, style)));
+        std::vector<double> out;
+        if (!scene) return out;
+        render(*scene);
+        for (const shader::LabelGlyph& g : vectorAt(*scene, 1).labels()->glyphs()) out.push_back(std::atan2(g.axisX.y, g.axisX.x) * 180.0 / kPi);
+        return out;
+    };
+    const std::vector<double> bent = angles(arc.str());
+    ASSERT_GE(bent.size(), 10u) << "the label is drawn";
+    for (size_t i = 0; i < bent.size(); ++i) {
+        EXPECT_LT(std::abs(bent[i]), 90.0) << "upright";
+        if (i > 0) {
+            EXPECT_LE(std::abs(bent[i] - bent[i - 1]), 25.0) << "a gentle bend between neighbours";
+        }
+    }
+    // Over the top of the rainbow: rising (negative: the window's y points down), then falling.
+    EXPECT_LT(bent.front(), -8.0);
+    EXPECT_GT(bent.back(), 8.0);
+    const std::vector<double> flat = angles(straight.str());
+    ASSERT_GE(flat.size(), 10u);
+    for (double a : flat) EXPECT_NEAR(a, flat.front(), 0.5);
 }
 
 TEST_F(VectorLabel, ALabelBehindTheGlobeIsNotDrawn) {
