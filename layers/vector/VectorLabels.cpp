@@ -174,7 +174,7 @@ struct VectorLabels::Projection {
     }
 };
 
-bool VectorLabels::alongLine(const Entry& e, const TextLayout& layout, const Projection& project, Seen& s) const {
+bool VectorLabels::alongLine(const Entry& e, const TextLayout& layout, const Projection& project, Seen& s) {
     const auto& wgs84 = globe::Ellipsoid::wgs84();
     // The line on the screen at the anchor's height: the run of its samples in front of the eye
     // through the anchor (the middle sample), and the distance along it.
@@ -202,7 +202,8 @@ bool VectorLabels::alongLine(const Entry& e, const TextLayout& layout, const Pro
     s.angle = std::atan2(direction.y, direction.x);
     if (s.angle > 0.5 * kPi) s.angle -= kPi;
     if (s.angle < -0.5 * kPi) s.angle += kPi;
-    s.bent.clear();
+    s.bentFirst = uint32_t(bent_.size());
+    s.bentCount = 0;
     if (n == 0 || !front[mid] || last == first) return true;
 
     // Bent: each glyph's middle at its distance from the label's middle along the line, turned
@@ -232,14 +233,15 @@ bool VectorLabels::alongLine(const Entry& e, const TextLayout& layout, const Pro
         if (reverse) tangent = -tangent;
         const double angle = std::atan2(tangent.y, tangent.x);
         if (k > 0 && std::abs(std::remainder(angle - previous, 2.0 * kPi)) > kMaxBend) {
-            s.bent.clear();
+            bent_.resize(s.bentFirst);   // too sharp a bend: straight
             return true;
         }
         previous = angle;
         const glm::dvec2 corner = at + rotate(glm::dvec2(double(q.min.x) - 0.5 * double(q.min.x + q.max.x), double(q.min.y) + s.offset.y),
                                               std::cos(angle), std::sin(angle));
-        s.bent.emplace_back(corner, angle);
+        bent_.emplace_back(corner, angle);
     }
+    s.bentCount = uint32_t(bent_.size() - s.bentFirst);
     return true;
 }
 
@@ -247,12 +249,12 @@ LabelCandidate VectorLabels::candidateOf(const Entry& e, const TextLayout& layou
     // The text's box (halo and gap included), turned, and the icon's.
     const double grow = options_.haloPx + options_.gapPx;
     glm::dvec2 boxMin(std::numeric_limits<double>::max()), boxMax(std::numeric_limits<double>::lowest());
-    if (!s.bent.empty()) {   // bent: the glyphs' boxes together
-        for (size_t k = 0; k < s.bent.size() && k < layout.quads.size(); ++k) {
+    if (const auto bent = bentOf(s); !bent.empty()) {   // bent: the glyphs' boxes together
+        for (size_t k = 0; k < bent.size() && k < layout.quads.size(); ++k) {
             const glm::dvec2 size = glm::dvec2(layout.quads[k].max - layout.quads[k].min);
-            const double c = std::cos(s.bent[k].z), sn = std::sin(s.bent[k].z);
+            const double c = std::cos(bent[k].z), sn = std::sin(bent[k].z);
             for (const glm::dvec2 corner : {glm::dvec2(-grow), glm::dvec2(size.x + grow, -grow), glm::dvec2(-grow, size.y + grow), size + grow}) {
-                const glm::dvec2 p = glm::dvec2(s.bent[k]) + rotate(corner, c, sn);
+                const glm::dvec2 p = glm::dvec2(bent[k]) + rotate(corner, c, sn);
                 boxMin = glm::min(boxMin, p);
                 boxMax = glm::max(boxMax, p);
             }
@@ -277,6 +279,7 @@ LabelCandidate VectorLabels::candidateOf(const Entry& e, const TextLayout& layou
 bool VectorLabels::gatherOnce(const scene::FrameContext& frame, const glm::dmat4& clipFromEye) {
     candidates_.clear();
     seen_.clear();
+    bent_.clear();
     bool atlasFull = false;
     const Projection project{frame.camera->position(), clipFromEye, glm::dvec2(frame.width, frame.height)};
     for (uint32_t index = 0; index < entries_.size(); ++index) {
@@ -314,6 +317,7 @@ void VectorLabels::addGlyphs(const Seen& s) {
     Entry& e = entries_[s.entry];
     const TextLayout& layout = e.layout;
     const double c = std::cos(s.angle), sn = std::sin(s.angle);
+    const auto bent = bentOf(s);
     // Unturned text on whole pixels: the glyphs keep their sampling phase as the view pans.
     glm::dvec2 origin = s.anchorPx + rotate(s.offset, c, sn);
     if (s.angle == 0.0) origin = glm::round(origin);
@@ -328,9 +332,9 @@ void VectorLabels::addGlyphs(const Seen& s) {
         const GlyphQuad& q = layout.quads[k];
         const glm::dvec2 lo(q.min), hi(q.max);
         shader::LabelGlyph g{};
-        if (k < s.bent.size()) {   // bent along a line: each glyph at its own place and angle
-            const double gc = std::cos(s.bent[k].z), gs = std::sin(s.bent[k].z);
-            g.origin = glm::vec2(glm::dvec2(s.bent[k]));
+        if (k < bent.size()) {   // bent along a line: each glyph at its own place and angle
+            const double gc = std::cos(bent[k].z), gs = std::sin(bent[k].z);
+            g.origin = glm::vec2(glm::dvec2(bent[k]));
             g.axisX = glm::vec2(rotate(glm::dvec2(hi.x - lo.x, 0.0), gc, gs));
             g.axisY = glm::vec2(rotate(glm::dvec2(0.0, hi.y - lo.y), gc, gs));
         } else {

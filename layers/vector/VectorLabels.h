@@ -127,9 +127,10 @@ private:
         glm::dvec2 anchorPx, offset;
         double angle;
         double iconPx = 0.0;   ///< a point's icon as seen from the camera's range
-        /// A line's label bent along it: each glyph quad's place (its left end on the baseline,
-        /// in window pixels) and angle. Empty: the text is straight, turned by `angle`.
-        std::vector<glm::dvec3> bent;
+        /// A line's label bent along it: bent_[bentFirst, + bentCount) holds each glyph quad's
+        /// place (its top left corner, in window pixels) and angle. None: the text is
+        /// straight, turned by `angle`.
+        uint32_t bentFirst = 0, bentCount = 0;
     };
 
     struct Projection;
@@ -141,7 +142,8 @@ private:
     /// A line's label: along the line, centred on its anchor, each glyph turned with the line
     /// where it bends gently (at most kMaxBendDeg between neighbouring glyphs), else straight
     /// along it; upright; false when the line is shorter on screen than the label.
-    bool alongLine(const Entry& e, const TextLayout& layout, const Projection& project, Seen& s) const;
+    bool alongLine(const Entry& e, const TextLayout& layout, const Projection& project, Seen& s);
+    std::span<const glm::dvec3> bentOf(const Seen& s) const { return {bent_.data() + s.bentFirst, s.bentCount}; }
     static constexpr double kMaxBendDeg = 25.0;
     /// The label's box for the placer.
     LabelCandidate candidateOf(const Entry& e, const TextLayout& layout, const Seen& s) const;
@@ -158,6 +160,7 @@ private:
     std::vector<Entry> entries_;
     std::vector<LabelCandidate> candidates_;
     std::vector<Seen> seen_;
+    std::vector<glm::dvec3> bent_;   ///< the bent labels' glyphs (Seen::bentFirst)
     std::vector<PlacedLabel> placed_;
     std::vector<shader::LabelGlyph> glyphs_;
     VectorLabelStats stats_;
