@@ -172,6 +172,7 @@ void emitLines(ChunkWriter& w, const Feature& f, const SurfaceAt& surfaceAt, con
     const uint32_t color = packColor(style.color, style.opacity);
     for (size_t p = 0; p < f.parts.size(); ++p) {
         const uint32_t begin = f.parts[p], end = f.partEnd(p);
+        double along = 0.0;   // metres from the part's start: where the dashes fall
         for (uint32_t c = begin; c + 1 < end && c + 1 < f.coords.size(); ++c) {
             const glm::dvec3 a(glm::dvec2(f.coords[c]), surfaceAt(c)), b(glm::dvec2(f.coords[c + 1]), surfaceAt(c + 1));
             const double k = std::cos(glm::radians(0.5 * (a.y + b.y)));
@@ -180,7 +181,8 @@ void emitLines(ChunkWriter& w, const Feature& f, const SurfaceAt& surfaceAt, con
             for (int i = 1; i <= n; ++i) {
                 const glm::dvec3 q = glm::mix(a, b, double(i) / n);
                 const glm::vec3 to = w.relative(ell.toEcef(q.x, q.y, q.z));
-                w.chunk.segments.push_back({from, color, to, float(style.widthPx), id});
+                w.chunk.segments.push_back({from, color, to, float(style.widthPx), id, float(along), glm::vec2(style.dashPx)});
+                along += double(glm::length(to - from));
                 from = to;
             }
         }

@@ -153,6 +153,8 @@ void MeshRenderer::setMesh(std::shared_ptr<const vector::FeatureMesh> mesh) {
             {shader::kSegmentInputB, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(VectorSegment, b)},
             {shader::kSegmentInputWidth, 0, VK_FORMAT_R32_SFLOAT, offsetof(VectorSegment, widthPx)},
             {shader::kSegmentInputFeature, 0, VK_FORMAT_R32_UINT, offsetof(VectorSegment, feature)},
+            {shader::kSegmentInputStart, 0, VK_FORMAT_R32_SFLOAT, offsetof(VectorSegment, startM)},
+            {shader::kSegmentInputDash, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(VectorSegment, dashPx)},
         };
         d.name = "vector segments";
         segmentPipeline_ = gpu::createGraphicsPipeline(*services_.device, d);

@@ -4,7 +4,7 @@
 //
 //   "style": {
 //     "color": [1, 0.8, 0], "opacity": 1, "width": 2,          lines, outlines, markers (px)
-//     "dash": [8, 4] | 6,                 on and off along lines and outlines (px; on the terrain)
+//     "dash": [8, 4] | 6,                 on and off along lines and outlines (px)
 //     "fill": [0.2, 0.4, 1], "fillOpacity": 0.5, "outline": true,
 //     "icon": "icons/city.png", "iconSize": 16,                  points (px)
 //     "iconScale": {"near": 1e4, "far": 1e6, "scale": 0.5},      size x 1 nearer than near,

@@ -65,6 +65,8 @@ ORBIS_CONST(uint, kSegmentInputColor, 1)
 ORBIS_CONST(uint, kSegmentInputB, 2)
 ORBIS_CONST(uint, kSegmentInputWidth, 3)
 ORBIS_CONST(uint, kSegmentInputFeature, 4)
+ORBIS_CONST(uint, kSegmentInputStart, 5)
+ORBIS_CONST(uint, kSegmentInputDash, 6)
 ORBIS_CONST(uint, kMarkerInputPosition, 0)
 ORBIS_CONST(uint, kMarkerInputColor, 1)
 ORBIS_CONST(uint, kMarkerInputSize, 2)
@@ -86,6 +88,8 @@ struct VectorSegment {
     vec3 b;
     float widthPx;
     uint feature;
+    float startM;    // the distance along its line at a (m): where its dashes fall
+    vec2 dashPx;     // on, off (px); 0: solid
 };
 
 struct VectorMarker {
@@ -125,8 +129,8 @@ static_assert(offsetof(orbis::shader::LabelGlyph, uv) == 24 && offsetof(orbis::s
               "LabelGlyph offsets changed");
 static_assert(sizeof(orbis::shader::VectorMeshVertex) == 24 && offsetof(orbis::shader::VectorMeshVertex, normal) == 12,
               "VectorMeshVertex layout changed");
-static_assert(sizeof(orbis::shader::VectorSegment) == 36 && offsetof(orbis::shader::VectorSegment, b) == 16 &&
-                  offsetof(orbis::shader::VectorSegment, feature) == 32,
+static_assert(sizeof(orbis::shader::VectorSegment) == 48 && offsetof(orbis::shader::VectorSegment, b) == 16 &&
+                  offsetof(orbis::shader::VectorSegment, feature) == 32 && offsetof(orbis::shader::VectorSegment, dashPx) == 40,
               "VectorSegment layout changed");
 static_assert(sizeof(orbis::shader::VectorMarker) == 44 && offsetof(orbis::shader::VectorMarker, sizePx) == 16 &&
                   offsetof(orbis::shader::VectorMarker, icon) == 24 && offsetof(orbis::shader::VectorMarker, scale) == 32,

@@ -2,8 +2,9 @@
 // buildings on the mountain's slope, lit by the morning sun, with a polygon, a line and points
 // floating above the ground (golden); each building's walls reach the terrain's ground;
 // a picked building turns yellow; the extrusion scale raises the roofs; a point at altitude shows
-// its icon upright, as wide as it is, scaled with the range; a layer without meshes builds no
-// mesh pipeline, and a layer made only of meshes no drape.
+// its icon upright, as wide as it is, scaled with the range; a line at altitude is dashed as its
+// style says; a layer without meshes builds no mesh pipeline, and a layer made only of meshes
+// no drape.
 #include "base/Png.h"
 #include "globe/Ellipsoid.h"
 #include "layers/vector/VectorLayer.h"
@@ -278,6 +279,28 @@ TEST_F(VectorMesh, APointAtAltitudeShowsItsIconUprightAsWideAsItIsAndScaledWithR
     const glm::dvec2 far = extent(R"(, "iconScale": {"near": 1000, "far": 2000, "scale": 0.5})");
     EXPECT_NEAR(far.y, 12.0, 2.0);
     EXPECT_NEAR(far.x, 24.0, 3.0);
+}
+
+TEST_F(VectorMesh, ALineAtAltitudeIsDashedAsItsStyleSays) {
+    // The cable 250 m above the village, solid and dashed 8 on, 8 off: about half its pixels.
+    const std::string cable = writeGeoJson("vector-mesh", "cable.geojson",
+                                           R"({"type": "Feature", "properties": {"name": "cable"}, "geometry": {"type": "LineString", "coordinates": )"
+                                           R"([[6.975, 45.853, 250], [7.0, 45.858, 250], [7.02, 45.856, 250]]}})");
+    const auto red = [&](const std::string& dash) {
+        auto scene = load(vectorSceneJson(kVillageView,
+                                          mountainTerrain() + "," +
+                                              vectorLayerJson("Cable", cable, R"(, "altitude": "relative", "style": {"color": [1, 0, 0], "width": 4)" + dash + "}"),
+                                          "2026-06-21T07:30:00Z"));
+        if (!scene) return size_t(0);
+        const auto img = render(*scene);
+        size_t n = 0;
+        for (size_t i = 0; i < img.pixels.size(); i += 4) n += img.pixels[i] > 150 && img.pixels[i + 1] < 80 && img.pixels[i + 2] < 80;
+        return n;
+    };
+    const size_t solid = red(""), dashed = red(R"(, "dash": [8, 8])");
+    ASSERT_GT(solid, 200u);
+    EXPECT_GT(dashed, solid * 3 / 10) << "the dashes";
+    EXPECT_LT(dashed, solid * 7 / 10) << "the gaps";
 }
 
 }  // namespace
