@@ -237,18 +237,11 @@ TEST_F(VectorMesh, APointAtAltitudeShowsItsIconUprightAsWideAsItIsAndScaledWithR
     // A 2:1 icon in four colours (magenta and cyan on top, yellow and green below), 24 px high,
     // on a point 350 m above the ground: drawn 48 x 24 pixels, the right way up; with an
     // iconScale of 0.5 beyond 2 km (the camera is 3 km away), 24 x 12.
-    const auto dir = std::filesystem::current_path() / "vector-mesh";
-    std::filesystem::create_directories(dir);
-    ImageRgba8 icon{32, 16, std::vector<uint8_t>(32 * 16 * 4, 255)};
-    for (uint32_t y = 0; y < 16; ++y)
-        for (uint32_t x = 0; x < 32; ++x) {
-            uint8_t* p = &icon.pixels[(size_t(y) * 32 + x) * 4];
-            const bool right = x >= 16, bottom = y >= 8;
-            p[0] = (!bottom && right) || (bottom && right) ? 0 : 255;   // magenta, cyan / yellow, green
-            p[1] = !bottom && !right ? 0 : 255;
-            p[2] = bottom ? 0 : 255;
-        }
-    ASSERT_TRUE(writePng(dir / "quad.png", icon).ok());
+    const auto quad = writeIcon("vector-mesh", "quad.png", 32, 16, [](uint32_t x, uint32_t y, uint8_t* p) {
+        const bool right = x >= 16, bottom = y >= 8;   // magenta, cyan / yellow, green
+        p[0] = right ? 0 : 255, p[1] = !bottom && !right ? 0 : 255, p[2] = bottom ? 0 : 255, p[3] = 255;
+    });
+    ASSERT_FALSE(quad.empty());
     const std::string point = writeGeoJson("vector-mesh", "beacon.geojson",
                                            R"({"type": "Feature", "properties": {"name": "beacon"}, "geometry": {"type": "Point", "coordinates": [7.0, 45.852, 350]}})");
     const auto extent = [&](const std::string& scale) {
@@ -256,7 +249,7 @@ TEST_F(VectorMesh, APointAtAltitudeShowsItsIconUprightAsWideAsItIsAndScaledWithR
             kVillageView,
             mountainTerrain() + "," +
                 vectorLayerJson("Beacon", point,
-                                R"(, "altitude": "relative", "style": {"icon": )" + jsonString((dir / "quad.png").string()) + R"(, "iconSize": 24)" +
+                                R"(, "altitude": "relative", "style": {"icon": )" + jsonString(quad.string()) + R"(, "iconSize": 24)" +
                                     scale + "}"),
             "2026-06-21T07:30:00Z"));
         EXPECT_TRUE(scene);

@@ -293,18 +293,14 @@ TEST_F(VectorRender, PointsShowTheirIconsWithTheirLabelsBesideAndATrailIsDashed)
     // A KML whose IconStyle names a PNG beside it (a hut: a dark red roof over an orange wall,
     // transparent around), labelled from the scene; one placemark's icon is missing: a marker.
     // A dashed trail joins the huts.
-    const auto dir = std::filesystem::current_path() / "vector-render";
-    std::filesystem::create_directories(dir);
-    ImageRgba8 hut{32, 32, std::vector<uint8_t>(32 * 32 * 4, 0)};
-    for (int y = 0; y < 32; ++y)
-        for (int x = 0; x < 32; ++x) {
-            uint8_t* t = &hut.pixels[(size_t(y) * 32 + x) * 4];
-            const bool roof = y >= 2 && y < 14 && std::abs(x - 16) <= (y - 2) * 14 / 12;
-            const bool wall = y >= 14 && y < 30 && x >= 6 && x < 26;
-            if (roof) t[0] = 150, t[1] = 20, t[2] = 20, t[3] = 255;
-            if (wall) t[0] = 255, t[1] = 140, t[2] = 0, t[3] = 255;
-        }
-    ASSERT_TRUE(writePng(dir / "hut.png", hut).ok());
+    const auto hut = writeIcon("vector-render", "hut.png", 32, 32, [](int x, int y, uint8_t* t) {
+        const bool roof = y >= 2 && y < 14 && std::abs(x - 16) <= (y - 2) * 14 / 12;
+        const bool wall = y >= 14 && y < 30 && x >= 6 && x < 26;
+        if (roof) t[0] = 150, t[1] = 20, t[2] = 20, t[3] = 255;
+        if (wall) t[0] = 255, t[1] = 140, t[2] = 0, t[3] = 255;
+    });
+    ASSERT_FALSE(hut.empty());
+    const auto dir = hut.parent_path();
     const std::string kml = (dir / "huts.kml").string();
     std::ofstream(kml) << R"KML(<?xml version="1.0" encoding="UTF-8"?>
 <kml xmlns="http://www.opengis.net/kml/2.2"><Document>

@@ -4,6 +4,8 @@
 // terrains, a vector layer.
 #include "tests/render/TerrainFixtures.h"
 
+#include "base/Png.h"
+
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -21,6 +23,21 @@ inline std::string writeGeoJson(const std::string& folder, const std::string& na
     std::filesystem::create_directories(dir);
     const auto path = (dir / name).string();
     std::ofstream(path) << R"({"type": "FeatureCollection", "features": [)" << features << "]}";
+    return path;
+}
+
+/// A PNG icon of `width` x `height` pixels written as `folder`/`name` under the current
+/// directory, each pixel (RGBA, transparent black to start with) set by `paint(x, y, pixel)`;
+/// its path.
+template <typename Paint>
+std::filesystem::path writeIcon(const std::string& folder, const std::string& name, uint32_t width, uint32_t height, Paint paint) {
+    const auto dir = std::filesystem::current_path() / folder;
+    std::filesystem::create_directories(dir);
+    ImageRgba8 icon{width, height, std::vector<uint8_t>(size_t(width) * height * 4, 0)};
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x) paint(x, y, &icon.pixels[(size_t(y) * width + x) * 4]);
+    const auto path = dir / name;
+    if (!writePng(path, icon)) return {};
     return path;
 }
 
