@@ -75,6 +75,7 @@ Result<FeatureTile> loadFeatureTile(const FeatureTilesOptions& options, const gl
         VectorReadOptions read = options.content.read;
         read.within = boxes[b];
         read.shape = shape;
+        read.reuseDataset = true;   // a pager reads the source many times
         auto part = readVector(read);
         if (!part) return part.error();
         if (b == 0) data = std::move(*part);

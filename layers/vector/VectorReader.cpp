@@ -275,9 +275,31 @@ std::string fieldNames(std::span<const FieldInfo> fields) {
     return out.empty() ? "none" : out;
 }
 
+namespace {
+
+/// The dataset to read from: opened for this read (`owned`), or this thread's, kept open for
+/// the same source's next read.
+Result<GDALDataset*> datasetFor(const VectorReadOptions& options, detail::DatasetPtr& owned) {
+    thread_local std::string keptSource;
+    thread_local detail::DatasetPtr kept;
+    if (options.reuseDataset && kept && keptSource == options.source) return kept.get();
+    auto dataset = detail::openVectorSource(options.source);
+    if (!dataset) return dataset.error();
+    if (!options.reuseDataset) {
+        owned = std::move(*dataset);
+        return owned.get();
+    }
+    kept = std::move(*dataset);
+    keptSource = options.source;
+    return kept.get();
+}
+
+}  // namespace
+
 Result<VectorData> readVector(const VectorReadOptions& options) {
     if (auto ok = checkOptions(options); !ok) return ok.error();
-    auto dataset = detail::openVectorSource(options.source);
+    detail::DatasetPtr owned;
+    auto dataset = datasetFor(options, owned);
     if (!dataset) return dataset.error();
     if (!options.sql.empty()) return readSql(**dataset, options);
     auto layers = chooseLayers(**dataset, options);

@@ -145,6 +145,9 @@ struct VectorReadOptions {
     /// returns false to drop it; one that moves vertices sets the feature's bounds again. The
     /// limits count what is kept.
     std::function<bool(Feature&)> shape;
+    /// Keep the source open on this thread for its next read (a pager's many small reads; the
+    /// filters are set again on each). Off: opened and closed by the read.
+    bool reuseDataset = false;
     VectorLimits limits;
 };
 
