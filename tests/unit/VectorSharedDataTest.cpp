@@ -338,5 +338,28 @@ TEST(VectorSharedData, ASummaryCountsFieldsAndBoundsWithoutReadingFeatures) {
     EXPECT_NE(missing.message().find("no layer 'roads'"), std::string::npos) << missing.message();
 }
 
+TEST(VectorSharedData, ASourceKeptOpenBetweenReadsTakesEachReadsOwnFilters) {
+    REQUIRE_SHARED("naturalearth_lowres.shp");
+    VectorReadOptions o;
+    o.source = (kDir / "naturalearth_lowres.shp").string();
+    o.reuseDataset = true;
+    const auto count = [&] {
+        auto data = readVector(o);
+        EXPECT_TRUE(data) << data.message();
+        return data ? data->layers[0].features.size() : size_t(0);
+    };
+    o.where = "continent = 'Africa'";
+    const size_t africa = count();
+    o.where.clear();
+    o.within = LonLatBounds{-10.0, 35.0, 30.0, 60.0, false};
+    const size_t europe = count();
+    o.within.reset();
+    EXPECT_EQ(count(), 177u) << "neither the where filter nor the box stayed on the kept source";
+    EXPECT_GT(africa, 40u);
+    EXPECT_LT(africa, 60u);
+    EXPECT_GT(europe, 20u);
+    EXPECT_LT(europe, 60u);
+}
+
 }  // namespace
 }  // namespace orbis::vector
