@@ -239,6 +239,10 @@ private:
     std::vector<jobs::Job<TileMeshBuild>> tileJobs_;
     std::vector<globe::TileKey> tileJobKeys_;
     uint64_t tileMeshGeneration_ = 1, meshFrame_ = 0;
+    /// Tiles whose build failed, with the generation it was for: not tried again for it.
+    std::map<globe::TileKey, uint64_t> failedTiles_;
+    /// The tiles of the mesh drawn now, in the order gathered.
+    std::vector<globe::TileKey> composedTiles_;
     size_t tileMeshesPending_ = 0;   ///< wanted tiles without a mesh of this generation
     bool tileMeshesChanged_ = false;
     /// Paged with meshes: whether a feature to paint on the terrain was met. Until then no

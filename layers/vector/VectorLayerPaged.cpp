@@ -121,6 +121,7 @@ void VectorLayer::updatePagedMeshes(const scene::FrameContext& frame) {
     for (const globe::TileKey& key : wanted) {
         const auto it = tileMeshes_.find(key);
         if (it != tileMeshes_.end() && it->second.generation == tileMeshGeneration_) continue;
+        if (const auto failed = failedTiles_.find(key); failed != failedTiles_.end() && failed->second == tileMeshGeneration_) continue;
         ++tileMeshesPending_;
         if (tileJobs_.size() >= 2 || std::find(tileJobKeys_.begin(), tileJobKeys_.end(), key) != tileJobKeys_.end()) continue;
         vector::FeatureTilesOptions options;
@@ -163,14 +164,19 @@ void VectorLayer::updatePagedMeshes(const scene::FrameContext& frame) {
         tileMeshes_.erase(oldest);
         tileMeshesChanged_ = true;
     }
-    // Drawn together: the wanted tiles' meshes, gathered when builds came in (at most every
-    // eighth frame while more are on their way: each gathering uploads them all again).
+    // Drawn together: the wanted tiles' meshes, gathered again when builds came in or the view
+    // wants another set of those built (at most every eighth frame while more are on their
+    // way: each gathering uploads them all again).
+    std::vector<globe::TileKey> drawable;
+    for (const globe::TileKey& key : wanted)
+        if (tileMeshes_.contains(key)) drawable.push_back(key);
+    if (drawable != composedTiles_) tileMeshesChanged_ = true;
     if (!tileMeshesChanged_ || (!tileJobs_.empty() && meshFrame_ % 8 != 0)) return;
     tileMeshesChanged_ = false;
+    composedTiles_ = drawable;
     auto combined = std::make_shared<vector::FeatureMesh>();
-    for (const globe::TileKey& key : wanted) {
+    for (const globe::TileKey& key : drawable) {
         const auto it = tileMeshes_.find(key);
-        if (it == tileMeshes_.end()) continue;
         const vector::FeatureMesh& m = *it->second.mesh;
         combined->chunks.insert(combined->chunks.end(), m.chunks.begin(), m.chunks.end());
         combined->features += m.features, combined->triangles += m.triangles;
@@ -200,8 +206,10 @@ void VectorLayer::pollPagedMeshes() {
             }
         } catch (const jobs::Cancelled&) {
         } catch (const std::exception& e) {
+            // Reported once, and not tried again for these settings (the rest still load).
             if (error_.empty()) log::error("vector layer \"", settings_.name, "\": tile ", tileJobKeys_[i].toString(), ": ", e.what());
             error_ = settings_.content.read.source + ": tile " + tileJobKeys_[i].toString() + ": " + e.what();
+            failedTiles_[tileJobKeys_[i]] = tileMeshGeneration_;
         }
         tileJobs_.erase(tileJobs_.begin() + ptrdiff_t(i));
         tileJobKeys_.erase(tileJobKeys_.begin() + ptrdiff_t(i));

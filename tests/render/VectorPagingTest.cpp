@@ -202,6 +202,19 @@ TEST_F(VectorPaging, PagedBuildingsAreMeshedATileAtATimeAsTheWholeSourceIs) {
     EXPECT_EQ(picked->feature, "fid " + std::to_string(building->fid));
     const auto tinted = renderScene(*paged, 320, 240);
     EXPECT_GT(countDifferentPixels(tinted, b, 24), 10u) << "the picked building is tinted";
+    // Away and back: the meshes drawn follow the view (those built stay and are drawn again).
+    const auto moveTo = [&](const char* view) {
+        Error error;
+        const auto vp = scene::readViewpoint(nlohmann::json::parse(view), "test", "/viewpoint", &error);
+        ASSERT_TRUE(vp.has_value());
+        paged->camera().setPose(globe::poseFromViewpoint(*vp));
+        renderScene(*paged, 320, 240);
+    };
+    const uint64_t triangles = layer.mesh()->triangles;
+    moveTo(R"({"lon": 12.0, "lat": 46.0, "range": 2600})");
+    EXPECT_EQ(layer.mesh()->triangles, 0u) << "nothing of the city in view";
+    moveTo(R"({"lon": 9.03, "lat": 46.019, "height": 600, "heading": 25, "pitch": -28, "range": 2600})");
+    EXPECT_EQ(layer.mesh()->triangles, triangles);
 }
 
 TEST_F(VectorPaging, BadPagingKeysNameTheKey) {
