@@ -17,18 +17,6 @@ namespace {
 /// Bytes counted for a page besides its features (the entry, an empty page's content).
 constexpr uint64_t kPageOverhead = 512;
 
-/// The box of a clipped feature's coordinates (all in the page's frame: no wrap to undo).
-LonLatBounds coordsBounds(const Feature& f) {
-    LonLatBounds b{f.coords[0].x, f.coords[0].y, f.coords[0].x, f.coords[0].y, false};
-    for (const glm::dvec3& c : f.coords) {
-        b.west = std::min(b.west, c.x), b.east = std::max(b.east, c.x);
-        b.south = std::min(b.south, c.y), b.north = std::max(b.north, c.y);
-    }
-    if (b.west < -180.0) b.west += 360.0, b.east += 360.0;   // a margin past -180: west within [-180, 180)
-    if (b.west >= 180.0) b.west -= 360.0, b.east -= 360.0;
-    return b;
-}
-
 /// Adds `more`'s features to `data`, layer by layer, but for those `data` has already (the same
 /// fid: a feature met by both boxes of a page across the antimeridian).
 void merge(VectorData& data, VectorData&& more) {
@@ -67,7 +55,7 @@ Result<FeatureTile> loadFeatureTile(const FeatureTilesOptions& options, const gl
         if (piece && tolerance > 0.0) piece = simplifyFeature(*piece, tolerance);
         if (!piece) return false;
         f = std::move(*piece);
-        f.bounds = coordsBounds(f);
+        f.bounds = partBounds(f.coords);   // all within the grown tile: one box
         return true;
     };
     VectorData data;

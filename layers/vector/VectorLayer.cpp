@@ -232,7 +232,7 @@ void VectorLayer::updateLabels(const scene::FrameContext& frame) {
 }
 
 void VectorLayer::republish() {
-    const vector::DrapeState state{.name = settings_.name.empty() ? settings_.content.read.source : settings_.name,
+    const vector::DrapeState state{.name = displayName(),
                                    .time = time_,
                                    .maxLevel = settings_.maxLevel,
                                    .simplifyPx = settings_.simplifyPx,
@@ -292,7 +292,7 @@ std::optional<scene::PickedAttributes> VectorLayer::pickPaged(const vector::Pick
         republish();
     }
     if (!hit) return std::nullopt;
-    return pickedAttributes(settings_.name.empty() ? settings_.content.read.source : settings_.name, **near, *hit);
+    return pickedAttributes(displayName(), **near, *hit);
 }
 
 std::optional<scene::PickedAttributes> VectorLayer::pickAt(double lonDeg, double latDeg, double metresPerPixel) {
@@ -308,7 +308,7 @@ std::optional<scene::PickedAttributes> VectorLayer::pickAt(double lonDeg, double
         republish();
     }
     if (!hit) return std::nullopt;
-    return pickedAttributes(settings_.name.empty() ? settings_.content.read.source : settings_.name, *content_, *hit);
+    return pickedAttributes(displayName(), *content_, *hit);
 }
 
 void VectorLayer::clearPick() {

@@ -198,6 +198,8 @@ private:
     /// Gathers this frame's labels and submits them to the scene's shared board.
     void updateLabels(const scene::FrameContext& frame);
     bool drawingLabels() const { return labels_ && settings_.labels && (content_ || pages_); }
+    /// The layer's name, or its source's when it has none (drapes, picked features).
+    const std::string& displayName() const { return settings_.name.empty() ? settings_.content.read.source : settings_.name; }
     /// Paged: gathers the labelled features of the pages in memory again when they changed.
     void updatePagedLabels();
     void pollPagedLabels();
