@@ -351,18 +351,18 @@ shader::TileDraw TerrainLayer::tileDraw(const scene::Camera& camera, const glm::
 void TerrainLayer::writeDescriptors(uint32_t f) {
     if (setVersion_[f] == gpuSlots_->version()) return;
     setVersion_[f] = gpuSlots_->version();
-    // Pages not made yet are bound to a dummy: the shaders index every page.
+    // Before the first slot of a kind, its image is a dummy.
     gpu::DescriptorWriter(descriptors_.sets[f])
         .storageBuffer(shader::kTerrainBindingDraws, drawBuffers_[f])
-        .sampledImages(shader::kTerrainBindingElevation, heightSampler_.vk(), gpuSlots_->elevationViews())
-        .sampledImages(shader::kTerrainBindingImagery, imagerySampler_.vk(), gpuSlots_->imageryViews())
+        .sampledImage(shader::kTerrainBindingElevation, heightSampler_.vk(), gpuSlots_->elevationView())
+        .sampledImage(shader::kTerrainBindingImagery, imagerySampler_.vk(), gpuSlots_->imageryView())
         .update(*services_.device);
 }
 
 void TerrainLayer::recordTransfers(const render::RecordContext& rc) {
     VkCommandBuffer cmd = rc.cmd;
     if (!drawData_.empty()) drawBuffers_[rc.slot].write(drawData_.data(), drawData_.size());
-    if (!uploads_.empty()) {
+    if (!uploads_.empty() || gpuSlots_->growing()) {
         gpuSlots_->beginUploads(cmd);
         for (const PendingUpload& u : uploads_) {
             if (u.kind == Kind::Mesh) {

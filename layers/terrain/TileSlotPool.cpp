@@ -19,11 +19,13 @@ TileSlotPool::TileSlotPool(gpu::Device& device, gpu::Uploader& uploader, int gri
       meshVertices_(globe::tileVertexCount(gridSize)),
       budgetBytes_(budgetBytes),
       reservedBytes_(reservedBytes) {
-    pool(Kind::Mesh) = {kMeshSlotsPerPage, kMeshPagesMax, uint64_t(kMeshSlotsPerPage) * meshVertices_ * sizeof(globe::TileVertex)};
-    pool(Kind::Elevation) = {shader::kElevationSlotsPerPage, shader::kElevationPages,
-                             uint64_t(shader::kElevationSlotsPerPage) * gridSize * gridSize * 4 * sizeof(float)};
-    pool(Kind::Imagery) = {shader::kImagerySlotsPerPage, shader::kImageryPages,
-                           uint64_t(shader::kImagerySlotsPerPage) * imageSize * imageSize * 4 * 4 / 3};
+    const uint32_t maxLayers = device.properties().limits.maxImageArrayLayers;
+    pool(Kind::Mesh) = {kMeshSlotsPerPage, kMeshSlotsPerPage * kMeshPagesMax, uint64_t(meshVertices_) * sizeof(globe::TileVertex)};
+    pool(Kind::Elevation) = {kElevationFirstSlots, std::min(shader::kElevationMaxSlots, maxLayers),
+                             uint64_t(gridSize) * gridSize * 4 * sizeof(float)};
+    // RGBA8 and its mip chain.
+    pool(Kind::Imagery) = {kImageryFirstSlots, std::min(shader::kImageryMaxSlots, maxLayers),
+                           uint64_t(imageSize) * imageSize * 4 * 4 / 3};
     createDummies(uploader);
 }
 
@@ -50,18 +52,11 @@ void TileSlotPool::createDummies(gpu::Uploader& uploader) {
     });
 }
 
-uint64_t TileSlotPool::slotBytes(Kind kind) const {
-    switch (kind) {
-        case Kind::Mesh: return pool(kind).pageBytes / pool(kind).slotsPerPage;
-        case Kind::Elevation: return uint64_t(gridSize_) * gridSize_ * 4 * sizeof(float);
-        case Kind::Imagery: break;
-    }
-    return uint64_t(imageSize_) * imageSize_ * 4 * 4 / 3;   // RGBA8 and its mip chain
-}
+uint64_t TileSlotPool::slotBytes(Kind kind) const { return pool(kind).slotBytes; }
 
 uint64_t TileSlotPool::allocatedBytes() const {
     uint64_t bytes = 0;
-    for (const Pool& p : pools_) bytes += uint64_t(p.pages()) * p.pageBytes;
+    for (const Pool& p : pools_) bytes += uint64_t(p.slots.size()) * p.slotBytes;
     return bytes;
 }
 
@@ -76,19 +71,24 @@ std::optional<uint32_t> TileSlotPool::find(Kind kind, const globe::DataKey& key)
 std::optional<uint32_t> TileSlotPool::acquire(Kind kind, const globe::DataKey& key, bool mayExceedBudget, uint32_t generation) {
     Pool& p = pool(kind);
     if (p.freeSlots.empty()) {
-        const bool fits = reservedBytes_ + allocatedBytes() + p.pageBytes <= budgetBytes_;
-        const bool canGrow = p.pages() < p.maxPages;
-        if (fits && canGrow) {
-            addPage(kind);
+        const uint32_t now = uint32_t(p.slots.size());
+        const uint32_t capacity = grownCapacity(kind);
+        const bool canGrow = capacity > now;
+        // An image grows by what the budget leaves when that is less than twice; a mesh page is whole.
+        const uint64_t used = reservedBytes_ + allocatedBytes();
+        const uint64_t room = used < budgetBytes_ ? (budgetBytes_ - used) / p.slotBytes : 0;
+        const uint32_t fitting = uint32_t(std::min<uint64_t>(capacity, now + room));
+        if (fitting > now && (kind != Kind::Mesh || fitting == capacity)) {
+            grow(kind, fitting);
         } else if (!evictOne(p)) {
-            // Over the budget, only what would otherwise leave a hole (or the first page) grows.
-            if (!canGrow || !(mayExceedBudget || p.pages() == 0)) return std::nullopt;
+            // Over the budget, only what would otherwise leave a hole (or the first slots) grows.
+            if (!canGrow || !(mayExceedBudget || p.slots.empty())) return std::nullopt;
             if (!warnedBudget_) {
                 warnedBudget_ = true;
                 log::warn("terrain: this view needs more than the GPU tile budget (", budgetBytes_ >> 20,
                           " MB); raise \"gpuCacheMB\" or \"maxScreenSpaceError\"");
             }
-            addPage(kind);
+            grow(kind, capacity);
         }
     }
     const uint32_t slot = p.freeSlots.back();
@@ -112,33 +112,70 @@ bool TileSlotPool::evictOne(Pool& p) {
     return true;
 }
 
-void TileSlotPool::addPage(Kind kind) {
+uint32_t TileSlotPool::grownCapacity(Kind kind) const {
+    const Pool& p = pool(kind);
+    const uint32_t now = uint32_t(p.slots.size());
+    if (kind == Kind::Mesh) return std::min(now + p.growBy, p.maxSlots);   // one more vertex buffer
+    return std::min(std::max(now * 2, p.growBy), p.maxSlots);              // an image twice as large
+}
+
+void TileSlotPool::grow(Kind kind, uint32_t capacity) {
     Pool& p = pool(kind);
     const uint32_t first = uint32_t(p.slots.size());
-    p.slots.resize(p.slots.size() + p.slotsPerPage);
-    for (uint32_t i = p.slotsPerPage; i-- > 0;) p.freeSlots.push_back(first + i);
+    p.slots.resize(capacity);
+    for (uint32_t i = capacity; i-- > first;) p.freeSlots.push_back(i);
     if (kind == Kind::Mesh) {
-        meshPages_.emplace_back(*device_, p.pageBytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+        meshPages_.emplace_back(*device_, uint64_t(kMeshSlotsPerPage) * p.slotBytes,
+                                VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                 gpu::MemoryUsage::GpuOnly, "terrain meshes");
         return;
     }
     gpu::ImageDesc d;
     d.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
-    d.layers = p.slotsPerPage;
-    d.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    d.layers = capacity;
+    d.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     if (kind == Kind::Elevation) {
-        d.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+        d.format = VK_FORMAT_R32G32B32A32_SFLOAT;   // height, gradient east, gradient south
         d.extent = {uint32_t(gridSize_), uint32_t(gridSize_), 1};
-        d.name = "terrain elevation page";
-        elevationPages_.emplace_back(*device_, d);
+        d.name = "terrain elevation";
     } else {
         d.format = VK_FORMAT_R8G8B8A8_SRGB;
         d.extent = {uint32_t(imageSize_), uint32_t(imageSize_), 1};
         d.mipLevels = uint32_t(std::log2(imageSize_)) + 1;
-        d.name = "terrain imagery page";
-        imageryPages_.emplace_back(*device_, d);
+        d.name = "terrain imagery";
     }
+    SlotImage& target = slotImage(kind);
+    // The layers with data come from the image that had them: grown twice before the frame's
+    // transfers, the one in between never held any.
+    if (!target.copyFrom && target.image) {
+        target.copyFrom = std::move(target.image);
+        target.copyLayers = first;
+    }
+    target.image = gpu::Image(*device_, d);
     ++version_;
+}
+
+bool TileSlotPool::growing() const { return bool(elevation_.copyFrom) || bool(imagery_.copyFrom); }
+
+void TileSlotPool::copyGrown(VkCommandBuffer cmd, SlotImage& target) {
+    if (!target.copyFrom) return;
+    const gpu::ImageTransition uses[] = {{&target.copyFrom, gpu::ImageUse::TransferSrc},
+                                         {&target.image, gpu::ImageUse::TransferDst}};
+    gpu::transition(cmd, uses);
+    std::vector<VkImageCopy> regions;
+    const VkExtent3D extent = target.image.extent();
+    for (uint32_t m = 0; m < target.image.desc().mipLevels; ++m) {
+        VkImageCopy r{};
+        r.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, m, 0, target.copyLayers};
+        r.dstSubresource = r.srcSubresource;
+        r.extent = {std::max(extent.width >> m, 1u), std::max(extent.height >> m, 1u), 1};
+        regions.push_back(r);
+    }
+    vkCmdCopyImage(cmd, target.copyFrom.vk(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target.image.vk(),
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, uint32_t(regions.size()), regions.data());
+    target.copyFrom = gpu::Image();   // retired: freed once this frame's submit completes
+    target.copyLayers = 0;
+    target.touched = true;
 }
 
 void TileSlotPool::beginUploads(VkCommandBuffer cmd) {
@@ -151,8 +188,9 @@ void TileSlotPool::beginUploads(VkCommandBuffer cmd) {
     dep.pMemoryBarriers = &before;
     vkCmdPipelineBarrier2(cmd, &dep);
     meshTouched_.assign(meshPages_.size(), false);
-    elevationTouched_.assign(elevationPages_.size(), false);
-    imageryTouched_.assign(imageryPages_.size(), false);
+    elevation_.touched = imagery_.touched = false;
+    copyGrown(cmd, elevation_);
+    copyGrown(cmd, imagery_);
 }
 
 void TileSlotPool::uploadMesh(VkCommandBuffer cmd, gpu::Uploader& uploader, uint32_t slot,
@@ -164,7 +202,6 @@ void TileSlotPool::uploadMesh(VkCommandBuffer cmd, gpu::Uploader& uploader, uint
 }
 
 void TileSlotPool::uploadElevation(VkCommandBuffer cmd, gpu::Uploader& uploader, uint32_t slot, const globe::ElevationData& data) {
-    const uint32_t page = slot / shader::kElevationSlotsPerPage;
     const auto& h = data.heights;
     std::vector<float> texels(h.size() * 4);
     for (size_t i = 0; i < h.size(); ++i) {
@@ -173,23 +210,22 @@ void TileSlotPool::uploadElevation(VkCommandBuffer cmd, gpu::Uploader& uploader,
         texels[i * 4 + 2] = data.gradients[i * 2 + 1];
         texels[i * 4 + 3] = 0.0f;
     }
-    uploader.toImage(cmd, elevationPages_[page], texels.data(), texels.size() * sizeof(float), slot % shader::kElevationSlotsPerPage);
-    elevationTouched_[page] = true;
+    uploader.toImage(cmd, elevation_.image, texels.data(), texels.size() * sizeof(float), slot);
+    elevation_.touched = true;
 }
 
 void TileSlotPool::uploadImagery(VkCommandBuffer cmd, gpu::Uploader& uploader, uint32_t slot, const globe::ImageryData& data) {
-    const uint32_t page = slot / shader::kImagerySlotsPerPage;
     std::vector<VkBufferImageCopy> regions;
     for (int m = 0; m < data.mipLevels(); ++m) {
         const uint32_t size = uint32_t(std::max(data.size >> m, 1));
         VkBufferImageCopy r{};
         r.bufferOffset = data.mipOffsets[size_t(m)];
-        r.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), slot % shader::kImagerySlotsPerPage, 1};
+        r.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), slot, 1};
         r.imageExtent = {size, size, 1};
         regions.push_back(r);
     }
-    uploader.toImageRegions(cmd, imageryPages_[page], data.rgba.data(), data.rgba.size(), regions);
-    imageryTouched_[page] = true;
+    uploader.toImageRegions(cmd, imagery_.image, data.rgba.data(), data.rgba.size(), regions);
+    imagery_.touched = true;
 }
 
 void TileSlotPool::endUploads(VkCommandBuffer cmd) {
@@ -197,23 +233,14 @@ void TileSlotPool::endUploads(VkCommandBuffer cmd) {
         if (meshTouched_[p])
             gpu::bufferBarrier(cmd, meshPages_[p], VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                                VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
-    for (size_t p = 0; p < elevationPages_.size(); ++p)
-        if (elevationTouched_[p]) gpu::transition(cmd, elevationPages_[p], gpu::ImageUse::SampledGraphics);
-    for (size_t p = 0; p < imageryPages_.size(); ++p)
-        if (imageryTouched_[p]) gpu::transition(cmd, imageryPages_[p], gpu::ImageUse::SampledGraphics);
+    if (elevation_.touched) gpu::transition(cmd, elevation_.image, gpu::ImageUse::SampledGraphics);
+    if (imagery_.touched) gpu::transition(cmd, imagery_.image, gpu::ImageUse::SampledGraphics);
 }
 
-std::vector<VkImageView> TileSlotPool::elevationViews() const {
-    std::vector<VkImageView> views(shader::kElevationPages);
-    for (uint32_t i = 0; i < views.size(); ++i)
-        views[i] = i < elevationPages_.size() ? elevationPages_[i].view() : dummyElevation_.view();
-    return views;
+VkImageView TileSlotPool::elevationView() const {
+    return elevation_.image ? elevation_.image.view() : dummyElevation_.view();
 }
 
-std::vector<VkImageView> TileSlotPool::imageryViews() const {
-    std::vector<VkImageView> views(shader::kImageryPages);
-    for (uint32_t i = 0; i < views.size(); ++i) views[i] = i < imageryPages_.size() ? imageryPages_[i].view() : dummyImagery_.view();
-    return views;
-}
+VkImageView TileSlotPool::imageryView() const { return imagery_.image ? imagery_.image.view() : dummyImagery_.view(); }
 
 }  // namespace orbis::layers

@@ -1,11 +1,16 @@
 #pragma once
 // The terrain's tile data on the GPU: tile meshes in pages of vertex buffer, elevation and
-// imagery in pages of array images (at most shader::kElevationPages and kImageryPages, the
-// arrays the shaders bind). A page has a fixed number of slots, each holding one tile's data,
-// found by its DataKey. Pages are added on demand while the GPU budget allows; past it, the
-// least recently used slot that the current frame does not use is given to new data. Image
-// pages not made yet are stood in for by small dummies, so that the shaders' arrays are always
-// full.
+// imagery each in ONE array image whose layers are the slots (shader::kElevationMaxSlots,
+// kImageryMaxSlots at most). A slot holds one tile's data, found by its DataKey. Capacity is
+// added on demand while the GPU budget allows (a mesh page; an array image twice as large, the
+// old layers copied into it while the frame's transfers are recorded); past it, the least
+// recently used slot that the current frame does not use is given to new data. Before an
+// image exists a small dummy stands in for it.
+//
+// One image per kind, not pages of them: a shader cannot index an array of samplers with a
+// per-tile value on lavapipe (no dynamic indexing), and a switch over the pages made llvmpipe
+// sample every page for every pixel (8 pages: the default scene's terrain took 186 ms a frame
+// at 1920x1080, 111 ms with one).
 
 #include "engine/gpu/Buffer.h"
 #include "engine/gpu/Image.h"
@@ -31,7 +36,7 @@ class TileSlotPool {
 public:
     enum class Kind : uint32_t { Mesh, Elevation, Imagery };
 
-    /// Tiles of `gridSize` samples and `imageSize` pixels a side; pages within `budgetBytes` less
+    /// Tiles of `gridSize` samples and `imageSize` pixels a side; capacity within `budgetBytes` less
     /// the `reservedBytes` the layer holds besides (its index and draw buffers). Uploads the
     /// dummies before it returns. Main thread.
     TileSlotPool(gpu::Device& device, gpu::Uploader& uploader, int gridSize, int imageSize, uint64_t budgetBytes,
@@ -41,9 +46,9 @@ public:
     void beginFrame(uint64_t frame) { frame_ = frame; }
     /// The slot holding `key`'s data, marked used this frame.
     std::optional<uint32_t> find(Kind kind, const globe::DataKey& key);
-    /// A slot for `key`'s data, to be uploaded this frame: a free one, one of a new page while
+    /// A slot for `key`'s data, to be uploaded this frame: a free one, one of new capacity while
     /// within the budget, else the least recently used one this frame does not use. Only
-    /// `mayExceedBudget` (a mesh, without which a tile would be a hole) adds pages past the
+    /// `mayExceedBudget` (a mesh, without which a tile would be a hole) adds capacity past the
     /// budget. Nothing when no slot can be had: the caller falls back to an ancestor.
     /// `generation`: which version of the key's data goes in (TerrainTiles::dataGeneration).
     std::optional<uint32_t> acquire(Kind kind, const globe::DataKey& key, bool mayExceedBudget, uint32_t generation = 0);
@@ -54,9 +59,12 @@ public:
     /// The bytes of one slot of `kind` (what uploading it costs).
     uint64_t slotBytes(Kind kind) const;
 
-    /// Uploads into slots, while recording the frame's transfers: beginUploads, the slots' data,
-    /// then endUploads, which makes the pages written visible to the draws.
+    /// Uploads into slots, while recording the frame's transfers: beginUploads (which first
+    /// copies a grown image's old layers), the slots' data, then endUploads, which makes what
+    /// was written visible to the draws. Needed whenever there are uploads or growing().
     void beginUploads(VkCommandBuffer cmd);
+    /// An image grew this frame: its old layers are still to be copied (beginUploads).
+    bool growing() const;
     void uploadMesh(VkCommandBuffer cmd, gpu::Uploader& uploader, uint32_t slot, std::span<const globe::TileVertex> vertices);
     /// Heights and their gradients per sample (the loader's): interpolating the gradient gives
     /// continuous normals.
@@ -68,16 +76,18 @@ public:
     VkBuffer meshBuffer(uint32_t slot) const { return meshPages_[slot / kMeshSlotsPerPage].vk(); }
     uint32_t meshPage(uint32_t slot) const { return slot / kMeshSlotsPerPage; }
     int32_t meshVertexOffset(uint32_t slot) const { return int32_t((slot % kMeshSlotsPerPage) * meshVertices_); }
-    /// The views the shaders' page arrays bind: each page, then dummies.
-    std::vector<VkImageView> elevationViews() const;
-    std::vector<VkImageView> imageryViews() const;
-    /// Changes whenever an image page is added (descriptor sets naming the old views are stale).
+    /// The views the shaders bind (a dummy before the first slot).
+    VkImageView elevationView() const;
+    VkImageView imageryView() const;
+    /// Changes whenever an image is replaced (descriptor sets naming the old views are stale).
     uint64_t version() const { return version_; }
     uint64_t allocatedBytes() const;
 
 private:
     static constexpr uint32_t kMeshSlotsPerPage = 64;
     static constexpr uint32_t kMeshPagesMax = 64;
+    static constexpr uint32_t kElevationFirstSlots = 128;
+    static constexpr uint32_t kImageryFirstSlots = 32;
     struct Slot {
         globe::DataKey owner;
         uint64_t lastUsed = 0;
@@ -85,18 +95,29 @@ private:
         uint32_t generation = 0;
     };
     struct Pool {
-        uint32_t slotsPerPage = 0, maxPages = 0;
-        uint64_t pageBytes = 0;
-        std::vector<Slot> slots;
+        uint32_t growBy = 0;     ///< slots of the first page (meshes: of every page)
+        uint32_t maxSlots = 0;
+        uint64_t slotBytes = 0;
+        std::vector<Slot> slots;   ///< the capacity
         std::vector<uint32_t> freeSlots;
         std::unordered_map<globe::DataKey, uint32_t, globe::DataKeyHash> resident;
-        uint32_t pages() const { return slotsPerPage ? uint32_t(slots.size() / slotsPerPage) : 0; }
+    };
+    /// An elevation or imagery array image, and while it grows the image its layers come from.
+    struct SlotImage {
+        gpu::Image image;
+        gpu::Image copyFrom;       ///< valid until beginUploads copies its layers
+        uint32_t copyLayers = 0;
+        bool touched = false;      ///< written since beginUploads
     };
     Pool& pool(Kind kind) { return pools_[size_t(kind)]; }
     const Pool& pool(Kind kind) const { return pools_[size_t(kind)]; }
     /// The least recently used slot not used this frame, freed; nothing if every slot is in use.
     bool evictOne(Pool& pool);
-    void addPage(Kind kind);
+    /// The capacity `kind` would have after growing (its current one when it cannot grow).
+    uint32_t grownCapacity(Kind kind) const;
+    void grow(Kind kind, uint32_t capacity);
+    SlotImage& slotImage(Kind kind) { return kind == Kind::Elevation ? elevation_ : imagery_; }
+    void copyGrown(VkCommandBuffer cmd, SlotImage& target);
     void createDummies(gpu::Uploader& uploader);
 
     gpu::Device* device_;
@@ -107,10 +128,9 @@ private:
     bool warnedBudget_ = false;
     Pool pools_[3];
     std::vector<gpu::Buffer> meshPages_;
-    std::vector<gpu::Image> elevationPages_, imageryPages_;
+    SlotImage elevation_, imagery_;
     gpu::Image dummyElevation_, dummyImagery_;
-    // Pages written since beginUploads.
-    std::vector<bool> meshTouched_, elevationTouched_, imageryTouched_;
+    std::vector<bool> meshTouched_;   ///< mesh pages written since beginUploads
 };
 
 }  // namespace orbis::layers

@@ -132,10 +132,17 @@ std::vector<PipelineContract> pipelines() {
     };
 }
 
+/// The terrain's set as it was when heights lay in four pages (an array of samplers): no table
+/// declares an array now, and the checker must still see an array's size.
+constexpr shader::DescriptorBinding kTerrainBindingsPaged[] = {
+    {shader::kTerrainBindingDraws, shader::DescriptorKind::StorageBuffer, 1, shader::kStageVertex | shader::kStageFragment},
+    {shader::kTerrainBindingElevation, shader::DescriptorKind::CombinedImageSampler, 4, shader::kStageVertex},
+};
+
 /// The checker must see a mismatch of each kind: the points' splat shader against the FMV's and
 /// the static models' tables (kinds, stages, constants, group size, a missing binding), the
-/// terrain's vertex shader against the points' table and the earth's vertex inputs (a set
-/// without a table, an array size, a location).
+/// terrain's vertex shader against the points' table, the earth's vertex inputs and a paged
+/// table (a set without a table, a location, an array size).
 bool selfTest() {
     const PipelineContract wrong[] = {
         {"self-test splat", {ORBIS_SHADER(points, splat, comp)}, {ORBIS_SET(kPointSet, kFmvBindings)},
@@ -144,6 +151,8 @@ bool selfTest() {
          ORBIS_SPECS(kPointSpecConstants), {kPointGroupSize, 1, 1}},
         {"self-test terrain", {ORBIS_SHADER(terrain, terrain, vert)}, {ORBIS_SET(kTerrainSet, kPointBindings)}, nullptr, {}, {},
          {kEarthInputPosition, kEarthInputNormal, kEarthInputLonLat}},
+        {"self-test terrain", {ORBIS_SHADER(terrain, terrain, vert)}, {ORBIS_SET(kTerrainSet, kTerrainBindingsPaged)}, nullptr,
+         {}, {}, {kTerrainInputPosition, kTerrainInputNormal, kTerrainInputUv, kTerrainInputCellMetres}},
     };
     const char* expected[] = {"is a storage buffer in the shader but a combined image sampler in shader::kFmvBindings",
                               "is read by the compute stage, which shader::kFmvBindings (set 1) does not give it",
@@ -152,7 +161,7 @@ bool selfTest() {
                               "the workgroup size is (256, 1, 1) in the shader but (8, 8, 1)",
                               "has no binding 2",
                               "has no table for set 0",
-                              "is an array of 4 in the shader but 1 in shader::kPointBindings",
+                              "is an array of 1 in the shader but 4 in shader::kTerrainBindingsPaged",
                               "vertex input location 3 ('inCellMetres') is not one the C++ attributes name"};
     std::string all;
     for (const PipelineContract& p : wrong)

@@ -1,6 +1,6 @@
 // Terrain tiles: one TileDraw per drawn tile in a per-frame storage buffer (set kTerrainSet),
-// picked by gl_InstanceIndex (the draw's firstInstance); tile data lives in pages of array
-// textures; the shaders pick a page with a switch over constant indices.
+// picked by gl_InstanceIndex (the draw's firstInstance); elevation and imagery each live in one
+// array texture whose layers are the slots (layers/terrain/TileSlotPool.h).
 #ifndef ORBIS_SHADERS_SHARED_TERRAIN_TYPES_H
 #define ORBIS_SHADERS_SHARED_TERRAIN_TYPES_H
 
@@ -10,8 +10,8 @@ ORBIS_NAMESPACE_BEGIN
 
 ORBIS_CONST(uint, kTerrainSet, 1)
 ORBIS_CONST(uint, kTerrainBindingDraws, 0)       // TileDraw[] (storage buffer)
-ORBIS_CONST(uint, kTerrainBindingElevation, 1)   // sampler2DArray[kElevationPages]
-ORBIS_CONST(uint, kTerrainBindingImagery, 2)     // sampler2DArray[kImageryPages]
+ORBIS_CONST(uint, kTerrainBindingElevation, 1)   // sampler2DArray: a layer per elevation slot
+ORBIS_CONST(uint, kTerrainBindingImagery, 2)     // sampler2DArray: a layer per imagery slot
 
 ORBIS_CONST(uint, kTerrainSpecImageryLayers, 0)   // int: imagery layers the pipeline blends
 ORBIS_CONST(uint, kTerrainSpecFirstDrape, 1)      // int: the first of them that is a layer's drape
@@ -23,10 +23,8 @@ ORBIS_CONST(uint, kTerrainInputUv, 2)
 ORBIS_CONST(uint, kTerrainInputCellMetres, 3)
 
 ORBIS_CONST(uint, kTerrainMaxImagery, 4)
-ORBIS_CONST(uint, kElevationPages, 4)
-ORBIS_CONST(uint, kElevationSlotsPerPage, 128)
-ORBIS_CONST(uint, kImageryPages, 8)
-ORBIS_CONST(uint, kImagerySlotsPerPage, 32)
+ORBIS_CONST(uint, kElevationMaxSlots, 512)   // array layers, at most
+ORBIS_CONST(uint, kImageryMaxSlots, 256)
 
 // std430; every vector 16-byte aligned.
 struct TileDraw {
@@ -60,8 +58,8 @@ namespace orbis::shader {
 /// Set kTerrainSet, one per frame in flight (layers/terrain/TerrainLayer.cpp).
 inline constexpr DescriptorBinding kTerrainBindings[] = {
     {kTerrainBindingDraws, DescriptorKind::StorageBuffer, 1, kStageVertex | kStageFragment},
-    {kTerrainBindingElevation, DescriptorKind::CombinedImageSampler, kElevationPages, kStageVertex},
-    {kTerrainBindingImagery, DescriptorKind::CombinedImageSampler, kImageryPages, kStageFragment},
+    {kTerrainBindingElevation, DescriptorKind::CombinedImageSampler, 1, kStageVertex},
+    {kTerrainBindingImagery, DescriptorKind::CombinedImageSampler, 1, kStageFragment},
 };
 inline constexpr SpecConstant kTerrainSpecConstants[] = {{kTerrainSpecImageryLayers, SpecType::Int},
                                                         {kTerrainSpecFirstDrape, SpecType::Int}};

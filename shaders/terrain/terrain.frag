@@ -5,7 +5,7 @@
 
 layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 layout(set = kTerrainSet, binding = kTerrainBindingDraws, std430) readonly buffer DrawBlock { TileDraw draws[]; };
-layout(set = kTerrainSet, binding = kTerrainBindingImagery) uniform sampler2DArray imageryPages[kImageryPages];
+layout(set = kTerrainSet, binding = kTerrainBindingImagery) uniform sampler2DArray imagery;   // a layer per slot
 layout(push_constant) uniform PushBlock { TerrainPush pc; };
 
 // Imagery layers this pipeline blends (the scene's count): unused layers cost nothing.
@@ -24,27 +24,12 @@ layout(location = 3) flat in int vDraw;
 
 layout(location = 0) out vec4 outColor;
 
-// lavapipe cannot index sampler arrays with a variable (shaderSampledImageArrayDynamicIndexing
-// is off), so each page is picked with a constant index. Implicit derivatives inside the
-// branches are not reliable (the compiler cannot prove the branch uniform), so the level of
-// detail is computed outside, in uniform control flow, and passed in (textureLod is also much
-// cheaper than textureGrad on CPU rasterisers).
-vec4 fetchImagery(int page, vec3 tc, float lod) {
-    switch (page) {
-        case 0: return textureLod(imageryPages[0], tc, lod);
-        case 1: return textureLod(imageryPages[1], tc, lod);
-        case 2: return textureLod(imageryPages[2], tc, lod);
-        case 3: return textureLod(imageryPages[3], tc, lod);
-        case 4: return textureLod(imageryPages[4], tc, lod);
-        case 5: return textureLod(imageryPages[5], tc, lod);
-        case 6: return textureLod(imageryPages[6], tc, lod);
-        default: return textureLod(imageryPages[7], tc, lod);
-    }
-}
-
 void main() {
     TileDraw d = draws[vDraw];
     vec3 color = pc.baseColor;
+    // The level of detail is computed here, in uniform control flow, and passed in: implicit
+    // derivatives inside the loop's branches are not reliable, and textureLod is much cheaper
+    // than textureGrad on CPU rasterisers.
     // Texels of an own-level imagery tile per pixel, squared; an ancestor's scale shrinks it.
     vec2 uvDx = dFdx(vUv) * pc.imageSizePx, uvDy = dFdy(vUv) * pc.imageSizePx;
     float fx2 = dot(uvDx, uvDx), fy2 = dot(uvDy, uvDy);
@@ -57,14 +42,12 @@ void main() {
         int slot = d.imagerySlot[i];
         if (slot < 0) continue;
         vec2 t = vUv * d.imageryScaleBias[i].xy + d.imageryScaleBias[i].zw;
-        int page = slot / int(kImagerySlotsPerPage);
         float scale = d.imageryScaleBias[i].x;
-        float layer = float(slot % int(kImagerySlotsPerPage));
         float lod = 0.5 * log2(max((i < kFirstDrape ? footprint2 : drapeFootprint2) * scale * scale, 1e-12));
         // Drapes read one mip level, not a blend of two: on lavapipe a drape's trilinear sample
         // cost a third more of the whole terrain pass, this a quarter (default scene, 1920x1080).
         if (i >= kFirstDrape) lod = floor(lod + 0.5);
-        vec4 c = fetchImagery(page, vec3(t, layer), lod);
+        vec4 c = textureLod(imagery, vec3(t, float(slot)), lod);
         if ((pc.nightLayers & (1u << uint(i))) != 0u) {
             lights += c.rgb * (c.a * pc.imageryOpacity[i]);
             continue;

@@ -9,7 +9,7 @@
 
 layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 layout(set = kTerrainSet, binding = kTerrainBindingDraws, std430) readonly buffer DrawBlock { TileDraw draws[]; };
-layout(set = kTerrainSet, binding = kTerrainBindingElevation) uniform sampler2DArray elevationPages[kElevationPages];
+layout(set = kTerrainSet, binding = kTerrainBindingElevation) uniform sampler2DArray elevation;   // a layer per slot
 layout(push_constant) uniform PushBlock { TerrainPush pc; };
 
 layout(location = kTerrainInputPosition) in vec3 inPosition;
@@ -21,17 +21,6 @@ layout(location = 0) out vec3 vNormal;      // terrain normal, world axes
 layout(location = 1) out vec2 vUv;
 layout(location = 2) out vec3 vFromEye;
 layout(location = 3) flat out int vDraw;
-
-// lavapipe cannot index sampler arrays with a variable (shaderSampledImageArrayDynamicIndexing
-// is off), so each page is picked with a constant index.
-vec3 fetchHeight(int page, ivec3 texel) {
-    switch (page) {
-        case 0: return texelFetch(elevationPages[0], texel, 0).rgb;
-        case 1: return texelFetch(elevationPages[1], texel, 0).rgb;
-        case 2: return texelFetch(elevationPages[2], texel, 0).rgb;
-        default: return texelFetch(elevationPages[3], texel, 0).rgb;
-    }
-}
 
 // Height (x) and its gradient per sample step east (y) and south (z), bilinear between the four
 // samples around `uv`, in float arithmetic: the sampler's linear filter keeps only 8 bits of
@@ -48,13 +37,11 @@ vec3 heightAt(TileDraw d, vec2 uv) {
     vec2 s = t * float(n - 1);
     vec2 base = min(floor(s), vec2(n - 2));
     vec2 f = s - base;
-    int page = slot / int(kElevationSlotsPerPage);
-    int layer = slot % int(kElevationSlotsPerPage);
     ivec2 b = ivec2(base);
-    vec3 h00 = fetchHeight(page, ivec3(b, layer));
-    vec3 h10 = fetchHeight(page, ivec3(b + ivec2(1, 0), layer));
-    vec3 h01 = fetchHeight(page, ivec3(b + ivec2(0, 1), layer));
-    vec3 h11 = fetchHeight(page, ivec3(b + ivec2(1, 1), layer));
+    vec3 h00 = texelFetch(elevation, ivec3(b, slot), 0).rgb;
+    vec3 h10 = texelFetch(elevation, ivec3(b + ivec2(1, 0), slot), 0).rgb;
+    vec3 h01 = texelFetch(elevation, ivec3(b + ivec2(0, 1), slot), 0).rgb;
+    vec3 h11 = texelFetch(elevation, ivec3(b + ivec2(1, 1), slot), 0).rgb;
     return mix(mix(h00, h10, f.x), mix(h01, h11, f.x), f.y);
 }
 
