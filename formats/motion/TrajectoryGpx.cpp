@@ -109,19 +109,23 @@ public:
     Result<void> start(const std::vector<Open>& stack, const std::vector<Attribute>& attrs, std::size_t line) {
         const std::string_view el = stack.back().name;
         const std::string_view parent = stack.size() > 1 ? stack[stack.size() - 2].name : std::string_view();
-        if (stack.size() == 1) {
+        // Elements count only where GPX puts them (depth 1 is <gpx>): a <trkpt> or <trk> inside
+        // a <wpt> or any other element is someone's extension, not a track.
+        const std::size_t depth = stack.size();
+        if (depth == 1) {
             if (el != "gpx")
                 return fail(line, std::string("not a GPX file: the root element is <").append(stack.back().qname) + ">, not <gpx>");
             gpx_.version = attribute(attrs, "version").value_or("");
-        } else if ((el == "trk" || el == "rte") && parent == "gpx") {
+        } else if ((el == "trk" || el == "rte") && depth == 2) {
             GpxTrack t;
             t.route = el == "rte";
             t.segments = t.route ? 1 : 0;
             t.line = line;
             gpx_.tracks.push_back(std::move(t));
-        } else if (el == "trkseg" && parent == "trk") {
+        } else if (el == "trkseg" && parent == "trk" && depth == 3) {
             ++gpx_.tracks.back().segments;
-        } else if ((el == "trkpt" && parent == "trkseg") || (el == "rtept" && parent == "rte") || (el == "wpt" && parent == "gpx")) {
+        } else if ((el == "trkpt" && parent == "trkseg" && depth == 4 && stack[1].name == "trk") || (el == "rtept" && parent == "rte" && depth == 3) ||
+                   (el == "wpt" && depth == 2)) {
             GpxPoint p;
             p.line = line;
             auto lat = coordinate(attrs, "lat", el, line, 90.0, p.latDeg);
@@ -129,7 +133,8 @@ public:
             auto lon = coordinate(attrs, "lon", el, line, 180.0, p.lonDeg);
             if (!lon) return lon;
             point_ = p;
-        } else if (el == "bounds" && (parent == "metadata" || parent == "gpx")) {
+            pointDepth_ = depth;
+        } else if (el == "bounds" && ((parent == "metadata" && depth == 3) || depth == 2)) {
             GpxBounds b;
             double* values[4] = {&b.minLatDeg, &b.minLonDeg, &b.maxLatDeg, &b.maxLonDeg};
             const char* names[4] = {"minlat", "minlon", "maxlat", "maxlon"};
@@ -151,7 +156,9 @@ public:
         const Open& open = stack.back();
         const std::string_view el = open.name;
         const std::string_view parent = stack.size() > 1 ? stack[stack.size() - 2].name : std::string_view();
-        const bool inPoint = point_ && (parent == "trkpt" || parent == "rtept" || parent == "wpt");
+        const std::size_t depth = stack.size();
+        const bool inPoint = point_ && depth == pointDepth_ + 1;
+        const bool pointEnds = point_ && depth == pointDepth_;
         if (el == "ele" && inPoint) {
             double v = 0.0;
             if (!parseNumber(text_, v)) return fail(open.line, "<ele> '" + trimmed(text_) + "' is not a number");
@@ -160,12 +167,12 @@ public:
             auto t = parseIso8601(trimmed(text_));
             if (!t) return fail(open.line, "<time>: " + t.message());
             point_->time = *t;
-        } else if (el == "name" && (parent == "trk" || parent == "rte")) {
+        } else if (el == "name" && (parent == "trk" || parent == "rte") && depth == 3) {
             gpx_.tracks.back().name = trimmed(text_);
-        } else if ((el == "trkpt" || el == "rtept") && point_) {
+        } else if (pointEnds && (el == "trkpt" || el == "rtept")) {
             gpx_.tracks.back().points.push_back(*point_);
             point_.reset();
-        } else if (el == "wpt" && point_) {
+        } else if (pointEnds && el == "wpt") {
             gpx_.waypoints.push_back(*point_);
             point_.reset();
         }
@@ -200,6 +207,7 @@ private:
     const std::string& name_;
     Gpx gpx_;
     std::optional<GpxPoint> point_;
+    std::size_t pointDepth_ = 0;   ///< where point_'s element is in the stack
     std::string text_;
 };
 

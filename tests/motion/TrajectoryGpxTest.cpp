@@ -236,6 +236,42 @@ TEST(GpxBroken, MalformedXml) {
     EXPECT_TRUE(contains(gpxError("<gpx>< trk></gpx>"), "'<' not followed by a tag name"));
 }
 
+// Found by mutating real files (../shared/data/bad/README.md): a track's elements inside a
+// waypoint used to be taken for a track that did not exist (a null dereference). They are
+// someone's extension there, not a track.
+TEST(GpxBroken, TrackElementsInsideAWaypointAreNotATrack) {
+    for (const char* inner : {"<trkpt lat=\"1\" lon=\"2\"><time>2001-01-01T00:00:00Z</time></trkpt>", "<trk><trkseg></trkseg></trk>",
+                              "<rte><name>x</name><rtept lat=\"1\" lon=\"2\"/></rte>", "<trkseg><trkpt lat=\"3\" lon=\"4\"/></trkseg>"}) {
+        const std::string text = std::string("<gpx version=\"1.1\">\n<wpt lat=\"1\" lon=\"2\">\n") + inner + "\n</wpt>\n</gpx>\n";
+        auto gpx = parseGpx(text, "t.gpx");
+        ASSERT_TRUE(gpx.ok()) << inner << ": " << gpx.message();
+        EXPECT_TRUE(gpx->tracks.empty()) << inner;
+        ASSERT_EQ(gpx->waypoints.size(), 1u) << inner;
+        EXPECT_EQ(gpx->waypoints[0].latDeg, 1.0) << inner;
+        auto s = gpxTrajectorySamples(*gpx, "t.gpx");
+        EXPECT_TRUE(contains(s.message(), "t.gpx: no track or route in the file (1 waypoints")) << s.message();
+    }
+    // A track's point with a waypoint's children inside keeps only its own.
+    auto gpx = parseGpx("<gpx><trk><trkseg><trkpt lat=\"1\" lon=\"2\"><wpt lat=\"5\" lon=\"6\"><ele>9</ele></wpt>"
+                        "<ele>3</ele></trkpt></trkseg></trk></gpx>",
+                        "t.gpx");
+    ASSERT_TRUE(gpx.ok()) << gpx.message();
+    ASSERT_EQ(gpx->tracks.size(), 1u);
+    ASSERT_EQ(gpx->tracks[0].points.size(), 1u);
+    EXPECT_EQ(gpx->tracks[0].points[0].ele, 3.0);
+    EXPECT_TRUE(gpx->waypoints.empty());
+}
+
+TEST(GpxBroken, TheFilesThatCrashedSayWhy) {
+    for (const char* name : {"bad/gpx-trkpt-in-wpt.gpx", "bad/gpx-trkseg-in-wpt.gpx", "bad/gpx-name-in-rte-in-wpt.gpx"}) {
+        const auto path = sharedData(name);
+        SKIP_WITHOUT(path);
+        auto tr = readTrajectory(path.string());
+        ASSERT_FALSE(tr.ok()) << name;
+        EXPECT_TRUE(contains(tr.message(), path.filename().string() + ": no track or route in the file")) << tr.message();
+    }
+}
+
 TEST(GpxBroken, FileMissingOrTooBig) {
     auto missing = readGpx((tempDir() / "none.gpx").string());
     EXPECT_TRUE(contains(missing.message(), "none.gpx: cannot read")) << missing.message();
