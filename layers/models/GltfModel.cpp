@@ -36,9 +36,25 @@ const std::set<std::string> kUnderstoodExtensions = {
 };
 
 // Decodes an image with stb after checking its size from the header alone, so that a small
-// file claiming a huge image cannot make us allocate without bound.
+// file claiming a huge image cannot make us allocate without bound. `user` is the model being
+// loaded: tinygltf hands on an image's bufferView without checking it against its buffer (a
+// byteOffset past the end pointed stb at wild memory), so the bytes must lie in one of the
+// model's buffers, which it has read by then.
 bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::string* /*warn*/, int, int,
-               const unsigned char* bytes, int size, void*) {
+               const unsigned char* bytes, int size, void* user) {
+    // An image from a file or a data URI has no bufferView: tinygltf read it into memory of its own.
+    if (image->bufferView >= 0) {
+        const auto* model = static_cast<const tinygltf::Model*>(user);
+        const auto at = reinterpret_cast<std::uintptr_t>(bytes);
+        const bool inBuffer = size >= 0 && std::any_of(model->buffers.begin(), model->buffers.end(), [&](const tinygltf::Buffer& b) {
+            const auto begin = reinterpret_cast<std::uintptr_t>(b.data.data());
+            return !b.data.empty() && at >= begin && at - begin <= b.data.size() && size_t(size) <= b.data.size() - (at - begin);
+        });
+        if (!inBuffer) {
+            if (err) *err += "image " + std::to_string(index) + ": its bufferView lies outside its buffer\n";
+            return false;
+        }
+    }
     int w = 0, h = 0, comp = 0;
     if (!stbi_info_from_memory(bytes, size, &w, &h, &comp)) {
         if (err) *err += "image " + std::to_string(index) + ": not a PNG/JPEG/... stb can read (" + stbi_failure_reason() + ")\n";
@@ -555,9 +571,9 @@ Result<ModelData> loadGltf(const std::string& path) {
         return makeError(path + ": " + std::to_string(size >> 20) + " MiB is more than the " + std::to_string(kMaxGltfFileBytes >> 20) + " MiB a model may have");
     }
     tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(&loadImage, nullptr);
     loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &readWholeFileBounded, &tinygltf::WriteWholeFile, nullptr});
     tinygltf::Model model;
+    loader.SetImageLoader(&loadImage, &model);
     std::string err, warn;
     std::string ext = fs::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });

@@ -227,6 +227,34 @@ TEST(GltfModel, HugeImageIsRefusedBeforeDecoding) {
     fs::remove_all(dir);
 }
 
+// Found by mutating real files (../shared/data/bad/README.md): an image in a bufferView whose
+// offset lies past its buffer. tinygltf hands the pointer on unchecked; stb read wild memory.
+TEST(GltfModel, ImageViewPastItsBufferIsRefused) {
+    const fs::path dir = tempDir("imageview");
+    writeTriangleFiles(dir);
+    // Far past the 60-byte buffer, past 2^32, and starting inside it but running 47 bytes past.
+    for (const char* offset : {"100000", "4294967296", "40"}) {
+        std::string text = triangleGltf("tri.bin", "tex.png");
+        replaceOnce(text, R"("images":[{"uri":"tex.png"}])", R"("images":[{"bufferView":2,"mimeType":"image/png"}])");
+        replaceOnce(text, R"("byteLength":24}])", std::string(R"("byteLength":24},{"buffer":0,"byteOffset":)") + offset + R"(,"byteLength":67}])");
+        const std::string name = std::string("view-") + offset + ".gltf";
+        writeFile(dir / name, text);
+        auto m = loadGltf((dir / name).string());
+        ASSERT_FALSE(m) << name;
+        EXPECT_NE(m.message().find(name), std::string::npos) << m.message();
+        EXPECT_NE(m.message().find("image 0: its bufferView lies outside its buffer"), std::string::npos) << m.message();
+    }
+    fs::remove_all(dir);
+    for (const char* bad : {"glb-image-view-offset-100000.glb", "glb-image-view-offset-4294967296.glb"}) {
+        const fs::path p = fs::path(ORBIS_SHARED_DATA_DIR) / "bad" / bad;
+        REQUIRE_SHARED(p);
+        auto m = loadGltf(p.string());
+        ASSERT_FALSE(m) << bad;
+        EXPECT_NE(m.message().find(bad), std::string::npos) << m.message();
+        EXPECT_NE(m.message().find("image 0: its bufferView lies outside its buffer"), std::string::npos) << m.message();
+    }
+}
+
 TEST(GltfModel, MissingFile) {
     auto m = loadGltf("/nonexistent/model.glb");
     ASSERT_FALSE(m);
