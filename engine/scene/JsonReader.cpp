@@ -15,18 +15,93 @@ std::string lineColumn(std::string_view text, size_t byte) {
     return "line " + std::to_string(line) + ", column " + std::to_string(column);
 }
 
+/// Builds the document as nlohmann's own parser does, and knows where it is (the JSON pointer of
+/// the value being read), so that an error other than syntax names the key: a number too large
+/// for a double ("1e400") or a string that is not UTF-8 would otherwise say neither.
+class LocatingSax {
+public:
+    using Json = nlohmann::json;
+    explicit LocatingSax(Json& result) : dom_(result, /*allow_exceptions=*/false) {}
+
+    bool null() { return scalar(dom_.null()); }
+    bool boolean(bool v) { return scalar(dom_.boolean(v)); }
+    bool number_integer(Json::number_integer_t v) { return scalar(dom_.number_integer(v)); }
+    bool number_unsigned(Json::number_unsigned_t v) { return scalar(dom_.number_unsigned(v)); }
+    bool number_float(Json::number_float_t v, const Json::string_t& text) { return scalar(dom_.number_float(v, text)); }
+    bool string(Json::string_t& v) { return scalar(dom_.string(v)); }
+    bool binary(Json::binary_t& v) { return scalar(dom_.binary(v)); }
+    bool start_object(std::size_t n) {
+        levels_.push_back({false, 0, {}});
+        return dom_.start_object(n);
+    }
+    bool key(Json::string_t& k) {
+        levels_.back().key = k;
+        return dom_.key(k);
+    }
+    bool end_object() { return end(dom_.end_object()); }
+    bool start_array(std::size_t n) {
+        levels_.push_back({true, 0, {}});
+        return dom_.start_array(n);
+    }
+    bool end_array() { return end(dom_.end_array()); }
+    bool parse_error(std::size_t position, const std::string& token, const nlohmann::detail::exception& e) {
+        position_ = position;
+        tokenStart_ = position >= token.size() ? position - token.size() : 0;
+        what_ = e.what();
+        failed_ = true;
+        return false;
+    }
+
+    bool failed() const { return failed_; }
+    std::size_t position() const { return position_; }
+    /// The byte where the token in error starts.
+    std::size_t tokenStart() const { return tokenStart_; }
+    const std::string& what() const { return what_; }
+    /// The JSON pointer of the value being read ("" at the top).
+    std::string pointer() const {
+        std::string p;
+        for (const Level& l : levels_) p += "/" + (l.array ? std::to_string(l.index) : l.key);
+        return p;
+    }
+
+private:
+    struct Level {
+        bool array;
+        std::size_t index;   ///< arrays: the element being read
+        std::string key;     ///< objects: the member being read
+    };
+    bool scalar(bool ok) {
+        if (!levels_.empty() && levels_.back().array) ++levels_.back().index;
+        return ok;
+    }
+    bool end(bool ok) {
+        levels_.pop_back();
+        return scalar(ok);
+    }
+
+    nlohmann::detail::json_sax_dom_parser<Json> dom_;
+    std::vector<Level> levels_;
+    bool failed_ = false;
+    std::size_t position_ = 0, tokenStart_ = 0;
+    std::string what_;
+};
+
 }  // namespace
 
 Result<nlohmann::json> parseJsonText(std::string_view text, const std::string& file) {
-    try {
-        return nlohmann::json::parse(text.begin(), text.end());
-    } catch (const nlohmann::json::parse_error& e) {
-        std::string what = e.what();
-        // "[json.exception.parse_error.101] parse error at line 1, column 2: syntax error ..." -> keep the tail
-        const auto pos = what.find("syntax error");
-        what = pos != std::string::npos ? what.substr(pos) : "invalid JSON";
-        return Error{file + ": " + lineColumn(text, e.byte ? e.byte - 1 : 0) + ": " + what};
-    }
+    nlohmann::json result;
+    LocatingSax sax(result);
+    nlohmann::json::sax_parse(text.begin(), text.end(), &sax, nlohmann::json::input_format_t::json, /*strict=*/true);
+    if (!sax.failed()) return result;
+    // "[json.exception.parse_error.101] parse error at line 1, column 2: syntax error ..." -> keep the tail
+    std::string what = sax.what();
+    if (const auto syntax = what.find("syntax error"); syntax != std::string::npos)
+        return Error{file + ": " + lineColumn(text, sax.position() ? sax.position() - 1 : 0) + ": " + what.substr(syntax)};
+    const std::string where = lineColumn(text, sax.tokenStart());
+    // Anything else (a number out of range) is about a value: name its key.
+    if (const auto tag = what.find("] "); tag != std::string::npos) what = what.substr(tag + 2);
+    const std::string pointer = sax.pointer();
+    return Error{file + ": " + (pointer.empty() ? "/" : pointer) + " (" + where + "): " + what};
 }
 
 std::string describeJsonType(const nlohmann::json& v) {

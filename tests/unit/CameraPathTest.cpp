@@ -103,6 +103,11 @@ TEST(CameraPath, RejectsBadJsonVersionAndInterpolation) {
                           R"(/interpolation: expected "smooth" or "linear", got "cubic")"));
 }
 
+TEST(CameraPath, NumberOverflowNamesTheKey) {
+    EXPECT_EQ(CameraPath::parseText("{\"keys\": [{\"t\": 0}, {\"t\": 1, \"viewpoint\": {\"range\": 1e309}}]}", "p.json").message(),
+              "p.json: /keys/1/viewpoint/range (line 1, column 53): number overflow parsing '1e309'");
+}
+
 TEST(CameraPath, SyntaxErrorNamesFileLineAndColumn) {
     EXPECT_EQ(CameraPath::parseText("{\n  \"keys\": [,]\n}", "p.json").message(),
               "p.json: line 2, column 12: syntax error while parsing value - unexpected ','; expected '[', '{', or a literal");

@@ -69,6 +69,16 @@ TEST(SceneDesc, SyntaxErrorReadsFileLineColumnAndTheParsersWords) {
               "s.json: line 2, column 14: syntax error while parsing value - unexpected ','; expected '[', '{', or a literal");
 }
 
+// A number too large for a double is not a syntax error: nlohmann threw out_of_range, and the
+// message named neither the file nor the key (../shared/data/bad/scene-tiny-overflow.json).
+TEST(SceneDesc, NumberOverflowNamesFileKeyAndPlace) {
+    EXPECT_EQ(parse("{\"orbis\": 1, \"layers\": [{\"type\": \"globe\"},\n {\"type\": \"globe\", \"graticuleDeg\": -1e400}]}").message(),
+              "s.json: /layers/1/graticuleDeg (line 2, column 36): number overflow parsing '-1e400'");
+    EXPECT_EQ(parse("{\"fovDeg\": 1e309}").message(), "s.json: /fovDeg (line 1, column 12): number overflow parsing '1e309'");
+    EXPECT_EQ(parse("[[1, 2], [3, 1e999]]").message(), "s.json: /1/1 (line 1, column 14): number overflow parsing '1e999'");
+    EXPECT_EQ(parse("1e999").message(), "s.json: / (line 1, column 1): number overflow parsing '1e999'");
+}
+
 TEST(SceneDesc, WrongTypesNameThePath) {
     EXPECT_TRUE(failsWith(R"({"layers": {}})", "/layers: expected an array, got an object"));
     EXPECT_TRUE(failsWith(R"({"layers": [{"type": 3}]})", "/layers/0/type: expected a string, got a number"));
