@@ -343,7 +343,7 @@ Result<std::string> describeRasterJson(const std::string& path) {
     } else {
         j["warning"] = path + ": has no raster bands";
     }
-    return j.dump(2);
+    return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);   // metadata from the file
 }
 
 }  // namespace orbis::globe

@@ -80,7 +80,7 @@ Result<std::string> describeLasJson(const std::string& path) {
         }
     }
     out["crs"] = crs;
-    return out.dump(2);
+    return out.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);   // bytes from the file
 }
 
 }  // namespace orbis::points

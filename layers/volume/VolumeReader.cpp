@@ -606,6 +606,46 @@ bool looksLikeVolumeFile(const std::string& path) {
 
 namespace {
 
+/// The offset of the first byte of `s` that is not part of a well-formed UTF-8 sequence.
+std::optional<size_t> illFormedUtf8(std::string_view s) {
+    size_t i = 0;
+    while (i < s.size()) {
+        const auto c = static_cast<unsigned char>(s[i]);
+        // Continuation bytes and the range of the second byte where the lead restricts it
+        // (no overlong forms, no surrogates, nothing past U+10FFFF): Unicode 15, table 3-7.
+        size_t n = 0;
+        unsigned char lo = 0x80, hi = 0xBF;
+        if (c < 0x80) n = 0;
+        else if (c >= 0xC2 && c <= 0xDF) n = 1;
+        else if (c >= 0xE0 && c <= 0xEF) n = 2, lo = c == 0xE0 ? 0xA0 : 0x80, hi = c == 0xED ? 0x9F : 0xBF;
+        else if (c >= 0xF0 && c <= 0xF4) n = 3, lo = c == 0xF0 ? 0x90 : 0x80, hi = c == 0xF4 ? 0x8F : 0xBF;
+        else return i;
+        if (n > 0 && i + n >= s.size()) return i;   // cut short by the end
+        for (size_t k = 1; k <= n; ++k) {
+            const auto b = static_cast<unsigned char>(s[i + k]);
+            if (b < (k == 1 ? lo : 0x80) || b > (k == 1 ? hi : 0xBF)) return i;
+        }
+        i += n + 1;
+    }
+    return std::nullopt;
+}
+
+/// Names every string in `j` that is not UTF-8 (dump shows it with U+FFFD).
+void findIllFormedText(const nlohmann::json& j, const std::string& where, std::vector<std::string>& problems) {
+    if (j.is_string()) {
+        const auto& s = j.get_ref<const std::string&>();
+        if (const auto at = illFormedUtf8(s)) {
+            char byte[8];
+            std::snprintf(byte, sizeof byte, "0x%02X", static_cast<unsigned char>(s[*at]));
+            problems.push_back(where + ": byte " + byte + " at " + std::to_string(*at) + " is not UTF-8 (shown as U+FFFD)");
+        }
+    } else if (j.is_object()) {
+        for (const auto& [key, value] : j.items()) findIllFormedText(value, where + " " + key, problems);
+    } else if (j.is_array()) {
+        for (const auto& value : j) findIllFormedText(value, where, problems);
+    }
+}
+
 /// One variable as describeVolumeJson lists it: name, type, units, dimensions, packing, range.
 nlohmann::json describeArray(const GDALMDArray& a) {
     nlohmann::json v;
@@ -659,7 +699,7 @@ nlohmann::json describeVolume(const std::string& path, const std::string& name) 
 
 }  // namespace
 
-Result<std::string> describeVolumeJson(const std::string& path) {
+Result<std::string> describeVolumeJson(const std::string& path, std::vector<std::string>* problems) {
     registerGdalOnce();
     QuietGdal quiet;
     std::string error;
@@ -678,9 +718,12 @@ Result<std::string> describeVolumeJson(const std::string& path) {
         const std::string name = v["name"];
         if (std::find(volumes.begin(), volumes.end(), name) != volumes.end()) v["volume"] = describeVolume(path, name);
     }
+    if (problems)
+        for (const auto& v : variables)
+            findIllFormedText(v, path + ": " + (v["name"].is_string() ? v["name"].get<std::string>() : std::string("?")), *problems);
     nlohmann::json out = {{"file", path}, {"driver", ds->GetDriver() ? ds->GetDriver()->GetDescription() : "?"},
                           {"variables", variables}};
-    return out.dump(2);
+    return out.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);   // attributes are not always UTF-8
 }
 
 }  // namespace orbis::layers

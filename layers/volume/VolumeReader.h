@@ -88,8 +88,10 @@ Result<VolumeField> readVolume(const VolumeReadOptions& options);
 
 /// What a file holds, as JSON: its variables with their dimensions (classified as lon, lat,
 /// vertical, time or other), units, packing, fill values and ranges, and for each volume
-/// variable whether it can be read. For `orbis info`.
-Result<std::string> describeVolumeJson(const std::string& path);
+/// variable whether it can be read. For `orbis info`. Text that is not UTF-8 (an attribute's
+/// bytes in another encoding) is shown with U+FFFD, and each such value is named in `problems`
+/// ("/lon units: byte 0xFF at 7 is not UTF-8").
+Result<std::string> describeVolumeJson(const std::string& path, std::vector<std::string>* problems = nullptr);
 
 /// True when GDAL opens `path` as a multidimensional dataset with at least one array of three
 /// or more dimensions (a candidate volume).

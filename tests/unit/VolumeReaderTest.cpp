@@ -338,6 +338,31 @@ TEST(VolumeReader, DescribeListsVariablesAxesAndRanges) {
     EXPECT_FALSE(describeVolumeJson((tempDir() / "none.nc").string()).ok());
 }
 
+// An attribute in another encoding (Latin-1's 0xB0 for the degree sign) is shown with U+FFFD
+// and named, where nlohmann's dump threw a type_error naming neither the file nor the attribute
+// (../shared/data/bad/nc-units-non-utf8.nc). Well-formed UTF-8 ("°C") is no problem.
+TEST(VolumeReader, DescribeNamesTextThatIsNotUtf8) {
+    const std::vector<double> lons{0, 1}, lats{0, 1}, levs{1000, 500};
+    const fs::path file = tempDir() / "latin1.nc";
+    Variable v;
+    v.attrs = {{"units", "\xB0" "C"}, {"long_name", "temp\xC3\xA9rature \xC3"}};
+    writeNc(file, {presDim(levs, "hPa"), latDim(lats), lonDim(lons)}, v, [](const std::vector<size_t>&) { return 1.0; });
+    std::vector<std::string> problems;
+    auto json = describeVolumeJson(file.string(), &problems);
+    ASSERT_TRUE(json.ok()) << json.message();
+    EXPECT_NE(json->find("\"units\": \"\xEF\xBF\xBD" "C\""), std::string::npos) << *json;
+    ASSERT_EQ(problems.size(), 2u);
+    EXPECT_EQ(problems[0], file.string() + ": /t longName: byte 0xC3 at 13 is not UTF-8 (shown as U+FFFD)");
+    EXPECT_EQ(problems[1], file.string() + ": /t units: byte 0xB0 at 0 is not UTF-8 (shown as U+FFFD)");
+
+    const fs::path good = tempDir() / "utf8.nc";
+    v.attrs = {{"units", "\xC2\xB0" "C"}, {"long_name", "\xE6\xB8\xA9\xE5\xBA\xA6 \xF0\x9F\x8C\xA1"}};
+    writeNc(good, {presDim(levs, "hPa"), latDim(lats), lonDim(lons)}, v, [](const std::vector<size_t>&) { return 1.0; });
+    problems.clear();
+    ASSERT_TRUE(describeVolumeJson(good.string(), &problems).ok());
+    EXPECT_TRUE(problems.empty()) << problems.front();
+}
+
 // ---------------------------------------------------------------------------------------------
 // Real files (../shared/data/netcdf), skipped when absent
 

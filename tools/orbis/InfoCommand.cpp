@@ -235,7 +235,13 @@ int infoCommand(const std::vector<std::string>& argv) {
         return badInput(csv.message());
     }
     // Files with variables of three or more dimensions (netCDF, HDF5, Zarr): the volume reader.
-    if (layers::looksLikeVolumeFile(file)) return printDescription(layers::describeVolumeJson(file));
+    if (layers::looksLikeVolumeFile(file)) {
+        // Shown whole, but text that is not UTF-8 is a defect of the file: named, and exit 1.
+        std::vector<std::string> problems;
+        const int status = printDescription(layers::describeVolumeJson(file, &problems));
+        for (const std::string& p : problems) std::fprintf(stderr, "orbis: %s\n", p.c_str());
+        return problems.empty() ? status : kBadInput;
+    }
     // Everything else is tried as a raster (GeoTIFF, DTED, VRT, JP2, netCDF 2-D, ...).
     auto raster = globe::describeRasterJson(file);
     if (raster) {
