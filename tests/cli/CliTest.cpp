@@ -24,6 +24,8 @@ using CliRun = ShellRun;
 
 CliRun run(const std::string& args) { return runShell(std::string(ORBIS_BINARY) + " " + args); }
 
+std::string jsonString(const std::string& s) { return nlohmann::json(s).dump(); }
+
 fs::path tempFile(const std::string& name, const std::string& content) {
     const fs::path dir = fs::temp_directory_path() / "orbis-cli-test";
     fs::create_directories(dir);
@@ -199,6 +201,52 @@ TEST_F(CliGpu, RenderCityShowcaseWritesPng) {
 // The paging showcase: a generated 2 M-vertex road network read a feature tile at a time.
 TEST_F(CliGpu, RenderRoadsShowcaseWritesPng) {
     expectShowcaseRenders("vector-roads");
+}
+
+// ../shared/data/bad/: inputs that crashed Orbis or failed without naming the file or the
+// problem, found by mutating real files. Each must exit 1 with a message naming the file, through
+// the command that reads it; a new file there without a command here fails the test.
+TEST_F(CliGpu, EveryBadFileExitsOneNamingItself) {
+    const fs::path bad = fs::path(ORBIS_SOURCE_DIR) / ".." / "shared" / "data" / "bad";
+    if (!fs::exists(bad)) GTEST_SKIP() << "no " << bad << " (../shared/data is optional)";
+    const std::string model = jsonString(std::string(ORBIS_SOURCE_DIR) + "/assets/models/wagon.gltf");
+    const std::string out = (fs::temp_directory_path() / "orbis-cli-test" / "bad.png").string();
+    const std::string planet = std::string(ORBIS_SOURCE_DIR) + "/assets/scenes/synthetic-planet.json";
+    auto modelScene = [&](const std::string& name, const std::string& layer) {
+        return tempFile(name, R"({"orbis": 1, "viewpoint": {"lon": 0, "lat": 0, "range": 5000},
+            "layers": [{"type": "model", "name": "M", )" + layer + "}]}").string();
+    };
+    size_t checked = 0;
+    for (const auto& entry : fs::directory_iterator(bad)) {
+        const std::string name = entry.path().filename().string(), file = entry.path().string();
+        if (name == "README.md") continue;
+        std::vector<std::string> commands;
+        if (entry.path().extension() == ".gpx") {
+            commands.push_back("render " + modelScene("bad-gpx.json", R"("file": )" + model + R"(, "trajectory": {"file": )" +
+                                                                           jsonString(file) + "}") +
+                               " -o " + out + " --size 64x36");
+        } else if (entry.path().extension() == ".glb") {
+            commands.push_back("render " + modelScene("bad-glb.json", R"("file": )" + jsonString(file) + R"(, "position": [0, 0, 0])") +
+                               " -o " + out + " --size 64x36");
+        } else if (name.starts_with("scene-")) {
+            commands.push_back("info " + file);
+            commands.push_back("render " + file + " -o " + out + " --size 64x36");
+        } else if (name.starts_with("path-")) {
+            commands.push_back("render " + planet + " -o " + out + " --size 64x36 --camera-path " + file);
+        } else if (entry.path().extension() == ".nc") {
+            commands.push_back("info " + file);
+        } else {
+            ADD_FAILURE() << name << ": no command reads this kind of file here";
+        }
+        for (const std::string& c : commands) {
+            const CliRun r = run(c);
+            EXPECT_EQ(r.exitCode, 1) << c << "\n" << r.output;
+            EXPECT_NE(r.output.find(name), std::string::npos) << c << "\n" << r.output;
+            EXPECT_EQ(r.output.find("json.exception"), std::string::npos) << c << "\n" << r.output;
+            ++checked;
+        }
+    }
+    EXPECT_GE(checked, 8u);
 }
 
 TEST_F(CliGpu, UnwritableOutputExitsOne) {
