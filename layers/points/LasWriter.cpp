@@ -126,6 +126,7 @@ void LasWriter::write(std::span<const LasPoint> points) {
         m.failed = true;   // written after close(): nothing to write to
         return;
     }
+    if (points.empty()) return;   // (fwrite of an empty buffer would pass it a null pointer)
     const uint8_t f = m.o.pointFormat;
     const bool modern = f >= 6;
     m.buffer.assign(points.size() * m.recordLength, 0);
