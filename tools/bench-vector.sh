@@ -51,6 +51,12 @@ run() {
 pair() {   # pair LABEL_A SCENE_A LABEL_B SCENE_B, PAIRS times
     for _ in $(seq "$pairs"); do run "$1" "$2"; run "$3" "$4"; done
 }
+versus() {   # versus LABEL NAME LAYER FILE STYLE PITCH: one source whole and paged, in pairs
+    local label="$1" name="$2" layer="$3" file="$4" style="$5" pitch="$6" whole paged
+    whole=$(scene "$name-whole" "{\"type\": \"vector\", \"name\": \"$layer\", \"path\": \"$file\", \"paging\": false, $style}" "$pitch")
+    paged=$(scene "$name-paged" "{\"type\": \"vector\", \"name\": \"$layer\", \"path\": \"$file\", \"paging\": true, $style}" "$pitch")
+    pair "$label, whole" "$whole" "$label, paged" "$paged"
+}
 city() {   # city N -> the GeoPackage
     local f="$data/city-$1.gpkg"
     [ -f "$f" ] || "$build/bin/orbis-make-vector" city --buildings "$1" --out "$f" >&2
@@ -81,21 +87,17 @@ if [ -z "$only" ] || [ "$only" = city ]; then
     xstyle='"style": {"fill": [0.86, 0.8, 0.7], "extrude": "height"}'
     echo "== 100 000 buildings from 6 km, 45 degrees down"
     draped=$(scene city-draped "{\"type\": \"vector\", \"name\": \"City\", \"path\": \"$c\", $style}" -45)
-    extruded=$(scene city-extruded "{\"type\": \"vector\", \"name\": \"City\", \"path\": \"$c\", $xstyle}" -45)
     hills=$(scene city-hills "{\"type\": \"vector\", \"name\": \"City\", \"path\": \"$c\", $xstyle}" -45 \
         "$world/fmv/flight-dem.tif")
-    paged=$(scene city-paged "{\"type\": \"vector\", \"name\": \"City\", \"path\": \"$c\", \"paging\": true, $xstyle}" -45)
     run "100k buildings draped" "$draped"
     run "100k buildings extruded, FMV hills" "$hills"
-    pair "100k buildings extruded, whole" "$extruded" "100k buildings extruded, paged" "$paged"
+    versus "100k buildings extruded" city City "$c" "$xstyle" -45
 fi
 if [ -z "$only" ] || [ "$only" = roads ]; then
     r=$(roads 1000000)
     rstyle='"style": {"color": [0.92, 0.92, 0.88], "width": 1.5}'
     echo "== 1 M road vertices from 6 km, 60 degrees down"
-    whole=$(scene roads-whole "{\"type\": \"vector\", \"name\": \"Roads\", \"path\": \"$r\", \"paging\": false, $rstyle}" -60)
-    paged=$(scene roads-paged "{\"type\": \"vector\", \"name\": \"Roads\", \"path\": \"$r\", \"paging\": true, $rstyle}" -60)
-    pair "1M road vertices, whole" "$whole" "1M road vertices, paged" "$paged"
+    versus "1M road vertices" roads Roads "$r" "$rstyle" -60
 fi
 if [ -z "$only" ] || [ "$only" = sweeps ]; then
     europe="$data/default-europe.json"
@@ -115,12 +117,8 @@ fi
 c=$(city 1000000)
 xstyle='"style": {"fill": [0.86, 0.8, 0.7], "extrude": "height", "maxRange": 10000}'
 echo "== 1 M buildings (maxRange 10 km) from 6 km, 45 degrees down"
-whole=$(scene city1m-whole "{\"type\": \"vector\", \"name\": \"City\", \"path\": \"$c\", \"paging\": false, $xstyle}" -45)
-paged=$(scene city1m-paged "{\"type\": \"vector\", \"name\": \"City\", \"path\": \"$c\", \"paging\": true, $xstyle}" -45)
-pair "1M buildings, whole" "$whole" "1M buildings, paged" "$paged"
+versus "1M buildings" city1m City "$c" "$xstyle" -45
 r=$(roads 20000000)
 rstyle='"style": {"color": [0.92, 0.92, 0.88], "width": 1.5, "maxRange": 50000}'
 echo "== 20 M road vertices (maxRange 50 km) from 6 km, 60 degrees down"
-whole=$(scene roads20m-whole "{\"type\": \"vector\", \"name\": \"Roads\", \"path\": \"$r\", \"paging\": false, $rstyle}" -60)
-paged=$(scene roads20m-paged "{\"type\": \"vector\", \"name\": \"Roads\", \"path\": \"$r\", \"paging\": true, $rstyle}" -60)
-pair "20M road vertices, whole" "$whole" "20M road vertices, paged" "$paged"
+versus "20M road vertices" roads20m Roads "$r" "$rstyle" -60
