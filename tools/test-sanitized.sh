@@ -3,7 +3,8 @@
 #   SANITIZER=address (default): ASan + UBSan, into build-asan: the unit, motion and live-feed
 #     tests, and the command line's tests that need no GPU (argument handling, bad input, info);
 #   SANITIZER=thread: TSan, into build-tsan: the tests of what runs on several threads (the
-#     worker pool, the terrain's pager, the FMV prefetcher, paged vector sources, live feeds).
+#     worker pool, the terrain's pager and concurrent raster reads, the FMV prefetcher, the
+#     vector pager, point stores, live feeds).
 # Any sanitizer report fails the run. Run tools/build.sh first: some tests read assets/generated.
 #   usage: tools/test-sanitized.sh [GTEST_FILTER]   env: SANITIZER=address|thread
 set -euo pipefail
@@ -46,7 +47,7 @@ if [ "$san" = address ]; then
     run orbis_livefeed_tests
     run orbis_cli_tests 'Cli.*'
 else
-    run orbis_unit_tests 'ThreadPool*:TerrainTiles*:FeatureTiles*:FmvVideo*:VectorPaging*:PointStore*'
+    run orbis_unit_tests 'ThreadPool*:CancelToken*:TerrainTilesRepaint*:RasterSource.Concurrent*:RasterSource.Cancelled*:FeatureTiles*:FmvVideo*:FramePrefetcher*:PointStore*:NodeResidency*'
     run orbis_livefeed_tests
 fi
 [ "$status" = 0 ] && echo "test-sanitized.sh ($san): clean" || echo "test-sanitized.sh ($san): see $dir/*.log" >&2
