@@ -70,7 +70,7 @@ for t in "${targets[@]}"; do
     d=$(dict "$t"); [ -n "$d" ] && args+=(-dict="$d")
     if [ "$regress" = 1 ]; then
         # Every input once: the corpus, the seeds and the crashes kept from earlier runs.
-        mapfile -t files < <(find "${inputs[@]}" "$crashes" -type f ! -name '*.txt.log' 2>/dev/null)
+        mapfile -t files < <(find "${inputs[@]}" "$crashes" -type f 2>/dev/null)
         echo "== fuzz-$t: ${#files[@]} inputs, no mutation"
         "$build/bin/fuzz-$t" "${args[@]}" -runs=0 "${files[@]}" >"$build/fuzz-$t.log" 2>&1 || status=1
     else

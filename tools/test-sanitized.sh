@@ -17,8 +17,8 @@ case "$san" in
 esac
 [ -d assets/generated ] || { echo "test-sanitized.sh: assets/generated is missing: run tools/build.sh first" >&2; exit 2; }
 cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DORBIS_SANITIZE="$san" -DORBIS_BUILD_TESTS=ON >/dev/null
-targets=(orbis_unit_tests orbis_motion_tests orbis_livefeed_tests)
-[ "$san" = address ] && targets+=(orbis orbis_cli_tests)
+targets=(orbis_unit_tests orbis_livefeed_tests)
+[ "$san" = address ] && targets+=(orbis_motion_tests orbis orbis_cli_tests)
 cmake --build "$dir" --target "${targets[@]}"
 
 supp="$PWD/tests/sanitizers"
