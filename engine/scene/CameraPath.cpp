@@ -11,15 +11,6 @@
 #include <cmath>
 
 namespace orbis::scene {
-namespace {
-
-// Shortest form of a number for messages: 12 rather than 12.000000.
-std::string formatNumber(double v) {
-    if (std::floor(v) == v && std::abs(v) < 1e15) return std::to_string(static_cast<long long>(v));
-    return nlohmann::json(v).dump();
-}
-
-}  // namespace
 
 Result<CameraPath> CameraPath::parseFile(const std::filesystem::path& file) {
     auto text = readTextFile(file, kMaxCameraPathFileBytes, "camera path file");
@@ -36,7 +27,7 @@ Result<CameraPath> CameraPath::parseText(std::string text, std::string fileNameF
     JsonReader r(root, name, "");
     if (!r.isObject()) return r.finish().error();
     if (auto version = r.number("orbis-camera-path"); version && *version != 1.0)
-        r.fail("orbis-camera-path", "camera path format version " + formatNumber(*version) +
+        r.fail("orbis-camera-path", "camera path format version " + formatJsonNumber(*version) +
                                         " is not supported (this build reads 1)");
 
     CameraPath path;
@@ -57,7 +48,7 @@ Result<CameraPath> CameraPath::parseText(std::string text, std::string fileNameF
             if (auto t = kr.number("t", std::nullopt, 0.0, 1e12)) {
                 key.t = *t;
                 if (!path.keys_.empty() && key.t <= path.keys_.back().t)
-                    kr.fail("t", "must be greater than the previous key's t (" + formatNumber(path.keys_.back().t) + ")");
+                    kr.fail("t", "must be greater than the previous key's t (" + formatJsonNumber(path.keys_.back().t) + ")");
             }
             if (const nlohmann::json* vp = kr.object("viewpoint", true)) {
                 Error err;

@@ -104,6 +104,11 @@ Result<nlohmann::json> parseJsonText(std::string_view text, const std::string& f
     return Error{file + ": " + (pointer.empty() ? "/" : pointer) + " (" + where + "): " + what};
 }
 
+std::string formatJsonNumber(double v) {
+    if (std::floor(v) == v && std::abs(v) < 1e15) return std::to_string(static_cast<long long>(v));
+    return nlohmann::json(v).dump();
+}
+
 std::string describeJsonType(const nlohmann::json& v) {
     switch (v.type()) {
         case nlohmann::json::value_t::null: return "null";

@@ -61,4 +61,8 @@ std::string describeJsonType(const nlohmann::json& value);
 /// "<file>: line L, column C: syntax error ...", the position counted from 1.
 Result<nlohmann::json> parseJsonText(std::string_view text, const std::string& file);
 
+/// The shortest form of a number for messages: "12" rather than "12.000000", and any double
+/// (-5e+200, NaN) without converting it to an integer it does not fit.
+std::string formatJsonNumber(double v);
+
 }  // namespace orbis::scene

@@ -54,7 +54,7 @@ namespace {
 /// "orbis", "name", "fovDeg" and "background"; problems are recorded in `r`.
 void readGeneral(JsonReader& r, const std::filesystem::path& file, SceneDesc& scene) {
     if (auto version = r.number("orbis", 1.0); version && *version != 1.0)
-        r.fail("orbis", "scene format version " + (std::floor(*version) == *version ? std::to_string(static_cast<long long>(*version)) : nlohmann::json(*version).dump()) + " is not supported (this build reads 1)");
+        r.fail("orbis", "scene format version " + formatJsonNumber(*version) + " is not supported (this build reads 1)");
     scene.name = r.string("name", file.stem().string()).value_or("");
     scene.fovDeg = r.number("fovDeg", 45.0, 1.0, 150.0).value_or(45.0);
     if (auto bg = r.numbers("background", 3, std::vector<double>{0.0, 0.0, 0.0})) {

@@ -79,6 +79,14 @@ TEST(SceneDesc, NumberOverflowNamesFileKeyAndPlace) {
     EXPECT_EQ(parse("1e999").message(), "s.json: / (line 1, column 1): number overflow parsing '1e999'");
 }
 
+// Found by fuzz-scene: a version too large for an integer was converted to one to be printed
+// (UBSan: -5e+200 is outside the range of long long).
+TEST(SceneDesc, AnyVersionNumberIsNamedAsWritten) {
+    EXPECT_EQ(parse("{\"orbis\": -5.0e200}").message(), "s.json: /orbis: scene format version -5e+200 is not supported (this build reads 1)");
+    EXPECT_EQ(parse("{\"orbis\": 2}").message(), "s.json: /orbis: scene format version 2 is not supported (this build reads 1)");
+    EXPECT_EQ(parse("{\"orbis\": 1.5}").message(), "s.json: /orbis: scene format version 1.5 is not supported (this build reads 1)");
+}
+
 TEST(SceneDesc, WrongTypesNameThePath) {
     EXPECT_TRUE(failsWith(R"({"layers": {}})", "/layers: expected an array, got an object"));
     EXPECT_TRUE(failsWith(R"({"layers": [{"type": 3}]})", "/layers/0/type: expected a string, got a number"));
