@@ -1,6 +1,6 @@
 #include "layers/vector/LabelLayout.h"
 
-#include "layers/vector/Utf8.h"
+#include "base/Utf8.h"
 
 #include <algorithm>
 #include <limits>

@@ -1,5 +1,7 @@
 #include "layers/volume/VolumeReader.h"
 
+#include "base/Utf8.h"
+
 #include <cpl_error.h>
 #include <gdal_priv.h>
 
@@ -608,24 +610,11 @@ namespace {
 
 /// The offset of the first byte of `s` that is not part of a well-formed UTF-8 sequence.
 std::optional<size_t> illFormedUtf8(std::string_view s) {
-    size_t i = 0;
-    while (i < s.size()) {
-        const auto c = static_cast<unsigned char>(s[i]);
-        // Continuation bytes and the range of the second byte where the lead restricts it
-        // (no overlong forms, no surrogates, nothing past U+10FFFF): Unicode 15, table 3-7.
-        size_t n = 0;
-        unsigned char lo = 0x80, hi = 0xBF;
-        if (c < 0x80) n = 0;
-        else if (c >= 0xC2 && c <= 0xDF) n = 1;
-        else if (c >= 0xE0 && c <= 0xEF) n = 2, lo = c == 0xE0 ? 0xA0 : 0x80, hi = c == 0xED ? 0x9F : 0xBF;
-        else if (c >= 0xF0 && c <= 0xF4) n = 3, lo = c == 0xF0 ? 0x90 : 0x80, hi = c == 0xF4 ? 0x8F : 0xBF;
-        else return i;
-        if (n > 0 && i + n >= s.size()) return i;   // cut short by the end
-        for (size_t k = 1; k <= n; ++k) {
-            const auto b = static_cast<unsigned char>(s[i + k]);
-            if (b < (k == 1 ? lo : 0x80) || b > (k == 1 ? hi : 0xBF)) return i;
-        }
-        i += n + 1;
+    for (size_t pos = 0; pos < s.size();) {
+        const size_t at = pos;
+        bool valid = true;
+        decodeUtf8(s, pos, valid);
+        if (!valid) return at;
     }
     return std::nullopt;
 }

@@ -1,7 +1,7 @@
 #include "layers/vector/Font.h"
 #include "layers/vector/GlyphAtlas.h"
 #include "layers/vector/LabelLayout.h"
-#include "layers/vector/Utf8.h"
+#include "base/Utf8.h"
 
 #include <gtest/gtest.h>
 
@@ -15,6 +15,8 @@
 
 namespace fs = std::filesystem;
 using namespace orbis::vector;
+using orbis::decodeUtf8;
+using orbis::kReplacementCharacter;
 
 namespace {
 

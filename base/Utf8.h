@@ -1,5 +1,5 @@
 #pragma once
-// UTF-8 to code points for label text. Bad input is data, not an error: every ill-formed
+// UTF-8 to code points (label text; names of values that are not UTF-8 in orbis info). Bad input is data, not an error: every ill-formed
 // sequence becomes U+FFFD, one per maximal subpart (Unicode 15, §3.9 "U+FFFD Substitution of
 // Maximal Subparts", the same rule as the WHATWG Encoding standard), so a truncated name costs
 // one replacement glyph, not the rest of the string. No Vulkan, no fonts.
@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-namespace orbis::vector {
+namespace orbis {
 
 inline constexpr char32_t kReplacementCharacter = 0xFFFD;
 
@@ -21,4 +21,4 @@ char32_t decodeUtf8(std::string_view text, std::size_t& pos, bool& valid);
 /// Every code point of `text` (ill-formed sequences as U+FFFD). Any thread.
 std::u32string decodeUtf8(std::string_view text);
 
-}  // namespace orbis::vector
+}  // namespace orbis

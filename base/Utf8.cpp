@@ -1,6 +1,6 @@
-#include "layers/vector/Utf8.h"
+#include "base/Utf8.h"
 
-namespace orbis::vector {
+namespace orbis {
 namespace {
 
 bool isContinuation(unsigned char byte) { return (byte & 0xC0) == 0x80; }
@@ -53,4 +53,4 @@ std::u32string decodeUtf8(std::string_view text) {
     return out;
 }
 
-}  // namespace orbis::vector
+}  // namespace orbis
