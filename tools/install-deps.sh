@@ -13,6 +13,8 @@ packages=(
   libglfw3-dev libimgui-dev xvfb xauth libstb-dev
   # maths, geodesy, data, scene files
   libglm-dev libgeographiclib-dev libgdal-dev gdal-bin nlohmann-json3-dev
+  # checksums of the point caches (CRC-32)
+  zlib1g-dev
   # 3-D models (glTF 2.0) and the live feed's XML messages
   libtinygltf-dev libexpat1-dev
   # label text: the default font (DejaVu Sans; the glyph tests skip without it)

@@ -58,6 +58,11 @@ public:
         if (!store::preadAll(fd_, out, bytes, offset)) return fail("cannot read");
         return {};
     }
+    /// Waits until the data written is on the disk.
+    Result<void> sync() {
+        if (::fdatasync(fd_) != 0) return fail("cannot flush to the disk");
+        return {};
+    }
     /// Closes; `remove`: deletes the file too (temporary files, failed builds).
     void close(bool remove) {
         if (fd_ >= 0) ::close(fd_);
@@ -401,6 +406,7 @@ private:
         header.nodeTableOffset = header.dataOffset + nodes.dataBytes;
         header.nodeCount = nodes.nodes.size();
         if (auto r = cache.write(nodes.nodes.data(), nodes.nodes.size() * sizeof(StoredNode), header.nodeTableOffset); !r) return r;
+        header.tableCrc = store::tableChecksum(header, key, nodes.nodes);
         if (auto r = cache.write(&header, sizeof header, 0); !r) return r;
         return moveInPlace(cache, out);
     }
@@ -434,7 +440,9 @@ private:
             s.count = uint32_t(u.taken.size());
             s.parent = u.parent >= 0 ? storedIndex_[size_t(u.parent)] : -1;
             s.offset = w.dataBytes + w.data.size();
+            const size_t at = w.data.size();
             s.step = store::encodeNode(candidates_, u.taken, u.cube, packing_, w.data);
+            s.crc = store::checksum(w.data.data() + at, w.data.size() - at);
         }
         if (auto r = w.writeData(); !r) return r;
         std::vector<PointRecord>().swap(candidates_);
@@ -477,6 +485,8 @@ private:
     /// Renames the finished temporary file to `out`.
     static Result<void> moveInPlace(File& cache, const std::string& out) {
         const std::string written = cache.path();
+        // On the disk before it gets its name: a crash leaves no cache that looks whole.
+        if (auto r = cache.sync(); !r) return r;
         cache.close(false);
         std::error_code ec;
         fs::rename(written, out, ec);

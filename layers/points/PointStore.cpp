@@ -2,7 +2,10 @@
 
 #include "layers/points/PointStoreFormat.h"
 
+#include "base/Log.h"
+
 #include <fcntl.h>
+#include <zlib.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -11,6 +14,18 @@
 #include <cstring>
 
 namespace orbis::points {
+
+uint32_t store::checksum(const void* data, uint64_t bytes, uint32_t crc) {
+    return uint32_t(::crc32_z(crc, static_cast<const Bytef*>(data), z_size_t(bytes)));
+}
+
+uint32_t store::tableChecksum(const FileHeader& header, const std::string& key, std::span<const StoredNode> nodes) {
+    FileHeader h = header;
+    h.tableCrc = 0;
+    uint32_t crc = checksum(&h, sizeof h);
+    crc = checksum(key.data(), key.size(), crc);
+    return checksum(nodes.data(), nodes.size_bytes(), crc);
+}
 
 bool store::preadAll(int fd, void* out, uint64_t bytes, uint64_t offset) {
     auto* p = static_cast<uint8_t*>(out);
@@ -67,6 +82,7 @@ Result<std::shared_ptr<PointStore>> PointStore::open(const std::string& path, co
     s->nodes_.resize(h.nodeCount);
     if (!s->nodes_.empty() && !store::preadAll(fd, s->nodes_.data(), h.nodeCount * sizeof(StoredNode), h.nodeTableOffset))
         return fail("cannot read the node table");
+    if (store::tableChecksum(h, stored, s->nodes_) != h.tableCrc) return fail("corrupted (its header or node table fails the checksum)");
     uint64_t points = 0;
     const int64_t n = int64_t(s->nodes_.size());
     for (int64_t i = 0; i < n; ++i) {
@@ -94,8 +110,19 @@ bool PointStore::read(size_t node, std::vector<uint8_t>& out, std::string* error
         std::memcpy(out.data(), data_.data() + n.offset, out.size());
         return true;
     }
-    if (store::preadAll(fd_, out.data(), out.size(), dataOffset_ + n.offset)) return true;
-    if (error) *error = std::string("point cache ").append(path_).append(": cannot read node ").append(std::to_string(node));
+    if (!store::preadAll(fd_, out.data(), out.size(), dataOffset_ + n.offset)) {
+        if (error) *error = std::string("point cache ").append(path_).append(": cannot read node ").append(std::to_string(node));
+        return false;
+    }
+    if (store::checksum(out.data(), out.size()) == n.crc) return true;
+    // Corrupted on disk since it was written: this run shows what it can without the node, and
+    // the file goes, so that the next load builds it again.
+    std::call_once(corruptOnce_, [&] {
+        ::unlink(path_.c_str());
+        log::error("point cache ", path_, ": node ", node, " fails its checksum: the cache is corrupted and removed; "
+                   "the cloud is built again when it is next loaded");
+    });
+    if (error) *error = std::string("point cache ").append(path_).append(": node ").append(std::to_string(node)).append(" is corrupted");
     return false;
 }
 

@@ -23,6 +23,7 @@
 #include <atomic>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -41,7 +42,7 @@ struct StoredNode {
     int32_t parent = -1;
     int32_t children[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
     uint32_t level = 0;
-    uint32_t reserved = 0;
+    uint32_t crc = 0;         ///< CRC-32 of its data, checked when read from a cache file
     double radius() const { return halfSize * 1.7320508075688772; }   ///< holds the node and its subtree
     uint64_t bytes() const { return uint64_t(count) * (step > 0.0 ? 16 : 20); }
     uint64_t positionOffset() const { return uint64_t(count) * 8; }   ///< within its data
@@ -66,8 +67,9 @@ public:
     /// Small clouds: everything in memory.
     static std::shared_ptr<PointStore> inMemory(std::vector<StoredNode> nodes, std::vector<uint8_t> data,
                                                 const CloudInfo& info);
-    /// Opens a cache file, checking it whole (sizes, offsets, links) and that it was built from
-    /// `key`; errors name the file and the problem.
+    /// Opens a cache file, checking it whole (version, sizes, offsets, links, the checksum of its
+    /// header and node table) and that it was built from `key`; errors name the file and the
+    /// problem. Each node's data is checked against its checksum when read.
     static Result<std::shared_ptr<PointStore>> open(const std::string& path, const std::string& key);
     ~PointStore();
     PointStore(const PointStore&) = delete;
@@ -78,7 +80,9 @@ public:
     /// The cache file, or empty for a store in memory.
     const std::string& path() const { return path_; }
     bool onDisk() const { return fd_ >= 0; }
-    /// Node i's data into `out` (resized). Any thread; false (and a message) on a read error.
+    /// Node i's data into `out` (resized). Any thread; false (and a message) on a read error or
+    /// when the data fails its checksum: then the corrupted file is removed (once, logged), so
+    /// that the next load builds it again.
     bool read(size_t node, std::vector<uint8_t>& out, std::string* error = nullptr) const;
     /// The node's data in place, for a store in memory (empty for one on disk).
     std::span<const uint8_t> view(size_t node) const;
@@ -96,6 +100,7 @@ private:
     uint64_t dataOffset_ = 0;     // where the nodes' data start in the file
     std::string path_;
     CloudInfo info_;
+    mutable std::once_flag corruptOnce_;
 };
 
 struct PointLoadOptions {
@@ -104,6 +109,9 @@ struct PointLoadOptions {
     /// Clouds up to this many points are built in memory (about 70 bytes a point while building,
     /// 16-20 bytes kept); larger ones go through the cache file.
     uint64_t inMemoryPoints = 8'000'000;
+    /// When the cache cannot be written (a read-only or full folder), clouds up to this many
+    /// points are built in memory instead, with a warning; larger ones fail with the reason.
+    uint64_t fallbackInMemoryPoints = 40'000'000;
     /// The out-of-core build's chunks: subtrees built in memory, up to about this many points
     /// each (raised to 8 x the capacity).
     uint64_t chunkPoints = 8'000'000;

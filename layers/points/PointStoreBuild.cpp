@@ -137,7 +137,9 @@ int32_t appendTree(const PointOctree& tree, std::span<const PointRecord> points,
         s.offset = dataBase + data.size();
         s.parent = o.parent >= 0 ? base + o.parent : parent;
         for (int c = 0; c < 8; ++c) s.children[c] = o.children[c] >= 0 ? base + o.children[c] : -1;
+        const size_t at = data.size();
         s.step = store::encodeNode(points, std::span(tree.order()).subspan(o.first, o.count), o.cube(), packing, data);
+        s.crc = store::checksum(data.data() + at, data.size() - at);
         nodes.push_back(s);
     }
     return base;
@@ -236,7 +238,14 @@ Result<std::shared_ptr<PointStore>> loadPointStore(const LasFile& file, const Po
     BuildContext ctx{file, georef, options, folder, name};
     const auto start = std::chrono::steady_clock::now();
     if (auto built = buildCacheFile(ctx, path, key, tolerance); !built) {
-        return makeError(std::string(file.path()).append(": building the point cache failed: ").append(built.message()));
+        if (options.cancel && options.cancel->load()) return built.error();
+        // A folder that is read-only or full: go on without the cache while the cloud fits in
+        // memory (the temporary files are gone; nothing half written keeps the cache's name).
+        if (file.points() > options.fallbackInMemoryPoints)
+            return makeError(std::string(file.path()).append(": building the point cache failed: ").append(built.message())
+                                 .append(" (the cloud is too large to load without it: give the layer a writable \"cacheFolder\")"));
+        log::warn(file.path(), ": cannot write the point cache (", built.message(), "): loading the cloud in memory without it");
+        return buildInMemory(file, georef, options, tolerance);
     }
     auto opened = PointStore::open(path, key);
     if (opened) {

@@ -5,13 +5,14 @@
 #include "layers/points/PointStore.h"
 
 #include <cstring>
+#include <string>
 #include <span>
 #include <vector>
 
 namespace orbis::points::store {
 
 inline constexpr char kMagic[8] = {'O', 'R', 'B', 'I', 'S', 'P', 'T', 'S'};
-inline constexpr uint32_t kVersion = 1;
+inline constexpr uint32_t kVersion = 2;   // 2: checksums (the header's tableCrc, each node's crc)
 inline constexpr uint64_t kMaxKeyBytes = 1u << 16;
 inline constexpr uint32_t kQuantisedBits = 21;
 inline constexpr uint32_t kQuantisedCentre = 1u << 20;   // q = round(offset / step) + this
@@ -26,7 +27,9 @@ struct FileHeader {
     uint64_t nodeTableOffset;   // = dataOffset + dataBytes; nodeCount StoredNodes to the end
     uint64_t nodeCount;
     CloudInfo info;
-    uint8_t reserved[256 - 56 - sizeof(CloudInfo)];
+    uint32_t tableCrc;   // CRC-32 of this header (with tableCrc 0), the key and the node table
+    uint32_t reserved0;
+    uint8_t reserved[256 - 64 - sizeof(CloudInfo)];
 };
 static_assert(sizeof(FileHeader) == 256);
 
@@ -41,6 +44,12 @@ inline void packPosition(glm::uvec3 q, uint32_t& w0, uint32_t& w1) {
 inline glm::uvec3 unpackPosition(uint32_t w0, uint32_t w1) {
     return {w0 & 0x1FFFFFu, (w0 >> 21) | ((w1 & 0x3FFu) << 11), w1 >> 10};
 }
+
+/// CRC-32 (zlib's) of `bytes` bytes, continuing from `crc` (0 to start).
+uint32_t checksum(const void* data, uint64_t bytes, uint32_t crc = 0);
+
+/// The header's tableCrc for `header` (its tableCrc ignored), `key` and the node table.
+uint32_t tableChecksum(const FileHeader& header, const std::string& key, std::span<const StoredNode> nodes);
 
 /// pread until `bytes` are read; false on an error or the end of the file.
 bool preadAll(int fd, void* out, uint64_t bytes, uint64_t offset);

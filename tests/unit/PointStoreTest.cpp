@@ -10,7 +10,12 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <csignal>
+#include <cstddef>
 
 #include <cmath>
 #include <filesystem>
@@ -243,6 +248,19 @@ TEST(PointStore, DamagedCachesGiveClearErrors) {
     store::FileHeader header;
     std::memcpy(&header, bytes.data(), sizeof header);
     std::string key(bytes.data() + sizeof header, header.keyBytes);
+    // A change that keeps the checksum right (a file written wrongly, not damaged later) must
+    // still be caught by the structural checks.
+    const auto resealed = [&](const std::function<void(std::vector<char>&)>& change) {
+        return [&, change](std::vector<char>& b) {
+            change(b);
+            store::FileHeader h;
+            std::memcpy(&h, b.data(), sizeof h);
+            std::vector<StoredNode> table(h.nodeCount);
+            std::memcpy(table.data(), b.data() + h.nodeTableOffset, table.size() * sizeof(StoredNode));
+            h.tableCrc = store::tableChecksum(h, key, table);
+            std::memcpy(b.data(), &h, sizeof h);
+        };
+    };
     const auto damaged = [&](const std::function<void(std::vector<char>&)>& change) {
         std::vector<char> b = bytes;
         change(b);
@@ -256,23 +274,144 @@ TEST(PointStore, DamagedCachesGiveClearErrors) {
     EXPECT_NE(damaged([](auto& b) { b.resize(100); }).find("shorter than its header"), std::string::npos);
     EXPECT_NE(damaged([](auto& b) { b.resize(b.size() - 96); }).find("truncated"), std::string::npos);
     EXPECT_NE(damaged([&](auto& b) { b[sizeof header + 3] ^= 1; }).find("built from another"), std::string::npos);
-    EXPECT_NE(damaged([&](auto& b) {   // the last node's first child points at the root
+    EXPECT_NE(damaged(resealed([&](auto& b) {   // the last node's first child points at the root
                   StoredNode n;
                   char* at = b.data() + b.size() - sizeof n;
                   std::memcpy(&n, at, sizeof n);
                   n.children[0] = 0;
                   std::memcpy(at, &n, sizeof n);
-              }).find("bad child"),
+              })).find("bad child"),
               std::string::npos);
-    EXPECT_NE(damaged([&](auto& b) {   // a node's data beyond the data
+    EXPECT_NE(damaged(resealed([&](auto& b) {   // a node's data beyond the data
                   StoredNode n;
                   char* at = b.data() + header.nodeTableOffset;
                   std::memcpy(&n, at, sizeof n);
                   n.offset = header.dataBytes;
                   std::memcpy(at, &n, sizeof n);
-              }).find("data outside the file"),
+              })).find("data outside the file"),
+              std::string::npos);
+    // One bit flipped in the node table or the header, as a disk or a copy might: the checksum.
+    EXPECT_NE(damaged([&](auto& b) { b[header.nodeTableOffset + 5] ^= 4; }).find("fails the checksum"), std::string::npos);
+    EXPECT_NE(damaged([&](auto& b) { b[offsetof(store::FileHeader, info) + 2] ^= 1; }).find("fails the checksum"),
+              std::string::npos);
+    // A cache from an older Orbis (version 1 had no checksums).
+    EXPECT_NE(damaged([&](auto& b) { b[offsetof(store::FileHeader, version)] = 1; }).find("another version of Orbis"),
               std::string::npos);
     EXPECT_NE(PointStore::open((cache / "none").string(), key).message().find("none"), std::string::npos);
+}
+
+// Node data damaged on disk after the build (its table intact): opening cannot see it, but
+// reading that node fails its checksum, the file is removed, and the next load builds it again.
+TEST(PointStore, CorruptedNodeDataIsCaughtAndTheCacheRebuilt) {
+    const std::string las = writeSurvey("corrupt.las", 20000, 12);
+    const fs::path cache = tempDir() / "cache-corrupt";
+    std::string path;
+    size_t victim = 0;
+    {
+        const Loaded l = load(las, smallChunks(cache));
+        ASSERT_TRUE(l.store && l.store->onDisk());
+        path = l.store->path();
+        const auto& nodes = l.store->nodes();
+        while (victim < nodes.size() && nodes[victim].count == 0) ++victim;
+        ASSERT_LT(victim, nodes.size());
+        store::FileHeader h;
+        std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+        f.read(reinterpret_cast<char*>(&h), sizeof h);
+        const auto at = std::streamoff(h.dataOffset + nodes[victim].offset + 3);
+        char c = 0;
+        f.seekg(at);
+        f.read(&c, 1);
+        c = char(c ^ 0x10);
+        f.seekp(at);
+        f.write(&c, 1);
+    }
+    {
+        const Loaded l = load(las, smallChunks(cache));   // the table is intact: opens
+        ASSERT_TRUE(l.store && l.store->onDisk());
+        std::vector<uint8_t> d;
+        std::string error;
+        EXPECT_FALSE(l.store->read(victim, d, &error));
+        EXPECT_NE(error.find("corrupted"), std::string::npos) << error;
+        EXPECT_NE(error.find(path), std::string::npos) << error;
+        EXPECT_FALSE(fs::exists(path)) << "a corrupted cache must not be reused";
+        for (size_t i = 0; i < l.store->nodes().size(); ++i) {   // the rest still reads (the open file)
+            if (i != victim) {
+                EXPECT_TRUE(l.store->read(i, d)) << "node " << i;
+            }
+        }
+    }
+    const Loaded again = load(las, smallChunks(cache));
+    ASSERT_TRUE(again.store && again.store->onDisk());
+    EXPECT_TRUE(fs::exists(path));
+    std::vector<uint8_t> d;
+    for (size_t i = 0; i < again.store->nodes().size(); ++i) EXPECT_TRUE(again.store->read(i, d)) << "node " << i;
+}
+
+// A full disk: the file-size limit stands in for it (writes past it fail with EFBIG where a
+// full disk gives ENOSPC; the same code path). The cloud loads in memory, and neither a cache
+// nor a temporary file is left.
+TEST(PointStore, FullDiskLoadsTheCloudWithoutTheCache) {
+    const std::string las = writeSurvey("full.las", 20000, 13);   // written before the limit
+    const fs::path cache = tempDir() / "cache-full";
+    fs::create_directories(cache);
+    struct rlimit old {};
+    ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+    const auto oldHandler = std::signal(SIGXFSZ, SIG_IGN);
+    struct rlimit limited = old;
+    limited.rlim_cur = 64 * 1024;   // the spill file alone is ten times this
+    ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limited), 0);
+    const Loaded l = load(las, smallChunks(cache));
+    ::setrlimit(RLIMIT_FSIZE, &old);
+    std::signal(SIGXFSZ, oldHandler);
+    ASSERT_TRUE(l.store);
+    EXPECT_FALSE(l.store->onDisk());
+    EXPECT_EQ(l.store->info().points, 20000u);
+    EXPECT_TRUE(fs::is_empty(cache));
+    // With room again, the same load writes its cache.
+    const Loaded roomy = load(las, smallChunks(cache));
+    ASSERT_TRUE(roomy.store);
+    EXPECT_TRUE(roomy.store->onDisk());
+}
+
+// A read-only cache folder: the cloud loads in memory too. Root ignores permissions, so as
+// root the load runs in a child process that has given its rights up (user nobody).
+TEST(PointStore, ReadOnlyFolderLoadsTheCloudWithoutTheCache) {
+    const std::string las = writeSurvey("readonly.las", 20000, 14);
+    const fs::path cache = tempDir() / "cache-readonly";
+    fs::create_directories(cache);
+    fs::permissions(cache, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read | fs::perms::group_exec |
+                               fs::perms::others_read | fs::perms::others_exec);
+    // 0: loaded in memory with nothing written; else what went wrong. No gtest macros: this may
+    // run in a forked child.
+    const auto attempt = [&]() -> int {
+        auto file = LasFile::open(las);
+        if (!file) return 1;
+        PointPlacement placement;
+        placement.origin = globe::Geodetic{179.99, -45.0, 300.0};
+        auto georef = PointGeoreference::create(**file, placement);
+        if (!georef) return 2;
+        auto store = loadPointStore(**file, *georef, smallChunks(cache));
+        if (!store) return 3;
+        if ((*store)->onDisk()) return 4;
+        return (*store)->info().points == 20000u ? 0 : 5;
+    };
+    int code = -1;
+    if (::geteuid() == 0) {
+        const pid_t child = ::fork();
+        ASSERT_GE(child, 0);
+        if (child == 0) {
+            if (::setgid(65534) != 0 || ::setuid(65534) != 0) ::_exit(90);
+            ::_exit(attempt());
+        }
+        int status = 0;
+        ASSERT_EQ(::waitpid(child, &status, 0), child);
+        code = WIFEXITED(status) ? WEXITSTATUS(status) : 100 + WTERMSIG(status);
+    } else {
+        code = attempt();
+    }
+    EXPECT_EQ(code, 0) << "1: LAS, 2: placement, 3: load failed, 4: wrote a cache, 5: points, 90: setuid";
+    EXPECT_TRUE(fs::is_empty(cache));
+    fs::permissions(cache, fs::perms::owner_all, fs::perm_options::add);
 }
 
 // Residency over a store of 10 nodes of 100 points (1600 bytes each, quantised).
