@@ -1,6 +1,8 @@
 #include "ui/Viewer.h"
 
 #include "base/Log.h"
+#include "engine/gpu/VkCheck.h"
+#include "engine/scene/SceneSave.h"
 #include "layers/BuiltinLayers.h"
 #include "ui/InputScript.h"
 
@@ -142,9 +144,26 @@ int Viewer::run() {
     last_ = Clock::now();
     scene_->time().advance(0.0);
     installStopSignals();
-    while (!quit_ && !window_.shouldClose() && !gStopRequested)
-        if (!runFrame()) return 1;
+    try {
+        while (!quit_ && !window_.shouldClose() && !gStopRequested)
+            if (!runFrame()) return 1;
+    } catch (const gpu::GpuError& e) {
+        if (!device_.lost()) throw;
+        return deviceLost(e.what());
+    }
     return finish();
+}
+
+int Viewer::deviceLost(const std::string& what) {
+    printError("the GPU device was lost: " + what);
+    const std::filesystem::path to = panels_.savePath();
+    if (auto saved = scene::saveScene(*scene_, to); !saved) {
+        printError("the view could not be saved: " + saved.message());
+    } else {
+        printError("the view (camera, time, layers and their settings) is saved to " + to.string() +
+                   ": open it again with orbis view " + to.string());
+    }
+    return kDeviceLostExit;
 }
 
 /// One turn of the loop: wait or poll, the input (the window's, then the script's), the clock,

@@ -66,8 +66,12 @@ public:
     /// Runs until the window closes, Escape or the panels' Quit, the script quits, or SIGINT /
     /// SIGTERM (handled as a closed window). Returns the exit code: 0, or 1 after a message on
     /// stderr (a script's file not written, a panel item it names not shown, validation
-    /// messages). Call after load() succeeded.
+    /// messages), or kDeviceLostExit when the GPU device was lost (the view is saved first,
+    /// where Ctrl+S saves it). Call after load() succeeded.
     int run();
+
+    /// The exit code after the GPU device was lost.
+    static constexpr int kDeviceLostExit = 3;
 
     /// "orbis: MESSAGE" on stderr, as every command reports a problem.
     static void printError(const std::string& message);
@@ -89,6 +93,9 @@ private:
     void updateReadout();
     void drawPanels(FrameRequests& requests);
     int finish();
+    /// The GPU device is gone: says so, saves the view where Ctrl+S saves it, returns
+    /// kDeviceLostExit. Nothing here touches the device.
+    int deviceLost(const std::string& what);
     void setUpPanels();
     void setUpNavigation();
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 #include <cstring>
 
 namespace orbis::gpu {
@@ -127,6 +128,11 @@ void Device::pickPhysicalDevice(const std::string& select, VkSurfaceKHR surface)
 }
 
 Device::Device(Instance& instance, const DeviceOptions& options) : instance_(instance) {
+    loseAfterSubmits_ = options.loseAfterSubmits;
+    if (const char* fault = std::getenv("ORBIS_FAULT_DEVICE_LOST_AFTER"); fault && loseAfterSubmits_ == 0) {
+        loseAfterSubmits_ = std::strtoull(fault, nullptr, 10);
+        log::warn("device: fault injection: the device is lost after ", loseAfterSubmits_, " submits");
+    }
     pickPhysicalDevice(options.select, options.surface);
     vkGetPhysicalDeviceProperties(physical_, &properties_);
     queueFamily_ = static_cast<uint32_t>(findQueueFamily(physical_, options.surface));
@@ -210,7 +216,13 @@ Device::Device(Instance& instance, const DeviceOptions& options) : instance_(ins
 
 Device::~Device() {
     if (device_ == VK_NULL_HANDLE) return;
-    waitIdle();
+    try {
+        waitIdle();
+    } catch (const GpuError& e) {   // lost while waiting: destroy what is left all the same
+        log::error("device: ", e.what());
+        lost_ = true;
+        waitIdle();
+    }
     allocator_.reset();
     vkDestroyCommandPool(device_, oneShotPool_, nullptr);
     vkDestroySemaphore(device_, timeline_, nullptr);
@@ -236,23 +248,33 @@ uint64_t Device::submit(VkCommandBuffer cmd, std::span<const VkSemaphoreSubmitIn
     submit.pCommandBufferInfos = &cmdInfo;
     submit.signalSemaphoreInfoCount = static_cast<uint32_t>(allSignals.size());
     submit.pSignalSemaphoreInfos = allSignals.data();
-    VK_CHECK(vkQueueSubmit2(queue_, 1, &submit, VK_NULL_HANDLE));
+    if (lost_) check(VK_ERROR_DEVICE_LOST, "vkQueueSubmit2 (the device was lost before)");
+    if (loseAfterSubmits_ > 0 && value > loseAfterSubmits_)
+        check(VK_ERROR_DEVICE_LOST, "vkQueueSubmit2 (injected: ORBIS_FAULT_DEVICE_LOST_AFTER)");
+    check(vkQueueSubmit2(queue_, 1, &submit, VK_NULL_HANDLE), "vkQueueSubmit2");
     lastSubmitted_ = value;
     return value;
 }
 
+void Device::check(VkResult result, const char* what) const {
+    if (result >= 0) return;
+    if (result == VK_ERROR_DEVICE_LOST) lost_ = true;
+    throw GpuError(result, std::string(what) + " failed on " + info_.name);
+}
+
 void Device::wait(uint64_t value) {
-    if (value == 0) return;
+    if (value == 0 || lost_) return;
     VkSemaphoreWaitInfo info{VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO};
     info.semaphoreCount = 1;
     info.pSemaphores = &timeline_;
     info.pValues = &value;
-    VK_CHECK(vkWaitSemaphores(device_, &info, UINT64_MAX));
+    check(vkWaitSemaphores(device_, &info, UINT64_MAX), "vkWaitSemaphores");
 }
 
 uint64_t Device::completedValue() const {
+    if (lost_) return lastSubmitted_;   // nothing runs any more: everything retired may go
     uint64_t value = 0;
-    VK_CHECK(vkGetSemaphoreCounterValue(device_, timeline_, &value));
+    check(vkGetSemaphoreCounterValue(device_, timeline_, &value), "vkGetSemaphoreCounterValue");
     return value;
 }
 
@@ -294,7 +316,7 @@ void Device::collectRetired() {
 }
 
 void Device::waitIdle() {
-    VK_CHECK(vkDeviceWaitIdle(device_));
+    if (!lost_) check(vkDeviceWaitIdle(device_), "vkDeviceWaitIdle");
     // Destroying an object may retire another (a buffer owning a view): loop until empty.
     for (;;) {
         std::deque<Retired> all;

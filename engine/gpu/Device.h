@@ -25,6 +25,10 @@ struct DeviceOptions {
     /// a number = index in enumeration order; anything else = case-insensitive name substring.
     std::string select;
     VkSurfaceKHR surface = VK_NULL_HANDLE;   ///< when set: the queue must present to it
+    /// Fault injection (tests of the device-lost path): after this many submits, the next
+    /// submit acts as if the driver had reported VK_ERROR_DEVICE_LOST. 0: the value of
+    /// $ORBIS_FAULT_DEVICE_LOST_AFTER when set, else never.
+    uint64_t loseAfterSubmits = 0;
 };
 
 /// Optional features the device was created with (renderers choose their paths from these).
@@ -78,12 +82,19 @@ public:
 
     /// Submits one command buffer; signals the timeline with a new value and returns it.
     /// Main thread only (the single queue is not shared with loader threads).
+    ///
+    /// Device loss: when a submit or a wait reports VK_ERROR_DEVICE_LOST it throws GpuError
+    /// with that result, and the device is lost() for good: later submits throw at once, waits
+    /// return at once (nothing will ever complete), waitIdle() and the destructor only destroy
+    /// what was retired, so that the app can save its state and close cleanly.
     uint64_t submit(VkCommandBuffer cmd, std::span<const VkSemaphoreSubmitInfo> waits = {},
                     std::span<const VkSemaphoreSubmitInfo> signals = {});
     /// Blocks until the GPU has finished the submit that signalled `value`.
     void wait(uint64_t value);
     uint64_t completedValue() const;
     uint64_t lastSubmitted() const { return lastSubmitted_; }
+    /// The device reported VK_ERROR_DEVICE_LOST (or the fault was injected).
+    bool lost() const { return lost_; }
 
     /// Records `record` into a one-shot command buffer, submits it and waits. For set-up work
     /// (initial uploads), never per frame, and never while a frame is being recorded: objects
@@ -118,6 +129,10 @@ private:
     uint32_t queueFamily_ = 0;
     VkSemaphore timeline_ = VK_NULL_HANDLE;
     std::atomic<uint64_t> lastSubmitted_{0};
+    mutable std::atomic<bool> lost_{false};
+    uint64_t loseAfterSubmits_ = 0;
+    /// Throws GpuError for a failed `result`, marking the device lost on VK_ERROR_DEVICE_LOST.
+    void check(VkResult result, const char* what) const;
     VkCommandPool oneShotPool_ = VK_NULL_HANDLE;
     bool recordingFrame_ = false;
     std::unique_ptr<MemoryAllocator> allocator_;

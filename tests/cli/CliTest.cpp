@@ -249,6 +249,17 @@ TEST_F(CliGpu, EveryBadFileExitsOneNamingItself) {
     EXPECT_GE(checked, 8u);
 }
 
+// A batch render whose device is lost (injected at the third submit): a clear message, exit 3,
+// no hang, no crash while closing the device.
+TEST_F(CliGpu, DeviceLostExitsThreeWithAClearMessage) {
+    const fs::path out = fs::temp_directory_path() / "orbis-cli-test" / "lost.png";
+    const CliRun r = runShell("ORBIS_FAULT_DEVICE_LOST_AFTER=3 " + std::string(ORBIS_BINARY) + " render " + ORBIS_DEFAULT_SCENE +
+                              " -o " + out.string() + " --size 320x180 --device cpu");
+    EXPECT_EQ(r.exitCode, 3) << r.output;
+    EXPECT_NE(r.output.find("the GPU device was lost"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("VK_ERROR_DEVICE_LOST"), std::string::npos) << r.output;
+}
+
 TEST_F(CliGpu, UnwritableOutputExitsOne) {
     const CliRun r = run(std::string("render ") + ORBIS_DEFAULT_SCENE + " -o /nonexistent/dir/x.png --size 32x32");
     EXPECT_EQ(r.exitCode, 1) << r.output;

@@ -18,7 +18,7 @@
 namespace orbis::cli {
 
 /// Exit codes shared by every command.
-enum ExitCode { kOk = 0, kBadInput = 1, kUsage = 2 };
+enum ExitCode { kOk = 0, kBadInput = 1, kUsage = 2, kDeviceLost = 3 };
 
 /// Prints "orbis: MESSAGE" on stderr, as every command reports bad input; returns kBadInput.
 int badInput(const std::string& message);

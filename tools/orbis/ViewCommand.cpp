@@ -49,7 +49,9 @@ int viewCommand(const std::vector<std::string>& argv) {
     o.script = args.value("--script").value_or("");
     o.screenshotFolder = args.value("--screenshots").value_or(".");
     o.saveTo = args.value("--save-to").value_or("");
-    return ui::runViewer(o) == 0 ? kOk : kBadInput;
+    const int code = ui::runViewer(o);
+    if (code == ui::Viewer::kDeviceLostExit) return kDeviceLost;
+    return code == 0 ? kOk : kBadInput;
 }
 
 }  // namespace orbis::cli

@@ -73,6 +73,10 @@ int main(int argc, char** argv) {
                      command.c_str());
         return cli::kUsage;
     } catch (const gpu::GpuError& e) {
+        if (e.result() == VK_ERROR_DEVICE_LOST) {   // batch commands have no view to save
+            std::fprintf(stderr, "orbis: the GPU device was lost: %s\n", e.what());
+            return cli::kDeviceLost;
+        }
         std::fprintf(stderr, "orbis: GPU: %s\n", e.what());
         return cli::kBadInput;
     } catch (const std::exception& e) {
