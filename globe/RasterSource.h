@@ -10,8 +10,10 @@
 //
 // GDAL is configured once, on the first open(): a scene without rasters never initialises it.
 // Defaults set then unless the user set them (environment or CPLSetConfigOption):
-// GDAL_CACHEMAX=256 (MB), GDAL_HTTP_TIMEOUT=30, GDAL_HTTP_CONNECTTIMEOUT=10 (s), and
-// GDAL_DEFAULT_WMS_CACHE_PATH=<defaultRasterCacheDir()>.
+// GDAL_CACHEMAX=256 (MB), GDAL_HTTP_TIMEOUT=30, GDAL_HTTP_CONNECTTIMEOUT=10 (s),
+// GDAL_HTTP_MAX_RETRY=2 with GDAL_HTTP_RETRY_DELAY=1 (s, growing) for busy servers, and
+// GDAL_DEFAULT_WMS_CACHE_PATH=<defaultRasterCacheDir()>. A tile that still fails is tried
+// again by the pager later (TerrainTiles: kTileRetries, with back-off).
 //
 // Cost bound: one tile never reads more than kMaxSourcePixelsPerTile source pixels (counting the
 // overview GDAL reads from). Tiles that would need more (a huge file without overviews seen from

@@ -24,6 +24,9 @@ void configureGdalOnce() {
         const bool userCache = CPLGetConfigOption("GDAL_CACHEMAX", nullptr) != nullptr;
         setConfigDefault("GDAL_HTTP_TIMEOUT", "30");
         setConfigDefault("GDAL_HTTP_CONNECTTIMEOUT", "10");
+        // A busy server (429, 502, 503, 504) is asked again twice, after 1 s then about 2 s.
+        setConfigDefault("GDAL_HTTP_MAX_RETRY", "2");
+        setConfigDefault("GDAL_HTTP_RETRY_DELAY", "1");
         setConfigDefault("GDAL_DEFAULT_WMS_CACHE_PATH", defaultRasterCacheDir());
         GDALAllRegister();
         if (!userCache) GDALSetCacheMax64(kGdalBlockCacheBytes);

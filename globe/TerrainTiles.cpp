@@ -271,6 +271,12 @@ void TerrainTiles::request(uint32_t layer, const TileKey& tile, double distance)
                 if (e.descend) continue;   // nothing here, but finer tiles may have data
                 return;                    // nothing finer below
             case DataState::Failed:
+                // Tried again after a back-off (a server that was down, a timeout), a few times.
+                if (e.failures <= kTileRetries && std::chrono::steady_clock::now() >= e.retryAt) {
+                    ++stats_.retried;
+                    startLoad(key, e, priorityFor(level, distance));
+                    if (e.state == DataState::Ready) continue;
+                }
                 return;
             case DataState::Loading:
                 e.job.setPriority(priorityFor(level, distance));
@@ -324,9 +330,14 @@ void TerrainTiles::finishLoad(const DataKey& key, Entry& e, LoadResult r) {
     if (!r.error.empty()) {
         e.state = DataState::Failed;
         ++stats_.failed;
+        // 1 s, 2 s, 4 s, ... before the next attempt; after kTileRetries of them it stays failed
+        // until it leaves the view and comes back.
+        ++e.failures;
+        e.retryAt = std::chrono::steady_clock::now() + kTileRetryDelay * (1u << std::min(e.failures - 1, 10u));
         noteError(r.error);
         return;
     }
+    e.failures = 0;
     ++stats_.completed;
     if (r.empty) {
         e.state = DataState::Empty;

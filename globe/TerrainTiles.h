@@ -21,6 +21,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
@@ -76,8 +77,14 @@ struct TerrainTilesSettings {
     double tilePixelsPerScreenPixel = 1.0;
 };
 
+/// A tile whose load failed (a server down, a timeout, a damaged file) is tried again while it
+/// stays wanted, after kTileRetryDelay, then twice that, and so on, kTileRetries times.
+inline constexpr uint32_t kTileRetries = 4;
+inline constexpr std::chrono::milliseconds kTileRetryDelay{1000};
+
 struct PagerStats {
     uint64_t started = 0, completed = 0, cancelled = 0, failed = 0, empty = 0;
+    uint64_t retried = 0;        ///< loads started again after a failure
     uint64_t evicted = 0;
     size_t loading = 0;          ///< jobs queued or running now
     uint64_t loadNanoseconds = 0;  ///< summed time inside load functions (worker threads)
@@ -172,6 +179,9 @@ private:
         bool refreshing = false;
         uint32_t generation = 0;          ///< the source's generation the data came from
         uint32_t loadingGeneration = 0;   ///< the generation the running job paints
+        /// Failed loads so far, and when the next attempt may start (back-off).
+        uint32_t failures = 0;
+        std::chrono::steady_clock::time_point retryAt{};
         bool busy() const { return state == DataState::Loading || refreshing; }
     };
 

@@ -496,11 +496,20 @@ std::string TerrainLayer::status() const {
     std::ostringstream s;
     s << "tiles " << stats_.tilesDrawn << " drawn (deepest level " << stats_.deepestLevel << ")";
     if (tiles_) {
-        s << ", " << tiles_->stats().loading << " loading, " << (tiles_->cpuBytes() >> 20) << " MB cached";
+        const globe::PagerStats& p = tiles_->stats();
+        s << ", " << p.loading << " loading, " << (tiles_->cpuBytes() >> 20) << " MB cached";
+        if (p.failed > 0) {
+            s << ", " << p.failed << " failed loads (" << p.retried << " tried again)";
+            if (!tiles_->errors().empty()) s << "; first: " << tiles_->errors().front();
+        }
     }
     s << ", " << (gpuBytes() >> 20) << " MB on the GPU";
     if (!errors_.empty()) s << ", " << errors_.size() << " error(s)";
     return s.str();
+}
+
+uint64_t TerrainLayer::cacheBytes() const {
+    return (tiles_ ? tiles_->cpuBytes() : 0) + (ground_ ? ground_->cacheBytes() : 0);
 }
 
 /// The ground's height as drawn: the DEMs' height times the exaggeration.

@@ -103,7 +103,8 @@ public:
     void recordTransfers(const render::RecordContext& context) override;
     void record(scene::Pass pass, const render::RecordContext& context) override;
     uint64_t gpuBytes() const override;
-    uint64_t cacheBytes() const override { return tiles_ ? tiles_->cpuBytes() : 0; }
+    /// The tiles the renderer keeps on the CPU and the ground-height cache (TerrainGround).
+    uint64_t cacheBytes() const override;
     bool busy() const override;
     /// Live: "maxScreenSpaceError" (0.25 .. 1000 px), "verticalExaggeration" (0 .. 1000).
     bool setParameter(std::string_view name, double value) override;

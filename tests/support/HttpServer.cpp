@@ -76,6 +76,7 @@ HttpServer::HttpServer(std::filesystem::path root) : root_(std::move(root)) {
 HttpServer::~HttpServer() {
     stop_ = true;
     if (thread_.joinable()) thread_.join();
+    if (stalled_ >= 0) ::close(stalled_);
     if (listenFd_ >= 0) ::close(listenFd_);
 }
 
@@ -88,6 +89,7 @@ void HttpServer::serve() {
         const int fd = ::accept(listenFd_, nullptr, nullptr);
         if (fd < 0) continue;
         handle(fd);
+        if (fd == stalled_) continue;   // held open, unanswered
         ::close(fd);
     }
 }
@@ -99,6 +101,29 @@ void HttpServer::handle(int fd) {
     std::string method, target;
     line >> method >> target;
     ++requests_;
+    switch (fault_.load()) {
+        case Fault::None: break;
+        case Fault::Unavailable503: {
+            static const char kBusy[] = "HTTP/1.0 503 Service Unavailable\r\nContent-Length: 5\r\nConnection: close\r\n\r\nbusy\n";
+            sendAll(fd, kBusy, sizeof kBusy - 1);
+            return;
+        }
+        case Fault::Garbage: {
+            std::string junk = "HTTP/1.0 200 OK\r\nContent-Type: image/png\r\nContent-Length: 4096\r\nConnection: close\r\n\r\n";
+            for (int i = 0; i < 4096; ++i) junk.push_back(char((i * 7919 + 13) & 0xff));
+            sendAll(fd, junk.data(), junk.size());
+            return;
+        }
+        case Fault::Reset: {   // SO_LINGER 0: close() sends RST instead of FIN
+            const linger l{1, 0};
+            ::setsockopt(fd, SOL_SOCKET, SO_LINGER, &l, sizeof l);
+            return;
+        }
+        case Fault::Stall:
+            if (stalled_ >= 0) ::close(stalled_);
+            stalled_ = fd;
+            return;
+    }
 
     // Path only (no query), no way out of root_.
     target = target.substr(0, target.find_first_of("?#"));

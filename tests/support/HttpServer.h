@@ -5,6 +5,11 @@
 // the listen backlog), answers 404 for anything it does not have, and survives clients that
 // disconnect mid-request. POSIX sockets only; no Vulkan, no GDAL.
 //
+// Faults, for the tests of what a client does with a bad server (setFault, any time): answer
+// every request with 503, with 200 and bytes that are no image, by resetting the connection, or
+// by stalling (reading the request and never answering; the connection is held until the next
+// request comes or the server stops).
+//
 //   orbis::test::HttpServer server(tileDir);
 //   ASSERT_TRUE(server.running()) << server.error();
 //   open(server.url() + "/{z}/{x}/{y}.png");
@@ -18,6 +23,8 @@ namespace orbis::test {
 
 class HttpServer {
 public:
+    enum class Fault { None, Unavailable503, Garbage, Reset, Stall };
+
     /// Starts serving `root` (files are looked up as root + request path). Check running().
     explicit HttpServer(std::filesystem::path root);
     /// Stops the server thread and closes the socket.
@@ -35,6 +42,8 @@ public:
     int requestCount() const { return requests_.load(); }
     /// Requests answered with 404. Any thread.
     int notFoundCount() const { return notFound_.load(); }
+    /// How the following requests are answered. Any thread.
+    void setFault(Fault fault) { fault_ = fault; }
 
 private:
     void serve();
@@ -47,6 +56,8 @@ private:
     std::atomic<bool> stop_{false};
     std::atomic<int> requests_{0};
     std::atomic<int> notFound_{0};
+    std::atomic<Fault> fault_{Fault::None};
+    int stalled_ = -1;   // the connection a Stall holds (server thread only)
     std::thread thread_;
 };
 

@@ -110,5 +110,79 @@ TEST_F(TerrainTilesRepaint, TilesFinerThanTheNewSourcePaintsGoWithTheirOldImages
     EXPECT_EQ(greyAt(tiles, *ready), 20);
 }
 
+/// Fails (as a server that is down or times out) while `down` is set; then paints grey 40.
+class FlakySource : public TileImageSource {
+public:
+    explicit FlakySource(std::atomic<bool>& down) : down_(down) {}
+    const std::string& name() const override { return name_; }
+    uint32_t maxLevel(int) const override { return 0; }
+    uint32_t minLevel() const override { return 0; }
+    bool covers(const GeoExtent&) const override { return true; }
+    Result<ImageryTile> readTile(const TileImageRequest& r, const jobs::CancelToken*) const override {
+        ++reads;
+        if (down_) return makeError("http://127.0.0.1/0/0/0.png: HTTP 503");
+        return ImageryTile{r.size, std::vector<uint8_t>(size_t(r.size) * r.size * 4, 40), true};
+    }
+    mutable std::atomic<int> reads{0};
+
+private:
+    std::string name_ = "flaky";
+    std::atomic<bool>& down_;
+};
+
+// A tile whose load failed is tried again while it is wanted, after a back-off that doubles
+// (1 s, 2 s, ...), kTileRetries times at most: a server that comes back fills it in, one that
+// stays down is not hammered.
+TEST(TerrainTilesRetry, AFailedTileIsTriedAgainWithBackOffAndABound) {
+    std::atomic<bool> down{true};
+    auto source = std::make_shared<FlakySource>(down);
+    TerrainTiles tiles{smallImages(), {}, {source}, nullptr};   // loads inline
+    const TileKey key{0, 0, 0};
+    uint64_t frame = 1;
+    const auto frameOf = [&] {
+        tiles.beginFrame(frame++);
+        tiles.request(1, key, 1000.0);
+        tiles.endFrame();
+    };
+    frameOf();
+    EXPECT_EQ(tiles.state(1, key), DataState::Failed);
+    EXPECT_EQ(source->reads.load(), 1);
+    for (int i = 0; i < 20; ++i) frameOf();   // within the first second: no new attempt
+    EXPECT_EQ(source->reads.load(), 1);
+    down = false;
+    std::this_thread::sleep_for(kTileRetryDelay + std::chrono::milliseconds(50));
+    frameOf();
+    EXPECT_EQ(source->reads.load(), 2);
+    EXPECT_EQ(tiles.state(1, key), DataState::Ready);
+    ASSERT_TRUE(tiles.imagery(1, key));
+    EXPECT_EQ(tiles.imagery(1, key)->rgba[0], 40);
+    EXPECT_EQ(tiles.stats().retried, 1u);
+    EXPECT_EQ(tiles.errors().size(), 1u);
+
+    // A server that stays down: kTileRetries more attempts, each after twice the wait before.
+    std::atomic<bool> gone{true};
+    auto dead = std::make_shared<FlakySource>(gone);
+    TerrainTiles other{smallImages(), {}, {dead}, nullptr};
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<double> attempts;
+    int seen = 0;
+    while (std::chrono::steady_clock::now() - start < kTileRetryDelay * 40) {
+        other.beginFrame(frame++);
+        other.request(1, key, 1000.0);
+        other.endFrame();
+        if (dead->reads.load() != seen) {
+            seen = dead->reads.load();
+            attempts.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        }
+        if (seen == int(kTileRetries) + 1 && std::chrono::steady_clock::now() - start > kTileRetryDelay * 20) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    ASSERT_EQ(attempts.size(), size_t(kTileRetries) + 1) << "the first load and kTileRetries more, then no more";
+    const double unit = std::chrono::duration<double>(kTileRetryDelay).count();
+    for (size_t k = 1; k < attempts.size(); ++k)
+        EXPECT_GE(attempts[k] - attempts[k - 1], unit * double(1u << (k - 1)) - 0.01) << "attempt " << k;
+    EXPECT_EQ(other.state(1, key), DataState::Failed);
+}
+
 }  // namespace
 }  // namespace orbis::globe
