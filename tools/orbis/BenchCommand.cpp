@@ -44,7 +44,13 @@ const char* kHelp =
     "                     compare the image with the first value's (the reference): RMSE, PSNR\n"
     "  --tiles LEVEL      tile throughput: the pager against a bare loop of GDAL reads over the same\n"
     "                     tiles of LEVEL (and their ancestors) on --threads N threads (default: cores)\n"
-    "  --plot FILE        with --sweep: the PNG plot of RMSE against ms/frame (default orbis-sweep.png)\n"
+    "  --plot FILE        with --sweep: the PNG plot of RMSE against ms/frame (default orbis-sweep.png);\n"
+    "                     with --soak: the timelines (default orbis-soak.png)\n"
+    "  --soak SECONDS     a long run as the viewer plays it (time playing, the camera looping along\n"
+    "                     --camera-path): RSS, the layers' GPU memory and caches, device memory,\n"
+    "                     threads, descriptors and frame-time p99 sampled through the run; exit 1\n"
+    "                     when, after the first quarter, memory is not flat within +-5 %, threads or\n"
+    "                     descriptors grew, the p99 rose past 1.5x, or validation spoke\n"
     "  --iso-error N1,N2,.. isosurface position error against steps, for a scene with a volume in\n"
     "                     mode \"iso\": for each step count, with and without the secant/bisection\n"
     "                     refinement, ms/frame and the distance in voxels between each pixel's first\n"
@@ -100,7 +106,8 @@ void printTable(const Args& args, const gpu::PhysicalDeviceInfo& info, const Fra
 Args parseBenchArgs(const std::vector<std::string>& argv) {
     std::set<std::string> valued = gpuValuedOptions();
     valued.insert({"--frames", "--warmup", "--size", "--time", "--camera-path", "--sweep", "--plot", "--tiles", "--threads",
-                   "--iso-error", "--video", "--seeks", "--poses", "--labels", "--margin", "--vector", "--level", "--runs"});
+                   "--iso-error", "--video", "--seeks", "--poses", "--labels", "--margin", "--vector", "--level", "--runs",
+                   "--soak"});
     std::set<std::string> flags = gpuFlagOptions();
     flags.insert({"--help", "--json", "--layer"});
     return Args(argv, valued, flags, {{"-h", "--help"}});
@@ -158,6 +165,7 @@ int benchCommand(const std::vector<std::string>& argv) {
     if (args.value("--iso-error")) return isoErrorBench(args, gpu, width, height, frames, warmup);
     render::Renderer renderer(*gpu.device, width, height);
     if (args.value("--sweep")) return sweepBench(args, gpu, *scene, renderer, frames, warmup);
+    if (auto seconds = args.number("--soak", 1.0, 1e6)) return soakBench(args, gpu, *scene, renderer, path, *seconds);
 
     // A fixed view is measured once everything it shows has loaded; a camera path measures the
     // streaming as it flies.

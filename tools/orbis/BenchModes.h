@@ -3,11 +3,13 @@
 // own file. They return the command's exit code and throw UsageError on bad options.
 
 #include "engine/render/Renderer.h"
+#include "engine/scene/CameraPath.h"
 #include "engine/scene/Scene.h"
 #include "tools/orbis/Args.h"
 #include "tools/orbis/Session.h"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace orbis::cli {
@@ -18,6 +20,10 @@ int sweepBench(const Args& args, GpuSession& gpu, scene::Scene& scene, render::R
 /// `orbis bench SCENE --iso-error N1,N2,...`: isosurface position error against the step
 /// count (BenchIsoError.cpp).
 int isoErrorBench(const Args& args, GpuSession& gpu, uint32_t width, uint32_t height, long frames, long warmup);
+/// `orbis bench SCENE --soak SECONDS [--camera-path FILE]`: a long run with the process and
+/// the layers sampled, and bounds on their growth (SoakBench.cpp).
+int soakBench(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer,
+              const std::optional<scene::CameraPath>& path, double seconds);
 /// `orbis bench SCENE --tiles LEVEL` (TileBench.cpp).
 int tileBench(const Args& args, scene::Scene& scene, long level, unsigned threads);
 /// `orbis bench --video FILE` (VideoBench.cpp).

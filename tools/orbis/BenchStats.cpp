@@ -8,13 +8,28 @@
 
 namespace orbis::cli {
 
+namespace {
+
+/// The nearest-rank q-quantile of sorted, non-empty `v`.
+double percentileSorted(const std::vector<double>& v, double q) {
+    return v[std::min(v.size() - 1, static_cast<size_t>(q * double(v.size() - 1) + 0.5))];
+}
+
+}  // namespace
+
+double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    return percentileSorted(v, q);
+}
+
 Stats summarize(std::vector<double> v) {
     Stats s;
     if (v.empty()) return s;
     std::sort(v.begin(), v.end());
     s.min = v.front();
     s.median = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-    s.p95 = v[std::min(v.size() - 1, static_cast<size_t>(0.95 * double(v.size() - 1) + 0.5))];
+    s.p95 = percentileSorted(v, 0.95);
     for (double x : v) s.mean += x;
     s.mean /= double(v.size());
     return s;

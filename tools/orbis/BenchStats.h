@@ -19,6 +19,8 @@ struct Stats {
 };
 
 Stats summarize(std::vector<double> v);
+/// The q-quantile (0..1, nearest rank) of `v`; 0 when it is empty.
+double percentile(std::vector<double> v, double q);
 nlohmann::json toJson(const Stats& s);
 
 /// What the visible layers drew in the last frame (points, tiles, ...), summed.

@@ -8,8 +8,10 @@
 namespace orbis::cli {
 namespace {
 
-// 3x5 glyphs, one row per 3 bits (MSB left).
+// 3x5 glyphs, one row per 3 bits (MSB left): digits, capitals (lower case drawn as capitals)
+// and a little punctuation.
 const char* glyph(char c) {
+    if (c >= 'a' && c <= 'z') c = char(c - 'a' + 'A');
     switch (c) {
         case '0': return "\x07\x05\x05\x05\x07";
         case '1': return "\x02\x06\x02\x02\x07";
@@ -24,6 +26,39 @@ const char* glyph(char c) {
         case '.': return "\x00\x00\x00\x00\x02";
         case '-': return "\x00\x00\x07\x00\x00";
         case '=': return "\x00\x07\x00\x07\x00";
+        case 'A': return "\x02\x05\x07\x05\x05";
+        case 'B': return "\x06\x05\x06\x05\x06";
+        case 'C': return "\x03\x04\x04\x04\x03";
+        case 'D': return "\x06\x05\x05\x05\x06";
+        case 'E': return "\x07\x04\x06\x04\x07";
+        case 'F': return "\x07\x04\x06\x04\x04";
+        case 'G': return "\x03\x04\x05\x05\x03";
+        case 'H': return "\x05\x05\x07\x05\x05";
+        case 'I': return "\x07\x02\x02\x02\x07";
+        case 'J': return "\x01\x01\x01\x05\x02";
+        case 'K': return "\x05\x05\x06\x05\x05";
+        case 'L': return "\x04\x04\x04\x04\x07";
+        case 'M': return "\x05\x07\x07\x05\x05";
+        case 'N': return "\x06\x05\x05\x05\x05";
+        case 'O': return "\x02\x05\x05\x05\x02";
+        case 'P': return "\x06\x05\x06\x04\x04";
+        case 'Q': return "\x02\x05\x05\x06\x03";
+        case 'R': return "\x06\x05\x06\x05\x05";
+        case 'S': return "\x03\x04\x02\x01\x06";
+        case 'T': return "\x07\x02\x02\x02\x02";
+        case 'U': return "\x05\x05\x05\x05\x07";
+        case 'V': return "\x05\x05\x05\x05\x02";
+        case 'W': return "\x05\x05\x07\x07\x05";
+        case 'X': return "\x05\x05\x02\x05\x05";
+        case 'Y': return "\x05\x05\x02\x02\x02";
+        case 'Z': return "\x07\x01\x02\x04\x07";
+        case '/': return "\x01\x01\x02\x04\x04";
+        case '%': return "\x05\x01\x02\x04\x05";
+        case '(': return "\x02\x04\x04\x04\x02";
+        case ')': return "\x02\x01\x01\x01\x02";
+        case ':': return "\x00\x02\x00\x02\x00";
+        case ',': return "\x00\x00\x00\x02\x04";
+        case '+': return "\x00\x02\x07\x02\x00";
         default: return "\x00\x00\x00\x00\x00";
     }
 }
@@ -89,6 +124,40 @@ ImageRgba8 plotPoints(const std::vector<PlotPoint>& points, uint32_t width, uint
             for (int b = -3; b <= 3; ++b) c.set(px(p.x) + a, py(p.y) + b, 200, 40, 40);
         c.text(px(p.x) + 6, py(p.y) - 14, p.label);
     }
+    return img;
+}
+
+ImageRgba8 plotPanels(const std::vector<PlotSeries>& panels, const std::string& xTitle, uint32_t width,
+                      uint32_t panelHeight) {
+    const uint32_t height = panelHeight * uint32_t(std::max<size_t>(panels.size(), 1)) + 30;
+    ImageRgba8 img{width, height, std::vector<uint8_t>(size_t(width) * height * 4, 255)};
+    Canvas c{img};
+    const int left = 70, right = int(width) - 20;
+    double maxX = 0;
+    for (const auto& panel : panels)
+        for (const auto& [x, y] : panel.points) maxX = std::max(maxX, x);
+    if (!(maxX > 0)) maxX = 1.0;
+    const auto px = [&](double x) { return left + int(std::lround((right - left) * x / maxX)); };
+    for (size_t k = 0; k < panels.size(); ++k) {
+        const auto& panel = panels[k];
+        const int top = int(k * panelHeight) + 24, bottom = int((k + 1) * panelHeight) - 6;
+        double maxY = 0;
+        for (const auto& [x, y] : panel.points) maxY = std::max(maxY, y);
+        maxY = maxY > 0 ? maxY * 1.1 : 1.0;
+        const auto py = [&](double y) { return bottom - int(std::lround((bottom - top) * y / maxY)); };
+        c.line(left, bottom, right, bottom, 0, 0, 0);
+        c.line(left, bottom, left, top, 0, 0, 0);
+        c.text(left, top - 18, panel.title);
+        c.text(4, top, number(maxY));
+        c.text(left - 12, bottom - 10, "0");
+        for (size_t i = 1; i < panel.points.size(); ++i)
+            c.line(px(panel.points[i - 1].first), py(panel.points[i - 1].second), px(panel.points[i].first),
+                   py(panel.points[i].second), 40, 90, 200);
+    }
+    const int axis = int(height) - 22;
+    c.text(left - 4, axis, "0");
+    c.text(right - 40, axis, number(maxX));
+    c.text((left + right) / 2 - int(xTitle.size()) * 4, axis, xTitle);
     return img;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
-// A small line plot rendered to an RGBA image (no font library: digits from a 3x5 bitmap),
-// for `orbis bench --sweep`: error against run time, one labelled point per setting.
+// Small line plots rendered to RGBA images (no font library: text from a 3x5 bitmap): error
+// against run time for `orbis bench --sweep`, one labelled point per setting; and timelines
+// stacked in panels for `orbis bench --soak`.
 
 #include "base/Png.h"
 
@@ -16,5 +17,16 @@ struct PlotPoint {
 
 /// Plots y against x (both from 0 to their maximum), joined in the given order.
 ImageRgba8 plotPoints(const std::vector<PlotPoint>& points, uint32_t width = 640, uint32_t height = 400);
+
+/// One panel of a timeline: a title and (x, y) points in x order.
+struct PlotSeries {
+    std::string title;   ///< letters, digits and a little punctuation are drawn
+    std::vector<std::pair<double, double>> points;
+};
+
+/// Panels stacked top to bottom over a shared x axis from 0 to the largest x; each panel's y
+/// axis runs from 0 to its largest y, both ends labelled. `xTitle` goes under the last panel.
+ImageRgba8 plotPanels(const std::vector<PlotSeries>& panels, const std::string& xTitle, uint32_t width = 800,
+                      uint32_t panelHeight = 150);
 
 }  // namespace orbis::cli
