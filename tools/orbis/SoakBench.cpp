@@ -142,8 +142,9 @@ nlohmann::json sampleJson(const SoakSample& s) {
 }
 
 int writeTimelinePlot(const std::string& file, const std::vector<SoakSample>& samples) {
-    std::vector<PlotSeries> panels(6);
+    std::vector<PlotSeries> panels(7);
     panels[0].title = "RSS (MB)";
+    panels[6].title = "heap in use (MB)";
     panels[1].title = "layers GPU memory (MB)";
     panels[2].title = "layers caches (MB)";
     panels[3].title = "device memory reserved (MB)";
@@ -157,6 +158,7 @@ int writeTimelinePlot(const std::string& file, const std::vector<SoakSample>& sa
         panels[3].points.push_back({minutes, s.deviceReserved});
         panels[4].points.push_back({minutes, double(s.threads + s.fds)});
         if (s.frames > 0 && s.p99 > 0) panels[5].points.push_back({minutes, s.p99});
+        panels[6].points.push_back({minutes, s.heapInUse});
     }
     if (auto ok = writePng(file, plotPanels(panels, "minutes")); !ok) return badInput(ok.message());
     return kOk;
