@@ -48,7 +48,7 @@ Result<std::string> describeLasJson(const std::string& path) {
                                {"description", v.description}, {"extended", v.extended}});
     nlohmann::json crs = {{"source", f.crs().source}};
     std::vector<LasPoint> first;
-    f.read(0, 3, first);
+    if (auto r = f.read(0, 3, first); !r) return r.error();
     for (const LasPoint& p : first)
         out["firstPoints"].push_back({{"xyz", vec(p.position)}, {"intensity", p.intensity},
                                       {"classification", p.classification}, {"return", p.returnNumber},

@@ -299,9 +299,21 @@ bool LasHeader::hasRgb() const { return pointFormat == 2 || pointFormat == 3 || 
 bool LasHeader::hasNir() const { return pointFormat == 8 || pointFormat == 10; }
 
 LasFile::~LasFile() {
-    if (data_) munmap(const_cast<uint8_t*>(data_), bytes_);
     if (fd_ >= 0) close(fd_);
 }
+
+namespace {
+
+/// The header and VLRs' view of a file, mapped while it opens.
+struct Mapping {
+    const uint8_t* data = nullptr;
+    uint64_t bytes = 0;
+    ~Mapping() {
+        if (data) munmap(const_cast<uint8_t*>(data), bytes);
+    }
+};
+
+}  // namespace
 
 Result<std::unique_ptr<LasFile>> LasFile::open(const std::string& path) {
     std::unique_ptr<LasFile> f(new LasFile());
@@ -316,9 +328,8 @@ Result<std::unique_ptr<LasFile>> LasFile::open(const std::string& path) {
     if (f->bytes_ < 227) return fail(path, std::string("not a LAS file (").append(num(f->bytes_)).append(" bytes, shorter than a LAS header)"));
     void* map = mmap(nullptr, f->bytes_, PROT_READ, MAP_PRIVATE, f->fd_, 0);
     if (map == MAP_FAILED) return fail(path, std::string("cannot map: ").append(std::strerror(errno)));
-    f->data_ = static_cast<const uint8_t*>(map);
-    madvise(map, f->bytes_, MADV_SEQUENTIAL);   // loading reads it front to back
-    const uint8_t* d = f->data_;
+    const Mapping mapping{static_cast<const uint8_t*>(map), f->bytes_};
+    const uint8_t* d = mapping.data;
     if (std::memcmp(d, "LASF", 4) != 0) return fail(path, "not a LAS file (no \"LASF\" signature)");
 
     LasHeader& h = f->header_;
@@ -362,26 +373,41 @@ Result<std::unique_ptr<LasFile>> LasFile::open(const std::string& path) {
     return f;
 }
 
-
-void LasFile::release(uint64_t first, uint64_t count) const {
+Result<void> LasFile::readRaw(uint64_t first, uint64_t count, std::vector<uint8_t>& raw) const {
     const LasHeader& h = header_;
-    first = std::min(first, h.pointCount);
-    count = std::min(count, h.pointCount - first);
-    const uint64_t page = uint64_t(sysconf(_SC_PAGESIZE));
-    const uint64_t from = (h.pointOffset + first * h.recordLength + page - 1) / page * page;   // whole pages only
-    const uint64_t to = (h.pointOffset + (first + count) * h.recordLength) / page * page;
-    if (to > from) madvise(const_cast<uint8_t*>(data_) + from, to - from, MADV_DONTNEED);
+    raw.resize(count * h.recordLength);
+    uint64_t offset = h.pointOffset + first * h.recordLength, left = raw.size();
+    uint8_t* p = raw.data();
+    while (left > 0) {
+        const ssize_t r = ::pread(fd_, p, left, off_t(offset));
+        if (r < 0 && errno == EINTR) continue;
+        if (r <= 0) {
+            struct stat st {};
+            const uint64_t now = fstat(fd_, &st) == 0 ? uint64_t(st.st_size) : 0;
+            return fail(path_, std::string("cannot read points ").append(num(first)).append(" to ").append(num(first + count))
+                                   .append(r < 0 ? std::string(": ").append(std::strerror(errno)) : std::string())
+                                   .append(": the file is now ").append(num(now)).append(" bytes, ").append(num(bytes_))
+                                   .append(" when opened (changed while loading?)"));
+        }
+        p += r, left -= uint64_t(r), offset += uint64_t(r);
+    }
+    return {};
 }
 
-void LasFile::read(uint64_t first, uint64_t count, std::vector<LasPoint>& out) const {
+Result<void> LasFile::read(uint64_t first, uint64_t count, std::vector<LasPoint>& out) const {
     const LasHeader& h = header_;
     first = std::min(first, h.pointCount);
     count = std::min(count, h.pointCount - first);
+    std::vector<uint8_t> raw;
+    if (auto r = readRaw(first, count, raw); !r) {
+        out.clear();
+        return r;
+    }
     out.resize(count);
     const bool modern = h.pointFormat >= 6;
     const uint8_t f = h.pointFormat;
     for (uint64_t i = 0; i < count; ++i) {
-        const uint8_t* r = data_ + h.pointOffset + (first + i) * h.recordLength;
+        const uint8_t* r = raw.data() + i * h.recordLength;
         LasPoint& p = out[i];
         p.position = glm::dvec3(get<int32_t>(r), get<int32_t>(r + 4), get<int32_t>(r + 8)) * h.scale + h.offset;
         p.intensity = get<uint16_t>(r + 12);
@@ -414,17 +440,24 @@ void LasFile::read(uint64_t first, uint64_t count, std::vector<LasPoint>& out) c
             if (h.hasNir()) p.nir = get<uint16_t>(r + rgbAt + 6);
         }
     }
+    return {};
 }
 
-void LasFile::readPositions(uint64_t first, uint64_t count, std::vector<glm::dvec3>& out) const {
+Result<void> LasFile::readPositions(uint64_t first, uint64_t count, std::vector<glm::dvec3>& out) const {
     const LasHeader& h = header_;
     first = std::min(first, h.pointCount);
     count = std::min(count, h.pointCount - first);
+    std::vector<uint8_t> raw;
+    if (auto r = readRaw(first, count, raw); !r) {
+        out.clear();
+        return r;
+    }
     out.resize(count);
     for (uint64_t i = 0; i < count; ++i) {
-        const uint8_t* r = data_ + h.pointOffset + (first + i) * h.recordLength;
+        const uint8_t* r = raw.data() + i * h.recordLength;
         out[i] = glm::dvec3(get<int32_t>(r), get<int32_t>(r + 4), get<int32_t>(r + 8)) * h.scale + h.offset;
     }
+    return {};
 }
 
 }  // namespace orbis::points

@@ -1,10 +1,12 @@
 #pragma once
 // LAS 1.0–1.4 point clouds (point data formats 0–10), CPU only (no Vulkan).
 //
-// The file is memory-mapped and decoded in ranges of points, so clouds larger than RAM stream
-// through a bounded buffer. The header is validated against the file's size before anything
-// is read: counts, offsets and record lengths that disagree give a clear error naming the file,
-// never a huge allocation. LAZ (LASzip) files are recognised and refused with a clear message.
+// The header and VLRs are read when the file opens (mapped for that moment); the points are read
+// with pread in ranges, so clouds larger than RAM stream through a bounded buffer, and a file cut
+// short or replaced in place while it loads gives an error naming it, never a SIGBUS. The header
+// is validated against the file's size before anything is read: counts, offsets and record
+// lengths that disagree give a clear error naming the file, never a huge allocation. LAZ (LASzip)
+// files are recognised and refused with a clear message.
 //
 // The coordinate reference system comes, in this order, from the scene (an override), the OGC
 // WKT VLR (LASF_Projection 2112), the GeoTIFF key VLRs (LASF_Projection 34735/34736/34737),
@@ -76,7 +78,7 @@ struct LasCrs {
 
 class LasFile {
 public:
-    /// Opens, maps and validates `path`. Errors name the file and the problem (not a LAS file,
+    /// Opens and validates `path`. Errors name the file and the problem (not a LAS file,
     /// LAZ not supported yet, unknown point format, record length too short for the format,
     /// point count or offsets past the end of the file, ...).
     static Result<std::unique_ptr<LasFile>> open(const std::string& path);
@@ -91,21 +93,21 @@ public:
     /// The CRS found in the file or next to it (see the top of this file).
     const LasCrs& crs() const { return crs_; }
 
-    /// Decodes points [first, first + count), clamped to the file, into `out` (replaced).
-    void read(uint64_t first, uint64_t count, std::vector<LasPoint>& out) const;
+    /// Decodes points [first, first + count), clamped to the header's count, into `out`
+    /// (replaced). Any thread. An error (naming the file, the points and its size now) when the
+    /// file no longer holds them: cut short or rewritten while loaded.
+    Result<void> read(uint64_t first, uint64_t count, std::vector<LasPoint>& out) const;
     /// Only the scaled positions of points [first, first + count) (the fast path for loading).
-    void readPositions(uint64_t first, uint64_t count, std::vector<glm::dvec3>& out) const;
-    /// Lets the pages of points [first, first + count) leave this process's memory (they are
-    /// read again from the file if needed): a pass over a file larger than memory stays bounded.
-    void release(uint64_t first, uint64_t count) const;
+    Result<void> readPositions(uint64_t first, uint64_t count, std::vector<glm::dvec3>& out) const;
 
 private:
     LasFile() = default;
+    /// The raw records of points [first, first + count) into `raw`.
+    Result<void> readRaw(uint64_t first, uint64_t count, std::vector<uint8_t>& raw) const;
     std::string path_;
     LasHeader header_;
     LasCrs crs_;
-    const uint8_t* data_ = nullptr;   // the mapping
-    uint64_t bytes_ = 0;
+    uint64_t bytes_ = 0;   // the file's size when opened
     int fd_ = -1;
 };
 

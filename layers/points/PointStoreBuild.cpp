@@ -72,14 +72,13 @@ Result<Statistics> readRecords(const LasFile& file, const PointGeoreference& geo
     double hMin = std::numeric_limits<double>::max(), hMax = -hMin;
     for (uint64_t first = 0; first < n; first += per) {
         if (options.cancel && options.cancel->load()) return cancelled(file);
-        file.read(first, per, batch);
+        if (auto r = file.read(first, per, batch); !r) return r.error();
         // Colours stored in 8 bits inside the 16-bit fields are common: decided on the first batch.
         if (first == 0 && s.info.rgb)
             for (const LasPoint& p : batch) s.info.rgb16 |= std::max({p.red, p.green, p.blue}) > 255 ? 1 : 0;
         xyz.resize(batch.size());
         for (size_t i = 0; i < batch.size(); ++i) xyz[i] = batch[i].position;
         georef.toEcef(xyz);
-        file.release(first, batch.size());
         records.clear();
         for (size_t i = 0; i < batch.size(); ++i) {
             const LasPoint& p = batch[i];

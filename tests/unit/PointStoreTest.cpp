@@ -157,7 +157,7 @@ TEST(PointStore, PositionsDecodeWithinTheirStep) {
     const glm::dvec3 origin = ell.toEcef(179.99, -45.0, 300.0);
     const glm::dmat3 enu = ell.enuFrame(179.99, -45.0);
     std::vector<glm::dvec3> expected;
-    l.file->readPositions(0, l.file->points(), expected);
+    ASSERT_TRUE(l.file->readPositions(0, l.file->points(), expected).ok());
     std::multimap<double, glm::dvec3> byX;
     for (const glm::dvec3& p : expected) {
         const glm::dvec3 e = origin + enu * p;
