@@ -33,12 +33,17 @@ private:
     uint32_t maxLevel_;
 };
 
+/// One frame asking for `key` in layer 1.
+void frameAsking(TerrainTiles& tiles, const TileKey& key, uint64_t& frame) {
+    tiles.beginFrame(frame++);
+    tiles.request(1, key, 1000.0);
+    tiles.endFrame();
+}
+
 /// Frames asking for `key` in layer 1, each waited for.
 void settle(TerrainTiles& tiles, const TileKey& key, uint64_t& frame, int frames) {
     for (int i = 0; i < frames; ++i) {
-        tiles.beginFrame(frame++);
-        tiles.request(1, key, 1000.0);
-        tiles.endFrame();
+        frameAsking(tiles, key, frame);
         tiles.waitIdle();
     }
 }
@@ -64,11 +69,7 @@ protected:
 TEST_F(TerrainTilesRepaint, TheOldImageServesUntilTheNewOneIsPainted) {
     const TileKey key{2, 3, 1};
     uint64_t frame = 1;
-    const auto frameOf = [&] {
-        tiles.beginFrame(frame++);
-        tiles.request(1, key, 1000.0);
-        tiles.endFrame();
-    };
+    const auto frameOf = [&] { frameAsking(tiles, key, frame); };
     settle(tiles, key, frame, 4);
     ASSERT_EQ(greyAt(tiles, key), 10);
     EXPECT_EQ(tiles.dataGeneration(1, key), 0u);
@@ -139,11 +140,7 @@ TEST(TerrainTilesRetry, AFailedTileIsTriedAgainWithBackOffAndABound) {
     TerrainTiles tiles{smallImages(), {}, {source}, nullptr};   // loads inline
     const TileKey key{0, 0, 0};
     uint64_t frame = 1;
-    const auto frameOf = [&] {
-        tiles.beginFrame(frame++);
-        tiles.request(1, key, 1000.0);
-        tiles.endFrame();
-    };
+    const auto frameOf = [&] { frameAsking(tiles, key, frame); };
     frameOf();
     EXPECT_EQ(tiles.state(1, key), DataState::Failed);
     EXPECT_EQ(source->reads.load(), 1);
@@ -167,9 +164,7 @@ TEST(TerrainTilesRetry, AFailedTileIsTriedAgainWithBackOffAndABound) {
     std::vector<double> attempts;
     int seen = 0;
     while (std::chrono::steady_clock::now() - start < kTileRetryDelay * 40) {
-        other.beginFrame(frame++);
-        other.request(1, key, 1000.0);
-        other.endFrame();
+        frameAsking(other, key, frame);
         if (dead->reads.load() != seen) {
             seen = dead->reads.load();
             attempts.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
