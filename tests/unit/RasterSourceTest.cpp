@@ -3,8 +3,6 @@
 #include "globe/RasterSource.h"
 
 #include "base/ThreadPool.h"
-#include "tests/support/HttpServer.h"
-#include "tests/support/XyzTiles.h"
 
 #include <cpl_conv.h>
 #include <cpl_string.h>
@@ -635,119 +633,6 @@ TEST(RasterSource, DescribeJsonListsDriverCrsAndLevels) {
     EXPECT_NE(json->find("\"minLevel\": 0"), std::string::npos) << *json;
     EXPECT_NE(json->find("\"noData\": -9999"), std::string::npos) << *json;
     EXPECT_FALSE(describeRasterJson((TempDir::path() / "missing.tif").string()).ok());
-}
-
-// ---------------------------------------------------------------------------------------------
-// XYZ tiles over HTTP
-
-TEST(RasterSourceRemote, XyzTilesMatchTheSourceColours) {
-    const fs::path root = TempDir::path() / "xyz";
-    ASSERT_EQ(test::writeXyzTiles(root, 2), "");
-    test::HttpServer server(root);
-    ASSERT_TRUE(server.running()) << server.error();
-    RasterSourceOptions o;
-    o.xyzUrl = server.url() + "/{z}/{x}/{y}.png";
-    o.xyzMaxZoom = 2;
-    o.cacheDir = (TempDir::path() / "wms-cache").string();
-    auto src = RasterSource::open(o);
-    ASSERT_TRUE(src.ok()) << src.message();
-    EXPECT_NEAR((*src)->coverage().north, 85.0511, 1e-3);
-
-    const GeoExtent e{0, 0, 45, 45};
-    auto t = (*src)->readImagery(e, 64);
-    ASSERT_TRUE(t.ok()) << t.message();
-    ASSERT_TRUE(t->anyValid);
-    EXPECT_GT(server.requestCount(), 0);
-    for (const auto& [i, j] : {std::pair{5, 5}, {32, 32}, {60, 10}, {10, 58}}) {
-        const double lon = e.west + (i + 0.5) * e.width() / 64, lat = e.north - (j + 0.5) * e.height() / 64;
-        const uint8_t* p = &t->rgba[size_t((j * 64 + i) * 4)];
-        // 3 levels: resampling of a ramp through 0.35 deg source pixels plus rounding.
-        EXPECT_NEAR(p[0], test::xyzRedAt(lon), 3) << lon << ", " << lat;
-        EXPECT_NEAR(p[1], test::xyzGreenAt(lat), 3) << lon << ", " << lat;
-        EXPECT_NEAR(p[2], 128, 2);
-        EXPECT_EQ(p[3], 255);
-    }
-}
-
-TEST(RasterSourceRemote, XyzServerWithoutTilesGivesEmptyTiles) {
-    const fs::path root = TempDir::path() / "empty-server";
-    fs::create_directories(root);
-    test::HttpServer server(root);
-    ASSERT_TRUE(server.running()) << server.error();
-    RasterSourceOptions o;
-    o.xyzUrl = server.url() + "/{z}/{x}/{y}.png";
-    o.xyzMaxZoom = 3;
-    o.cacheDir = (TempDir::path() / "wms-cache-empty").string();
-    auto src = RasterSource::open(o);
-    ASSERT_TRUE(src.ok()) << src.message();
-    const auto t0 = std::chrono::steady_clock::now();
-    auto t = (*src)->readImagery({0, 0, 45, 45}, 64);
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    ASSERT_TRUE(t.ok()) << t.message();
-    EXPECT_FALSE(t->anyValid);
-    EXPECT_GT(server.notFoundCount(), 0);
-    EXPECT_LT(s, 20.0);
-}
-
-// A server that answers badly: 503, bytes that are no image, a reset connection, a request never
-// answered (the HTTP timeout ends it), or nothing listening at all. Every read ends, within its bound, with a
-// message or an empty tile; nothing hangs or crashes, and the next read from a healthy server
-// works.
-TEST(RasterSourceRemote, BadServersEndEachReadWithinItsTimeout) {
-    const fs::path root = TempDir::path() / "xyz-faults";
-    ASSERT_EQ(test::writeXyzTiles(root, 1), "");
-    CPLSetConfigOption("GDAL_HTTP_TIMEOUT", "2");
-    CPLSetConfigOption("GDAL_HTTP_RETRY_DELAY", "0.2");
-    using Fault = test::HttpServer::Fault;
-    struct Case {
-        const char* name;
-        Fault fault;
-    };
-    for (const Case c : {Case{"503", Fault::Unavailable503}, Case{"garbage", Fault::Garbage}, Case{"reset", Fault::Reset},
-                         Case{"stall", Fault::Stall}}) {
-        SCOPED_TRACE(c.name);
-        test::HttpServer server(root);
-        ASSERT_TRUE(server.running()) << server.error();
-        server.setFault(c.fault);
-        RasterSourceOptions o;
-        o.xyzUrl = server.url() + "/{z}/{x}/{y}.png";
-        o.xyzMaxZoom = 1;
-        o.cacheDir = (TempDir::path() / (std::string("wms-cache-fault-") + c.name)).string();
-        auto src = RasterSource::open(o);
-        ASSERT_TRUE(src.ok()) << src.message();
-        const auto t0 = std::chrono::steady_clock::now();
-        auto t = (*src)->readImagery({0, 0, 45, 45}, 32);
-        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        EXPECT_TRUE(!t.ok() || !t->anyValid) << "a bad answer must not become an image";
-        if (!t.ok()) {   // named: the source and the area (the pager tries it again later)
-            EXPECT_NE(t.message().find(server.url()), std::string::npos) << t.message();
-        }
-        EXPECT_GT(server.requestCount(), 0);
-        EXPECT_LT(s, 20.0) << "bounded by the timeout and the retries";
-        // The same server healthy again: the next read (another tile) gets its pixels.
-        server.setFault(Fault::None);
-        auto good = (*src)->readImagery({-90, -45, -45, 0}, 32);
-        ASSERT_TRUE(good.ok()) << good.message();
-        EXPECT_TRUE(good->anyValid);
-    }
-    // Nothing listening: refused at once.
-    int port = 0;
-    {
-        test::HttpServer gone(root);
-        port = gone.port();
-    }
-    RasterSourceOptions o;
-    o.xyzUrl = "http://127.0.0.1:" + std::to_string(port) + "/{z}/{x}/{y}.png";
-    o.xyzMaxZoom = 1;
-    o.cacheDir = (TempDir::path() / "wms-cache-refused").string();
-    auto src = RasterSource::open(o);
-    ASSERT_TRUE(src.ok()) << src.message();
-    const auto t0 = std::chrono::steady_clock::now();
-    auto t = (*src)->readImagery({0, 0, 45, 45}, 32);
-    EXPECT_TRUE(!t.ok() || !t->anyValid);
-    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 20.0);
-    CPLSetConfigOption("GDAL_HTTP_TIMEOUT", nullptr);
-    CPLSetConfigOption("GDAL_HTTP_RETRY_DELAY", nullptr);
 }
 
 // ---------------------------------------------------------------------------------------------
