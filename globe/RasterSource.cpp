@@ -1,6 +1,7 @@
 // RasterSource: opening a source, reading tiles, describing a file. The GDAL side (configuration,
 // handle pool, warping, inspecting) is in RasterSourceGdal.cpp; shared internals in RasterSourceImpl.h.
 #include "globe/RasterSourceImpl.h"
+#include "globe/TileCacheFs.h"
 
 #include <nlohmann/json.hpp>
 
@@ -67,6 +68,7 @@ Result<std::shared_ptr<RasterSource>> RasterSource::open(const RasterSourceOptio
     Impl& s = *impl;
     s.options = options;
     s.role = options.role;
+    configureGdalOnce();   // GDAL and the tile cache's file system first: the XYZ description names it
     if (options.path.empty() == options.xyzUrl.empty())
         return makeError("raster source: give exactly one of a path and an XYZ URL (got \"" + options.path + "\" and \"" +
                          options.xyzUrl + "\")");
@@ -76,7 +78,7 @@ Result<std::shared_ptr<RasterSource>> RasterSource::open(const RasterSourceOptio
         if (options.xyzUrl.find("{z}") == std::string::npos && options.xyzUrl.find("${z}") == std::string::npos)
             return s.error("an XYZ URL needs {z}, {x} and {y} placeholders");
         s.openPath = xyzToWmsXml(options.xyzUrl, options.xyzMaxZoom,
-                                 options.cacheDir.empty() ? defaultRasterCacheDir() : options.cacheDir);
+                                 tileCachePath(options.cacheDir.empty() ? defaultRasterCacheDir() : options.cacheDir));
     } else {
         s.name = s.openPath = options.path;
     }

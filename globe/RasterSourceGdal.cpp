@@ -1,6 +1,7 @@
 // RasterSource internals over GDAL: configuration, the pool of open handles, warping a tile,
 // and inspecting a file when it is opened.
 #include "globe/RasterSourceImpl.h"
+#include "globe/TileCacheFs.h"
 
 #include <algorithm>
 #include <chrono>
@@ -27,7 +28,8 @@ void configureGdalOnce() {
         // A busy server (429, 502, 503, 504) is asked again twice, after 1 s then about 2 s.
         setConfigDefault("GDAL_HTTP_MAX_RETRY", "2");
         setConfigDefault("GDAL_HTTP_RETRY_DELAY", "1");
-        setConfigDefault("GDAL_DEFAULT_WMS_CACHE_PATH", defaultRasterCacheDir());
+        // A WMS description with an empty <Cache/> caches here, through Orbis's safe tile cache.
+        setConfigDefault("GDAL_DEFAULT_WMS_CACHE_PATH", tileCachePath(defaultRasterCacheDir()));
         GDALAllRegister();
         if (!userCache) GDALSetCacheMax64(kGdalBlockCacheBytes);
     });

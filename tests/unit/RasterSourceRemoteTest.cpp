@@ -1,17 +1,23 @@
 // Raster sources over HTTP: XYZ tiles from the test server (tests/support/HttpServer), healthy,
 // empty, and misbehaving in every way a server can (503, garbage, a reset, a stall, refused).
 #include "globe/RasterSource.h"
+#include "globe/TileCacheFs.h"
 
 #include "tests/support/HttpServer.h"
 #include "tests/support/XyzTiles.h"
 
 #include <cpl_conv.h>
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <filesystem>
+#include <fstream>
 #include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
 using namespace orbis;
@@ -133,4 +139,121 @@ TEST(RasterSourceRemote, BadServersEndEachReadWithinItsTimeout) {
     EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 20.0);
     CPLSetConfigOption("GDAL_HTTP_TIMEOUT", nullptr);
     CPLSetConfigOption("GDAL_HTTP_RETRY_DELAY", nullptr);
+}
+
+namespace {
+
+/// Reads 0..45 x 0..45 at 64 px from `src` and checks its colours against the server's ramp.
+void expectRampColours(RasterSource& src) {
+    const GeoExtent e{0, 0, 45, 45};
+    auto t = src.readImagery(e, 64);
+    ASSERT_TRUE(t.ok()) << t.message();
+    ASSERT_TRUE(t->anyValid);
+    for (const auto& [i, j] : {std::pair{5, 5}, {60, 10}, {10, 58}}) {
+        const double lon = e.west + (i + 0.5) * e.width() / 64, lat = e.north - (j + 0.5) * e.height() / 64;
+        const uint8_t* p = &t->rgba[size_t((j * 64 + i) * 4)];
+        EXPECT_NEAR(p[0], test::xyzRedAt(lon), 3) << lon << ", " << lat;
+        EXPECT_NEAR(p[1], test::xyzGreenAt(lat), 3) << lon << ", " << lat;
+    }
+}
+
+/// The tiles in a tile cache folder (no temporary files of tiles being written).
+std::vector<fs::path> cachedTiles(const fs::path& dir) {
+    std::vector<fs::path> out;
+    std::error_code ec;
+    for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+        if (it->is_regular_file()) out.push_back(it->path());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+}  // namespace
+
+// A full disk under GDAL's tile cache: the file-size limit stands in for it (writes past it
+// fail with EFBIG where a full disk gives ENOSPC). The tiles still come from the server, and no
+// cut-short tile is left in the cache for a later read to trust.
+TEST(RasterSourceRemote, FullDiskUnderTheTileCacheNeitherFailsReadsNorKeepsCutTiles) {
+    const fs::path root = tempDir() / "xyz-full";
+    ASSERT_EQ(test::writeXyzTiles(root, 2), "");
+    test::HttpServer server(root);
+    ASSERT_TRUE(server.running()) << server.error();
+    {
+        auto src = openXyz(server.url(), 2, "wms-cache-full");
+        ASSERT_TRUE(src.ok()) << src.message();
+        struct rlimit old {};
+        ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+        const auto oldHandler = std::signal(SIGXFSZ, SIG_IGN);
+        struct rlimit limited = old;
+        limited.rlim_cur = 200;   // every tile is larger
+        ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limited), 0);
+        {
+            SCOPED_TRACE("with the disk full");
+                expectRampColours(**src);
+        }
+        ::setrlimit(RLIMIT_FSIZE, &old);
+        std::signal(SIGXFSZ, oldHandler);
+    }
+    const int asked = server.requestCount();
+    EXPECT_GT(orbis::globe::tileCacheWriteFailures(), 0u);
+    EXPECT_TRUE(cachedTiles(tempDir() / "wms-cache-full").empty()) << "a cut tile was kept";
+    // A new source over the same cache: every tile it takes from the cache must be whole.
+    auto again = openXyz(server.url(), 2, "wms-cache-full");
+    ASSERT_TRUE(again.ok()) << again.message();
+    expectRampColours(**again);
+    EXPECT_GT(server.requestCount(), asked) << "the cut tiles were not asked for again";
+    EXPECT_FALSE(cachedTiles(tempDir() / "wms-cache-full").empty()) << "with room again, the tiles are cached";
+}
+
+// Tiles damaged in the cache (a flipped byte, a cut end) and tiles from an older cache without
+// Orbis's trailer: each is removed and fetched again, never decoded.
+TEST(RasterSourceRemote, DamagedOrForeignCachedTilesAreFetchedAgain) {
+    const fs::path root = tempDir() / "xyz-damaged";
+    ASSERT_EQ(test::writeXyzTiles(root, 2), "");
+    test::HttpServer server(root);
+    ASSERT_TRUE(server.running()) << server.error();
+    const fs::path cache = tempDir() / "wms-cache-damaged";
+    {
+        auto src = openXyz(server.url(), 2, "wms-cache-damaged");
+        ASSERT_TRUE(src.ok()) << src.message();
+        expectRampColours(**src);
+    }
+    const int fetched = server.requestCount();
+    {
+        auto src = openXyz(server.url(), 2, "wms-cache-damaged");
+        ASSERT_TRUE(src.ok()) << src.message();
+        expectRampColours(**src);
+        ASSERT_EQ(server.requestCount(), fetched) << "whole tiles come from the cache";
+    }
+    const std::vector<fs::path> tiles = cachedTiles(cache);
+    ASSERT_GE(tiles.size(), 3u);
+    {   // a flipped byte in the middle of the first
+        std::fstream f(tiles[0], std::ios::in | std::ios::out | std::ios::binary);
+        f.seekg(std::streamoff(fs::file_size(tiles[0]) / 2));
+        char c = 0;
+        f.read(&c, 1);
+        f.seekp(std::streamoff(fs::file_size(tiles[0]) / 2));
+        c = char(c ^ 0x10);
+        f.write(&c, 1);
+    }
+    fs::resize_file(tiles[1], fs::file_size(tiles[1]) / 2);   // cut short
+    fs::resize_file(tiles[2], fs::file_size(tiles[2]) - orbis::globe::kTileCacheTrailerBytes);   // no trailer: an older cache
+    auto src = openXyz(server.url(), 2, "wms-cache-damaged");
+    ASSERT_TRUE(src.ok()) << src.message();
+    expectRampColours(**src);
+    EXPECT_EQ(server.requestCount(), fetched + 3) << "each bad tile, and only those, is fetched again";
+}
+
+// A tile cache folder that cannot be made (its parent is a file; root ignores permissions, a
+// file in the path stops everyone): the tiles come from the server, nothing is written.
+TEST(RasterSourceRemote, UnwritableTileCacheStillReadsEveryTile) {
+    const fs::path root = tempDir() / "xyz-unwritable";
+    ASSERT_EQ(test::writeXyzTiles(root, 2), "");
+    test::HttpServer server(root);
+    ASSERT_TRUE(server.running()) << server.error();
+    const fs::path blocker = tempDir() / "a-file";
+    { std::ofstream(blocker) << "not a folder"; }
+    auto src = openXyz(server.url(), 2, "a-file/cache");
+    ASSERT_TRUE(src.ok()) << src.message();
+    expectRampColours(**src);
+    EXPECT_TRUE(fs::is_regular_file(blocker));
 }
