@@ -2,6 +2,7 @@
 
 #include "layers/models/GltfAccessors.h"
 #include "layers/models/GltfAnimation.h"
+#include "layers/models/GltfImage.h"
 #include "layers/models/GltfRig.h"
 #include "formats/motion/Attitude.h"
 
@@ -54,6 +55,11 @@ bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::s
             if (err) *err += "image " + std::to_string(index) + ": its bufferView lies outside its buffer\n";
             return false;
         }
+    }
+    if (size < 0) return false;
+    if (const std::string why = checkGltfImageBytes(bytes, size_t(size)); !why.empty()) {
+        if (err) *err += "image " + std::to_string(index) + ": " + why + "\n";
+        return false;
     }
     int w = 0, h = 0, comp = 0;
     if (!stbi_info_from_memory(bytes, size, &w, &h, &comp)) {

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 #include <stb_image_write.h>
+#include <zlib.h>
 
 #include <cstring>
 #include <filesystem>
@@ -253,6 +254,70 @@ TEST(GltfModel, ImageViewPastItsBufferIsRefused) {
         EXPECT_NE(m.message().find(bad), std::string::npos) << m.message();
         EXPECT_NE(m.message().find("image 0: its bufferView lies outside its buffer"), std::string::npos) << m.message();
     }
+}
+
+namespace {
+
+void appendChunk(std::string& png, const char* type, const std::string& data) {
+    const auto be32 = [&](uint32_t v) {
+        for (int i = 3; i >= 0; --i) png += char(uint8_t(v >> (8 * i)));
+    };
+    be32(uint32_t(data.size()));
+    const std::string typed = std::string(type, 4) + data;
+    png += typed;
+    be32(uint32_t(crc32(0, reinterpret_cast<const Bytef*>(typed.data()), uInt(typed.size()))));
+}
+
+/// A PNG whose header says 2x2 RGBA and whose image data is `raw` compressed.
+std::string pngOf(const std::string& raw) {
+    std::string png("\x89PNG\r\n\x1a\n", 8);
+    appendChunk(png, "IHDR", std::string("\0\0\0\2\0\0\0\2\x08\x06\0\0\0", 13));
+    std::string z(compressBound(uLong(raw.size())), '\0');
+    uLongf n = uLongf(z.size());
+    EXPECT_EQ(compress2(reinterpret_cast<Bytef*>(z.data()), &n, reinterpret_cast<const Bytef*>(raw.data()), uLong(raw.size()), 9), Z_OK);
+    z.resize(n);
+    appendChunk(png, "IDAT", z);
+    appendChunk(png, "IEND", "");
+    return png;
+}
+
+}  // namespace
+
+// Found by the fuzzer (tests/fuzz/seeds/gltf/oom-png-chunk-length.glb): stb trusts a PNG's
+// chunk lengths and inflates for as long as the data goes on, so a 1 KiB image asked for
+// 1.9 GB. A PNG is walked first; glTF's images are PNG or JPEG, nothing else reaches stb.
+TEST(GltfModel, ImagesThatAskForMoreThanTheyHoldAreRefused) {
+    const fs::path dir = tempDir("png-bounds");
+    writeTriangleFiles(dir);
+    const std::string good = pngOf(std::string(2 * 9, '\0'));   // two rows: a filter byte and 2 RGBA pixels
+    writeFile(dir / "good.png", good);
+    writeFile(dir / "good.gltf", triangleGltf("tri.bin", "good.png"));
+    auto ok = loadGltf((dir / "good.gltf").string());
+    ASSERT_TRUE(ok) << ok.message();
+
+    std::string longChunk = good;
+    const uint8_t huge[4] = {0x7f, 0xff, 0xff, 0xf0};
+    std::memcpy(&longChunk[33], huge, 4);   // the IDAT chunk's length, after the 8-byte signature and IHDR's 25
+    const std::pair<std::string, std::string> cases[] = {
+        {longChunk, "a PNG chunk runs past the end of the data"},
+        {pngOf(std::string(10 << 20, '\0')), "a PNG's image data inflates past the size its header gives"},
+        {std::string("BM") + std::string(60, '\0'), "not a PNG or JPEG"},
+    };
+    int i = 0;
+    for (const auto& [bytes, why] : cases) {
+        const std::string name = "bad" + std::to_string(i++);
+        writeFile(dir / (name + ".png"), bytes);
+        writeFile(dir / (name + ".gltf"), triangleGltf("tri.bin", name + ".png"));
+        auto m = loadGltf((dir / (name + ".gltf")).string());
+        ASSERT_FALSE(m) << name;
+        EXPECT_NE(m.message().find(name + ".gltf"), std::string::npos) << m.message();
+        EXPECT_NE(m.message().find("image 0: " + why), std::string::npos) << m.message();
+    }
+    fs::remove_all(dir);
+    const fs::path found = fs::path(ORBIS_SOURCE_DIR) / "tests/fuzz/seeds/gltf/oom-png-chunk-length.glb";
+    auto m = loadGltf(found.string());
+    ASSERT_FALSE(m);
+    EXPECT_NE(m.message().find("image 0: a PNG chunk runs past the end of the data"), std::string::npos) << m.message();
 }
 
 TEST(GltfModel, MissingFile) {
