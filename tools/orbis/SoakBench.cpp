@@ -5,7 +5,9 @@
 // Samples (about 100 over the run, at least 1 s apart): RSS, the layers' GPU memory and caches,
 // the device memory reserved, threads and open descriptors, and the frame times since the
 // previous sample (median, p99). The bounds, checked over the samples after the warm-up (while
-// caches fill: the first quarter of the run, or the camera path's first loop if that is longer):
+// caches fill: the first quarter of the run, or the first loop of the camera path or of the
+// scene's time if that is longer; soak.json's path and time both loop every 30 s, so every view
+// of the run is shown in its first 30 s):
 //   - memory (each of RSS, layers' GPU, layers' caches, device reserved): flat within +-5 %
 //     of the middle of its range, (max - min) <= 5 % of (max + min);
 //   - threads and descriptors: none more at the end than at the first quarter;
@@ -164,6 +166,12 @@ int writeTimelinePlot(const std::string& file, const std::vector<SoakSample>& sa
     return kOk;
 }
 
+/// Wall seconds for the scene's time to go round once when it loops (0 when it does not).
+double timeLoopSeconds(const scene::TimeServer& time) {
+    if (!time.loop() || time.rate() <= 0.0 || time.end() <= time.start()) return 0.0;
+    return double(time.end() - time.start()) * 1e-9 / time.rate();
+}
+
 }  // namespace
 
 int soakBench(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer,
@@ -199,13 +207,14 @@ int soakBench(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Re
     if (!window.empty() || samples.size() < 2) samples.push_back(takeSample(since(), frames, scene, *gpu.device, window));
     const double total = samples.back().t;
 
-    // The bounds, over the samples after the warm-up.
-    const double warmUp = std::max(kWarmUpFraction * total, path ? path->duration() : 0.0);
+    // The bounds, over the samples after the warm-up: by then the camera has flown its path once
+    // and the scene's time has gone round once, so every view the run shows has been shown.
+    const double warmUp = std::max({kWarmUpFraction * total, path ? path->duration() : 0.0, timeLoopSeconds(scene.time())});
     std::vector<SoakSample> after;
     for (const auto& s : samples)
         if (s.t >= warmUp) after.push_back(s);
     if (after.size() < 2) {
-        std::fprintf(stderr, "orbis: --soak %.0f is too short: the camera path's first loop (%.0f s) leaves nothing to check\n",
+        std::fprintf(stderr, "orbis: --soak %.0f is too short: the first loop of the camera path and of the scene's time (%.0f s) leaves nothing to check\n",
                      seconds, warmUp);
         return kBadInput;
     }
