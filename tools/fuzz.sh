@@ -5,7 +5,8 @@
 # limit stops that target; its input is kept in build-fuzz/crashes/TARGET/ and the script exits 1.
 #   usage: tools/fuzz.sh [TARGET...]   (default: all; targets: see tests/fuzz/CMakeLists.txt)
 #   env:   SECONDS_EACH=60   wall time per target (-max_total_time)
-#          RUNS=N            executions per target instead (-runs; e.g. 1000000 for the issue's goal)
+#          RUNS=N            executions per target instead (-runs; e.g. 1000000 for the issue's goal);
+#                            with SECONDS_EACH too, whichever comes first
 #          REGRESS=1         only run each target over its corpus and the kept crashes, no
 #                            mutation (a quick check, as CI does)
 #          JOBS=1            parallel fuzzing processes per target (-fork)
@@ -16,7 +17,7 @@ set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="$here/build-fuzz"
 seconds="${SECONDS_EACH:-60}" runs="${RUNS:-}" regress="${REGRESS:-0}" jobs="${JOBS:-1}"
-all=(klv las scene camera-path input-script trajectory-csv gpx pose-csv livefeed gltf netcdf)
+all=(klv las scene camera-path input-script trajectory-csv gpx pose-csv livefeed gltf netcdf vector)
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
 command -v clang++ >/dev/null || { echo "fuzz.sh: clang++ is missing (Debian: apt install clang)" >&2; exit 1; }
@@ -54,6 +55,7 @@ dict() {   # the dictionary of a target
     case "$1" in
         scene|camera-path|input-script|gltf) echo "$here/tests/fuzz/dict/json.dict" ;;
         gpx) echo "$here/tests/fuzz/dict/xml.dict" ;;
+        vector) echo "$here/tests/fuzz/dict/vector.dict" ;;
         livefeed|trajectory-csv|pose-csv) echo "$here/tests/fuzz/dict/text.dict" ;;
     esac
 }
@@ -74,14 +76,19 @@ for t in "${targets[@]}"; do
         echo "== fuzz-$t: ${#files[@]} inputs, no mutation"
         "$build/bin/fuzz-$t" "${args[@]}" -runs=0 "${files[@]}" >"$build/fuzz-$t.log" 2>&1 || status=1
     else
-        if [ -n "$runs" ]; then args+=(-runs="$runs"); else args+=(-max_total_time="$seconds"); fi
+        if [ -n "$runs" ]; then
+            args+=(-runs="$runs")
+            [ -n "${SECONDS_EACH:-}" ] && args+=(-max_total_time="$seconds")   # both: whichever comes first
+        else
+            args+=(-max_total_time="$seconds")
+        fi
         [ "$jobs" -gt 1 ] && args+=(-fork="$jobs" -ignore_crashes=0)
         echo "== fuzz-$t: ${runs:-$seconds s}"
         "$build/bin/fuzz-$t" "${args[@]}" "${inputs[@]}" >"$build/fuzz-$t.log" 2>&1 || status=1
     fi
     # libFuzzer's final stats: executions, coverage (edges), corpus; or what went wrong.
-    summary=$(grep -E "^stat::number_of_executed_units|^stat::peak_rss_mb" "$build/fuzz-$t.log" | tr '\n' ' ')
-    cov=$(grep -oE "cov: [0-9]+" "$build/fuzz-$t.log" | tail -1)
+    summary=$(grep -E "^stat::number_of_executed_units|^stat::peak_rss_mb" "$build/fuzz-$t.log" | tr "\n" " " || true)
+    cov=$(grep -oE "cov: [0-9]+" "$build/fuzz-$t.log" | tail -1 || true)
     echo "   ${summary}${cov:+ $cov} corpus $(find "$corpus" -type f | wc -l) files"
     if grep -qE "ERROR: (AddressSanitizer|LeakSanitizer|libFuzzer)|runtime error:|SUMMARY: " "$build/fuzz-$t.log"; then
         status=1

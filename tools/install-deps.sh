@@ -24,8 +24,8 @@ packages=(
   xplanet-images qgis-common
   # full-motion video: MPEG-TS demuxing (KLV), H.264 decoding and encoding (fixtures), RGBA
   libavformat-dev libavcodec-dev libavutil-dev libswscale-dev
-  # tests
-  libgtest-dev
+  # tests; the fuzz targets (libFuzzer, ASan and UBSan through clang: tools/fuzz.sh)
+  libgtest-dev clang libclang-rt-14-dev
 )
 
 missing=()
