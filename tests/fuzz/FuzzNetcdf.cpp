@@ -4,6 +4,7 @@
 // describes, written as a real netCDF file (GDAL's netCDF driver, on tmpfs) and read back by
 // readVolume and orbis info's description.
 #include "layers/volume/VolumeReader.h"
+#include "tests/fuzz/FuzzGdal.h"
 
 #include <fuzzer/FuzzedDataProvider.h>
 #include <gdal_priv.h>
@@ -44,12 +45,6 @@ double number(FuzzedDataProvider& in) {
 }
 
 }  // namespace
-
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-    GDALAllRegister();
-    CPLSetErrorHandler(CPLQuietErrorHandler);
-    return 0;
-}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     static const std::string path = "/dev/shm/orbis-fuzz-netcdf-" + std::to_string(getpid()) + ".nc";

@@ -11,9 +11,8 @@
 #include "layers/vector/Triangulate.h"
 #include "layers/vector/VectorReader.h"
 #include "layers/vector/VectorStyle.h"
+#include "tests/fuzz/FuzzGdal.h"
 
-#include <gdal.h>
-#include <cpl_error.h>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
@@ -53,12 +52,6 @@ void tiles(const Feature& f) {
 }
 
 }  // namespace
-
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-    GDALAllRegister();
-    CPLSetErrorHandler(CPLQuietErrorHandler);
-    return 0;
-}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size < 1) return 0;

@@ -16,6 +16,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -44,23 +45,22 @@ Result<std::shared_ptr<RasterSource>> openXyz(const std::string& base, int maxZo
     return RasterSource::open(o);
 }
 
-}  // namespace
+/// An HTTP server of the test ramp's XYZ tiles (levels 0 to 2) written under tempDir()/name;
+/// null when it cannot start.
+std::unique_ptr<test::HttpServer> serveRamp(const std::string& name) {
+    const fs::path root = tempDir() / name;
+    if (!test::writeXyzTiles(root, 2).empty()) return nullptr;
+    auto server = std::make_unique<test::HttpServer>(root);
+    if (!server->running()) return nullptr;
+    return server;
+}
 
-
-TEST(RasterSourceRemote, XyzTilesMatchTheSourceColours) {
-    const fs::path root = tempDir() / "xyz";
-    ASSERT_EQ(test::writeXyzTiles(root, 2), "");
-    test::HttpServer server(root);
-    ASSERT_TRUE(server.running()) << server.error();
-    auto src = openXyz(server.url(), 2, "wms-cache");
-    ASSERT_TRUE(src.ok()) << src.message();
-    EXPECT_NEAR((*src)->coverage().north, 85.0511, 1e-3);
-
+/// Reads 0..45 x 0..45 at 64 px from `src` and checks its colours against the server's ramp.
+void expectRampColours(RasterSource& src) {
     const GeoExtent e{0, 0, 45, 45};
-    auto t = (*src)->readImagery(e, 64);
+    auto t = src.readImagery(e, 64);
     ASSERT_TRUE(t.ok()) << t.message();
     ASSERT_TRUE(t->anyValid);
-    EXPECT_GT(server.requestCount(), 0);
     for (const auto& [i, j] : {std::pair{5, 5}, {32, 32}, {60, 10}, {10, 58}}) {
         const double lon = e.west + (i + 0.5) * e.width() / 64, lat = e.north - (j + 0.5) * e.height() / 64;
         const uint8_t* p = &t->rgba[size_t((j * 64 + i) * 4)];
@@ -70,6 +70,19 @@ TEST(RasterSourceRemote, XyzTilesMatchTheSourceColours) {
         EXPECT_NEAR(p[2], 128, 2);
         EXPECT_EQ(p[3], 255);
     }
+}
+
+}  // namespace
+
+
+TEST(RasterSourceRemote, XyzTilesMatchTheSourceColours) {
+    auto server = serveRamp("xyz");
+    ASSERT_TRUE(server);
+    auto src = openXyz(server->url(), 2, "wms-cache");
+    ASSERT_TRUE(src.ok()) << src.message();
+    EXPECT_NEAR((*src)->coverage().north, 85.0511, 1e-3);
+    expectRampColours(**src);
+    EXPECT_GT(server->requestCount(), 0);
 }
 
 TEST(RasterSourceRemote, XyzServerWithoutTilesGivesEmptyTiles) {
@@ -143,20 +156,6 @@ TEST(RasterSourceRemote, BadServersEndEachReadWithinItsTimeout) {
 
 namespace {
 
-/// Reads 0..45 x 0..45 at 64 px from `src` and checks its colours against the server's ramp.
-void expectRampColours(RasterSource& src) {
-    const GeoExtent e{0, 0, 45, 45};
-    auto t = src.readImagery(e, 64);
-    ASSERT_TRUE(t.ok()) << t.message();
-    ASSERT_TRUE(t->anyValid);
-    for (const auto& [i, j] : {std::pair{5, 5}, {60, 10}, {10, 58}}) {
-        const double lon = e.west + (i + 0.5) * e.width() / 64, lat = e.north - (j + 0.5) * e.height() / 64;
-        const uint8_t* p = &t->rgba[size_t((j * 64 + i) * 4)];
-        EXPECT_NEAR(p[0], test::xyzRedAt(lon), 3) << lon << ", " << lat;
-        EXPECT_NEAR(p[1], test::xyzGreenAt(lat), 3) << lon << ", " << lat;
-    }
-}
-
 /// The tiles in a tile cache folder (no temporary files of tiles being written).
 std::vector<fs::path> cachedTiles(const fs::path& dir) {
     std::vector<fs::path> out;
@@ -173,12 +172,10 @@ std::vector<fs::path> cachedTiles(const fs::path& dir) {
 // fail with EFBIG where a full disk gives ENOSPC). The tiles still come from the server, and no
 // cut-short tile is left in the cache for a later read to trust.
 TEST(RasterSourceRemote, FullDiskUnderTheTileCacheNeitherFailsReadsNorKeepsCutTiles) {
-    const fs::path root = tempDir() / "xyz-full";
-    ASSERT_EQ(test::writeXyzTiles(root, 2), "");
-    test::HttpServer server(root);
-    ASSERT_TRUE(server.running()) << server.error();
+    auto server = serveRamp("xyz-full");
+    ASSERT_TRUE(server);
     {
-        auto src = openXyz(server.url(), 2, "wms-cache-full");
+        auto src = openXyz(server->url(), 2, "wms-cache-full");
         ASSERT_TRUE(src.ok()) << src.message();
         struct rlimit old {};
         ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
@@ -193,36 +190,34 @@ TEST(RasterSourceRemote, FullDiskUnderTheTileCacheNeitherFailsReadsNorKeepsCutTi
         ::setrlimit(RLIMIT_FSIZE, &old);
         std::signal(SIGXFSZ, oldHandler);
     }
-    const int asked = server.requestCount();
+    const int asked = server->requestCount();
     EXPECT_GT(orbis::globe::tileCacheWriteFailures(), 0u);
     EXPECT_TRUE(cachedTiles(tempDir() / "wms-cache-full").empty()) << "a cut tile was kept";
     // A new source over the same cache: every tile it takes from the cache must be whole.
-    auto again = openXyz(server.url(), 2, "wms-cache-full");
+    auto again = openXyz(server->url(), 2, "wms-cache-full");
     ASSERT_TRUE(again.ok()) << again.message();
     expectRampColours(**again);
-    EXPECT_GT(server.requestCount(), asked) << "the cut tiles were not asked for again";
+    EXPECT_GT(server->requestCount(), asked) << "the cut tiles were not asked for again";
     EXPECT_FALSE(cachedTiles(tempDir() / "wms-cache-full").empty()) << "with room again, the tiles are cached";
 }
 
 // Tiles damaged in the cache (a flipped byte, a cut end) and tiles from an older cache without
 // Orbis's trailer: each is removed and fetched again, never decoded.
 TEST(RasterSourceRemote, DamagedOrForeignCachedTilesAreFetchedAgain) {
-    const fs::path root = tempDir() / "xyz-damaged";
-    ASSERT_EQ(test::writeXyzTiles(root, 2), "");
-    test::HttpServer server(root);
-    ASSERT_TRUE(server.running()) << server.error();
+    auto server = serveRamp("xyz-damaged");
+    ASSERT_TRUE(server);
     const fs::path cache = tempDir() / "wms-cache-damaged";
     {
-        auto src = openXyz(server.url(), 2, "wms-cache-damaged");
+        auto src = openXyz(server->url(), 2, "wms-cache-damaged");
         ASSERT_TRUE(src.ok()) << src.message();
         expectRampColours(**src);
     }
-    const int fetched = server.requestCount();
+    const int fetched = server->requestCount();
     {
-        auto src = openXyz(server.url(), 2, "wms-cache-damaged");
+        auto src = openXyz(server->url(), 2, "wms-cache-damaged");
         ASSERT_TRUE(src.ok()) << src.message();
         expectRampColours(**src);
-        ASSERT_EQ(server.requestCount(), fetched) << "whole tiles come from the cache";
+        ASSERT_EQ(server->requestCount(), fetched) << "whole tiles come from the cache";
     }
     const std::vector<fs::path> tiles = cachedTiles(cache);
     ASSERT_GE(tiles.size(), 3u);
@@ -237,22 +232,20 @@ TEST(RasterSourceRemote, DamagedOrForeignCachedTilesAreFetchedAgain) {
     }
     fs::resize_file(tiles[1], fs::file_size(tiles[1]) / 2);   // cut short
     fs::resize_file(tiles[2], fs::file_size(tiles[2]) - orbis::globe::kTileCacheTrailerBytes);   // no trailer: an older cache
-    auto src = openXyz(server.url(), 2, "wms-cache-damaged");
+    auto src = openXyz(server->url(), 2, "wms-cache-damaged");
     ASSERT_TRUE(src.ok()) << src.message();
     expectRampColours(**src);
-    EXPECT_EQ(server.requestCount(), fetched + 3) << "each bad tile, and only those, is fetched again";
+    EXPECT_EQ(server->requestCount(), fetched + 3) << "each bad tile, and only those, is fetched again";
 }
 
 // A tile cache folder that cannot be made (its parent is a file; root ignores permissions, a
 // file in the path stops everyone): the tiles come from the server, nothing is written.
 TEST(RasterSourceRemote, UnwritableTileCacheStillReadsEveryTile) {
-    const fs::path root = tempDir() / "xyz-unwritable";
-    ASSERT_EQ(test::writeXyzTiles(root, 2), "");
-    test::HttpServer server(root);
-    ASSERT_TRUE(server.running()) << server.error();
+    auto server = serveRamp("xyz-unwritable");
+    ASSERT_TRUE(server);
     const fs::path blocker = tempDir() / "a-file";
     { std::ofstream(blocker) << "not a folder"; }
-    auto src = openXyz(server.url(), 2, "a-file/cache");
+    auto src = openXyz(server->url(), 2, "a-file/cache");
     ASSERT_TRUE(src.ok()) << src.message();
     expectRampColours(**src);
     EXPECT_TRUE(fs::is_regular_file(blocker));
