@@ -140,12 +140,31 @@ Result<bool> RasterSource::Impl::makeTransformer(Level& level) const {
     return true;
 }
 
+std::string RasterSource::Impl::changedSinceOpened(GDALDatasetH ds) const {
+    const int w = GDALGetRasterXSize(ds), h = GDALGetRasterYSize(ds), bands = GDALGetRasterCount(ds);
+    std::array<double, 6> gt{};
+    const bool hasGt = GDALGetGeoTransform(ds, gt.data()) == CE_None;
+    if (w == width && h == height && bands == bandCount && hasGt == geoTransform.has_value() && (!hasGt || gt == *geoTransform))
+        return "";
+    std::ostringstream o;
+    o << "changed on disk since it was opened (" << width << " x " << height << " pixels, " << bandCount << " bands then; "
+      << w << " x " << h << ", " << bands << " now" << (w == width && h == height && bands == bandCount ? ", moved" : "")
+      << "): open the scene again to read the new file";
+    return o.str();
+}
+
 Result<std::unique_ptr<Handle>> RasterSource::Impl::openHandle(GDALDatasetH alreadyOpen) const {
     GDALDatasetH ds = alreadyOpen;
     if (!ds) {
+        // Another handle for another thread: the file may have been replaced since it was opened
+        // (tools write a new file and rename it over the old); its reads must match the first.
         GdalErrors errors;
         ds = GDALOpenEx(openPath.c_str(), GDAL_OF_RASTER | GDAL_OF_VERBOSE_ERROR, nullptr, nullptr, nullptr);
         if (!ds) return error("cannot open again: " + errors.text());
+        if (const std::string why = changedSinceOpened(ds); !why.empty()) {
+            GDALClose(ds);
+            return error(why);
+        }
     }
     auto h = std::make_unique<Handle>();
     h->levels.resize(1 + overviews.size());
@@ -167,7 +186,8 @@ Result<bool> RasterSource::Impl::ensureLevel(Handle& h, int level) const {
         if (GDALGetRasterXSize(lv.ds) != w || GDALGetRasterYSize(lv.ds) != hgt) {
             GDALClose(lv.ds);
             lv.ds = nullptr;
-            return error("overview " + std::to_string(level) + " opened with an unexpected size");
+            return error("overview " + std::to_string(level) + " opened with another size: the file changed on disk since "
+                         "it was opened; open the scene again to read the new file");
         }
     }
     return makeTransformer(lv);
@@ -428,6 +448,7 @@ Result<bool> RasterSource::Impl::inspect(GDALDatasetH ds) {
     if (!srs && gcps) srs = GDALGetGCPSpatialRef(ds);
     double gt[6];
     const bool hasGt = GDALGetGeoTransform(ds, gt) == CE_None;
+    if (hasGt) geoTransform.emplace(std::to_array(gt));
     if (!srs) {
         if (!hasGt || !looksLonLat(gt, width, height))
             return error("has no coordinate reference system; assign one (gdal_edit.py -a_srs EPSG:<code> " + name +

@@ -176,6 +176,7 @@ struct RasterSource::Impl {
     std::vector<BandInfo> bandInfo;  // every band of the file
     std::string driver;
     int width = 0, height = 0, bandCount = 0;
+    std::optional<std::array<double, 6>> geoTransform;  // none for GCPs or a picture placed by bounds
     std::string crsName, crsEpsg;
     bool assumedLonLat = false;
     std::vector<std::pair<int, int>> overviews;  // of the first read band, GDAL's order
@@ -223,6 +224,8 @@ struct RasterSource::Impl {
     Result<bool> probe(GDALDatasetH ds) const;
 
     Result<bool> makeTransformer(Level& level) const;
+    /// Empty when `ds` (the file opened again) matches the first open: size, bands, geotransform.
+    std::string changedSinceOpened(GDALDatasetH ds) const;
     Result<std::unique_ptr<Handle>> openHandle(GDALDatasetH alreadyOpen = nullptr) const;
     Result<bool> ensureLevel(Handle& h, int level) const;
     Result<std::unique_ptr<Handle>> checkout(const jobs::CancelToken* cancel) const;

@@ -491,6 +491,38 @@ TEST(RasterSource, CoarseTilesReadTheMatchingOverview) {
     EXPECT_EQ(valueAt({2.0, 42.0, 8.4, 48.4}), 8000.0f);
 }
 
+// A file replaced while it is read (a tool writes a new one and renames it over the old): the
+// open dataset keeps reading what it opened, and what is opened again (an overview, another
+// thread's handle) must match it, else the read says the file changed instead of mixing two.
+TEST(RasterSource, FileReplacedWhileReadSaysSoInsteadOfMixingTwoFiles) {
+    const auto write = [](const fs::path& f, int side, double originLon) {
+        GDALDatasetH ds = createTiff(f, {side, side, 1, GDT_Float32, {originLon, 0.01, 0, 50.24, 0, -0.01}});
+        ASSERT_NE(ds, nullptr);
+        ASSERT_EQ(GDALFillRaster(GDALGetRasterBand(ds, 1), 100.0, 0.0), CE_None);
+        int factors[] = {2, 4};
+        ASSERT_EQ(GDALBuildOverviews(ds, "NEAREST", 2, factors, 0, nullptr, nullptr, nullptr), CE_None);
+        GDALClose(ds);
+    };
+    const fs::path f = TempDir::path() / "replaced.tif", next = TempDir::path() / "replacement.tif";
+    write(f, 1024, 0.0);
+    auto src = openDem(f);
+    ASSERT_TRUE(src.ok()) << src.message();
+    const GeoExtent fine{4.0, 44.0, 4.64, 44.64}, coarse{4.0, 44.0, 5.6, 45.6};
+    auto before = (*src)->readElevation(fine, 65);
+    ASSERT_TRUE(before.ok()) << before.message();
+    EXPECT_EQ(before->heights[32 * 65 + 32], 100.0f);
+
+    write(next, 512, 3.0);
+    fs::rename(next, f);
+    auto overview = (*src)->readElevation(coarse, 65);   // opens the 2x overview: the new file's
+    ASSERT_FALSE(overview.ok());
+    EXPECT_NE(overview.message().find(f.string()), std::string::npos) << overview.message();
+    EXPECT_NE(overview.message().find("changed on disk since it was opened"), std::string::npos) << overview.message();
+    auto again = (*src)->readElevation(fine, 65);   // the open dataset: the file it opened
+    ASSERT_TRUE(again.ok()) << again.message();
+    EXPECT_EQ(again->heights[32 * 65 + 32], 100.0f);
+}
+
 TEST(RasterSource, UtmDemLandsAtTheRightLonLat) {
     auto src = openDem(demUtm());
     ASSERT_TRUE(src.ok()) << src.message();
