@@ -68,7 +68,7 @@ Result<std::shared_ptr<RasterSource>> RasterSource::open(const RasterSourceOptio
     Impl& s = *impl;
     s.options = options;
     s.role = options.role;
-    configureGdalOnce();   // GDAL and the tile cache's file system first: the XYZ description names it
+    configureGdal();   // GDAL and the tile cache's file system first: the XYZ description names it
     if (options.path.empty() == options.xyzUrl.empty())
         return makeError("raster source: give exactly one of a path and an XYZ URL (got \"" + options.path + "\" and \"" +
                          options.xyzUrl + "\")");
@@ -84,7 +84,7 @@ Result<std::shared_ptr<RasterSource>> RasterSource::open(const RasterSourceOptio
     }
     if (options.bounds && !options.xyzUrl.empty()) return s.error("\"bounds\" georeferences a file, not an XYZ source");
 
-    configureGdalOnce();
+    configureGdal();
     GdalErrors unexpected;  // nothing GDAL says while opening reaches stderr
     const bool remote = isRemotePath(s.openPath);
     if (!remote) {
@@ -278,7 +278,7 @@ std::string RasterSource::describe() const {
 
 Result<std::string> describeRasterJson(const std::string& path) {
     using nlohmann::json;
-    configureGdalOnce();
+    configureGdal();
     if (!isRemotePath(path)) {
         VSIStatBufL st;
         if (VSIStatExL(path.c_str(), &st, VSI_STAT_EXISTS_FLAG) != 0) return makeError(path + ": no such file");

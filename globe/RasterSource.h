@@ -8,12 +8,9 @@
 //   if (!dem) return dem.error();
 //   Result<ElevationTile> t = (*dem)->readElevation(key.extent(), 65, &cancel);   // any thread
 //
-// GDAL is configured once, on the first open(): a scene without rasters never initialises it.
-// Defaults set then unless the user set them (environment or CPLSetConfigOption):
-// GDAL_CACHEMAX=256 (MB), GDAL_HTTP_TIMEOUT=30, GDAL_HTTP_CONNECTTIMEOUT=10 (s),
-// GDAL_HTTP_MAX_RETRY=2 with GDAL_HTTP_RETRY_DELAY=1 (s, growing) for busy servers, and
-// GDAL_DEFAULT_WMS_CACHE_PATH=<defaultRasterCacheDir()>. A tile that still fails is tried
-// again by the pager later (TerrainTiles: kTileRetries, with back-off).
+// GDAL is configured on the first open() (GdalSetup.h: HTTP timeouts and retries, the tile
+// cache, the block cache): a scene without rasters never initialises it. A tile that still
+// fails is tried again by the pager later (TerrainTiles: kTileRetries, with back-off).
 //
 // Cost bound: one tile never reads more than kMaxSourcePixelsPerTile source pixels (counting the
 // overview GDAL reads from). Tiles that would need more (a huge file without overviews seen from

@@ -13,29 +13,6 @@
 
 namespace orbis::globe {
 namespace raster_detail {
-namespace {
-void setConfigDefault(const char* key, const std::string& value) {
-    if (CPLGetConfigOption(key, nullptr) == nullptr) CPLSetConfigOption(key, value.c_str());
-}
-}  // namespace
-
-void configureGdalOnce() {
-    static std::once_flag once;
-    std::call_once(once, [] {
-        const bool userCache = CPLGetConfigOption("GDAL_CACHEMAX", nullptr) != nullptr;
-        setConfigDefault("GDAL_HTTP_TIMEOUT", "30");
-        setConfigDefault("GDAL_HTTP_CONNECTTIMEOUT", "10");
-        // A busy server (429, 502, 503, 504) is asked again twice, after 1 s then about 2 s.
-        setConfigDefault("GDAL_HTTP_MAX_RETRY", "2");
-        setConfigDefault("GDAL_HTTP_RETRY_DELAY", "1");
-        // A WMS description with an empty <Cache/> caches here, through Orbis's safe tile cache.
-        setConfigDefault("GDAL_DEFAULT_WMS_CACHE_PATH", tileCachePath(defaultRasterCacheDir()));
-        GDALAllRegister();
-        if (!userCache) GDALSetCacheMax64(kGdalBlockCacheBytes);
-    });
-}
-
-// ---------------------------------------------------------------------------------------------
 
 bool isRemotePath(const std::string& p) {
     static const char* kRemote[] = {"/vsicurl", "/vsis3", "/vsigs", "/vsiaz", "/vsiadls", "/vsioss",

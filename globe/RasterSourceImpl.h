@@ -3,6 +3,7 @@
 // and RasterSourceGdal.cpp (GDAL configuration, the handle pool, warping, inspecting a file).
 // Not part of the globe module's interface: include it from those two files only.
 
+#include "globe/GdalSetup.h"
 #include "globe/RasterSource.h"
 
 #include "base/Log.h"
@@ -34,14 +35,7 @@ constexpr int kMaxTileSize = 4096;
 constexpr double kApproxErrorPx = 0.125;  // gdalwarp's default -et: invisible, several x faster
 constexpr int kMaxWarpOpsPerLevel = 4;    // tile sizes cached per pooled handle and level
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-// GDAL's block cache (decoded source blocks), unless GDAL_CACHEMAX says otherwise. Finished
-// tiles live in the pager's own LRU cache, so this only serves neighbouring tiles that read the
-// same blocks: 64 MB reads as fast as 256 MB (bench --tiles) and keeps the process's memory
-// close to the layer budgets.
-constexpr GIntBig kGdalBlockCacheBytes = GIntBig(64) << 20;
 
-/// Sets GDAL's configuration (HTTP timeouts, WMS cache, block cache) once, on the first open().
-void configureGdalOnce();
 
 // ---------------------------------------------------------------------------------------------
 // GDAL's messages for this thread, captured instead of printed (GDAL's handler stack is per

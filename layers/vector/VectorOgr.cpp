@@ -1,5 +1,7 @@
 #include "layers/vector/VectorOgr.h"
 
+#include "globe/GdalSetup.h"
+
 #include <cpl_error.h>
 #include <ogrsf_frmts.h>
 
@@ -9,11 +11,6 @@
 
 namespace orbis::vector::detail {
 namespace {
-
-void registerGdalOnce() {
-    static std::once_flag once;
-    std::call_once(once, [] { GDALAllRegister(); });
-}
 
 /// A source that names a driver or a server ("WFS:http://...", "PG:dbname=...") is not a path.
 bool looksLikeConnection(const std::string& source) {
@@ -59,7 +56,7 @@ void GdalErrorScope::clear() {
 }
 
 Result<DatasetPtr> openVectorSource(const std::string& source) {
-    registerGdalOnce();
+    globe::configureGdal();   // drivers, and HTTP timeouts: a stalled WFS ends the read
     std::error_code ec;
     if (source.empty()) return makeError("vector source: no path or connection string given");
     if (!looksLikeConnection(source) && !std::filesystem::exists(source, ec)) return makeError(source + ": no such file");

@@ -1,6 +1,7 @@
 #include "layers/volume/VolumeReader.h"
 
 #include "base/Utf8.h"
+#include "globe/GdalSetup.h"
 
 #include <cpl_error.h>
 #include <gdal_priv.h>
@@ -22,11 +23,6 @@ namespace {
 
 // ---------------------------------------------------------------------------------------------
 // GDAL plumbing
-
-void registerGdalOnce() {
-    static std::once_flag once;
-    std::call_once(once, [] { GDALAllRegister(); });
-}
 
 /// GDAL's messages on this thread are kept quiet while it lives; the last one explains failures.
 struct QuietGdal {
@@ -557,7 +553,7 @@ void storeValues(const std::vector<double>& raw, const Dimensions& dims, const P
 }  // namespace
 
 Result<VolumeField> readVolume(const VolumeReadOptions& options) {
-    registerGdalOnce();
+    globe::configureGdal();
     QuietGdal quiet;
     std::string openError;
     auto ds = openMultidim(options.path, &openError);
@@ -594,7 +590,7 @@ Result<VolumeField> readVolume(const VolumeReadOptions& options) {
 // Describing
 
 bool looksLikeVolumeFile(const std::string& path) {
-    registerGdalOnce();
+    globe::configureGdal();
     QuietGdal quiet;
     std::string error;
     auto ds = openMultidim(path, &error);
@@ -689,7 +685,7 @@ nlohmann::json describeVolume(const std::string& path, const std::string& name) 
 }  // namespace
 
 Result<std::string> describeVolumeJson(const std::string& path, std::vector<std::string>* problems) {
-    registerGdalOnce();
+    globe::configureGdal();
     QuietGdal quiet;
     std::string error;
     GDALDatasetUniquePtr ds = openMultidim(path, &error);

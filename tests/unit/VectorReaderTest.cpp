@@ -2,6 +2,7 @@
 // GeoPackage in NC State Plane feet written with OGR) and the Natural Earth, Olinda and North
 // Carolina files of ../shared/data/vector when present.
 #include "layers/vector/VectorReader.h"
+#include "tests/support/HttpServer.h"
 
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
@@ -9,7 +10,9 @@
 #include <ogrsf_frmts.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -410,6 +413,45 @@ TEST(VectorReader, StatePlaneFeetAreTransformedToLonLat) {
     const glm::dvec3 north = layer.features[1].coords[0];
     EXPECT_NEAR(north.x, -79.0, 1e-5);
     EXPECT_NEAR((north.y - 33.75) * 110934.0, 200000.4, 50.0);
+}
+
+}  // namespace
+}  // namespace orbis::vector
+
+namespace orbis::vector {
+namespace {
+
+// Vector reads set Orbis's GDAL defaults as raster reads do: without a timeout a WFS server that
+// stops answering held a worker for ever (curl waits without end). Each ctest runs this test in
+// a process of its own, where nothing else has set up GDAL first.
+TEST(VectorReader, AVectorReadSetsTheHttpTimeouts) {
+    if (std::getenv("GDAL_HTTP_TIMEOUT")) GTEST_SKIP() << "GDAL_HTTP_TIMEOUT is set in the environment";
+    VectorReadOptions o;
+    o.source = writeGeoJson("timeouts", {feature(R"({"type": "Point", "coordinates": [1, 2]})")}).string();
+    ASSERT_TRUE(readVector(o));
+    EXPECT_STREQ(CPLGetConfigOption("GDAL_HTTP_TIMEOUT", ""), "30");
+    EXPECT_STREQ(CPLGetConfigOption("GDAL_HTTP_CONNECTTIMEOUT", ""), "10");
+}
+
+// A WFS server that takes the connection and never answers: the read ends with the HTTP timeout
+// (2 s here, 30 s by default) with an error that names the source; nothing hangs.
+TEST(VectorReader, AStalledWfsServerEndsTheReadWithinItsTimeout) {
+    test::HttpServer server(tempDir());
+    ASSERT_TRUE(server.running()) << server.error();
+    server.setFault(test::HttpServer::Fault::Stall);
+    CPLSetConfigOption("GDAL_HTTP_TIMEOUT", "2");
+    CPLSetConfigOption("GDAL_HTTP_MAX_RETRY", "0");
+    VectorReadOptions o;
+    o.source = "WFS:" + server.url() + "/wfs";
+    const auto t0 = std::chrono::steady_clock::now();
+    auto r = readVector(o);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    CPLSetConfigOption("GDAL_HTTP_TIMEOUT", nullptr);
+    CPLSetConfigOption("GDAL_HTTP_MAX_RETRY", nullptr);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.message().find(o.source), std::string::npos) << r.message();
+    EXPECT_LT(s, 15.0) << "the read waited past its timeout";
+    EXPECT_GT(server.requestCount(), 0);
 }
 
 }  // namespace
