@@ -1,9 +1,11 @@
 // Vector files: what Orbis does with the features OGR reads from a file someone else wrote (KML,
-// GeoJSON, CSV with WKT, GML, GPX; the input's first byte picks the extension, the rest is the
-// file): the conversion to lon/lat parts unwrapped across 180 with their poles, the source's
+// GeoJSON, CSV with WKT, FlatGeobuf, GPX; the input's first byte picks the extension, the rest
+// is the file): the conversion to lon/lat parts unwrapped across 180 with their poles, the source's
 // own styles (OGR style strings), the features' times, the scene's style evaluated over the
 // attributes, the cut into quadtree tiles, the simplification and the triangulation of every
-// polygon. GDAL's own parsers are fuzzed by OSS-Fuzz; the limits keep one input bounded.
+// polygon. GDAL's own parsers are fuzzed by OSS-Fuzz; the limits keep one input bounded. (GML
+// is left out: GDAL 3.6.2's GML reader leaks an SRS on some srsName values, which ogrinfo shows
+// under valgrind too; it would stop every run on a leak that is not Orbis's.)
 #include "globe/TileKey.h"
 #include "layers/vector/FeatureClip.h"
 #include "layers/vector/FeatureTime.h"
@@ -55,7 +57,7 @@ void tiles(const Feature& f) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size < 1) return 0;
-    static constexpr std::array<const char*, 5> kinds{"kml", "geojson", "csv", "gml", "gpx"};
+    static constexpr std::array<const char*, 5> kinds{"kml", "geojson", "csv", "fgb", "gpx"};
     const std::string path = "/dev/shm/orbis-fuzz-vector-" + std::to_string(getpid()) + "." + kinds[data[0] % kinds.size()];
     if (FILE* f = std::fopen(path.c_str(), "wb")) {
         std::fwrite(data + 1, 1, size - 1, f);
