@@ -4,8 +4,7 @@
 // own styles (OGR style strings), the features' times, the scene's style evaluated over the
 // attributes, the cut into quadtree tiles, the simplification and the triangulation of every
 // polygon. GDAL's own parsers are fuzzed by OSS-Fuzz; the limits keep one input bounded. (GML
-// is left out: GDAL 3.6.2's GML reader leaks an SRS on some srsName values, which ogrinfo shows
-// under valgrind too; it would stop every run on a leak that is not Orbis's.)
+// is left out: FuzzGdal.h.)
 #include "globe/TileKey.h"
 #include "layers/vector/FeatureClip.h"
 #include "layers/vector/FeatureTime.h"
