@@ -4,6 +4,7 @@
 #include "globe/TileCacheFs.h"
 
 #include "tests/support/HttpServer.h"
+#include "tests/support/ScopedGdalConfig.h"
 #include "tests/support/XyzTiles.h"
 
 #include <cpl_conv.h>
@@ -108,8 +109,8 @@ TEST(RasterSourceRemote, XyzServerWithoutTilesGivesEmptyTiles) {
 TEST(RasterSourceRemote, BadServersEndEachReadWithinItsTimeout) {
     const fs::path root = tempDir() / "xyz-faults";
     ASSERT_EQ(test::writeXyzTiles(root, 1), "");
-    CPLSetConfigOption("GDAL_HTTP_TIMEOUT", "2");
-    CPLSetConfigOption("GDAL_HTTP_RETRY_DELAY", "0.2");
+    const test::ScopedGdalConfig timeout("GDAL_HTTP_TIMEOUT", "2");
+    const test::ScopedGdalConfig retryDelay("GDAL_HTTP_RETRY_DELAY", "0.2");
     using Fault = test::HttpServer::Fault;
     struct Case {
         const char* name;
@@ -150,8 +151,6 @@ TEST(RasterSourceRemote, BadServersEndEachReadWithinItsTimeout) {
     auto t = (*src)->readImagery({0, 0, 45, 45}, 32);
     EXPECT_TRUE(!t.ok() || !t->anyValid);
     EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 20.0);
-    CPLSetConfigOption("GDAL_HTTP_TIMEOUT", nullptr);
-    CPLSetConfigOption("GDAL_HTTP_RETRY_DELAY", nullptr);
 }
 
 namespace {

@@ -3,6 +3,7 @@
 // Carolina files of ../shared/data/vector when present.
 #include "layers/vector/VectorReader.h"
 #include "tests/support/HttpServer.h"
+#include "tests/support/ScopedGdalConfig.h"
 
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
@@ -439,15 +440,13 @@ TEST(VectorReader, AStalledWfsServerEndsTheReadWithinItsTimeout) {
     test::HttpServer server(tempDir());
     ASSERT_TRUE(server.running()) << server.error();
     server.setFault(test::HttpServer::Fault::Stall);
-    CPLSetConfigOption("GDAL_HTTP_TIMEOUT", "2");
-    CPLSetConfigOption("GDAL_HTTP_MAX_RETRY", "0");
+    const test::ScopedGdalConfig timeout("GDAL_HTTP_TIMEOUT", "2");
+    const test::ScopedGdalConfig retries("GDAL_HTTP_MAX_RETRY", "0");
     VectorReadOptions o;
     o.source = "WFS:" + server.url() + "/wfs";
     const auto t0 = std::chrono::steady_clock::now();
     auto r = readVector(o);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    CPLSetConfigOption("GDAL_HTTP_TIMEOUT", nullptr);
-    CPLSetConfigOption("GDAL_HTTP_MAX_RETRY", nullptr);
     ASSERT_FALSE(r);
     EXPECT_NE(r.message().find(o.source), std::string::npos) << r.message();
     EXPECT_LT(s, 15.0) << "the read waited past its timeout";
