@@ -27,7 +27,7 @@ export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp/orbis-xdg}"
 mkdir -p "$XDG_RUNTIME_DIR"
 
-CC=clang CXX=clang++ cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DORBIS_FUZZ=ON \
+CC=clang CXX=clang++ cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DORBIS_FUZZ=ON \
     -DORBIS_BUILD_TESTS=OFF >/dev/null
 cmake --build "$build" --target "${targets[@]/#/fuzz-}" orbis-make-las
 

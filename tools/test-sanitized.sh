@@ -16,9 +16,12 @@ case "$san" in
     *) echo "test-sanitized.sh: SANITIZER is address or thread, not '$san'" >&2; exit 2 ;;
 esac
 [ -d assets/generated ] || { echo "test-sanitized.sh: assets/generated is missing: run tools/build.sh first" >&2; exit 2; }
-cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DORBIS_SANITIZE="$san" -DORBIS_BUILD_TESTS=ON >/dev/null
-targets=(orbis_unit_tests orbis_livefeed_tests)
-[ "$san" = address ] && targets+=(orbis_motion_tests orbis orbis_cli_tests)
+cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DORBIS_SANITIZE="$san" -DORBIS_BUILD_TESTS=ON >/dev/null
+if [ "$san" = address ]; then
+    targets=(orbis_unit_tests orbis_livefeed_tests orbis_motion_tests orbis orbis_cli_tests)
+else   # only the sources of the threaded tests (tests/unit/CMakeLists.txt)
+    targets=(orbis_threaded_tests orbis_livefeed_tests)
+fi
 cmake --build "$dir" --target "${targets[@]}"
 
 supp="$PWD/tests/sanitizers"
@@ -47,7 +50,7 @@ if [ "$san" = address ]; then
     run orbis_livefeed_tests
     run orbis_cli_tests 'Cli.*'
 else
-    run orbis_unit_tests 'ThreadPool*:CancelToken*:TerrainTilesRepaint*:RasterSource.Concurrent*:RasterSource.Cancelled*:FeatureTiles*:FmvVideo*:FramePrefetcher*:PointStore*:NodeResidency*'
+    run orbis_threaded_tests 'ThreadPool*:CancelToken*:TerrainTilesRepaint*:RasterSource.Concurrent*:RasterSource.Cancelled*:FeatureTiles*:FmvVideo*:FramePrefetcher*:PointStore*:NodeResidency*'
     run orbis_livefeed_tests
 fi
 [ "$status" = 0 ] && echo "test-sanitized.sh ($san): clean" || echo "test-sanitized.sh ($san): see $dir/*.log" >&2
