@@ -124,37 +124,6 @@ Result<LoadedVolume> loadSynthetic(const nlohmann::json& synthetic, const scene:
     return out;
 }
 
-/// Every time step of the file's variable after `first` (already in out.field), when they fit:
-/// out.field becomes time step 0 and the others follow in order.
-Result<void> loadAllTimeSteps(const VolumeReadOptions& o, const std::string& where, LoadedVolume& out) {
-    VolumeField& field = *out.field;
-    const size_t timeSteps = field.times.size();
-    const uint64_t timeStepBytes = uint64_t(field.values.size()) * sizeof(float);
-    if (timeStepBytes * timeSteps > o.maxBytes || field.nz() * timeSteps > 2048)
-        return makeError(where + ": " + std::to_string(timeSteps) + " time steps of " + std::to_string(timeStepBytes >> 20) +
-                         " MB do not fit (memory budget " + std::to_string(o.maxBytes >> 20) +
-                         " MB, 2048 levels in all): set \"time\": \"fixed\" and pick a \"timeStep\"");
-    const size_t first = o.timeIndex;
-    std::vector<std::vector<float>> all(timeSteps);
-    for (size_t i = 0; i < timeSteps; ++i) {
-        if (i == first) continue;
-        VolumeReadOptions oi = o;
-        oi.timeIndex = i;
-        auto timeStep = readVolume(oi);
-        if (!timeStep) return makeError(where + ": " + timeStep.message());
-        field.minValue = std::min(field.minValue, timeStep->minValue);
-        field.maxValue = std::max(field.maxValue, timeStep->maxValue);
-        field.validCount += timeStep->validCount;
-        all[i] = std::move(timeStep->values);
-    }
-    all[first] = std::move(field.values);
-    field.values = std::move(all[0]);
-    field.timeIndex = 0;   // the values held are time step 0's; the rest follow in order
-    for (size_t i = 1; i < timeSteps; ++i) out.moreTimeSteps.push_back(std::move(all[i]));
-    out.timeStepTimes = field.times;
-    return {};
-}
-
 /// A variable of a file ("path", "variable", "timeStep", "pressureToHeight"): one time step, or
 /// all of them when virtual time animates it. An empty field when a key is wrong (r holds why).
 Result<LoadedVolume> loadFile(scene::JsonReader& r, const std::string& path, const scene::SceneDesc& scene,
@@ -171,11 +140,25 @@ Result<LoadedVolume> loadFile(scene::JsonReader& r, const std::string& path, con
     }
     LoadedVolume out;
     if (!r.ok()) return out;
-    auto read = readVolume(o);
+    // Animated by virtual time: every step, when they fit, read through one open of the file (a
+    // file replaced meanwhile cannot mix two grids); step 0 in out.field, the others after it.
+    auto animate = [&](const VolumeField& grid) -> Result<bool> {
+        if (timeMode == VolumeSettings::TimeMode::Fixed || grid.times.size() <= 1) return false;
+        const size_t timeSteps = grid.timeSteps;
+        const uint64_t timeStepBytes = uint64_t(grid.nx()) * grid.ny() * grid.nz() * sizeof(float);
+        if (timeStepBytes * timeSteps > o.maxBytes || grid.nz() * timeSteps > 2048)
+            return makeError(std::to_string(timeSteps) + " time steps of " + std::to_string(timeStepBytes >> 20) +
+                             " MB do not fit (memory budget " + std::to_string(o.maxBytes >> 20) +
+                             " MB, 2048 levels in all): set \"time\": \"fixed\" and pick a \"timeStep\"");
+        return true;
+    };
+    auto read = readVolumeTimeSteps(o, animate);
     if (!read) return makeError(where + ": " + read.message());
-    out.field = std::move(read).value();
-    if (timeMode != VolumeSettings::TimeMode::Fixed && out.field->times.size() > 1)
-        if (auto all = loadAllTimeSteps(o, where, out); !all) return all.error();
+    out.field = std::move(read->field);
+    if (!read->more.empty()) {
+        out.moreTimeSteps = std::move(read->more);
+        out.timeStepTimes = out.field->times;
+    }
     return out;
 }
 

@@ -552,37 +552,110 @@ void storeValues(const std::vector<double>& raw, const Dimensions& dims, const P
 
 }  // namespace
 
+namespace {
+
+/// A variable opened for reading: its grid placed and read (field holds everything but the
+/// values), ready to read any of its time steps through the same open dataset.
+struct OpenedVolume {
+    GDALDatasetUniquePtr ds;
+    std::shared_ptr<GDALMDArray> array;
+    Dimensions dims;
+    Context ctx;
+    bool ascending[3] = {true, true, true};
+    VolumeField field;
+};
+
+Result<OpenedVolume> openVolume(const VolumeReadOptions& options) {
+    std::string openError;
+    OpenedVolume v;
+    v.ds = openMultidim(options.path, &openError);
+    if (!v.ds) return makeError(openError);
+    auto opened = openVariable(*v.ds, options.path, options.variable, &v.field.variable);
+    if (!opened) return opened.error();
+    v.array = std::move(opened).value();
+    v.ctx = Context{options.path, v.field.variable};
+
+    auto dims = placeDimensions(*v.array, v.ctx);
+    if (!dims) return dims.error();
+    v.dims = std::move(dims).value();
+    auto lon = readLongitudes(v.dims, v.ctx, &v.field.lonWraps);
+    if (!lon) return lon.error();
+    auto lat = readLatitudes(v.dims, v.ctx);
+    if (!lat) return lat.error();
+    auto heights = readVertical(v.dims, v.ctx, options.pressureToHeight, v.field);
+    if (!heights) return heights.error();
+    if (auto times = readTimes(v.dims, v.ctx, options.timeIndex, v.field); !times) return times.error();
+    v.field.units = v.array->GetUnit();
+    v.field.longName = stringAttribute(*v.array, "long_name");
+    v.ascending[0] = lon->ascending, v.ascending[1] = lat->ascending, v.ascending[2] = heights->ascending;
+    v.field.lonDeg = std::move(lon->values);
+    v.field.latDeg = std::move(lat->values);
+    v.field.heightM = std::move(heights->values);
+    return v;
+}
+
+/// One time step's values (with their range and count) into `out`, which has the grid.
+Result<void> readTimeStep(const OpenedVolume& v, const VolumeReadOptions& options, size_t timeIndex, VolumeField& out) {
+    VolumeReadOptions step = options;
+    step.timeIndex = timeIndex;
+    auto raw = readRaw(*v.array, v.dims, v.ctx, step, out.nx(), out.ny(), out.nz());
+    if (!raw) return raw.error();
+    out.values.clear();
+    out.validCount = 0;
+    out.minValue = out.maxValue = 0.0f;
+    storeValues(*raw, v.dims, Packing(*v.array), v.ascending, out);
+    return {};
+}
+
+}  // namespace
+
 Result<VolumeField> readVolume(const VolumeReadOptions& options) {
     globe::configureGdal();
     QuietGdal quiet;
-    std::string openError;
-    auto ds = openMultidim(options.path, &openError);
-    if (!ds) return makeError(openError);
-    VolumeField out;
-    auto opened = openVariable(*ds, options.path, options.variable, &out.variable);
-    if (!opened) return opened.error();
-    const GDALMDArray& array = **opened;
-    const Context ctx{options.path, out.variable};
+    auto v = openVolume(options);
+    if (!v) return v.error();
+    if (auto read = readTimeStep(*v, options, options.timeIndex, v->field); !read) return read.error();
+    return std::move(v->field);
+}
 
-    auto dims = placeDimensions(array, ctx);
-    if (!dims) return dims.error();
-    auto lon = readLongitudes(*dims, ctx, &out.lonWraps);
-    if (!lon) return lon.error();
-    auto lat = readLatitudes(*dims, ctx);
-    if (!lat) return lat.error();
-    auto heights = readVertical(*dims, ctx, options.pressureToHeight, out);
-    if (!heights) return heights.error();
-    if (auto times = readTimes(*dims, ctx, options.timeIndex, out); !times) return times.error();
-
-    auto raw = readRaw(array, *dims, ctx, options, lon->values.size(), lat->values.size(), heights->values.size());
-    if (!raw) return raw.error();
-    out.units = array.GetUnit();
-    out.longName = stringAttribute(array, "long_name");
-    const bool ascending[3] = {lon->ascending, lat->ascending, heights->ascending};
-    out.lonDeg = std::move(lon->values);
-    out.latDeg = std::move(lat->values);
-    out.heightM = std::move(heights->values);
-    storeValues(*raw, *dims, Packing(array), ascending, out);
+Result<VolumeTimeSteps> readVolumeTimeSteps(const VolumeReadOptions& options,
+                                            const std::function<Result<bool>(const VolumeField&)>& readAll) {
+    globe::configureGdal();
+    QuietGdal quiet;
+    auto v = openVolume(options);
+    if (!v) return v.error();
+    VolumeTimeSteps out;
+    out.field = v->field;   // the grid and the times, no values yet
+    bool all = true;
+    if (readAll) {
+        auto decided = readAll(out.field);
+        if (!decided) return decided.error();
+        all = *decided;
+    }
+    if (!all || out.field.timeSteps <= 1) {
+        if (auto read = readTimeStep(*v, options, options.timeIndex, out.field); !read) return read.error();
+        return out;
+    }
+    // Every step through the same open dataset: a file replaced on disk meanwhile (renamed over
+    // this one, as tools write) is not read, so two files' grids and values never mix.
+    out.field.timeIndex = 0;
+    for (size_t i = 0; i < v->field.timeSteps; ++i) {
+        VolumeField step = v->field;
+        if (auto read = readTimeStep(*v, options, i, step); !read) return read.error();
+        if (i == 0) {
+            out.field.values = std::move(step.values);
+            out.field.validCount = step.validCount;
+            out.field.minValue = step.minValue, out.field.maxValue = step.maxValue;
+            continue;
+        }
+        if (step.validCount) {   // the range over every step's valid values (a step of no data adds none)
+            const bool any = out.field.validCount > 0;
+            out.field.minValue = any ? std::min(out.field.minValue, step.minValue) : step.minValue;
+            out.field.maxValue = any ? std::max(out.field.maxValue, step.maxValue) : step.maxValue;
+            out.field.validCount += step.validCount;
+        }
+        out.more.push_back(std::move(step.values));
+    }
     return out;
 }
 

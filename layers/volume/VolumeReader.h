@@ -1,7 +1,7 @@
 #pragma once
 // Scientific volumes from netCDF (and anything else GDAL's multidimensional API opens): one
-// variable at one time step, placed on a (lon, lat, height) grid with CF conventions. CPU only,
-// no Vulkan; safe to call from any thread (each call opens its own dataset).
+// variable at one time step (or all of them), placed on a (lon, lat, height) grid with CF
+// conventions. CPU only, no Vulkan; safe to call from any thread (each call opens its own dataset).
 //
 //   VolumeReadOptions o;
 //   o.path = "air.nc";
@@ -26,6 +26,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -85,6 +86,23 @@ struct VolumeField {
 /// (missing variable, too few dimensions, a dimension that cannot be placed, a corrupt file,
 /// a size beyond maxBytes).
 Result<VolumeField> readVolume(const VolumeReadOptions& options);
+
+/// Every time step of a variable: `field` holds time step 0 (timeIndex 0) with the grid, the
+/// times, and the range and count of the valid values over all the steps; `more` holds the
+/// values of steps 1, 2, ... in order, each laid out as field.values. When only one step was read,
+/// `field` is that step (as readVolume returns it) and `more` is empty.
+struct VolumeTimeSteps {
+    VolumeField field;
+    std::vector<std::vector<float>> more;
+};
+
+/// Reads every time step of one variable through a single open of the file: a file replaced on
+/// disk while it is read (renamed over, as tools write) is not read at all, so the steps always
+/// share one grid. `readAll`, when given, sees the grid and the times before any value is read:
+/// true reads every step, false only options.timeIndex (as readVolume), an error refuses (a
+/// memory budget). options.maxBytes bounds each step.
+Result<VolumeTimeSteps> readVolumeTimeSteps(const VolumeReadOptions& options,
+                                            const std::function<Result<bool>(const VolumeField& grid)>& readAll = {});
 
 /// What a file holds, as JSON: its variables with their dimensions (classified as lon, lat,
 /// vertical, time or other), units, packing, fill values and ranges, and for each volume

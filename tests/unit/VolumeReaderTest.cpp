@@ -179,6 +179,102 @@ TEST(VolumeReader, DepthsBecomeNegativeHeightsAndKilometresMetres) {
     EXPECT_EQ(fb->heightM, (std::vector<double>{500, 1500}));
 }
 
+namespace {
+
+/// A (time, lev, lat, lon) file of the analytic field with the given axes.
+void writeTimed(const fs::path& file, const std::vector<double>& lons, const std::vector<double>& lats,
+                const std::vector<double>& levs, const std::vector<double>& times) {
+    writeNc(file, {timeDim(times), presDim(levs), latDim(lats), lonDim(lons)}, {}, [&](const std::vector<size_t>& i) {
+        return field(lons[i[3]], lats[i[2]], levs[i[1]], double(i[0]));
+    });
+}
+
+}  // namespace
+
+// Reading every time step at once gives what reading each step alone gives, with the range over
+// all of them.
+TEST(VolumeReader, AllTimeStepsAreEachStepInOrder) {
+    const fs::path file = tempDir() / "steps.nc";
+    writeTimed(file, {0, 10, 20}, {-5, 5}, {100000, 50000}, {0, 6, 12});
+    VolumeReadOptions o;
+    o.path = file.string();
+    o.variable = "t";
+    auto all = readVolumeTimeSteps(o);
+    ASSERT_TRUE(all.ok()) << all.message();
+    ASSERT_EQ(all->more.size(), 2u);
+    EXPECT_EQ(all->field.timeIndex, 0u);
+    size_t valid = 0;
+    for (size_t s = 0; s < 3; ++s) {
+        auto one = read(file, "t", s);
+        ASSERT_TRUE(one.ok()) << one.message();
+        EXPECT_EQ(s == 0 ? all->field.values : all->more[s - 1], one->values) << "step " << s;
+        valid += one->validCount;
+        if (s == 0) {
+            EXPECT_EQ(all->field.minValue, one->minValue);
+        }
+        if (s == 2) {
+            EXPECT_EQ(all->field.maxValue, one->maxValue);
+        }
+    }
+    EXPECT_EQ(all->field.validCount, valid);
+    // Asked to read one step only: that step, as readVolume reads it.
+    o.timeIndex = 1;
+    auto one = readVolumeTimeSteps(o, [](const VolumeField& grid) -> Result<bool> {
+        EXPECT_TRUE(grid.values.empty()) << "the decision comes before any value is read";
+        EXPECT_EQ(grid.timeSteps, 3u);
+        return false;
+    });
+    ASSERT_TRUE(one.ok()) << one.message();
+    EXPECT_TRUE(one->more.empty());
+    EXPECT_EQ(one->field.timeIndex, 1u);
+    EXPECT_EQ(one->field.values, all->more[0]);
+    // Refused (a budget): the refusal is the error.
+    auto refused = readVolumeTimeSteps(o, [](const VolumeField&) -> Result<bool> { return makeError("too big"); });
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.message(), "too big");
+}
+
+// Issue 23: a file replaced on disk (renamed over, as tools write) while its time steps are read.
+// The steps all come from the file that was opened, on its grid; the new file shows on the next
+// open. Before, each step opened the file again and a step of another grid joined the others.
+TEST(VolumeReader, AFileReplacedWhileItsTimeStepsAreReadIsNotMixedIn) {
+    const fs::path file = tempDir() / "replaced.nc", other = tempDir() / "replacement.nc";
+    const std::vector<double> lons{0, 10, 20, 30}, lats{-5, 0, 5}, levs{100000, 50000};
+    writeTimed(file, lons, lats, levs, {0, 6, 12});
+    writeTimed(other, {0, 5, 10, 15, 20}, {-8, -4, 0, 4, 8}, {100000, 70000, 50000}, {0, 6, 12, 18});
+    VolumeReadOptions o;
+    o.path = file.string();
+    o.variable = "t";
+    bool replaced = false;
+    auto all = readVolumeTimeSteps(o, [&](const VolumeField&) -> Result<bool> {
+        std::error_code ec;
+        fs::rename(other, file, ec);
+        replaced = !ec;
+        return true;
+    });
+    ASSERT_TRUE(replaced);
+    ASSERT_TRUE(all.ok()) << all.message();
+    const VolumeField& f = all->field;
+    ASSERT_EQ(f.nx(), 4u);
+    ASSERT_EQ(f.ny(), 3u);
+    ASSERT_EQ(f.nz(), 2u);
+    ASSERT_EQ(all->more.size(), 2u);
+    for (size_t s = 0; s < 3; ++s) {
+        const std::vector<float>& values = s == 0 ? f.values : all->more[s - 1];
+        ASSERT_EQ(values.size(), f.values.size()) << "step " << s;
+        for (size_t k = 0; k < 2; ++k)
+            for (size_t j = 0; j < 3; ++j)
+                for (size_t i = 0; i < 4; ++i)
+                    ASSERT_FLOAT_EQ(values[(k * 3 + j) * 4 + i],
+                                    float(field(f.lonDeg[i], f.latDeg[j], f.verticalRaw[k], double(s))))
+                        << "step " << s << " at " << i << " " << j << " " << k;
+    }
+    auto now = read(file);   // the next open reads the new file
+    ASSERT_TRUE(now.ok()) << now.message();
+    EXPECT_EQ(now->nx(), 5u);
+    EXPECT_EQ(now->timeSteps, 4u);
+}
+
 TEST(VolumeReader, LongitudesAcrossTheAntimeridianStayContinuous) {
     const std::vector<double> lons{170, 175, 180, -175, -170}, lats{-5, 5}, levs{1000, 500};
     const fs::path file = tempDir() / "antimeridian.nc";
