@@ -181,7 +181,9 @@ std::optional<Feature> clipFeature(const Feature& feature, const globe::GeoExten
 std::vector<globe::TileKey> tilesCovering(const Feature& feature, uint32_t level) {
     std::vector<globe::TileKey> out;
     const LonLatBounds& b = feature.bounds;
-    if (b.empty) return out;
+    // The reader keeps latitudes within +-90 and longitudes finite (unwrapped lines may wind past +-180).
+    if (b.empty || !(std::abs(b.west) < 1e12 && std::abs(b.east) < 1e12 && std::abs(b.south) <= 90.0 && std::abs(b.north) <= 90.0))
+        return out;
     const double size = 180.0 / double(1u << level);
     const auto nx = int64_t(globe::TileKey::tilesX(level)), ny = int64_t(globe::TileKey::tilesY(level));
     const auto y0 = std::clamp(int64_t(std::floor((90.0 - b.north) / size)), int64_t(0), ny - 1);

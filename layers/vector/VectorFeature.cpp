@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 namespace orbis::vector::detail {
 namespace {
@@ -118,6 +119,18 @@ bool toLonLat(std::vector<glm::dvec3>& coords, OGRCoordinateTransformation* tran
     return true;
 }
 
+/// Latitudes a hair past a pole (rounding in a transform) are put on it; a coordinate beyond
+/// that, or a longitude past +-540 degrees (0..360 data unwraps fine), is a wrong CRS or a
+/// corrupt file: the first such vertex, or none.
+std::optional<glm::dvec3> outsideLonLat(std::vector<glm::dvec3>& coords) {
+    constexpr double kPoleSlack = 1e-9, kMaxLon = 540.0;
+    for (glm::dvec3& v : coords) {
+        if (std::abs(v.y) > 90.0 && std::abs(v.y) <= 90.0 + kPoleSlack) v.y = std::copysign(90.0, v.y);
+        if (!(std::abs(v.y) <= 90.0) || !(std::abs(v.x) <= kMaxLon)) return v;
+    }
+    return std::nullopt;
+}
+
 /// Unwraps lines and rings (holes next to their outer ring), flags pole rings and computes the
 /// bounds.
 void finish(Feature& f) {
@@ -216,6 +229,14 @@ ConvertedFeature convertFeature(const OGRFeature& feature, OGRCoordinateTransfor
         }
         if (!toLonLat(f->coords, transform)) {
             out.skipped = fidText(feature) + ": a coordinate cannot be transformed to WGS84";
+            out.features.clear();
+            return out;
+        }
+        if (const auto v = outsideLonLat(f->coords)) {
+            char where[96];
+            std::snprintf(where, sizeof where, "(%.6g, %.6g)", v->x, v->y);
+            out.skipped = fidText(feature) + ": the coordinate " + where +
+                          " is not a WGS84 longitude, latitude (is the layer's CRS right?)";
             out.features.clear();
             return out;
         }

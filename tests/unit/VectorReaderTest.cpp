@@ -1,6 +1,7 @@
 // The vector reader: fixtures written at test time (GeoJSON, CSV with WKT and a .prj, a
 // GeoPackage in NC State Plane feet written with OGR) and the Natural Earth, Olinda and North
 // Carolina files of ../shared/data/vector when present.
+#include "layers/vector/FeatureClip.h"
 #include "layers/vector/VectorReader.h"
 #include "tests/support/HttpServer.h"
 #include "tests/support/ScopedGdalConfig.h"
@@ -274,6 +275,26 @@ TEST(VectorReader, NanCoordinatesAreSkippedWithAWarning) {
     ASSERT_TRUE(capped) << capped.message();
     EXPECT_EQ(capped->layers[0].warnings, (std::vector<std::string>{"skipped feature 0: a coordinate is NaN or infinite",
                                                                      "1 more warnings not listed"}));
+}
+
+TEST(VectorReader, CoordinatesOutsideLonLatAreSkippedAndPoleRoundingIsKept) {
+    // Found by fuzzing: a FlatGeobuf in EPSG:4326 with an x of -2.7e283.
+    const auto file = writeGeoJson("range", {feature(R"({"type": "Point", "coordinates": [-2.7e283, 10]})"),
+                                             feature(R"({"type": "LineString", "coordinates": [[0,0],[1,91]]})"),
+                                             feature(R"({"type": "Point", "coordinates": [10, 90.0000000001]})"),
+                                             feature(R"({"type": "Point", "coordinates": [350, -45]})")});
+    auto data = read(file);
+    ASSERT_TRUE(data) << data.message();
+    const VectorLayer& layer = data->layers[0];
+    EXPECT_EQ(layer.featuresSkipped, 2u);
+    EXPECT_EQ(layer.warnings,
+              (std::vector<std::string>{
+                  "skipped feature 0: the coordinate (-2.7e+283, 10) is not a WGS84 longitude, latitude (is the layer's CRS right?)",
+                  "skipped feature 1: the coordinate (1, 91) is not a WGS84 longitude, latitude (is the layer's CRS right?)"}));
+    ASSERT_EQ(layer.features.size(), 2u);
+    EXPECT_EQ(layer.features[0].coords[0].y, 90.0);
+    EXPECT_DOUBLE_EQ(layer.features[1].coords[0].x, -10.0);
+    EXPECT_FALSE(tilesCovering(layer.features[0], 3).empty());
 }
 
 TEST(VectorReader, FeatureOverTheVertexLimitIsSkippedAndTheReadLimitsStopTheRead) {
