@@ -9,8 +9,11 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <limits>
 
 namespace orbis::fmv {
@@ -45,6 +48,35 @@ struct FrameIndex {
     std::vector<double> times;
 };
 
+/// What the file at a path is: which inode, its size and time, and a hash of its first 64 KiB
+/// (to tell an append from a rewrite). Not known for URLs and devices.
+struct OnDisk {
+    bool known = false;
+    dev_t device = 0;
+    ino_t inode = 0;
+    off_t size = 0;
+    timespec modified{};
+    uint64_t prefixHash = 0;   // of the first `hashed` bytes
+    off_t hashed = 0;
+};
+
+uint64_t prefixHash(const std::string& path, off_t count) {
+    std::vector<char> bytes(static_cast<size_t>(count));
+    std::ifstream in(path, std::ios::binary);
+    if (!in.read(bytes.data(), std::streamsize(bytes.size()))) return 0;
+    uint64_t h = 1469598103934665603ull;   // FNV-1a
+    for (char c : bytes) h = (h ^ uint8_t(c)) * 1099511628211ull;
+    return h;
+}
+
+OnDisk statOnDisk(const std::string& path, bool hash) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return {};
+    OnDisk d{true, st.st_dev, st.st_ino, st.st_size, st.st_mtim, 0, std::min<off_t>(st.st_size, 64 * 1024)};
+    if (hash) d.prefixHash = prefixHash(path, d.hashed);
+    return d;
+}
+
 }  // namespace
 
 struct VideoFile::Impl {
@@ -58,6 +90,8 @@ struct VideoFile::Impl {
     int64_t firstPts = 0;
     int64_t lastPts = std::numeric_limits<int64_t>::min();   // the decoder's last frame out
     bool drained = false;                                     // sent the end of the stream
+    OnDisk opened;                                            // the file as it was opened
+    std::string changed;                                      // why it cannot be read on, once it changed
 
     ~Impl() {
         sws_freeContext(sws);
@@ -82,7 +116,8 @@ struct VideoFile::Impl {
     Result<void> seekToKey(const std::string& path, int64_t keyPts, int64_t firstFramePts, bool fromStart);
     Result<bool> receiveFrame(const std::string& path, int64_t target, uint64_t& decoded);
     Result<bool> feedDecoder(const std::string& path);
-    Result<VideoFrame> toRgba(const std::string& path, size_t index, double time);
+    Result<VideoFrame> toRgba(const std::string& path, size_t index, double time, int width, int height);
+    Result<void> checkOnDisk(const std::string& path);
 };
 
 /// Opens the container and picks the video stream (the first that is not a cover picture) and
@@ -210,8 +245,11 @@ Result<std::unique_ptr<VideoFile>> VideoFile::open(const std::string& path) {
     v->impl_ = std::make_unique<Impl>();
     Impl& m = *v->impl_;
     av_log_set_level(AV_LOG_ERROR);
+    const OnDisk before = statOnDisk(path, false);
     const auto klvStream = m.openInput(path);
     if (!klvStream) return klvStream.error();
+    if (const OnDisk after = statOnDisk(path, true); before.known && after.known && before.inode == after.inode)
+        m.opened = after;
     v->info_.hasKlv = *klvStream >= 0;
     if (m.stream < 0) return fail(path, *klvStream >= 0 ? "has KLV metadata but no video stream" : "has no video stream");
     const auto decoder = m.describeVideo(path, v->info_);
@@ -296,13 +334,14 @@ Result<bool> VideoFile::Impl::feedDecoder(const std::string& path) {
     return true;
 }
 
-/// The decoded `frame` as RGBA; releases it.
-Result<VideoFrame> VideoFile::Impl::toRgba(const std::string& path, size_t index, double time) {
+/// The decoded `frame` as RGBA at the size the stream was opened with (a stream that changes
+/// size mid-way is scaled: its consumers hold images of the first size); releases it.
+Result<VideoFrame> VideoFile::Impl::toRgba(const std::string& path, size_t index, double time, int width, int height) {
     VideoFrame out;
     out.index = index;
     out.time = time;
-    out.width = frame->width;
-    out.height = frame->height;
+    out.width = width;
+    out.height = height;
     sws = sws_getCachedContext(sws, frame->width, frame->height, AVPixelFormat(frame->format), out.width, out.height,
                                AV_PIX_FMT_RGBA, SWS_BILINEAR, nullptr, nullptr, nullptr);
     if (!sws) {
@@ -317,10 +356,32 @@ Result<VideoFrame> VideoFile::Impl::toRgba(const std::string& path, size_t index
     return out;
 }
 
+/// The open handle keeps reading the file it opened when another is renamed over the path, so
+/// only a change to that file itself matters: an append (a recording still being written) reads
+/// on; a rewrite (new size or time, and other first bytes, or a shorter file) stops the reads
+/// with a message, rather than decoding another file's bytes at this one's offsets.
+Result<void> VideoFile::Impl::checkOnDisk(const std::string& path) {
+    if (!changed.empty()) return makeError(changed);
+    if (!opened.known) return {};
+    OnDisk now = statOnDisk(path, false);
+    if (!now.known || now.device != opened.device || now.inode != opened.inode) return {};   // renamed over or removed
+    if (now.size == opened.size && now.modified.tv_sec == opened.modified.tv_sec &&
+        now.modified.tv_nsec == opened.modified.tv_nsec)
+        return {};
+    if (now.size > opened.size && prefixHash(path, opened.hashed) == opened.prefixHash) {
+        opened.size = now.size, opened.modified = now.modified;   // appended to
+        return {};
+    }
+    changed = path + ": the file was rewritten since it was opened (" + std::to_string(opened.size) + " bytes then, " +
+              std::to_string(now.size) + " now); open the scene again to read the new file";
+    return makeError(changed);
+}
+
 Result<VideoFrame> VideoFile::decode(size_t index) {
     Impl& m = *impl_;
     if (index >= framePts_.size())
         return makeError(path_ + ": frame " + std::to_string(index) + " does not exist (" + std::to_string(framePts_.size()) + " frames)");
+    if (auto r = m.checkOnDisk(path_); !r) return r.error();
     const int64_t target = framePts_[index];
     // Decode on from where the decoder is when no key frame lies between; else seek to the key
     // frame at or before the frame (an earlier one if the seek lands after it).
@@ -338,7 +399,7 @@ Result<VideoFrame> VideoFile::decode(size_t index) {
         }
         auto found = m.receiveFrame(path_, target, decoded_);
         if (!found) return found.error();
-        if (*found) return m.toRgba(path_, index, frameTimes_[index]);
+        if (*found) return m.toRgba(path_, index, frameTimes_[index], info_.width, info_.height);
         // Not found from here: try again from an earlier key frame (the start, at the end).
         if (key > 0) --key;
     }

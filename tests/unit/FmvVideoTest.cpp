@@ -33,7 +33,7 @@ std::filesystem::path dir() {
 
 // Frame n: a checkerboard, with n in binary as 8 blocks of 16 x 16 along the top row (white 1,
 // black 0), big enough to survive the compression.
-std::vector<uint8_t> frameImage(int n) {
+std::vector<uint8_t> frameImage(int n, int kW = fmv::kW, int kH = fmv::kH) {
     std::vector<uint8_t> rgba(size_t(kW) * kH * 4);
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x) {
@@ -61,9 +61,11 @@ std::vector<uint8_t> klvBytes(int n) {
     return b;
 }
 
-std::string writeVideo(const std::string& name, int frames, VideoWriteOptions o = {}) {
-    o.width = kW;
-    o.height = kH;
+/// Frames numbered from `first`, width x height.
+std::string writeVideo(const std::string& name, int frames, VideoWriteOptions o = {}, int first = 0, int width = kW,
+                       int height = kH) {
+    o.width = width;
+    o.height = height;
     const std::string path = (dir() / name).string();
     auto w = VideoWriter::create(path, o);
     EXPECT_TRUE(w.ok()) << w.message();
@@ -73,7 +75,7 @@ std::string writeVideo(const std::string& name, int frames, VideoWriteOptions o 
             EXPECT_TRUE((*w)->writeKlv(double(i) / o.fps, klvBytes(i)).ok());
         }
         if (o.withVideo) {
-            EXPECT_TRUE((*w)->writeFrame(frameImage(i)).ok());
+            EXPECT_TRUE((*w)->writeFrame(frameImage(first + i, o.width, o.height)).ok());
         }
     }
     auto closed = (*w)->close();
@@ -143,6 +145,63 @@ TEST(FmvVideo, EveryFrameDecodesExactlyInAnyOrder) {
     }
     EXPECT_LE(video.framesDecoded() - before, 40u * 8u);   // never more than a GOP a frame
     EXPECT_FALSE(video.decode(40).ok());
+}
+
+TEST(FmvVideo, AVideoReplacedWhileOpenReadsOnOrSaysItWasRewritten) {
+    VideoWriteOptions o;
+    o.fps = 10;
+    o.gop = 5;
+    const auto copyBytes = [](const std::string& from, const std::string& to) {   // in place: same inode
+        std::ifstream in(from, std::ios::binary);
+        std::ofstream out(to, std::ios::binary | std::ios::trunc);
+        out << in.rdbuf();
+    };
+    // Renamed over: the open handle keeps the file it opened, frames stay this file's.
+    {
+        const std::string path = writeVideo("replaced.ts", 20, o);
+        auto v = VideoFile::open(path);
+        ASSERT_TRUE(v.ok()) << v.message();
+        ASSERT_TRUE((*v)->decode(3).ok());
+        std::filesystem::rename(writeVideo("other.ts", 30, o, 100, 2 * kW, 2 * kH), path);
+        for (size_t i : {15u, 2u, 19u}) {
+            auto f = (*v)->decode(i);
+            ASSERT_TRUE(f.ok()) << f.message();
+            EXPECT_EQ(frameNumber(*f), int(i));
+            EXPECT_EQ(f->width, kW);
+        }
+    }
+    // Rewritten in place by another video (other size, other frames): said, never decoded.
+    {
+        const std::string path = writeVideo("rewritten.ts", 20, o);
+        auto v = VideoFile::open(path);
+        ASSERT_TRUE(v.ok()) << v.message();
+        ASSERT_TRUE((*v)->decode(3).ok());
+        const auto sizeThen = std::filesystem::file_size(path);
+        copyBytes(writeVideo("bigger.ts", 30, o, 100, 2 * kW, 2 * kH), path);
+        for (size_t i : {15u, 4u}) {
+            auto f = (*v)->decode(i);
+            ASSERT_FALSE(f.ok());
+            EXPECT_EQ(f.message(), path + ": the file was rewritten since it was opened (" +
+                                       std::to_string(sizeThen) + " bytes then, " +
+                                       std::to_string(std::filesystem::file_size(path)) +
+                                       " now); open the scene again to read the new file");
+        }
+    }
+    // Appended to (a recording still being written): the frames indexed at open read on.
+    {
+        const std::string path = writeVideo("growing.ts", 20, o);
+        const std::string more = writeVideo("more.ts", 10, o, 20);
+        auto v = VideoFile::open(path);
+        ASSERT_TRUE(v.ok()) << v.message();
+        {
+            std::ifstream in(more, std::ios::binary);
+            std::ofstream out(path, std::ios::binary | std::ios::app);
+            out << in.rdbuf();
+        }
+        auto f = (*v)->decode(17);
+        ASSERT_TRUE(f.ok()) << f.message();
+        EXPECT_EQ(frameNumber(*f), 17);
+    }
 }
 
 TEST(FmvVideo, VideoWithoutKlvAndKlvWithoutVideo) {
