@@ -1,6 +1,7 @@
 #include "layers/vector/FeatureTiles.h"
 #include "layers/vector/LonLatGeometry.h"
 
+#include "base/Secrets.h"
 #include "layers/vector/FeatureClip.h"
 #include "layers/vector/Simplify.h"
 
@@ -135,7 +136,7 @@ Result<std::shared_ptr<const FeatureTile>> FeatureTiles::acquire(const globe::Ti
         if (tile) loaded = std::shared_ptr<const FeatureTile>(std::make_shared<FeatureTile>(std::move(*tile)));
         else loaded = tile.error();
     } catch (const std::exception& e) {
-        loaded = makeError(options_.content.read.source + ": " + e.what());
+        loaded = makeError(redactSecrets(options_.content.read.source) + ": " + e.what());
     }
     {
         std::lock_guard lock(mutex_);

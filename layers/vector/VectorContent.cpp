@@ -1,5 +1,7 @@
 #include "layers/vector/VectorContent.h"
 
+#include "base/Secrets.h"
+
 namespace orbis::vector {
 
 uint64_t featureBytes(const Feature& f) {
@@ -23,9 +25,9 @@ Result<std::shared_ptr<VectorContent>> contentFromData(VectorData data, const Ve
         ContentLayer out;
         out.style = options.style;
         if (auto bound = out.style.bind(layer.fields, layer.name); !bound)
-            return makeError(options.read.source + ": " + bound.message());
+            return makeError(redactSecrets(options.read.source) + ": " + bound.message());
         auto times = featureTimes(layer, options.timeFields);
-        if (!times) return makeError(options.read.source + ": layer \"" + layer.name + "\": " + times.message());
+        if (!times) return makeError(redactSecrets(options.read.source) + ": layer \"" + layer.name + "\": " + times.message());
         out.times = std::move(*times);
         for (const std::string& w : layer.warnings) content->warnings.push_back(layer.name + ": " + w);
         for (const std::string& w : out.times.warnings) content->warnings.push_back(layer.name + ": " + w);

@@ -1,6 +1,7 @@
 #include "layers/vector/VectorLayer.h"
 
 #include "base/Log.h"
+#include "base/Secrets.h"
 #include "engine/render/RenderContext.h"
 #include "layers/vector/FeaturePick.h"
 #include "layers/vector/LabelRenderer.h"
@@ -71,7 +72,7 @@ void VectorLayer::pollMeshes() {
     } catch (const jobs::Cancelled&) {
         // A newer build follows.
     } catch (const std::exception& e) {
-        error_ = settings_.content.read.source + ": building its meshes failed: " + e.what();
+        error_ = redactSecrets(settings_.content.read.source) + ": building its meshes failed: " + e.what();
         log::error("vector layer \"", settings_.name, "\": ", error_);
     }
     meshJob_ = {};

@@ -1,5 +1,6 @@
 #include "layers/vector/VectorOgr.h"
 
+#include "base/Secrets.h"
 #include "globe/GdalSetup.h"
 
 #include <cpl_error.h>
@@ -59,12 +60,13 @@ Result<DatasetPtr> openVectorSource(const std::string& source) {
     globe::configureGdal();   // drivers, and HTTP timeouts: a stalled WFS ends the read
     std::error_code ec;
     if (source.empty()) return makeError("vector source: no path or connection string given");
-    if (!looksLikeConnection(source) && !std::filesystem::exists(source, ec)) return makeError(source + ": no such file");
+    if (!looksLikeConnection(source) && !std::filesystem::exists(source, ec)) return makeError(redactSecrets(source) + ": no such file");
     GdalErrorScope errors;
     DatasetPtr dataset(GDALDataset::Open(source.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
     if (!dataset) {
         const std::string why = errors.message("no vector driver recognises it");
-        return makeError(source + ": OGR cannot open it as vector data (" + why + ")");
+        // The driver's words may quote the connection string.
+        return makeError(redactSecrets(source) + ": OGR cannot open it as vector data (" + redactSecrets(why) + ")");
     }
     return dataset;
 }

@@ -1,5 +1,6 @@
 #include "layers/vector/VectorReader.h"
 
+#include "base/Secrets.h"
 #include "layers/vector/LonLatGeometry.h"
 #include "layers/vector/VectorFeature.h"
 #include "layers/vector/VectorOgr.h"
@@ -172,11 +173,11 @@ Result<VectorLayer> readLayer(OGRLayer& layer, const std::string& source, const 
 Result<void> checkOptions(const VectorReadOptions& o) {
     if (const auto& w = o.within;
         w && !(w->west < w->east && w->south < w->north && w->west >= -180.0 && w->east <= 180.0 && w->south >= -90.0 && w->north <= 90.0))
-        return makeError(o.source + ": the box to read must have west < east within -180..180 and south < north within -90..90");
+        return makeError(redactSecrets(o.source) + ": the box to read must have west < east within -180..180 and south < north within -90..90");
     if (!o.sql.empty() && !o.layers.empty())
-        return makeError(o.source + ": give either an SQL statement or layer names, not both");
+        return makeError(redactSecrets(o.source) + ": give either an SQL statement or layer names, not both");
     if (!o.sql.empty() && !o.where.empty())
-        return makeError(o.source + ": give either an SQL statement or a where filter, not both");
+        return makeError(redactSecrets(o.source) + ": give either an SQL statement or a where filter, not both");
     return {};
 }
 
@@ -192,7 +193,7 @@ Result<std::vector<OGRLayer*>> chooseLayers(GDALDataset& dataset, const VectorRe
             std::string known;
             for (int i = 0; i < dataset.GetLayerCount() && i < 20; ++i)
                 known.append(known.empty() ? "" : ", ").append(dataset.GetLayer(i)->GetName());
-            return makeError(o.source + ": no layer '" + name + "' (layers: " + (known.empty() ? "none" : known) + ")");
+            return makeError(redactSecrets(o.source) + ": no layer '" + name + "' (layers: " + (known.empty() ? "none" : known) + ")");
         }
         layers.push_back(layer);
     }
@@ -202,7 +203,7 @@ Result<std::vector<OGRLayer*>> chooseLayers(GDALDataset& dataset, const VectorRe
 Result<void> applyWhere(OGRLayer& layer, const VectorReadOptions& o) {
     GdalErrorScope errors;
     if (layer.SetAttributeFilter(o.where.empty() ? nullptr : o.where.c_str()) == OGRERR_NONE) return {};
-    return makeError(o.source + ": layer '" + layer.GetName() + "': bad where filter \"" + o.where + "\" (" +
+    return makeError(redactSecrets(o.source) + ": layer '" + layer.GetName() + "': bad where filter \"" + o.where + "\" (" +
                      errors.message("OGR rejected it") + ")");
 }
 
@@ -214,12 +215,12 @@ Result<VectorData> readSql(GDALDataset& dataset, const VectorReadOptions& o) {
         result.layer = dataset.ExecuteSQL(o.sql.c_str(), nullptr, "OGRSQL");
         if (!result.layer) {
             const std::string why = errors.message("");
-            return makeError(o.source + ": bad SQL statement \"" + o.sql + "\" (" +
+            return makeError(redactSecrets(o.source) + ": bad SQL statement \"" + o.sql + "\" (" +
                              (why.empty() ? "it selects no layer" : why) + ")");
         }
     }
     ReadBudget budget{o.limits, o.shape};
-    auto layer = readLayer(*result.layer, o.source, o.sql, budget, dataset.GetStyleTable(), o.within);
+    auto layer = readLayer(*result.layer, redactSecrets(o.source), o.sql, budget, dataset.GetStyleTable(), o.within);
     if (!layer) return layer.error();
     VectorData data;
     data.source = o.source;
@@ -250,15 +251,15 @@ Result<std::vector<LayerSummary>> summarizeVector(const VectorReadOptions& optio
         SqlResult result;
         result.dataset = dataset->get();
         result.layer = (*dataset)->ExecuteSQL(options.sql.c_str(), nullptr, "OGRSQL");
-        if (!result.layer) return makeError(options.source + ": bad SQL statement \"" + options.sql + "\" (" + quiet.message("it selects no layer") + ")");
-        out.push_back(summarize(*result.layer, options.source));
+        if (!result.layer) return makeError(redactSecrets(options.source) + ": bad SQL statement \"" + options.sql + "\" (" + quiet.message("it selects no layer") + ")");
+        out.push_back(summarize(*result.layer, redactSecrets(options.source)));
         return out;
     }
     auto layers = chooseLayers(**dataset, options);
     if (!layers) return layers.error();
     for (OGRLayer* layer : *layers) {
         if (auto ok = applyWhere(*layer, options); !ok) return ok.error();
-        out.push_back(summarize(*layer, options.source));
+        out.push_back(summarize(*layer, redactSecrets(options.source)));
     }
     return out;
 }
@@ -309,7 +310,7 @@ Result<VectorData> readVector(const VectorReadOptions& options) {
     ReadBudget budget{options.limits, options.shape};
     for (OGRLayer* layer : *layers) {
         if (auto ok = applyWhere(*layer, options); !ok) return ok.error();
-        auto read = readLayer(*layer, options.source, options.where, budget, (*dataset)->GetStyleTable(), options.within);
+        auto read = readLayer(*layer, redactSecrets(options.source), options.where, budget, (*dataset)->GetStyleTable(), options.within);
         if (!read) return read.error();
         data.layers.push_back(std::move(*read));
     }

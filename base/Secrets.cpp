@@ -1,0 +1,73 @@
+#include "base/Secrets.h"
+
+#include <algorithm>
+#include <cctype>
+
+namespace orbis {
+namespace {
+
+bool startsWithNoCase(std::string_view text, size_t at, std::string_view key) {
+    if (text.size() - at < key.size()) return false;
+    for (size_t k = 0; k < key.size(); ++k)
+        if (std::tolower(static_cast<unsigned char>(text[at + k])) != key[k]) return false;
+    return true;
+}
+
+/// Where a key=value value that starts at `at` ends: a quoted value past its closing quote,
+/// else at the next space, '&' (a URL's query) or the end.
+size_t valueEnd(std::string_view text, size_t at) {
+    if (at < text.size() && text[at] == '\'') {
+        for (size_t k = at + 1; k < text.size(); ++k) {
+            if (text[k] == '\\') ++k;
+            else if (text[k] == '\'') return k + 1;
+        }
+        return text.size();
+    }
+    size_t k = at;
+    while (k < text.size() && !std::isspace(static_cast<unsigned char>(text[k])) && text[k] != '&') ++k;
+    return k;
+}
+
+}  // namespace
+
+std::string redactSecrets(std::string_view text) {
+    std::string out;
+    out.reserve(text.size());
+    size_t k = 0;
+    while (k < text.size()) {
+        // A password key: at the start, or after a separator (so "old_password=" is left alone).
+        const bool keyStart = k == 0 || std::isspace(static_cast<unsigned char>(text[k - 1])) || text[k - 1] == '&' ||
+                              text[k - 1] == '?' || text[k - 1] == ':' || text[k - 1] == ';';
+        if (keyStart && startsWithNoCase(text, k, "password")) {
+            size_t at = k + 8;
+            while (at < text.size() && text[at] == ' ') ++at;
+            if (at < text.size() && text[at] == '=') {
+                ++at;
+                while (at < text.size() && text[at] == ' ') ++at;
+                out.append(text.substr(k, at - k)).append("***");
+                k = valueEnd(text, at);
+                continue;
+            }
+        }
+        // A URL's user info: "://user:password@" (the '@' before the next '/', '?' or '#').
+        if (text.compare(k, 3, "://") == 0) {
+            const size_t authority = k + 3;
+            size_t end = authority;
+            while (end < text.size() && text[end] != '/' && text[end] != '?' && text[end] != '#' &&
+                   !std::isspace(static_cast<unsigned char>(text[end])))
+                ++end;
+            const std::string_view host = text.substr(authority, end - authority);
+            const size_t at = host.rfind('@');
+            const size_t colon = at == std::string_view::npos ? at : host.substr(0, at).find(':');
+            if (colon != std::string_view::npos) {
+                out.append(text.substr(k, 3 + colon + 1)).append("***");
+                k = authority + at;   // from the '@'
+                continue;
+            }
+        }
+        out += text[k++];
+    }
+    return out;
+}
+
+}  // namespace orbis

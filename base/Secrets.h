@@ -1,0 +1,19 @@
+#pragma once
+// Secrets out of text that is shown: connection strings and URLs name a server, and may carry a
+// password that must never reach a message, a log or a saved file. No Vulkan, no GDAL.
+//
+//   redactSecrets("PG:host=db user=me password=s3cret")   // "PG:host=db user=me password=***"
+//   redactSecrets("https://me:s3cret@host/wms?")           // "https://me:***@host/wms?"
+
+#include <string>
+#include <string_view>
+
+namespace orbis {
+
+/// `text` with the value of every `password=` key (libpq's key=value form: up to the next space,
+/// or a single-quoted value with \' and \\ escapes; any case; also `&password=` and `?password=`
+/// in a URL's query) and the password of every URL's user info (`scheme://user:password@`)
+/// replaced by "***". Everything else is kept as it is. Any thread.
+std::string redactSecrets(std::string_view text);
+
+}  // namespace orbis
