@@ -28,9 +28,8 @@ size_t valueEnd(std::string_view text, size_t at) {
     return k;
 }
 
-}  // namespace
-
-std::string redactSecrets(std::string_view text) {
+/// Redacts (`remove` false: "***" for each password) or removes them.
+std::string scrub(std::string_view text, bool remove) {
     std::string out;
     out.reserve(text.size());
     size_t k = 0;
@@ -44,8 +43,18 @@ std::string redactSecrets(std::string_view text) {
             if (at < text.size() && text[at] == '=') {
                 ++at;
                 while (at < text.size() && text[at] == ' ') ++at;
-                out.append(text.substr(k, at - k)).append("***");
-                k = valueEnd(text, at);
+                if (remove) {
+                    // The key, its value and one separator: "a=1 password=x b=2" -> "a=1 b=2".
+                    k = valueEnd(text, at);
+                    if (!out.empty() && (out.back() == '&' || out.back() == '?') && k < text.size() && text[k] == '&') ++k;
+                    else if (!out.empty() && (out.back() == ' ' || out.back() == '&')) {
+                        out.pop_back();
+                        while (!out.empty() && out.back() == ' ') out.pop_back();
+                    }
+                } else {
+                    out.append(text.substr(k, at - k)).append("***");
+                    k = valueEnd(text, at);
+                }
                 continue;
             }
         }
@@ -60,7 +69,8 @@ std::string redactSecrets(std::string_view text) {
             const size_t at = host.rfind('@');
             const size_t colon = at == std::string_view::npos ? at : host.substr(0, at).find(':');
             if (colon != std::string_view::npos) {
-                out.append(text.substr(k, 3 + colon + 1)).append("***");
+                if (remove) out.append(text.substr(k, 3 + colon));
+                else out.append(text.substr(k, 3 + colon + 1)).append("***");
                 k = authority + at;   // from the '@'
                 continue;
             }
@@ -69,5 +79,11 @@ std::string redactSecrets(std::string_view text) {
     }
     return out;
 }
+
+}  // namespace
+
+std::string redactSecrets(std::string_view text) { return scrub(text, false); }
+
+std::string withoutPasswords(std::string_view text) { return scrub(text, true); }
 
 }  // namespace orbis

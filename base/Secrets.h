@@ -4,6 +4,7 @@
 //
 //   redactSecrets("PG:host=db user=me password=s3cret")   // "PG:host=db user=me password=***"
 //   redactSecrets("https://me:s3cret@host/wms?")           // "https://me:***@host/wms?"
+//   withoutPasswords("PG:host=db password=s3cret user=me")  // "PG:host=db user=me"
 
 #include <string>
 #include <string_view>
@@ -15,5 +16,10 @@ namespace orbis {
 /// in a URL's query) and the password of every URL's user info (`scheme://user:password@`)
 /// replaced by "***". Everything else is kept as it is. Any thread.
 std::string redactSecrets(std::string_view text);
+
+/// `text` with those passwords taken out altogether (the key and its value, or ":password" of a
+/// URL's user info): what a saved file keeps of a connection string, so that the server's
+/// client finds the password where it should be (PGPASSWORD, a pgpass file, a netrc). Any thread.
+std::string withoutPasswords(std::string_view text);
 
 }  // namespace orbis

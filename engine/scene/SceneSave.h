@@ -49,8 +49,10 @@ void writeLiveSettings(nlohmann::json& layer, const std::vector<LayerSetting>& s
 
 /// `path` as written in a scene file in `fromFolder`, rewritten so that it names the same file
 /// from a scene file in `toFolder` (both absolute): relative to `toFolder` when the two share a
-/// folder below the root, else absolute. Absolute paths, URLs ("scheme://...") and empty
-/// strings are returned unchanged.
+/// folder below the root, else absolute. Absolute paths and empty strings are returned
+/// unchanged; URLs ("scheme://...") and connection strings ("PG:dbname=gis", "WFS:https://...")
+/// too, less any password (withoutPasswords: a saved scene never holds one; the client reads
+/// it from PGPASSWORD or a pgpass file).
 std::string rebasePath(const std::string& path, const std::filesystem::path& fromFolder,
                        const std::filesystem::path& toFolder);
 

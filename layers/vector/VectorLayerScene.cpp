@@ -1,5 +1,7 @@
 // The scene-file side of the vector layer: its keys, checked, and the style read (its fields are
 // checked against the data when it is read).
+#include "base/Log.h"
+#include "base/Secrets.h"
 #include "engine/scene/JsonReader.h"
 #include "layers/vector/VectorLayer.h"
 
@@ -26,6 +28,9 @@ Result<std::unique_ptr<scene::Layer>> VectorLayer::create(const scene::LayerDesc
     if (r.ok() && (!path || path->empty())) r.fail("path", "name the vector file (or an OGR connection such as \"WFS:http://...\")");
     vector::VectorReadOptions& read = s.content.read;
     if (path) read.source = isConnection(*path) ? *path : scene.resolve(*path).string();
+    if (path && isConnection(*path) && withoutPasswords(*path) != *path)
+        log::warn(scene.file.string(), ": ", desc.jsonPath, "/path: the connection holds a password; it is used, but a saved "
+                  "scene leaves it out (PGPASSWORD or a pgpass file keep it out of scene files)");
     if (const nlohmann::json* layers = r.array("layers")) {
         for (const nlohmann::json& l : *layers) {
             if (!l.is_string()) {

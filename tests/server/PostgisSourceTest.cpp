@@ -12,8 +12,11 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -195,6 +198,70 @@ TEST_F(PostgisSource, BadTablesAndQueriesNameTheSourceAndNeverItsPassword) {
     ASSERT_FALSE(r);
     EXPECT_EQ(r.message().rfind(shown + ": OGR cannot open it as vector data (", 0), 0u) << r.message();
     EXPECT_EQ(r.message().find("hunter2"), std::string::npos) << r.message();
+}
+
+/// Sets an environment variable for a scope, and puts the old value back.
+struct ScopedEnv {
+    ScopedEnv(const char* name, const std::string& value) : name_(name) {
+        if (const char* old = std::getenv(name)) old_ = old;
+        ::setenv(name, value.c_str(), 1);
+    }
+    ~ScopedEnv() {
+        if (old_) ::setenv(name_, old_->c_str(), 1);
+        else ::unsetenv(name_);
+    }
+    const char* name_;
+    std::optional<std::string> old_;
+};
+
+TEST(PostgisPassword, ComesFromTheEnvironmentOrAPgpassFileAndNeverShows) {
+    const std::string password = "pw-5ecret";
+    test::PostgresServer db(true, password);
+    if (!db.available()) GTEST_SKIP() << db.error();
+    ASSERT_TRUE(db.running()) << db.error();
+    ASSERT_EQ(db.sql("CREATE TABLE spots (id integer PRIMARY KEY, geom geometry(Point, 4326)); "
+                     "INSERT INTO spots VALUES (1, ST_SetSRID(ST_MakePoint(7.5, 46.5), 4326))")
+                  .exitCode,
+              0);
+    const fs::path dir = fs::temp_directory_path() / ("orbis-pgpass-test-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    VectorReadOptions o;
+    o.source = db.ogrConnection();
+    o.layers = {"spots"};
+    const auto readsOnePoint = [&] {
+        auto r = readVector(o);
+        return r && r->layers.size() == 1 && r->layers[0].features.size() == 1;
+    };
+    {
+        // None given: refused, the message names the source and says why.
+        ScopedEnv noPassword("PGPASSWORD", ""), noFile("PGPASSFILE", (dir / "none").string());
+        auto r = readVector(o);
+        ASSERT_FALSE(r);
+        EXPECT_EQ(r.message().rfind(db.ogrConnection() + ": OGR cannot open it as vector data (", 0), 0u) << r.message();
+        EXPECT_NE(r.message().find("password"), std::string::npos) << r.message();
+    }
+    {
+        ScopedEnv fromEnv("PGPASSWORD", password);
+        EXPECT_TRUE(readsOnePoint()) << "with PGPASSWORD";
+    }
+    {
+        const fs::path pgpass = dir / "pgpass";
+        std::ofstream(pgpass) << "127.0.0.1:" << db.port() << ":orbis:orbis:" << password << "\n";
+        fs::permissions(pgpass, fs::perms::owner_read | fs::perms::owner_write);   // libpq ignores a file others can read
+        ScopedEnv noPassword("PGPASSWORD", ""), fromFile("PGPASSFILE", pgpass.string());
+        EXPECT_TRUE(readsOnePoint()) << "with a pgpass file";
+    }
+    {
+        // In the connection string it works too, and shows nowhere.
+        ScopedEnv noPassword("PGPASSWORD", ""), noFile("PGPASSFILE", (dir / "none").string());
+        o.source = db.ogrConnection() + " password=" + password;
+        EXPECT_TRUE(readsOnePoint()) << "in the connection string";
+        o.layers = {"nothing_here"};
+        auto r = readVector(o);
+        ASSERT_FALSE(r);
+        EXPECT_EQ(r.message().find(password), std::string::npos) << r.message();
+    }
+    fs::remove_all(dir);
 }
 
 }  // namespace

@@ -66,7 +66,7 @@ int waitFor(pid_t pid, std::chrono::milliseconds limit) {
 
 }  // namespace
 
-PostgresServer::PostgresServer(bool postgis) {
+PostgresServer::PostgresServer(bool postgis, std::string password) : password_(std::move(password)) {
     bin_ = postgresBin();
     if (bin_.empty()) {
         error_ = "PostgreSQL is not installed (Debian: postgresql-15; tools/install-deps.sh installs it)";
@@ -146,10 +146,21 @@ bool PostgresServer::runTool(const std::vector<std::string>& argv, std::chrono::
 
 bool PostgresServer::makeCluster(bool postgis) {
     // `fsync` off and no sync at initdb: a cluster that lives for one test.
-    if (!runTool({(bin_ / "initdb").string(), "-D", (root_ / "data").string(), "-U", "orbis", "-A", "trust", "-E", "UTF8",
-                  "--no-locale", "--no-sync"},
-                 std::chrono::seconds(120)))
-        return false;
+    std::vector<std::string> initdb{(bin_ / "initdb").string(), "-D", (root_ / "data").string(), "-U", "orbis", "-E", "UTF8",
+                                    "--no-locale", "--no-sync", "--auth-local=trust"};
+    if (password_.empty()) {
+        initdb.push_back("--auth-host=trust");
+    } else {
+        const fs::path pwfile = root_ / "pwfile";
+        std::ofstream(pwfile) << password_ << "\n";
+        if (dropPrivileges_ && ::chown(pwfile.c_str(), kNobody, kNogroup) != 0) {
+            error_ = "chown " + pwfile.string() + " to nobody: " + std::strerror(errno);
+            return false;
+        }
+        initdb.push_back("--auth-host=scram-sha-256");
+        initdb.push_back("--pwfile=" + pwfile.string());
+    }
+    if (!runTool(initdb, std::chrono::seconds(120))) return false;
     // A port from the kernel's ephemeral range; another program could take it before the server
     // does, so a start that fails is tried on a fresh port.
     for (int attempt = 0; attempt < 3; ++attempt) {
@@ -164,7 +175,7 @@ bool PostgresServer::makeCluster(bool postgis) {
         if (attempt == 2) return false;
     }
     const std::string create = "CREATE DATABASE orbis";
-    if (auto r = runShell("psql -X -q -v ON_ERROR_STOP=1 -h 127.0.0.1 -p " + std::to_string(port_) +
+    if (auto r = runShell(clientEnv() + "psql -X -q -v ON_ERROR_STOP=1 -h 127.0.0.1 -p " + std::to_string(port_) +
                           " -U orbis -d postgres -c " + quote(create));
         r.exitCode != 0) {
         error_ = "CREATE DATABASE: " + r.output;
@@ -220,11 +231,15 @@ ShellRun PostgresServer::sql(const std::string& statements) const {
         std::ofstream out(file);
         out << statements << ";\n";
     }
-    ShellRun r = runShell("PGCONNECT_TIMEOUT=5 timeout 120 psql -X -q -A -t -v ON_ERROR_STOP=1 -1 -h 127.0.0.1 -p " +
+    ShellRun r = runShell(clientEnv() + "PGCONNECT_TIMEOUT=5 timeout 120 psql -X -q -A -t -v ON_ERROR_STOP=1 -1 -h 127.0.0.1 -p " +
                           std::to_string(port_) + " -U orbis -d orbis -f " + quote(file.string()));
     std::error_code ec;
     fs::remove(file, ec);
     return r;
+}
+
+std::string PostgresServer::clientEnv() const {
+    return password_.empty() ? std::string() : "PGPASSWORD=" + quote(password_) + " ";
 }
 
 void PostgresServer::kill() {

@@ -26,8 +26,9 @@ namespace orbis::test {
 class PostgresServer {
 public:
     /// Makes a cluster and starts it, with a database "orbis" (with the PostGIS extension when
-    /// `postgis`). Check available() (the packages are there), then running().
-    explicit PostgresServer(bool postgis = true);
+    /// `postgis`). With a `password`, connections over TCP must give it (SCRAM-SHA-256); else
+    /// they are trusted. Check available() (the packages are there), then running().
+    explicit PostgresServer(bool postgis = true, std::string password = {});
     ~PostgresServer();
     PostgresServer(const PostgresServer&) = delete;
     PostgresServer& operator=(const PostgresServer&) = delete;
@@ -55,6 +56,8 @@ public:
 
 private:
     bool makeCluster(bool postgis);
+    /// "PGPASSWORD=... " before a client's command line when the server wants a password.
+    std::string clientEnv() const;
     /// Runs `argv` (as the server's user when root) to the end, within `limit`; its output goes to
     /// the cluster's log. True on exit status 0.
     bool runTool(const std::vector<std::string>& argv, std::chrono::seconds limit);
@@ -69,6 +72,7 @@ private:
     bool dropPrivileges_ = false;  // root: run the server as nobody
     int port_ = 0;
     pid_t pid_ = -1;
+    std::string password_;
     std::string error_;
 };
 

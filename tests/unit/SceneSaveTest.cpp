@@ -50,6 +50,16 @@ TEST(ScenePaths, AbsolutePathsUrlsAndEmptyStringsStay) {
     EXPECT_EQ(rebasePath("", "/data/a", "/data/b"), "");
 }
 
+TEST(ScenePaths, ConnectionStringsStayButTheirPasswordsAreNotSaved) {
+    EXPECT_EQ(rebasePath("PG:host=db dbname=gis", "/data/a", "/data/b"), "PG:host=db dbname=gis");
+    EXPECT_EQ(rebasePath("PG:host=db password=s3cret dbname=gis", "/data/a", "/data/b"), "PG:host=db dbname=gis");
+    EXPECT_EQ(rebasePath("WFS:https://me:s3cret@host/wfs", "/data/a", "/data/b"), "WFS:https://me@host/wfs");
+    EXPECT_EQ(rebasePath("https://host/wms?password=s3cret&layers=a", "/data/a", "/data/b"), "https://host/wms?layers=a");
+    // Files whose names hold a colon are still files.
+    EXPECT_EQ(rebasePath("a:b.tif", "/data/a", "/data/b"), "../a/a:b.tif");
+    EXPECT_EQ(rebasePath("x/y:z.tif", "/data/a", "/data/b"), "../a/x/y:z.tif");
+}
+
 TEST(ScenePaths, RelativeSceneFolderResolvesAgainstTheWorkingFolder) {
     const fs::path cwd = fs::current_path();
     EXPECT_EQ(rebasePath("dem.tif", ".", cwd / "sub"), "../dem.tif");

@@ -19,10 +19,23 @@ TEST(Secrets, PasswordsInConnectionStringsAndUrlsAreHidden) {
     EXPECT_EQ(redactSecrets("PG:host=db password=x: no layer 'a'"), "PG:host=db password=*** no layer 'a'");
 }
 
+TEST(Secrets, PasswordsAreTakenOutOfWhatIsSaved) {
+    EXPECT_EQ(withoutPasswords("PG:host=db password=s3cret user=me"), "PG:host=db user=me");
+    EXPECT_EQ(withoutPasswords("PG:host=db user=me password='a b'"), "PG:host=db user=me");
+    EXPECT_EQ(withoutPasswords("PG:password=s3cret host=db"), "PG: host=db");
+    EXPECT_EQ(withoutPasswords("postgresql://me:s3cret@db/gis"), "postgresql://me@db/gis");
+    EXPECT_EQ(withoutPasswords("https://host/wms?password=s3cret&layers=a"), "https://host/wms?layers=a");
+    EXPECT_EQ(withoutPasswords("https://host/wms?layers=a&password=s3cret"), "https://host/wms?layers=a");
+    EXPECT_EQ(withoutPasswords("https://host/wms?a=1&password=s3cret&b=2"), "https://host/wms?a=1&b=2");
+}
+
 TEST(Secrets, TextWithoutPasswordsIsKept) {
     for (const char* text : {"", "/data/roads.gpkg", "PG:host=db user=me", "https://me@host/wms", "https://host/a:b@c",
                              "old_password=x", "password", "passwords=x", "http://host:8080/wfs"})
+    {
         EXPECT_EQ(redactSecrets(text), text);
+        EXPECT_EQ(withoutPasswords(text), text);
+    }
 }
 
 }  // namespace
