@@ -86,4 +86,11 @@ std::string redactSecrets(std::string_view text) { return scrub(text, false); }
 
 std::string withoutPasswords(std::string_view text) { return scrub(text, true); }
 
+bool isConnectionString(std::string_view source) {
+    const size_t colon = source.find(':');
+    return colon != std::string_view::npos && colon >= 2 && source.find('/') > colon &&
+           std::all_of(source.begin(), source.begin() + std::ptrdiff_t(colon),
+                       [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+}
+
 }  // namespace orbis

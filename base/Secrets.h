@@ -22,4 +22,9 @@ std::string redactSecrets(std::string_view text);
 /// client finds the password where it should be (PGPASSWORD, a pgpass file, a netrc). Any thread.
 std::string withoutPasswords(std::string_view text);
 
+/// Whether `source` is a driver's connection string rather than a file: a name of two or more
+/// letters, digits or '_' and a colon, before any '/' ("PG:dbname=gis", "WFS:https://...").
+/// Such strings are where passwords live. Any thread.
+bool isConnectionString(std::string_view source);
+
 }  // namespace orbis

@@ -4,8 +4,6 @@
 #include "engine/scene/Scene.h"
 #include "globe/EarthManipulator.h"
 
-#include <algorithm>
-#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -158,11 +156,7 @@ void writeLiveSettings(nlohmann::json& layer, const std::vector<LayerSetting>& s
 std::string rebasePath(const std::string& path, const fs::path& fromFolder, const fs::path& toFolder) {
     // A URL or a driver's connection string ("PG:dbname=...", "WFS:https://..."): no file, and
     // its password, if the scene had one, stays out of the saved file.
-    const size_t colon = path.find(':');
-    const bool connection =
-        colon != std::string::npos && colon >= 2 && path.find('/') > colon &&
-        std::all_of(path.begin(), path.begin() + std::ptrdiff_t(colon), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
-    if (connection || path.find("://") != std::string::npos) return withoutPasswords(path);
+    if (isConnectionString(path) || path.find("://") != std::string::npos) return withoutPasswords(path);
     if (path.empty() || fs::path(path).is_absolute()) return path;
     const fs::path target = (normalAbsolute(fromFolder) / path).lexically_normal();
     const fs::path to = normalAbsolute(toFolder);

@@ -11,15 +11,6 @@
 #include <mutex>
 
 namespace orbis::vector::detail {
-namespace {
-
-/// A source that names a driver or a server ("WFS:http://...", "PG:dbname=...") is not a path.
-bool looksLikeConnection(const std::string& source) {
-    const auto colon = source.find(':');
-    return colon != std::string::npos && colon > 1 && source.find('/') > colon;
-}
-
-}  // namespace
 
 GdalErrorScope::GdalErrorScope() {
     CPLPushErrorHandlerEx(&GdalErrorScope::handler, this);
@@ -60,7 +51,7 @@ Result<DatasetPtr> openVectorSource(const std::string& source) {
     globe::configureGdal();   // drivers, and HTTP timeouts: a stalled WFS ends the read
     std::error_code ec;
     if (source.empty()) return makeError("vector source: no path or connection string given");
-    if (!looksLikeConnection(source) && !std::filesystem::exists(source, ec)) return makeError(redactSecrets(source) + ": no such file");
+    if (!isConnectionString(source) && !std::filesystem::exists(source, ec)) return makeError(redactSecrets(source) + ": no such file");
     GdalErrorScope errors;
     DatasetPtr dataset(GDALDataset::Open(source.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
     if (!dataset) {

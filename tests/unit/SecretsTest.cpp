@@ -38,5 +38,12 @@ TEST(Secrets, TextWithoutPasswordsIsKept) {
     }
 }
 
+TEST(Secrets, ConnectionStringsAreToldFromFiles) {
+    for (const char* s : {"PG:dbname=gis", "WFS:https://host/wfs", "MSSQL:server=x", "GPKG_X:a"})
+        EXPECT_TRUE(isConnectionString(s)) << s;
+    for (const char* s : {"roads.gpkg", "a:b.tif", "/data/PG:x", "x/y:z.tif", "my file:x.gpkg", "/vsicurl/https://h/a.tif", ""})
+        EXPECT_FALSE(isConnectionString(s)) << s;
+}
+
 }  // namespace
 }  // namespace orbis
