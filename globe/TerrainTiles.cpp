@@ -183,9 +183,61 @@ void TerrainTiles::replaceImagery(uint32_t layer, std::shared_ptr<const TileImag
     stats_.loading = loadingCount_;
 }
 
+void TerrainTiles::repaintImagery(uint32_t layer, std::shared_ptr<const TileImageSource> source,
+                                  std::span<const GeoExtent> regions, double tileMargin) {
+    if (layer == 0 || layer > imagery_.size()) return;
+    if (source->maxLevel(settings_.imageSize) != imagery_[layer - 1]->maxLevel(settings_.imageSize)) {
+        replaceImagery(layer, std::move(source));
+        return;
+    }
+    const uint32_t previous = currentGeneration(layer);
+    imagery_[layer - 1] = std::move(source);
+    if (generations_.size() <= layer) generations_.resize(layer + 1, 0);
+    const uint32_t now = ++generations_[layer];
+    const auto reached = [&](const TileKey& tile) {
+        GeoExtent e = tile.extent();
+        const double m = tileMargin * tile.sizeDeg();
+        e = {e.west - m, e.south - m, e.east + m, e.north + m};
+        for (const GeoExtent& r : regions)
+            for (double turn : {-360.0, 0.0, 360.0})
+                if (r.west + turn <= e.east && r.east + turn >= e.west && r.south <= e.north && r.north >= e.south) return true;
+        return false;
+    };
+    for (auto it = entries_.begin(); it != entries_.end();) {
+        Entry& e = it->second;
+        if (it->first.layer != layer) {
+            ++it;
+            continue;
+        }
+        if (!reached(it->first.tile)) {
+            // The new source paints this tile as the last one did: what it has (or is painting)
+            // from the last source stays right.
+            if (e.generation == previous) e.generation = now;
+            if (e.busy() && e.loadingGeneration == previous) e.loadingGeneration = now;
+            ++it;
+            continue;
+        }
+        if (e.busy()) {
+            e.job.cancel();
+            if (!e.job.ready()) orphans_.push_back(std::move(e.job));
+            e.job = {};
+            --loadingCount_;
+            ++stats_.cancelled;
+            e.refreshing = false;
+        }
+        if (e.state == DataState::Ready || e.state == DataState::Empty) {
+            ++it;   // shown until its repaint arrives
+            continue;
+        }
+        cpuBytes_ -= e.bytes;
+        it = entries_.erase(it);
+    }
+    stats_.loading = loadingCount_;
+}
+
 uint32_t TerrainTiles::dataGeneration(uint32_t layer, const TileKey& tile) const {
     const Entry* e = find(layer, tile);
-    return e ? e->generation : 0;
+    return e ? e->paintedGeneration : 0;
 }
 
 TerrainTiles::~TerrainTiles() {
@@ -326,7 +378,7 @@ void TerrainTiles::finishLoad(const DataKey& key, Entry& e, LoadResult r) {
     e.elevation.reset();
     e.imagery.reset();
     e.refreshing = false;
-    e.generation = e.loadingGeneration;
+    e.generation = e.paintedGeneration = e.loadingGeneration;
     if (!r.error.empty()) {
         e.state = DataState::Failed;
         ++stats_.failed;

@@ -26,6 +26,7 @@
 #include <optional>
 #include <string>
 #include <unordered_map>
+#include <span>
 #include <vector>
 
 namespace orbis::globe {
@@ -114,6 +115,13 @@ public:
     /// image served meanwhile (stale while repainting: a repaint never shows a hole). A tile's
     /// dataGeneration tells which source its data came from. Main thread.
     void replaceImagery(uint32_t layer, std::shared_ptr<const TileImageSource> source);
+    /// The same when the new source paints differently only within `regions` (lon/lat; any
+    /// turn): only the tiles whose extent, grown by `tileMargin` of their size on each side
+    /// (what a tile's painting reaches past its edge), meets a region are painted again; the
+    /// others keep their images and their GPU slots. Falls back to replaceImagery when the new
+    /// source's finest level differs. Main thread.
+    void repaintImagery(uint32_t layer, std::shared_ptr<const TileImageSource> source, std::span<const GeoExtent> regions,
+                        double tileMargin);
     /// How many times the layer's source was replaced before the tile's data was loaded (0 for
     /// elevation, and for a tile not loaded).
     uint32_t dataGeneration(uint32_t layer, const TileKey& tile) const;
@@ -177,7 +185,8 @@ private:
         jobs::Job<LoadResult> job;   ///< while Loading, or refreshing
         /// Ready or Empty data from an older source, being painted again (job runs).
         bool refreshing = false;
-        uint32_t generation = 0;          ///< the source's generation the data came from
+        uint32_t generation = 0;          ///< the latest source generation the data is right for
+        uint32_t paintedGeneration = 0;   ///< the generation whose load made the data (what GPU slots compare)
         uint32_t loadingGeneration = 0;   ///< the generation the running job paints
         /// Failed loads so far, and when the next attempt may start (back-off).
         uint32_t failures = 0;

@@ -254,7 +254,7 @@ scene::FrameContext Renderer::frameContext(scene::Scene& scene, uint64_t frameNu
         if (const auto* ground = r.layer->asGroundSource()) ctx.groundVersion += ground->groundVersion();
         if (const auto* draped = r.layer->asDrapedContent())
             if (auto source = draped->drapeSource())
-                ctx.drapes.push_back({r.layer.get(), std::move(source), draped->drapeVersion(), draped->drapeOpacity()});
+                ctx.drapes.push_back({r.layer.get(), std::move(source), draped->drapeVersion(), draped->drapeOpacity(), draped});
     }
     return ctx;
 }

@@ -23,11 +23,14 @@ enum class Pass { Opaque, Points, Fmv, Volume, Overlay };
 using GroundHeightFn = std::function<std::optional<double>(double lonDeg, double latDeg)>;
 
 /// One visible layer's content draped on the ground this frame (DrapedContent).
+class DrapedContent;
+
 struct Drape {
     const void* owner = nullptr;   ///< the layer: the same one from frame to frame
     std::shared_ptr<const globe::TileImageSource> source;
     uint64_t version = 0;
     double opacity = 1.0;
+    const DrapedContent* content = nullptr;   ///< the owner's capability (where a change is)
 };
 
 struct FrameContext {

@@ -114,6 +114,13 @@ public:
     virtual uint64_t drapeVersion() const = 0;
     /// Opacity of the painted images over the ground.
     virtual double drapeOpacity() const { return 1.0; }
+    /// Where what the source paints changed between `version` and drapeVersion() (lon/lat
+    /// boxes, longitudes continuous), when the layer knows: the ground paints only the tiles
+    /// that reach into them again. Nothing: it may have changed anywhere.
+    virtual std::optional<std::vector<globe::GeoExtent>> drapeChangedSince(uint64_t /*version*/) const { return std::nullopt; }
+    /// How far past its edge a tile's painting reaches, as a fraction of its size (a stroke's
+    /// width, an icon's size): a tile that near a changed box is painted again.
+    virtual double drapeReach() const { return 0.5; }
 };
 
 /// One feature a click found: what the viewer's feature panel shows.

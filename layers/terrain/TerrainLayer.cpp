@@ -219,8 +219,11 @@ void TerrainLayer::syncDrapes(const std::vector<scene::Drape>& drapes) {
         }
         const uint32_t layer = uint32_t(1 + imageryIndex_.size() + size_t(it - drapes_.begin()));
         if (it->version != drape.version) {
-            // Its tiles are painted again; each shows its old image until its new one is in.
-            tiles_->replaceImagery(layer, drape.source);
+            // Its tiles are painted again (only those near what changed, when the layer says
+            // where); each shows its old image until its new one is in.
+            const auto changed = drape.content ? drape.content->drapeChangedSince(it->version) : std::nullopt;
+            if (changed) tiles_->repaintImagery(layer, drape.source, *changed, drape.content->drapeReach());
+            else tiles_->replaceImagery(layer, drape.source);
             it->version = drape.version;
         }
         it->opacity = drape.opacity;

@@ -11,6 +11,7 @@
 #include <map>
 #include <unordered_map>
 #include <unordered_set>
+#include <variant>
 
 namespace orbis::vector {
 namespace {
@@ -28,6 +29,60 @@ void merge(VectorData& data, VectorData&& more) {
         for (Feature& f : more.layers[l].features)
             if (f.fid < 0 || !have.contains(f.fid)) into.features.push_back(std::move(f));
     }
+}
+
+/// FNV-1a over what a read gave: a page read again with the same value shows the same thing.
+class Fingerprint {
+public:
+    void bytes(const void* data, size_t n) {
+        const auto* p = static_cast<const uint8_t*>(data);
+        for (size_t i = 0; i < n; ++i) h_ = (h_ ^ p[i]) * 1099511628211ull;
+    }
+    template <class T>
+    void value(const T& v) { bytes(&v, sizeof v); }
+    void text(const std::string& t) {
+        value(t.size());
+        bytes(t.data(), t.size());
+    }
+    uint64_t get() const { return h_; }
+
+private:
+    uint64_t h_ = 14695981039346656037ull;
+};
+
+uint64_t fingerprintOf(const VectorData& data) {
+    Fingerprint f;
+    for (const VectorLayer& layer : data.layers) {
+        f.text(layer.name);
+        f.value(layer.features.size());
+        for (const Feature& feature : layer.features) {
+            f.value(feature.fid);
+            f.value(feature.kind);
+            f.value(feature.style);
+            f.value(feature.coords.size());
+            f.bytes(feature.coords.data(), feature.coords.size() * sizeof(glm::dvec3));
+            f.value(feature.parts.size());
+            f.bytes(feature.parts.data(), feature.parts.size() * sizeof(uint32_t));
+            f.value(feature.polygons.size());
+            f.bytes(feature.polygons.data(), feature.polygons.size() * sizeof(uint32_t));
+            for (const AttributeValue& a : feature.attributes) {
+                f.value(a.index());
+                if (const auto* i = std::get_if<int64_t>(&a)) f.value(*i);
+                else if (const auto* d = std::get_if<double>(&a)) f.value(*d);
+                else if (const auto* t = std::get_if<std::string>(&a)) f.text(*t);
+            }
+        }
+    }
+    return f.get();
+}
+
+/// Whether `box` (lon/lat, longitudes continuous) meets `e`, a turn either way included.
+bool meets(const LonLatBounds& box, const globe::GeoExtent& e) {
+    if (box.empty || box.north < e.south || box.south > e.north) return false;
+    if (box.spansAllLongitudes()) return true;
+    for (double turn : {-360.0, 0.0, 360.0})
+        if (box.west + turn <= e.east && box.east + turn >= e.west) return true;
+    return false;
 }
 
 }  // namespace
@@ -74,10 +129,12 @@ Result<FeatureTile> loadFeatureTile(const FeatureTilesOptions& options, const gl
     // overlapping features in the order the whole source does.
     for (VectorLayer& layer : data.layers)
         std::stable_sort(layer.features.begin(), layer.features.end(), [](const Feature& a, const Feature& b) { return a.fid < b.fid; });
+    const uint64_t fingerprint = fingerprintOf(data);
     auto content = contentFromData(std::move(data), options.content);
     if (!content) return content.error();
     FeatureTile tile;
     tile.key = key;
+    tile.fingerprint = fingerprint;
     tile.bytes = (*content)->bytes + kPageOverhead;
     tile.content = std::move(*content);
     return tile;
@@ -103,6 +160,12 @@ globe::TileKey FeatureTiles::pageFor(const globe::TileKey& key) const {
     return key.level <= options_.pageLevel ? key : key.ancestor(options_.pageLevel);
 }
 
+globe::GeoExtent FeatureTiles::grownExtent(const globe::TileKey& page) const {
+    const globe::GeoExtent e = page.extent();
+    const double m = options_.owned ? 0.0 : options_.margin * page.sizeDeg();
+    return {e.west - m, std::max(e.south - m, -90.0), e.east + m, std::min(e.north + m, 90.0)};
+}
+
 Result<std::shared_ptr<const FeatureTile>> FeatureTiles::acquire(const globe::TileKey& key, const jobs::CancelToken* cancel) {
     const globe::TileKey page = pageFor(key);
     std::shared_future<Loaded> future;
@@ -111,6 +174,15 @@ Result<std::shared_ptr<const FeatureTile>> FeatureTiles::acquire(const globe::Ti
     {
         std::lock_guard lock(mutex_);
         auto it = entries_.find(page);
+        uint32_t failures = 0;
+        if (it != entries_.end() && it->second.done && it->second.bytes == 0 &&
+            std::chrono::steady_clock::now() >= it->second.retryAt) {
+            // It failed a while ago: read it again (the server may be back).
+            failures = it->second.failures;
+            uses_.erase(it->second.use);
+            entries_.erase(it);
+            it = entries_.end();
+        }
         if (it != entries_.end()) {
             future = it->second.future;
             uses_.splice(uses_.begin(), uses_, it->second.use);
@@ -119,6 +191,7 @@ Result<std::shared_ptr<const FeatureTile>> FeatureTiles::acquire(const globe::Ti
             Entry entry;
             entry.future = future = promise.get_future().share();
             entry.use = uses_.begin();
+            entry.failures = failures;
             entries_.emplace(page, std::move(entry));
             reader = true;
             ++reads_;
@@ -140,19 +213,117 @@ Result<std::shared_ptr<const FeatureTile>> FeatureTiles::acquire(const globe::Ti
     }
     {
         std::lock_guard lock(mutex_);
-        Entry& entry = entries_.at(page);   // unread entries are never evicted
+        auto it = entries_.find(page);   // reads in progress are never evicted nor erased
+        Entry& entry = it->second;
         entry.done = true;
-        if (loaded) {
+        if (entry.stale) {
+            // The source changed while it was read: not kept (its waiters take it; the next
+            // acquire reads it again).
+            uses_.erase(entry.use);
+            entries_.erase(it);
+        } else if (loaded) {
             entry.bytes = (*loaded)->bytes;
+            entry.failures = 0;
             bytes_ += entry.bytes;
             ++changes_;
             evictLocked(page);
         } else {
-            errors_.push_back("feature tile " + page.toString() + ": " + loaded.message());
+            ++entry.failures;
+            entry.retryAt = std::chrono::steady_clock::now() + kRetryDelay * (1u << std::min(entry.failures - 1, 3u));
+            noteErrorLocked("feature tile " + page.toString() + ": " + loaded.message());
         }
     }
     promise.set_value(loaded);
     return loaded;
+}
+
+void FeatureTiles::noteErrorLocked(std::string message) {
+    lastError_ = message;
+    if (errors_.size() >= kErrorsKept) errors_.erase(errors_.begin());
+    errors_.push_back(std::move(message));
+}
+
+size_t FeatureTiles::failingCount() const {
+    std::lock_guard lock(mutex_);
+    return size_t(std::count_if(entries_.begin(), entries_.end(),
+                                [](const auto& e) { return e.second.done && e.second.bytes == 0; }));
+}
+
+std::string FeatureTiles::lastError() const {
+    std::lock_guard lock(mutex_);
+    return lastError_;
+}
+
+PageRefresh FeatureTiles::refresh(std::span<const LonLatBounds> boxes, const jobs::CancelToken* cancel) {
+    PageRefresh out;
+    const auto touched = [&](const globe::TileKey& page) {
+        if (boxes.empty()) return true;
+        const globe::GeoExtent g = grownExtent(page);
+        return std::any_of(boxes.begin(), boxes.end(), [&](const LonLatBounds& b) { return meets(b, g); });
+    };
+    // What to read again: the pages in memory that the change reaches. Pages being read are
+    // marked (not kept when done); failed ones are forgotten.
+    std::vector<std::pair<globe::TileKey, uint64_t>> again;   // page, its fingerprint now
+    {
+        std::lock_guard lock(mutex_);
+        for (auto it = entries_.begin(); it != entries_.end();) {
+            Entry& e = it->second;
+            if (!touched(it->first)) {
+                ++it;
+                continue;
+            }
+            if (!e.done) {
+                e.stale = true;
+                out.changed.push_back(grownExtent(it->first));
+            } else if (e.bytes == 0) {
+                out.changed.push_back(grownExtent(it->first));
+                uses_.erase(e.use);
+                it = entries_.erase(it);
+                continue;
+            } else {
+                again.emplace_back(it->first, (*e.future.get())->fingerprint);
+            }
+            ++it;
+        }
+        if (boxes.empty()) {
+            if (evictedOverflow_) out.changed.push_back({-540.0, -90.0, 540.0, 90.0});
+            else
+                for (const globe::TileKey& k : evicted_) out.changed.push_back(grownExtent(k));
+            evicted_.clear();
+            evictedOverflow_ = false;
+        }
+    }
+    for (const auto& [page, fingerprint] : again) {
+        if (cancel && cancel->cancelled()) throw jobs::Cancelled();
+        Result<FeatureTile> tile = makeError("not read");
+        try {
+            tile = loadFeatureTile(options_, page);
+        } catch (const std::exception& e) {
+            tile = makeError(redactSecrets(options_.content.read.source) + ": " + e.what());
+        }
+        ++out.pagesRead;
+        std::lock_guard lock(mutex_);
+        ++reads_;
+        if (!tile) {
+            // The old content stays on show; the error is reported.
+            if (out.failed++ == 0) out.error = tile.message();
+            noteErrorLocked("feature tile " + page.toString() + ": " + tile.message());
+            continue;
+        }
+        if (tile->fingerprint == fingerprint) continue;
+        out.changed.push_back(grownExtent(page));
+        auto it = entries_.find(page);
+        if (it == entries_.end() || !it->second.done || it->second.bytes == 0) continue;   // gone or read anew meanwhile
+        std::promise<Loaded> replaced;
+        const uint64_t bytes = tile->bytes;
+        replaced.set_value(std::shared_ptr<const FeatureTile>(std::make_shared<FeatureTile>(std::move(*tile))));
+        it->second.future = replaced.get_future().share();
+        bytes_ = bytes_ - it->second.bytes + bytes;
+        it->second.bytes = bytes;
+        ++changes_;
+        evictLocked(page);
+    }
+    return out;
 }
 
 void FeatureTiles::evictLocked(const globe::TileKey& keep) {
@@ -163,6 +334,8 @@ void FeatureTiles::evictLocked(const globe::TileKey& keep) {
         bytes_ -= entry->second.bytes;
         entries_.erase(entry);
         ++changes_;
+        if (evicted_.size() < kEvictedKept) evicted_.push_back(*it);
+        else evictedOverflow_ = true;
         it = uses_.erase(it);
     }
 }

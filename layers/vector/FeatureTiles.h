@@ -21,6 +21,7 @@
 #include "globe/TileKey.h"
 #include "layers/vector/VectorContent.h"
 
+#include <chrono>
 #include <cstdint>
 #include <future>
 #include <list>
@@ -40,6 +41,21 @@ struct FeatureTile {
     /// each layer's style bound and times worked out as for the whole source.
     std::shared_ptr<const VectorContent> content;
     uint64_t bytes = 0;   ///< what the features hold (estimated)
+    /// A hash of what was read (geometries, attributes, fids): a page read again with the same
+    /// fingerprint shows the same thing.
+    uint64_t fingerprint = 0;
+};
+
+/// What FeatureTiles::refresh did.
+struct PageRefresh {
+    /// The pages whose content changed (read again with another fingerprint), and those that were
+    /// being read, had failed, or had left memory since the last refresh of everything: each
+    /// one's extent grown by the margin, where drape tiles must be painted again.
+    std::vector<globe::GeoExtent> changed;
+    size_t pagesRead = 0;
+    /// Pages that could not be read again (they keep their old content): the first message.
+    size_t failed = 0;
+    std::string error;
 };
 
 struct FeatureTilesOptions {
@@ -62,8 +78,9 @@ public:
 
     /// The page holding what tiles of `key` need, read on this thread when it is not in
     /// memory (another thread reading it: waited for, `cancel` checked meanwhile, throwing
-    /// jobs::Cancelled). A page that failed to read fails again without a new read; its error
-    /// is in errors(). Any thread.
+    /// jobs::Cancelled). A page that failed to read fails again without a new read until
+    /// kRetryDelay (doubling with each failure in a row) has passed; its error is in errors().
+    /// Any thread.
     Result<std::shared_ptr<const FeatureTile>> acquire(const globe::TileKey& key, const jobs::CancelToken* cancel = nullptr);
     /// The page a tile of `key` takes.
     globe::TileKey pageFor(const globe::TileKey& key) const;
@@ -72,11 +89,27 @@ public:
     uint64_t bytes() const;
     size_t loadedCount() const;
     uint64_t reads() const;   ///< pages read since the start (reads again after eviction count)
+    /// The last few read errors (kErrorsKept), oldest first.
     std::vector<std::string> errors() const;
+    /// Pages whose last read failed (until they are read again), and the last error.
+    size_t failingCount() const;
+    std::string lastError() const;
     /// The pages in memory now.
     std::vector<std::shared_ptr<const FeatureTile>> loaded() const;
-    /// Counts the pages read and dropped: what is in memory changed when it did.
+    /// Counts the pages read, replaced and dropped: what is in memory changed when it did.
     uint64_t changes() const;
+
+    /// The source changed within `boxes` (lon/lat; empty: anywhere). Each page in memory that
+    /// reaches into a box is read again on this thread and replaced when its fingerprint
+    /// differs (a page that cannot be read keeps its content: the error is in the result);
+    /// a page being read or one that failed is forgotten, so that the next acquire reads it
+    /// anew. Whoever holds an old page keeps it. With `boxes` empty, the result also names
+    /// the pages evicted since the last such refresh (tiles painted from them may be stale).
+    PageRefresh refresh(std::span<const LonLatBounds> boxes, const jobs::CancelToken* cancel = nullptr);
+
+    /// A page whose read failed is read again when asked for after this long (then twice
+    /// that, up to 8 times): a server that was down comes back.
+    static constexpr std::chrono::milliseconds kRetryDelay{1000};
 
 private:
     using Loaded = Result<std::shared_ptr<const FeatureTile>>;
@@ -85,8 +118,16 @@ private:
         std::list<globe::TileKey>::iterator use;   ///< its place in uses_ (most recent first)
         uint64_t bytes = 0;
         bool done = false;
+        /// The source changed while it was being read: not kept when done.
+        bool stale = false;
+        /// Failed reads in a row, and when the next may start.
+        uint32_t failures = 0;
+        std::chrono::steady_clock::time_point retryAt{};
     };
     void evictLocked(const globe::TileKey& keep);
+    void noteErrorLocked(std::string message);
+    /// The page's extent grown by the margin (what its read covers).
+    globe::GeoExtent grownExtent(const globe::TileKey& page) const;
 
     FeatureTilesOptions options_;
     std::optional<globe::TileKey> overview_;   ///< the page of every tile at its level or coarser
@@ -94,7 +135,14 @@ private:
     std::unordered_map<globe::TileKey, Entry, globe::TileKeyHash> entries_;
     std::list<globe::TileKey> uses_;
     uint64_t bytes_ = 0, reads_ = 0, changes_ = 0;
-    std::vector<std::string> errors_;
+    std::vector<std::string> errors_;   ///< the last few
+    std::string lastError_;
+    static constexpr size_t kErrorsKept = 8;
+    /// Pages evicted since the last refresh of everything (at most kEvictedKept; past that,
+    /// everything).
+    std::vector<globe::TileKey> evicted_;
+    bool evictedOverflow_ = false;
+    static constexpr size_t kEvictedKept = 4096;
 };
 
 /// The labelled features of `pages` as one content, each feature once (by layer and fid: the

@@ -7,6 +7,7 @@
 
 #include <ogrsf_frmts.h>
 
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -278,26 +279,44 @@ std::string fieldNames(std::span<const FieldInfo> fields) {
 
 namespace {
 
-/// The dataset to read from: opened for this read (`owned`), or this thread's, kept open for
-/// the same source's next read.
+/// A file's size and modification time, to tell when it was written since it was opened;
+/// zero for what is not a file (a connection string, a URL).
+std::pair<uintmax_t, int64_t> fileStamp(const std::string& source) {
+    if (isConnectionString(source)) return {0, 0};
+    std::error_code ec;
+    const uintmax_t size = std::filesystem::file_size(source, ec);
+    if (ec) return {0, 0};
+    const auto time = std::filesystem::last_write_time(source, ec);
+    return {size, ec ? 0 : int64_t(time.time_since_epoch().count())};
+}
+
+/// This thread's dataset, kept open for the same source's next read.
+struct KeptDataset {
+    std::string source;
+    std::pair<uintmax_t, int64_t> stamp;
+    detail::DatasetPtr dataset;
+};
+thread_local KeptDataset kept;
+
+/// The dataset to read from: opened for this read (`owned`), or the kept one (opened again
+/// when the file was written since it was opened: a source that changes is read as it is now).
 Result<GDALDataset*> datasetFor(const VectorReadOptions& options, detail::DatasetPtr& owned) {
-    thread_local std::string keptSource;
-    thread_local detail::DatasetPtr kept;
-    if (options.reuseDataset && kept && keptSource == options.source) return kept.get();
+    const auto stamp = options.reuseDataset ? fileStamp(options.source) : std::pair<uintmax_t, int64_t>{};
+    if (options.reuseDataset && kept.dataset && kept.source == options.source && kept.stamp == stamp) return kept.dataset.get();
+    if (options.reuseDataset) kept.dataset.reset();
     auto dataset = detail::openVectorSource(options.source);
     if (!dataset) return dataset.error();
     if (!options.reuseDataset) {
         owned = std::move(*dataset);
         return owned.get();
     }
-    kept = std::move(*dataset);
-    keptSource = options.source;
-    return kept.get();
+    kept.dataset = std::move(*dataset);
+    kept.source = options.source;
+    kept.stamp = stamp;
+    return kept.dataset.get();
 }
 
-}  // namespace
-
-Result<VectorData> readVector(const VectorReadOptions& options) {
+Result<VectorData> readVectorOnce(const VectorReadOptions& options) {
     if (auto ok = checkOptions(options); !ok) return ok.error();
     detail::DatasetPtr owned;
     auto dataset = datasetFor(options, owned);
@@ -315,6 +334,21 @@ Result<VectorData> readVector(const VectorReadOptions& options) {
         data.layers.push_back(std::move(*read));
     }
     return data;
+}
+
+}  // namespace
+
+Result<VectorData> readVector(const VectorReadOptions& options) {
+    const bool reusing = options.reuseDataset && kept.dataset && kept.source == options.source;
+    Result<VectorData> read = readVectorOnce(options);
+    if (!read && options.reuseDataset) {
+        // A kept dataset that failed may hold a broken connection (the server restarted since
+        // it was opened): once more on a new one, and the next read opens it again if that fails.
+        kept.dataset.reset();
+        if (reusing) read = readVectorOnce(options);
+        if (!read) kept.dataset.reset();
+    }
+    return read;
 }
 
 }  // namespace orbis::vector

@@ -1,9 +1,12 @@
 #include "layers/vector/FeatureTiles.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <string>
@@ -235,6 +238,116 @@ TEST(FeatureTiles, OwnedPagesHoldEachFeatureWholeInTheOneTileThatHoldsItsCentre)
     const auto& features = (*whole)->layers[0].data.features;
     EXPECT_EQ(vertices.size(), features.size());
     for (const Feature& f : features) EXPECT_EQ(vertices[f.fid], f.coords.size()) << "fid " << f.fid << " cut or simplified";
+}
+
+/// A GeoJSON file of points, rewritten by the tests (a source that changes while paged).
+struct PointFile {
+    fs::path path;
+    explicit PointFile(const std::string& name) : path(fs::temp_directory_path() / (name + "-" + std::to_string(::getpid()) + ".geojson")) {}
+    ~PointFile() { fs::remove(path); }
+    void write(const std::vector<std::pair<double, double>>& points) const {
+        std::string text = R"({"type":"FeatureCollection","features":[)";
+        for (size_t i = 0; i < points.size(); ++i)
+            text += std::string(i ? "," : "") + R"({"type":"Feature","id":)" + std::to_string(i + 1) +
+                    R"(,"properties":{"n":)" + std::to_string(i + 1) + R"(},"geometry":{"type":"Point","coordinates":[)" +
+                    std::to_string(points[i].first) + "," + std::to_string(points[i].second) + "]}}";
+        const fs::path tmp = path.string() + ".tmp";
+        std::ofstream(tmp) << text << "]}";
+        fs::rename(tmp, path);
+    }
+    FeatureTilesOptions options() const {
+        FeatureTilesOptions o;
+        o.content.read.source = path.string();
+        o.pageLevel = 6;
+        return o;
+    }
+};
+
+size_t featuresIn(const FeatureTile& page) {
+    size_t n = 0;
+    for (const auto& layer : page.content->layers) n += layer.data.features.size();
+    return n;
+}
+
+TEST(FeatureTiles, ARefreshReadsThePagesAChangeReachesAndReplacesOnlyThoseThatChanged) {
+    PointFile file("orbis-refresh");
+    file.write({{10.0, 45.0}, {100.0, -30.0}});
+    FeatureTiles tiles(file.options());
+    const TileKey europe = TileKey::containing(10.0, 45.0, 6), australia = TileKey::containing(100.0, -30.0, 6);
+    auto before = tiles.acquire(europe);
+    auto far = tiles.acquire(australia);
+    ASSERT_TRUE(before && far) << before.message();
+    EXPECT_EQ(featuresIn(**before), 1u);
+    EXPECT_EQ(tiles.reads(), 2u);
+
+    // Nothing changed: both pages read again, none replaced, no tile to paint again.
+    PageRefresh same = tiles.refresh({});
+    EXPECT_EQ(same.pagesRead, 2u);
+    EXPECT_TRUE(same.changed.empty());
+    EXPECT_EQ(tiles.acquire(europe)->get(), before->get());
+
+    // A point added near the first: a refresh of its box reads the European page only, and
+    // replaces it; whoever held the old page keeps it.
+    file.write({{10.0, 45.0}, {100.0, -30.0}, {10.1, 45.1}});
+    const LonLatBounds box{10.05, 45.05, 10.15, 45.15, false};
+    PageRefresh changed = tiles.refresh(std::span(&box, 1));
+    EXPECT_EQ(changed.pagesRead, 1u);
+    ASSERT_EQ(changed.changed.size(), 1u);
+    const globe::GeoExtent g = changed.changed[0];
+    EXPECT_TRUE(g.west < 10.1 && g.east > 10.1 && g.south < 45.1 && g.north > 45.1);
+    auto after = tiles.acquire(europe);
+    ASSERT_TRUE(after);
+    EXPECT_NE(after->get(), before->get());
+    EXPECT_EQ(featuresIn(**after), 2u);
+    EXPECT_EQ(featuresIn(**before), 1u);
+    EXPECT_EQ(tiles.acquire(australia)->get(), far->get());
+    EXPECT_EQ(tiles.bytes(), (*after)->bytes + (*far)->bytes);
+}
+
+TEST(FeatureTiles, ARefreshOfEverythingNamesThePagesEvictedSinceTheLast) {
+    PointFile file("orbis-refresh-evicted");
+    file.write({{10.0, 45.0}, {100.0, -30.0}});
+    FeatureTilesOptions o = file.options();
+    o.budgetBytes = 1;   // one page at a time
+    FeatureTiles tiles(o);
+    const TileKey europe = TileKey::containing(10.0, 45.0, 6), australia = TileKey::containing(100.0, -30.0, 6);
+    ASSERT_TRUE(tiles.acquire(europe));
+    ASSERT_TRUE(tiles.acquire(australia));   // Europe's page goes
+    ASSERT_EQ(tiles.loadedCount(), 1u);
+    PageRefresh r = tiles.refresh({});
+    EXPECT_EQ(r.pagesRead, 1u);
+    // Tiles painted from the evicted page may show what has changed since: painted again.
+    ASSERT_EQ(r.changed.size(), 1u);
+    EXPECT_TRUE(r.changed[0].west <= 10.0 && r.changed[0].east >= 10.0 && r.changed[0].south <= 45.0 && r.changed[0].north >= 45.0);
+    EXPECT_TRUE(tiles.refresh({}).changed.empty());
+}
+
+TEST(FeatureTiles, AFailedPageIsReadAgainAfterTheRetryDelay) {
+    PointFile file("orbis-refresh-retry");
+    FeatureTiles tiles(file.options());
+    const TileKey k = TileKey::containing(10.0, 45.0, 6);
+    ASSERT_FALSE(tiles.acquire(k));
+    EXPECT_EQ(tiles.failingCount(), 1u);
+    EXPECT_NE(tiles.lastError().find("no such file"), std::string::npos) << tiles.lastError();
+    file.write({{10.0, 45.0}});
+    EXPECT_FALSE(tiles.acquire(k));   // not yet
+    EXPECT_EQ(tiles.reads(), 1u);
+    std::this_thread::sleep_for(FeatureTiles::kRetryDelay + std::chrono::milliseconds(50));
+    auto page = tiles.acquire(k);
+    ASSERT_TRUE(page) << page.message();
+    EXPECT_EQ(featuresIn(**page), 1u);
+    EXPECT_EQ(tiles.failingCount(), 0u);
+}
+
+TEST(FeatureTiles, ARefreshForgetsAFailedPageSoTheNextAskReadsIt) {
+    PointFile file("orbis-refresh-failed");
+    FeatureTiles tiles(file.options());
+    const TileKey k = TileKey::containing(10.0, 45.0, 6);
+    ASSERT_FALSE(tiles.acquire(k));
+    file.write({{10.0, 45.0}});
+    PageRefresh r = tiles.refresh({});
+    ASSERT_EQ(r.changed.size(), 1u);   // its tiles were painted empty: again
+    ASSERT_TRUE(tiles.acquire(k));
 }
 
 }  // namespace

@@ -95,6 +95,42 @@ TEST_F(TerrainTilesRepaint, TheOldImageServesUntilTheNewOneIsPainted) {
     EXPECT_FALSE(tiles.loading());
 }
 
+TEST_F(TerrainTilesRepaint, ARepaintWithinRegionsPaintsOnlyTheTilesThatReachThem) {
+    // Two level-2 tiles far apart (90 degrees wide): a change near the first repaints it, the
+    // second keeps its image and its data generation (its GPU slot is not uploaded again).
+    const TileKey near{2, 4, 1}, far{2, 0, 2};
+    uint64_t frame = 1;
+    const auto both = [&] {
+        tiles.beginFrame(frame++);
+        tiles.request(1, near, 1000.0);
+        tiles.request(1, far, 1000.0);
+        tiles.endFrame();
+        tiles.waitIdle();
+    };
+    for (int i = 0; i < 4; ++i) both();
+    ASSERT_EQ(greyAt(tiles, near), 10);
+    ASSERT_EQ(greyAt(tiles, far), 10);
+    const GeoExtent e = near.extent();
+    const GeoExtent region{e.west + 1.0, e.south + 1.0, e.west + 2.0, e.south + 2.0};
+    tiles.repaintImagery(1, std::make_shared<SolidSource>(40), std::span(&region, 1), 0.25);
+    for (int i = 0; i < 4; ++i) both();
+    EXPECT_EQ(greyAt(tiles, near), 40);
+    EXPECT_EQ(tiles.dataGeneration(1, near), 1u);
+    EXPECT_EQ(greyAt(tiles, far), 10) << "a tile the change does not reach is not painted again";
+    EXPECT_EQ(tiles.dataGeneration(1, far), 0u);
+    // A region just past the far tile's edge, within its margin, reaches it; a turn away too.
+    const GeoExtent f = far.extent();
+    const GeoExtent past{f.east + 360.0 + 1.0, f.south, f.east + 360.0 + 2.0, f.south + 1.0};
+    tiles.repaintImagery(1, std::make_shared<SolidSource>(50), std::span(&past, 1), 0.25);
+    for (int i = 0; i < 4; ++i) both();
+    EXPECT_EQ(greyAt(tiles, far), 50);
+    EXPECT_EQ(greyAt(tiles, near), 40);
+    // A source with another finest level: everything is painted again.
+    tiles.repaintImagery(1, std::make_shared<SolidSource>(60, nullptr, 5), std::span(&past, 1), 0.25);
+    for (int i = 0; i < 4; ++i) both();
+    EXPECT_EQ(greyAt(tiles, near), 60);
+}
+
 TEST_F(TerrainTilesRepaint, TilesFinerThanTheNewSourcePaintsGoWithTheirOldImages) {
     // A drape whose finest level drops (the vector layer's maxLevel lowered): the finer tiles
     // it painted before are never asked for again, so they must not keep serving old images.
