@@ -24,8 +24,9 @@ packages=(
   xplanet-images qgis-common
   # full-motion video: MPEG-TS demuxing (KLV), H.264 decoding and encoding (fixtures), RGBA
   libavformat-dev libavcodec-dev libavutil-dev libswscale-dev
-  # database sources: PostgreSQL + PostGIS, started on loopback by the server tests (tests/server)
-  postgresql-15 postgresql-15-postgis-3
+  # database sources: libpq for live layers (LISTEN/NOTIFY); PostgreSQL + PostGIS, started on
+  # loopback by the server tests (tests/server)
+  libpq-dev postgresql-15 postgresql-15-postgis-3
   # tests; the fuzz targets (libFuzzer, ASan and UBSan through clang: tools/fuzz.sh)
   libgtest-dev clang libclang-rt-14-dev
 )

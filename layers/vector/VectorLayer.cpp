@@ -31,6 +31,10 @@ VectorLayer::~VectorLayer() {
         meshJob_.cancel();
         meshJob_.wait();
     }
+    if (refreshing_) {
+        refreshJob_.cancel();
+        refreshJob_.wait();
+    }
 }
 
 void VectorLayer::onPrepare(const render::RenderServices& services) {
@@ -47,6 +51,18 @@ void VectorLayer::onPrepare(const render::RenderServices& services) {
             labelError_ = labels.message();
             log::error("vector layer \"", settings_.name, "\": no labels: ", labelError_);
         }
+    }
+    // A live source's listener: its own thread and connection, only for a layer that is shown.
+    if (!settings_.refresh.listen.empty()) {
+        vector::PgListener::Options listen;
+        listen.name = "vector layer \"" + displayName() + "\"";
+        listen.channel = settings_.refresh.listen;
+        if (auto connection = vector::libpqConnection(settings_.content.read.source)) listen.connection = *connection;
+        if (!settings_.refresh.triggerTable.empty())
+            listen.setupSql = vector::pgNotifyTriggerSql(settings_.refresh.triggerTable, settings_.refresh.triggerGeometry, listen.channel);
+        auto started = vector::PgListener::start(std::move(listen));
+        if (started) listener_ = std::move(*started);
+        else refreshError_ = started.message();
     }
     // Read on the pool: the first frames draw the rest of the scene meanwhile. The labels'
     // anchors (an interior point of each polygon) are worked out there too.
@@ -86,6 +102,7 @@ void VectorLayer::pollMeshes() {
 }
 
 void VectorLayer::poll() {
+    pollRefresh();
     pollMeshes();
     pollPagedMeshes();
     pollPagedLabels();
@@ -253,6 +270,8 @@ void VectorLayer::republish() {
         drape_ = std::make_shared<const vector::VectorDrape>(state, content_, drapeStyles_ ? drapeStyles_ : styles_);
     }
     ++version_;
+    drapeChanges_.emplace_back(version_, std::nullopt);   // anywhere
+    if (drapeChanges_.size() > 64) drapeChanges_.pop_front();
 }
 
 namespace {
@@ -427,7 +446,7 @@ std::string VectorLayer::status() const {
         s << pagedFeatures_ << " features, paged: " << pages_->loadedCount() << " feature tile(s) in memory (" << std::fixed
           << std::setprecision(1) << double(pages_->bytes()) / (1 << 20) << " of " << double(settings_.pageBudgetBytes) / (1 << 20)
           << " MB), " << pages_->reads() << " read";
-        if (const auto bad = pages_->errors(); !bad.empty()) s << ", " << bad.size() << " unreadable: " << bad.front();
+        if (const size_t bad = pages_->failingCount(); bad > 0) s << ", " << bad << " unreadable: " << pages_->lastError();
     } else if (!content_) {
         return {};
     } else {
@@ -435,6 +454,15 @@ std::string VectorLayer::status() const {
           << " vertices";
         if (!content_->warnings.empty()) s << ", " << content_->warnings.size() << " warning(s)";
     }
+    if (listener_) {
+        s << ", live: " << listener_->status() << " (" << refreshesApplied_ << " change(s) applied";
+        if (listener_->reconnects() > 0) s << ", reconnected " << listener_->reconnects() << " time(s)";
+        s << ")";
+        if (const std::string e = listener_->setupError(); !e.empty()) s << ", " << e;
+    } else if (settings_.refresh.everySeconds > 0.0) {
+        s << ", read again every " << settings_.refresh.everySeconds << " s (" << refreshesApplied_ << " time(s))";
+    }
+    if (!refreshError_.empty()) s << ", refresh: " << refreshError_;
     if (!labelError_.empty()) s << ", no labels: " << labelError_;
     if (const auto bad = icons_->errors(); !bad.empty()) s << ", " << bad.size() << " icon(s) unreadable: " << bad.front();
     if (meshLoading_ && !mesh_) s << ", building " << meshFeatures_ << " mesh feature(s)";

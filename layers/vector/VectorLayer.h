@@ -9,7 +9,9 @@
 //    "time": {"begin": "start_date", "end": "end_date"},   fields; default: KML's own times
 //    "altitude": "clamped" | "relative" | "absolute", "extrusionScale": 1,
 //    "opacity": 1, "maxLevel": 18, "simplifyPx": 0.5, "labels": true,
-//    "paging": "auto" | true | false, "pageLevel": 12, "pageBudgetMB": 256}
+//    "paging": "auto" | true | false, "pageLevel": 12, "pageBudgetMB": 256,
+//    "refresh": {"listen": "channel", "trigger": {"table": "t", "geometry": "geom"},
+//                "everySeconds": 0}}
 //
 // "altitude": "clamped" (the default): lines, points and flat polygons are painted into the
 // terrain's tiles (VectorDrape) and lie exactly on the surface drawn, at every zoom. A scene
@@ -51,6 +53,20 @@
 // fid so that the labels shown stay put. Features in 3-D (extruded, or at their altitude) are
 // meshed a level-14 tile (about 1.2 km) at a time, each feature in the tile that holds its
 // centre, for the tiles in view within the styles' range, nearest first within the budget.
+//
+// Live sources ("refresh"; the layer is paged): a PostgreSQL source names a channel to
+// "listen" on; a trigger NOTIFYs it on each committed statement with the changed rows' box in
+// WGS84 (PgListener: pgNotifyTriggerSql, which Orbis installs on "trigger"'s table when the
+// scene asks, else the user runs it). Each box is taken in poll(): the pages in memory that
+// it reaches are read again on the pool (FeatureTiles::refresh; the rest stay), then the drape
+// tiles near it are painted again (drapeChangedSince: each tile's old image drawn until its
+// new one is in), the mesh tiles it reaches are built again and the labels gathered again.
+// "everySeconds" reads the pages in memory again on a clock instead (any source: a file
+// another program writes, a WFS) and paints again where they changed. The listener runs on
+// its own thread with its own connection, made only when the layer is first shown; a lost
+// connection is in status() and opened again, then everything in memory is read again (what
+// was notified meanwhile was lost). A page that cannot be read again keeps its old features;
+// the refresh is tried again a second later.
 
 #include "base/ThreadPool.h"
 #include "engine/scene/Layer.h"
@@ -63,10 +79,13 @@
 #include "layers/vector/FeatureTiles.h"
 #include "layers/vector/LabelAnchors.h"
 #include "layers/vector/LabelBoard.h"
+#include "layers/vector/PgListener.h"
 #include "layers/vector/VectorContent.h"
 #include "layers/vector/VectorDrape.h"
 #include "layers/vector/VectorLabels.h"
 
+#include <chrono>
+#include <deque>
 #include <map>
 #include <memory>
 #include <optional>
@@ -79,6 +98,19 @@ namespace orbis::layers {
 /// Whether a source is read whole or paged (FeatureTiles): "auto" pages a source of more than
 /// `pageAbove` features when it is only draped.
 enum class Paging { Auto, On, Off };
+
+/// A source that changes while it is shown ("refresh" in the scene): the pages its changes
+/// reach are read again and the tiles they paint are painted again; the rest stays.
+struct RefreshSettings {
+    /// PostgreSQL: the channel a trigger NOTIFYs with the changed box (PgListener); empty: none.
+    std::string listen;
+    /// Orbis installs its trigger on this table (and geometry column) when the layer starts.
+    std::string triggerTable, triggerGeometry = "geom";
+    /// Every so many seconds, the pages in memory are read again and those that changed are
+    /// replaced (any source: a file written by another program, a WFS); 0: never.
+    double everySeconds = 0.0;
+    bool enabled() const { return !listen.empty() || everySeconds > 0.0; }
+};
 
 struct VectorLayerSettings {
     std::string name;
@@ -93,6 +125,7 @@ struct VectorLayerSettings {
     uint64_t pageAbove = 100'000;  ///< features: "auto" pages a larger source
     uint32_t pageLevel = 12;       ///< FeatureTilesOptions::pageLevel
     uint64_t pageBudgetBytes = 256ull << 20;
+    RefreshSettings refresh;
 };
 
 class LabelRenderer;
@@ -128,7 +161,9 @@ public:
     bool drawsIn(scene::Pass pass) const override;
     void recordTransfers(const render::RecordContext& context) override;
     void record(scene::Pass pass, const render::RecordContext& context) override;
-    bool busy() const override { return loading_ || meshPending() || tileMeshesPending_ > 0 || tileMeshesChanged_; }
+    bool busy() const override {
+        return loading_ || meshPending() || tileMeshesPending_ > 0 || tileMeshesChanged_ || refreshing_ || refreshQueued();
+    }
     std::string status() const override;
 
     // DrapedContent
@@ -136,6 +171,8 @@ public:
     std::shared_ptr<const globe::TileImageSource> drapeSource() const override { return drape_; }
     uint64_t drapeVersion() const override { return version_; }
     double drapeOpacity() const override { return settings_.opacity; }
+    std::optional<std::vector<globe::GeoExtent>> drapeChangedSince(uint64_t version) const override;
+    double drapeReach() const override;
 
     // PickableContent: the feature under a ground point, highlighted (painted again).
     std::optional<scene::PickedAttributes> pickAt(double lonDeg, double latDeg, double metresPerPixel) override;
@@ -158,6 +195,10 @@ public:
     /// The pages of a paged source; null when it is read whole.
     const vector::FeatureTiles* pages() const { return pages_.get(); }
     const std::string& error() const { return error_; }
+    /// A live source's listener (null unless the scene names a channel, before prepare).
+    const vector::PgListener* listener() const { return listener_.get(); }
+    /// Changes applied so far (a refresh of the pages they reached, and their tiles painted again).
+    uint64_t refreshesApplied() const { return refreshesApplied_; }
     /// The labels on the CPU (the last frame's candidates and placed boxes, timings); null when
     /// the style gives no label, before prepare, or when the fonts could not be read.
     const vector::VectorLabels* labels() const { return labels_ ? &*labels_ : nullptr; }
@@ -203,6 +244,12 @@ private:
     /// Paged: gathers the labelled features of the pages in memory again when they changed.
     void updatePagedLabels();
     void pollPagedLabels();
+    /// Live sources: takes the changes received (and the polling clock's), reads again the
+    /// pages they reach on the pool, and when that is done, paints again where they changed.
+    void pollRefresh();
+    bool refreshQueued() const { return refreshAnywhere_ || !refreshBoxes_.empty(); }
+    /// The drape changed within `regions` only: a new version whose tiles there are painted again.
+    void drapeChangedIn(std::vector<globe::GeoExtent> regions);
 
     VectorLayerSettings settings_;
     jobs::Job<Result<Loaded>> job_;
@@ -231,6 +278,7 @@ private:
         uint64_t generation = 0;
         std::shared_ptr<const vector::FeatureMesh> mesh;
         bool drapes = false;   ///< the tile has a feature to paint on the terrain
+        uint64_t refreshes = 0;   ///< refreshesApplied_ when it started
     };
     void updatePagedMeshes(const scene::FrameContext& frame);
     void pollPagedMeshes();
@@ -256,6 +304,22 @@ private:
     uint64_t pagedLabelChanges_ = ~0ull;
     std::optional<vector::LonLatBounds> pagedBounds_;
     uint64_t pagedFeatures_ = 0;
+    // Live sources (RefreshSettings): the listener, the changes not yet applied, the refresh
+    // running on the pool, where each drape version changed (nothing: anywhere; the last few).
+    std::unique_ptr<vector::PgListener> listener_;
+    std::vector<vector::LonLatBounds> refreshBoxes_;
+    bool refreshAnywhere_ = false, refreshing_ = false;
+    std::vector<vector::LonLatBounds> refreshingBoxes_;
+    jobs::Job<vector::PageRefresh> refreshJob_;
+    std::chrono::steady_clock::time_point nextPoll_{};
+    /// A refresh whose reads failed is tried again at this time, for these boxes (none: anywhere).
+    std::optional<std::chrono::steady_clock::time_point> retryRefreshAt_;
+    std::vector<vector::LonLatBounds> retryBoxes_;
+    uint64_t refreshesApplied_ = 0;
+    std::string refreshError_;
+    std::deque<std::pair<uint64_t, std::optional<std::vector<globe::GeoExtent>>>> drapeChanges_;
+    /// Mesh tiles a change reached (the refresh count then): a build started before is redone.
+    std::map<globe::TileKey, uint64_t> meshTileChanged_;
     std::shared_ptr<const vector::ContentAnchors> anchors_;
     std::optional<vector::VectorLabels> labels_;
     std::unique_ptr<LabelRenderer> labelRenderer_;

@@ -135,7 +135,7 @@ void VectorLayer::updatePagedMeshes(const scene::FrameContext& frame) {
         tileJobs_.push_back(services_.jobs().submit(
             1.0, jobs::CancelToken{},
             [options = std::move(options), meshOptions, ground = std::move(ground), key,
-             generation = tileMeshGeneration_](const jobs::CancelToken& cancel) -> TileMeshBuild {
+             generation = tileMeshGeneration_, refreshes = refreshesApplied_](const jobs::CancelToken& cancel) -> TileMeshBuild {
                 auto tile = vector::loadFeatureTile(options, key);
                 if (!tile) throw std::runtime_error(tile.message());
                 const vector::VectorContent& content = *tile->content;
@@ -148,7 +148,7 @@ void VectorLayer::updatePagedMeshes(const scene::FrameContext& frame) {
                         drapes = styles[l][i].visible && !vector::drawnIn3d(content.layers[l].data.features[i], styles[l][i], meshOptions.mode);
                 return {key, generation,
                         std::make_shared<const vector::FeatureMesh>(vector::buildFeatureMesh(content, styles, sampled, meshOptions, &cancel)),
-                        drapes};
+                        drapes, refreshes};
             }));
     }
     // Past the budget, the meshes wanted least recently go.
@@ -197,7 +197,11 @@ void VectorLayer::pollPagedMeshes() {
             TileMeshBuild build = tileJobs_[i].get();
             if (build.generation == tileMeshGeneration_ || !tileMeshes_.contains(build.key)) {
                 for (const std::string& w : build.mesh->warnings) log::warn("vector layer \"", settings_.name, "\": ", w);
-                tileMeshes_[build.key] = {std::move(build.mesh), build.generation, meshFrame_};
+                // Started before a change reached it: shown, and built again.
+                const auto changed = meshTileChanged_.find(build.key);
+                const bool stale = changed != meshTileChanged_.end() && build.refreshes < changed->second;
+                tileMeshes_[build.key] = {std::move(build.mesh), stale ? 0 : build.generation, meshFrame_};
+                if (!stale && changed != meshTileChanged_.end()) meshTileChanged_.erase(changed);
                 tileMeshesChanged_ = true;
                 if (build.drapes && !pagedDrapes_) {
                     pagedDrapes_ = true;

@@ -67,6 +67,30 @@ Result<std::unique_ptr<scene::Layer>> VectorLayer::create(const scene::LayerDesc
     }
     s.pageLevel = uint32_t(r.number("pageLevel", 12.0, 0.0, 18.0).value_or(12.0));
     s.pageBudgetBytes = uint64_t(r.number("pageBudgetMB", 256.0, 1.0, 65536.0).value_or(256.0) * double(1 << 20));
+    if (const nlohmann::json* refresh = r.object("refresh")) {
+        scene::JsonReader f(*refresh, scene.file.string(), desc.jsonPath + "/refresh");
+        RefreshSettings& live = s.refresh;
+        live.listen = f.string("listen", std::string()).value_or("");
+        live.everySeconds = f.number("everySeconds", 0.0, 0.0, 86400.0).value_or(0.0);
+        if (const nlohmann::json* trigger = f.object("trigger")) {
+            scene::JsonReader t(*trigger, scene.file.string(), desc.jsonPath + "/refresh/trigger");
+            live.triggerTable = t.string("table").value_or("");
+            live.triggerGeometry = t.string("geometry", std::string("geom")).value_or("geom");
+            if (t.ok() && live.triggerTable.empty()) t.fail("table", "name the table Orbis installs its trigger on");
+            if (auto done = t.finish(); !done) return done.error();
+            if (live.listen.empty()) f.fail("trigger", "the trigger notifies a channel: give \"listen\" too");
+        }
+        if (!live.listen.empty()) {
+            if (auto connection = vector::libpqConnection(read.source); !connection)
+                f.fail("listen", "LISTEN/NOTIFY needs a PostgreSQL source: " + connection.message());
+        }
+        if (f.ok() && !live.enabled())
+            f.fail("listen", "give \"listen\" (a PostgreSQL channel) or \"everySeconds\" (read again on a clock), or leave \"refresh\" out");
+        if (auto done = f.finish(); !done) return done.error();
+        if (s.paging == Paging::Off)
+            r.fail("paging", "a layer with \"refresh\" reads the changed feature tiles again: it needs \"paging\" (true or \"auto\"), not false");
+        s.paging = Paging::On;
+    }
     const nlohmann::json* style = r.object("style");
     if (auto done = r.finish(); !done) return done.error();
 

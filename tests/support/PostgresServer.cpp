@@ -192,8 +192,10 @@ bool PostgresServer::makeCluster(bool postgis) {
 
 bool PostgresServer::start() {
     if (pid_ > 0) return true;
+    // Commits wait for their WAL to reach the OS (fsync stays off): a server killed by kill()
+    // keeps every committed row, as a real one would.
     pid_ = spawn({(bin_ / "postgres").string(), "-D", (root_ / "data").string(), "-p", std::to_string(port_), "-k",
-                  root_.string(), "-c", "listen_addresses=127.0.0.1", "-c", "fsync=off", "-c", "synchronous_commit=off",
+                  root_.string(), "-c", "listen_addresses=127.0.0.1", "-c", "fsync=off",
                   "-c", "full_page_writes=off", "-c", "max_connections=40", "-c", "shared_buffers=32MB"});
     if (pid_ < 0) {
         error_ = std::string("fork: ") + std::strerror(errno);
