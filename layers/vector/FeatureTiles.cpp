@@ -11,6 +11,7 @@
 #include <map>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
 #include <variant>
 
 namespace orbis::vector {
@@ -183,7 +184,16 @@ Result<std::shared_ptr<const FeatureTile>> FeatureTiles::acquire(const globe::Ti
             entries_.erase(it);
             it = entries_.end();
         }
-        if (it != entries_.end()) {
+        if (it != entries_.end() && it->second.done && it->second.shown && std::chrono::steady_clock::now() >= it->second.retryAt) {
+            // Outdated (invalidate): this thread reads it again; loaded() shows the old content
+            // meanwhile, and whoever asks waits for the new.
+            Entry& e = it->second;
+            e.future = future = promise.get_future().share();
+            e.done = false;
+            uses_.splice(uses_.begin(), uses_, e.use);
+            reader = true;
+            ++reads_;
+        } else if (it != entries_.end()) {
             future = it->second.future;
             uses_.splice(uses_.begin(), uses_, it->second.use);
         } else {
@@ -203,6 +213,7 @@ Result<std::shared_ptr<const FeatureTile>> FeatureTiles::acquire(const globe::Ti
         return future.get();
     }
     // This thread reads it; whoever asks meanwhile waits for this read.
+    const auto readStart = std::chrono::steady_clock::now();
     Loaded loaded = makeError("not read");
     try {
         auto tile = loadFeatureTile(options_, page);
@@ -216,21 +227,34 @@ Result<std::shared_ptr<const FeatureTile>> FeatureTiles::acquire(const globe::Ti
         auto it = entries_.find(page);   // reads in progress are never evicted nor erased
         Entry& entry = it->second;
         entry.done = true;
-        if (entry.stale) {
-            // The source changed while it was read: not kept (its waiters take it; the next
-            // acquire reads it again).
+        entry.readTime = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - readStart);
+        const bool stale = std::exchange(entry.stale, false);
+        if (stale && !loaded && !entry.shown) {
+            // A first read that failed while the source changed: forgotten.
             uses_.erase(entry.use);
             entries_.erase(it);
         } else if (loaded) {
+            bytes_ = bytes_ - entry.bytes + (*loaded)->bytes;
             entry.bytes = (*loaded)->bytes;
             entry.failures = 0;
-            bytes_ += entry.bytes;
+            // The source changed while it was read: kept, but outdated (its waiters take it;
+            // the next acquire reads it again).
+            entry.shown = stale ? *loaded : nullptr;
+            entry.retryAt = {};
             ++changes_;
             evictLocked(page);
         } else {
             ++entry.failures;
             entry.retryAt = std::chrono::steady_clock::now() + kRetryDelay * (1u << std::min(entry.failures - 1, 3u));
             noteErrorLocked("feature tile " + page.toString() + ": " + loaded.message());
+            if (entry.shown) {
+                // An outdated page that cannot be read again (the server went away): its old
+                // features serve until a read succeeds.
+                std::promise<Loaded> old;
+                old.set_value(entry.shown);
+                entry.future = old.get_future().share();
+                loaded = entry.shown;
+            }
         }
     }
     promise.set_value(loaded);
@@ -252,6 +276,38 @@ size_t FeatureTiles::failingCount() const {
 std::string FeatureTiles::lastError() const {
     std::lock_guard lock(mutex_);
     return lastError_;
+}
+
+std::vector<DeferredRead> FeatureTiles::invalidate(std::span<const LonLatBounds> boxes) {
+    std::vector<DeferredRead> deferred;
+    const auto now = std::chrono::steady_clock::now();
+    std::lock_guard lock(mutex_);
+    for (auto it = entries_.begin(); it != entries_.end();) {
+        Entry& e = it->second;
+        const globe::GeoExtent g = grownExtent(it->first);
+        if (!std::any_of(boxes.begin(), boxes.end(), [&](const LonLatBounds& b) { return meets(b, g); })) {
+            ++it;
+            continue;
+        }
+        if (!e.done) {
+            e.stale = true;
+        } else if (e.bytes == 0) {   // failed: forgotten
+            uses_.erase(e.use);
+            it = entries_.erase(it);
+            continue;
+        } else if (!e.shown) {
+            e.shown = *e.future.get();
+            // A page that takes long to read (a coarse one over much of a large source) is read
+            // again at most a fifth of the time: the change shows there a little later.
+            e.retryAt = {};
+            if (e.readTime > kQuickRead) {
+                e.retryAt = now + 4 * e.readTime;
+                deferred.push_back({g, e.retryAt});
+            }
+        }
+        ++it;
+    }
+    return deferred;
 }
 
 PageRefresh FeatureTiles::refresh(std::span<const LonLatBounds> boxes, const jobs::CancelToken* cancel) {
@@ -282,6 +338,7 @@ PageRefresh FeatureTiles::refresh(std::span<const LonLatBounds> boxes, const job
                 continue;
             } else {
                 again.emplace_back(it->first, (*e.future.get())->fingerprint);
+                e.shown.reset();   // read again below, whatever invalidate said
             }
             ++it;
         }
@@ -364,7 +421,7 @@ std::vector<std::shared_ptr<const FeatureTile>> FeatureTiles::loaded() const {
     std::lock_guard lock(mutex_);
     std::vector<std::shared_ptr<const FeatureTile>> out;
     for (const auto& [key, entry] : entries_)
-        if (entry.bytes > 0) out.push_back(*entry.future.get());
+        if (entry.bytes > 0) out.push_back(entry.done && !entry.shown ? *entry.future.get() : entry.shown);
     return out;
 }
 

@@ -46,6 +46,12 @@ struct FeatureTile {
     uint64_t fingerprint = 0;
 };
 
+/// A page that invalidate leaves outdated until `when` (FeatureTiles::invalidate).
+struct DeferredRead {
+    globe::GeoExtent extent;   ///< the page's, grown by the margin
+    std::chrono::steady_clock::time_point when;
+};
+
 /// What FeatureTiles::refresh did.
 struct PageRefresh {
     /// The pages whose content changed (read again with another fingerprint), and those that were
@@ -99,6 +105,16 @@ public:
     /// Counts the pages read, replaced and dropped: what is in memory changed when it did.
     uint64_t changes() const;
 
+    /// The source changed within `boxes` (lon/lat): the pages in memory they reach are read
+    /// again by the next acquire (the first asking reads, the others wait for it), their old
+    /// content in loaded() until then, and served again if that read fails; pages being read
+    /// are not kept; failed ones are forgotten. Quick: no read here. Any thread.
+    /// A page that took long to read (more than kQuickRead) is read again only after four
+    /// times its read time: the result names these, with when (tiles painted before then show
+    /// the old content: paint them again at that time).
+    std::vector<DeferredRead> invalidate(std::span<const LonLatBounds> boxes);
+    static constexpr std::chrono::milliseconds kQuickRead{25};
+
     /// The source changed within `boxes` (lon/lat; empty: anywhere). Each page in memory that
     /// reaches into a box is read again on this thread and replaced when its fingerprint
     /// differs (a page that cannot be read keeps its content: the error is in the result);
@@ -120,6 +136,10 @@ private:
         bool done = false;
         /// The source changed while it was being read: not kept when done.
         bool stale = false;
+        /// Outdated (invalidate): the content shown until a read replaces it; the next
+        /// acquire reads it again.
+        std::shared_ptr<const FeatureTile> shown;
+        std::chrono::microseconds readTime{0};   ///< how long its last read took
         /// Failed reads in a row, and when the next may start.
         uint32_t failures = 0;
         std::chrono::steady_clock::time_point retryAt{};

@@ -162,7 +162,8 @@ public:
     void recordTransfers(const render::RecordContext& context) override;
     void record(scene::Pass pass, const render::RecordContext& context) override;
     bool busy() const override {
-        return loading_ || meshPending() || tileMeshesPending_ > 0 || tileMeshesChanged_ || refreshing_ || refreshQueued();
+        return loading_ || meshPending() || tileMeshesPending_ > 0 || tileMeshesChanged_ || refreshing_ || refreshQueued() ||
+               !deferredRepaints_.empty();
     }
     std::string status() const override;
 
@@ -197,6 +198,10 @@ public:
     const std::string& error() const { return error_; }
     /// A live source's listener (null unless the scene names a channel, before prepare).
     const vector::PgListener* listener() const { return listener_.get(); }
+    /// Whether the scene names a channel to listen on (the listener is made when it is shown).
+    bool hasListener() const { return !settings_.refresh.listen.empty(); }
+    /// What it reads: a path, a URL, a connection string.
+    const std::string& source() const { return settings_.content.read.source; }
     /// Changes applied so far (a refresh of the pages they reached, and their tiles painted again).
     uint64_t refreshesApplied() const { return refreshesApplied_; }
     /// The labels on the CPU (the last frame's candidates and placed boxes, timings); null when
@@ -250,6 +255,8 @@ private:
     bool refreshQueued() const { return refreshAnywhere_ || !refreshBoxes_.empty(); }
     /// The drape changed within `regions` only: a new version whose tiles there are painted again.
     void drapeChangedIn(std::vector<globe::GeoExtent> regions);
+    /// A change applied: the drape's tiles and the mesh tiles the regions reach made again.
+    void applyChanges(std::vector<globe::GeoExtent> regions);
 
     VectorLayerSettings settings_;
     jobs::Job<Result<Loaded>> job_;
@@ -315,6 +322,8 @@ private:
     /// A refresh whose reads failed is tried again at this time, for these boxes (none: anywhere).
     std::optional<std::chrono::steady_clock::time_point> retryRefreshAt_;
     std::vector<vector::LonLatBounds> retryBoxes_;
+    /// Pages that invalidate left outdated a while (slow to read): painted again then.
+    std::vector<vector::DeferredRead> deferredRepaints_;
     uint64_t refreshesApplied_ = 0;
     std::string refreshError_;
     std::deque<std::pair<uint64_t, std::optional<std::vector<globe::GeoExtent>>>> drapeChanges_;

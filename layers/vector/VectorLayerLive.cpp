@@ -44,21 +44,7 @@ void VectorLayer::pollRefresh() {
             // painted from pages no longer in memory).
             std::vector<globe::GeoExtent> regions = std::move(done.changed);
             for (const vector::LonLatBounds& b : refreshingBoxes_) regions.push_back(extentOf(b));
-            ++refreshesApplied_;
-            // The meshes of the tiles the regions reach are built again (the old ones drawn meanwhile).
-            for (auto& [key, tile] : tileMeshes_) {
-                const globe::GeoExtent e = key.extent();
-                const bool reached = std::any_of(regions.begin(), regions.end(), [&](const globe::GeoExtent& r) {
-                    for (double turn : {-360.0, 0.0, 360.0})
-                        if (r.west + turn <= e.east && r.east + turn >= e.west && r.south <= e.north && r.north >= e.south) return true;
-                    return false;
-                });
-                if (!reached) continue;
-                tile.generation = 0;
-                meshTileChanged_[key] = refreshesApplied_;
-                failedTiles_.erase(key);
-            }
-            if (!regions.empty()) drapeChangedIn(std::move(regions));
+            applyChanges(std::move(regions));
         }
         refreshingBoxes_.clear();
     }
@@ -67,6 +53,26 @@ void VectorLayer::pollRefresh() {
             if (!change.box) refreshAnywhere_ = true;
             else refreshBoxes_.push_back(*change.box);
         }
+    // Pages read slowly, left outdated a while: their tiles are painted again when they may be read.
+    const auto now = Clock::now();
+    std::vector<globe::GeoExtent> due;
+    std::erase_if(deferredRepaints_, [&](const vector::DeferredRead& d) {
+        if (d.when > now) return false;
+        due.push_back(d.extent);
+        return true;
+    });
+    if (!due.empty() && pages_) applyChanges(std::move(due));
+    if (pages_ && !refreshAnywhere_ && !refreshBoxes_.empty()) {
+        // Boxes the server named: the pages they reach are read again by the painters of the
+        // tiles painted again now (no wait for a read before the repaint starts).
+        auto deferred = pages_->invalidate(refreshBoxes_);
+        deferredRepaints_.insert(deferredRepaints_.end(), deferred.begin(), deferred.end());
+        if (deferredRepaints_.size() > kBoxesKept) deferredRepaints_.erase(deferredRepaints_.begin(), deferredRepaints_.end() - kBoxesKept);
+        std::vector<globe::GeoExtent> regions;
+        for (const vector::LonLatBounds& b : refreshBoxes_) regions.push_back(extentOf(b));
+        refreshBoxes_.clear();
+        applyChanges(std::move(regions));
+    }
     if (retryRefreshAt_ && Clock::now() >= *retryRefreshAt_) {
         retryRefreshAt_.reset();
         if (retryBoxes_.empty()) refreshAnywhere_ = true;
@@ -98,6 +104,24 @@ void VectorLayer::pollRefresh() {
                                           [pages = pages_, boxes = refreshingBoxes_](const jobs::CancelToken& cancel) {
                                               return pages->refresh(boxes, &cancel);
                                           });
+}
+
+void VectorLayer::applyChanges(std::vector<globe::GeoExtent> regions) {
+    ++refreshesApplied_;
+    // The meshes of the tiles the regions reach are built again (the old ones drawn meanwhile).
+    for (auto& [key, tile] : tileMeshes_) {
+        const globe::GeoExtent e = key.extent();
+        const bool reached = std::any_of(regions.begin(), regions.end(), [&](const globe::GeoExtent& r) {
+            for (double turn : {-360.0, 0.0, 360.0})
+                if (r.west + turn <= e.east && r.east + turn >= e.west && r.south <= e.north && r.north >= e.south) return true;
+            return false;
+        });
+        if (!reached) continue;
+        tile.generation = 0;
+        meshTileChanged_[key] = refreshesApplied_;
+        failedTiles_.erase(key);
+    }
+    if (!regions.empty()) drapeChangedIn(std::move(regions));
 }
 
 void VectorLayer::drapeChangedIn(std::vector<globe::GeoExtent> regions) {

@@ -350,5 +350,38 @@ TEST(FeatureTiles, ARefreshForgetsAFailedPageSoTheNextAskReadsIt) {
     ASSERT_TRUE(tiles.acquire(k));
 }
 
+TEST(FeatureTiles, AnInvalidatedPageShowsItsOldContentUntilTheNextAskReadsItAgain) {
+    PointFile file("orbis-invalidate");
+    file.write({{10.0, 45.0}, {100.0, -30.0}});
+    FeatureTiles tiles(file.options());
+    const TileKey europe = TileKey::containing(10.0, 45.0, 6), australia = TileKey::containing(100.0, -30.0, 6);
+    auto before = tiles.acquire(europe);
+    auto far = tiles.acquire(australia);
+    ASSERT_TRUE(before && far);
+    file.write({{10.0, 45.0}, {100.0, -30.0}, {10.1, 45.1}});
+    const LonLatBounds box{10.1, 45.1, 10.1, 45.1, false};
+    EXPECT_TRUE(tiles.invalidate(std::span(&box, 1)).empty());   // quick pages: read again at once
+    EXPECT_EQ(tiles.reads(), 2u);   // nothing read yet
+    // Until it is asked for, the old page is what is in memory (labels gather from it).
+    bool sawOld = false;
+    for (const auto& p : tiles.loaded()) sawOld |= p.get() == before->get();
+    EXPECT_TRUE(sawOld);
+    auto after = tiles.acquire(europe);
+    ASSERT_TRUE(after);
+    EXPECT_EQ(featuresIn(**after), 2u);
+    EXPECT_EQ(tiles.reads(), 3u);
+    EXPECT_EQ(tiles.acquire(europe)->get(), after->get());   // read once
+    EXPECT_EQ(tiles.acquire(australia)->get(), far->get());  // the box did not reach it
+    EXPECT_EQ(tiles.bytes(), (*after)->bytes + (*far)->bytes);
+
+    // Outdated again, and the source gone: the old features serve, the error is reported.
+    fs::remove(file.path);
+    tiles.invalidate(std::span(&box, 1));
+    auto served = tiles.acquire(europe);
+    ASSERT_TRUE(served) << served.message();
+    EXPECT_EQ(served->get(), after->get());
+    EXPECT_NE(tiles.lastError().find("no such file"), std::string::npos) << tiles.lastError();
+}
+
 }  // namespace
 }  // namespace orbis::vector
