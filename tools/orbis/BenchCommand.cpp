@@ -51,6 +51,9 @@ const char* kHelp =
     "                     threads, descriptors and frame-time p99 sampled through the run; exit 1\n"
     "                     when, after the first quarter, memory is not flat within +-5 %, threads or\n"
     "                     descriptors grew, the p99 rose past 1.5x, or validation spoke\n"
+    "  --live N --update SQL  for a scene with a live vector layer (\"refresh\": {\"listen\"}): N times,\n"
+    "                     commit SQL ({i}: the run's number) on the layer's database and time until\n"
+    "                     a frame read back shows it: median, p95, max (ms)\n"
     "  --iso-error N1,N2,.. isosurface position error against steps, for a scene with a volume in\n"
     "                     mode \"iso\": for each step count, with and without the secant/bisection\n"
     "                     refinement, ms/frame and the distance in voxels between each pixel's first\n"
@@ -107,7 +110,7 @@ Args parseBenchArgs(const std::vector<std::string>& argv) {
     std::set<std::string> valued = gpuValuedOptions();
     valued.insert({"--frames", "--warmup", "--size", "--time", "--camera-path", "--sweep", "--plot", "--tiles", "--threads",
                    "--iso-error", "--video", "--seeks", "--poses", "--labels", "--margin", "--vector", "--level", "--runs",
-                   "--soak"});
+                   "--soak", "--live", "--update"});
     std::set<std::string> flags = gpuFlagOptions();
     flags.insert({"--help", "--json", "--layer"});
     return Args(argv, valued, flags, {{"-h", "--help"}});
@@ -166,6 +169,7 @@ int benchCommand(const std::vector<std::string>& argv) {
     render::Renderer renderer(*gpu.device, width, height);
     if (args.value("--sweep")) return sweepBench(args, gpu, *scene, renderer, frames, warmup);
     if (auto seconds = args.number("--soak", 1.0, 1e6)) return soakBench(args, gpu, *scene, renderer, path, *seconds);
+    if (auto runs = args.integer("--live", 1, 100000)) return liveBench(args, gpu, *scene, renderer, *runs);
 
     // A fixed view is measured once everything it shows has loaded; a camera path measures the
     // streaming as it flies.

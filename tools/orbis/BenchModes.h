@@ -24,6 +24,9 @@ int isoErrorBench(const Args& args, GpuSession& gpu, uint32_t width, uint32_t he
 /// the layers sampled, and bounds on their growth (SoakBench.cpp).
 int soakBench(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer,
               const std::optional<scene::CameraPath>& path, double seconds);
+/// `orbis bench SCENE --live N --update SQL`: commit to changed frame, for a live vector
+/// layer (LiveBench.cpp).
+int liveBench(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer, long runs);
 /// `orbis bench SCENE --tiles LEVEL` (TileBench.cpp).
 int tileBench(const Args& args, scene::Scene& scene, long level, unsigned threads);
 /// `orbis bench --video FILE` (VideoBench.cpp).
