@@ -7,6 +7,7 @@
 #include <ogrsf_frmts.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <mutex>
 
@@ -47,13 +48,26 @@ void GdalErrorScope::clear() {
     CPLErrorReset();
 }
 
+std::string withServerTimeouts(const std::string& source) {
+    // PostgreSQL in libpq's key=value form ("PG:dbname=..."): a server that does not answer
+    // ends the connection after kPgConnectTimeoutS and a query after kPgStatementTimeoutS,
+    // unless the connection string or the environment (PGCONNECT_TIMEOUT, PGOPTIONS) says.
+    if (source.rfind("PG:", 0) != 0 || source.find("://") != std::string::npos) return source;
+    std::string out = source;
+    if (out.find("connect_timeout") == std::string::npos && !std::getenv("PGCONNECT_TIMEOUT"))
+        out += " connect_timeout=" + std::to_string(kPgConnectTimeoutS);
+    if (out.find("options") == std::string::npos && !std::getenv("PGOPTIONS"))
+        out += " options='-c statement_timeout=" + std::to_string(kPgStatementTimeoutS * 1000) + "'";
+    return out;
+}
+
 Result<DatasetPtr> openVectorSource(const std::string& source) {
     globe::configureGdal();   // drivers, and HTTP timeouts: a stalled WFS ends the read
     std::error_code ec;
     if (source.empty()) return makeError("vector source: no path or connection string given");
     if (!isConnectionString(source) && !std::filesystem::exists(source, ec)) return makeError(redactSecrets(source) + ": no such file");
     GdalErrorScope errors;
-    DatasetPtr dataset(GDALDataset::Open(source.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+    DatasetPtr dataset(GDALDataset::Open(withServerTimeouts(source).c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
     if (!dataset) {
         const std::string why = errors.message("no vector driver recognises it");
         // The driver's words may quote the connection string.

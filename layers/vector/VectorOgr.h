@@ -47,6 +47,13 @@ struct TransformDeleter {
 };
 using TransformPtr = std::unique_ptr<OGRCoordinateTransformation, TransformDeleter>;
 
+/// A PostgreSQL server that does not answer: the connection gives up after this long, and a
+/// query too (withServerTimeouts).
+inline constexpr int kPgConnectTimeoutS = 10, kPgStatementTimeoutS = 60;
+/// What GDAL is asked to open for `source`: a "PG:" key=value connection gets Orbis's
+/// timeouts unless it (or PGCONNECT_TIMEOUT, PGOPTIONS) sets its own; anything else as it is.
+std::string withServerTimeouts(const std::string& source);
+
 /// Opens a vector source read-only. Errors: "<source>: no such file", or that OGR cannot open
 /// it, with GDAL's reason.
 Result<DatasetPtr> openVectorSource(const std::string& source);

@@ -2,10 +2,12 @@
 // a channel may carry, refused); OGR's PostgreSQL connections turned into libpq's; the trigger's
 // SQL quoting the names it is given.
 #include "layers/vector/PgListener.h"
+#include "layers/vector/VectorOgr.h"
 
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <thread>
 
 namespace orbis::vector {
@@ -73,6 +75,20 @@ TEST(PgListener, AServerThatIsNotThereIsReportedAndStoppingDoesNotWait) {
     const auto start = std::chrono::steady_clock::now();
     l->reset();
     EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+}
+
+TEST(PgListener, PostgresConnectionsGetTimeoutsUnlessTheyHaveTheirOwn) {
+    ::unsetenv("PGCONNECT_TIMEOUT");
+    ::unsetenv("PGOPTIONS");
+    EXPECT_EQ(detail::withServerTimeouts("PG:dbname=gis"),
+              "PG:dbname=gis connect_timeout=10 options='-c statement_timeout=60000'");
+    EXPECT_EQ(detail::withServerTimeouts("PG:dbname=gis connect_timeout=3 options='-c work_mem=64MB'"),
+              "PG:dbname=gis connect_timeout=3 options='-c work_mem=64MB'");
+    EXPECT_EQ(detail::withServerTimeouts("/data/roads.gpkg"), "/data/roads.gpkg");
+    EXPECT_EQ(detail::withServerTimeouts("PG:postgresql://localhost/gis"), "PG:postgresql://localhost/gis");
+    ::setenv("PGCONNECT_TIMEOUT", "2", 1);
+    EXPECT_EQ(detail::withServerTimeouts("PG:dbname=gis"), "PG:dbname=gis options='-c statement_timeout=60000'");
+    ::unsetenv("PGCONNECT_TIMEOUT");
 }
 
 }  // namespace
