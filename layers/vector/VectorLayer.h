@@ -58,11 +58,12 @@
 // "listen" on; a trigger NOTIFYs it on each committed statement with the changed rows' box in
 // WGS84 (PgListener: pgNotifyTriggerSql, which Orbis installs on "trigger"'s table when the
 // scene asks, else the user runs it). Each box is taken in poll(): the pages in memory that
-// it reaches are read again on the pool (FeatureTiles::refresh; the rest stay), then the drape
-// tiles near it are painted again (drapeChangedSince: each tile's old image drawn until its
-// new one is in), the mesh tiles it reaches are built again and the labels gathered again.
-// "everySeconds" reads the pages in memory again on a clock instead (any source: a file
-// another program writes, a WFS) and paints again where they changed. The listener runs on
+// it reaches are marked outdated (FeatureTiles::invalidate; the rest stay) and the drape tiles
+// near it are painted again at once (drapeChangedSince: each tile's old image drawn until its
+// new one is in), their painters reading those pages again; the mesh tiles it reaches are built
+// again and the labels gathered again as the pages come in. "everySeconds" (and a change
+// "anywhere") reads the pages in memory again on the pool first (FeatureTiles::refresh: any
+// source, a file another program writes, a WFS) and paints again only where they changed. The listener runs on
 // its own thread with its own connection, made only when the layer is first shown; a lost
 // connection is in status() and opened again, then everything in memory is read again (what
 // was notified meanwhile was lost). A page that cannot be read again keeps its old features;
