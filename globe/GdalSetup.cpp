@@ -36,6 +36,10 @@ void configureGdal() {
         setConfigDefault("GDAL_HTTP_RETRY_DELAY", "1");
         // A WMS description with an empty <Cache/> caches here, through Orbis's safe tile cache.
         setConfigDefault("GDAL_DEFAULT_WMS_CACHE_PATH", tileCachePath(defaultRasterCacheDir()));
+        // WFS: GetFeature in pages (STARTINDEX/COUNT) of 1000 features, so that a server that
+        // caps its answers still gives every feature, and none is asked for all at once.
+        setConfigDefault("OGR_WFS_PAGING_ALLOWED", "ON");
+        setConfigDefault("OGR_WFS_PAGE_SIZE", "1000");
         GDALAllRegister();
         if (!userCache) GDALSetCacheMax64(kGdalBlockCacheBytes);
     });

@@ -1,6 +1,7 @@
 #include "engine/scene/SceneDesc.h"
 
 #include "base/FileText.h"
+#include "base/Secrets.h"
 #include "engine/scene/JsonReader.h"
 
 #include <cmath>
@@ -16,6 +17,11 @@ constexpr const char* kDefaultTime = "2026-03-20T08:00:00Z";
 std::filesystem::path SceneDesc::resolve(const std::filesystem::path& path) const {
     if (path.is_absolute() || path.empty()) return path;
     return (folder / path).lexically_normal();
+}
+
+std::string SceneDesc::resolveSource(const std::string& source) const {
+    if (isConnectionString(source) || source.rfind("<", 0) == 0) return source;
+    return resolve(source).string();
 }
 
 std::optional<globe::Viewpoint> readViewpoint(const nlohmann::json& value, const std::string& file,

@@ -62,6 +62,10 @@ struct SceneDesc {
 
     /// `path` made absolute against the scene's folder when relative.
     std::filesystem::path resolve(const std::filesystem::path& path) const;
+    /// A data source named in the scene: a file resolved as resolve() does; a connection string
+    /// or URL ("WMS:http://...", "PG:...", "https://..."), a GDAL virtual path ("/vsicurl/...")
+    /// or an inline GDAL XML description ("<GDAL_WMS>...") as it is.
+    std::string resolveSource(const std::string& source) const;
 };
 
 /// Largest scene file accepted: a scene lists layers, it does not carry data.

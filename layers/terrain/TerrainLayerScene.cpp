@@ -15,7 +15,7 @@ Result<globe::RasterSourceOptions> readSource(const nlohmann::json& value, const
     globe::RasterSourceOptions o;
     o.role = role;
     if (value.is_string()) {
-        o.path = scene.resolve(value.get<std::string>()).string();
+        o.path = scene.resolveSource(value.get<std::string>());
         if (name) *name = std::filesystem::path(o.path).filename().string();
         return o;
     }
@@ -26,7 +26,7 @@ Result<globe::RasterSourceOptions> readSource(const nlohmann::json& value, const
                          scene::describeJsonType(value));
     const auto file = r.string("path", std::string());
     const auto xyz = r.string("xyz", std::string());
-    if (file && !file->empty()) o.path = scene.resolve(*file).string();
+    if (file && !file->empty()) o.path = scene.resolveSource(*file);
     if (xyz && !xyz->empty()) o.xyzUrl = *xyz;
     if (auto maxZoom = r.number("maxZoom", 18.0, 0.0, 30.0)) {
         if (*maxZoom != std::floor(*maxZoom)) r.fail("maxZoom", "must be an integer zoom level");

@@ -142,6 +142,13 @@ TEST(SceneDesc, RelativePathsResolveAgainstTheSceneFolder) {
     EXPECT_EQ(r->resolve("data/dem.tif"), "/data/scenes/data/dem.tif");
     EXPECT_EQ(r->resolve("../x.tif"), "/data/x.tif");
     EXPECT_EQ(r->resolve("/abs/y.tif"), "/abs/y.tif");
+    // Sources that are not files stay as they are (a relative path would mangle "//").
+    EXPECT_EQ(r->resolveSource("data/dem.tif"), "/data/scenes/data/dem.tif");
+    const std::string wms = "WMS:http://127.0.0.1:8080/ows?SERVICE=WMS&LAYERS=world&SRS=EPSG:4326&BBOX=-180,-90,180,90";
+    EXPECT_EQ(r->resolveSource(wms), wms);
+    EXPECT_EQ(r->resolveSource("https://example.org/dem.tif"), "https://example.org/dem.tif");
+    EXPECT_EQ(r->resolveSource("/vsicurl/http://h/x.tif"), "/vsicurl/http://h/x.tif");
+    EXPECT_EQ(r->resolveSource("<GDAL_WMS><Service name=\"TMS\"/></GDAL_WMS>"), "<GDAL_WMS><Service name=\"TMS\"/></GDAL_WMS>");
 }
 
 class CountingLayer : public Layer {

@@ -1,0 +1,161 @@
+// OGC services from a real MapServer (CGI behind lighttpd, started on loopback by the fixture,
+// tests/support/MapServer.h): a WMS layer read as terrain imagery matches the same GeoTIFF read
+// locally; a WFS 2.0 layer reads as the same features as the GeoPackage it serves, asks the
+// server for the box of a tile read, and pages its GetFeature requests. Skipped, with the
+// reason, when the packages or the generated world are missing.
+#include "globe/RasterSource.h"
+#include "layers/vector/VectorReader.h"
+#include "tests/support/MapServer.h"
+#include "tests/support/ScopedGdalConfig.h"
+
+#include <gdal_priv.h>
+#include <gtest/gtest.h>
+#include <ogrsf_frmts.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace orbis {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The requests the server saw, in lower case (clients spell parameters as they like).
+std::string requests(const test::MapServer& ms) {
+    std::string log = ms.accessLog();
+    std::transform(log.begin(), log.end(), log.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return log;
+}
+
+const fs::path kWorld = fs::path(ORBIS_SOURCE_DIR) / "assets" / "generated" / "world-colour.tif";
+
+/// 100 parcels of 400 m in Web Mercator around lon 10, lat 45 (as the PostGIS tests).
+fs::path writeParcels(const fs::path& path) {
+    GDALAllRegister();
+    std::unique_ptr<GDALDataset> ds(GetGDALDriverManager()->GetDriverByName("GPKG")->Create(path.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
+    OGRSpatialReference srs;
+    srs.importFromEPSG(3857);
+    OGRLayer* layer = ds->CreateLayer("parcels", &srs, wkbPolygon, nullptr);
+    OGRFieldDefn name("name", OFTString);
+    layer->CreateField(&name);
+    for (int r = 0; r < 10; ++r)
+        for (int c = 0; c < 10; ++c) {
+            const double x = 1113194.9 + c * 500.0, y = 5621521.5 + r * 500.0;
+            char wkt[256];
+            std::snprintf(wkt, sizeof wkt, "POLYGON((%.1f %.1f,%.1f %.1f,%.1f %.1f,%.1f %.1f,%.1f %.1f))", x, y, x + 400, y,
+                          x + 400, y + 400, x, y + 400, x, y);
+            OGRFeature f(layer->GetLayerDefn());
+            f.SetFID(r * 10 + c + 1);
+            f.SetField("name", ("parcel " + std::to_string(r * 10 + c + 1)).c_str());
+            OGRGeometry* g = nullptr;
+            OGRGeometryFactory::createFromWkt(wkt, &srs, &g);
+            f.SetGeometryDirectly(g);
+            if (layer->CreateFeature(&f) != OGRERR_NONE) ADD_FAILURE() << "parcel not written";
+        }
+    return path;
+}
+
+struct OgcServices : ::testing::Test {
+    void SetUp() override {
+        if (!fs::exists(kWorld)) GTEST_SKIP() << "assets/generated is not built: no " << kWorld;
+        dir = fs::temp_directory_path() / ("orbis-ogc-test-" + std::to_string(::getpid()));
+        fs::create_directories(dir);
+        const fs::path parcels = writeParcels(dir / "parcels.gpkg");
+        ms = std::make_unique<test::MapServer>(std::vector<std::string>{
+            R"(LAYER NAME "world" TYPE RASTER STATUS ON DATA ")" + kWorld.string() + R"(" PROJECTION AUTO END
+                 METADATA "ows_title" "World colour" END END)",
+            R"(LAYER NAME "parcels" TYPE POLYGON STATUS ON CONNECTIONTYPE OGR CONNECTION ")" + parcels.string() +
+                R"(" DATA "parcels" PROJECTION AUTO END
+                 METADATA "ows_title" "Parcels" "wfs_srs" "EPSG:3857" "gml_include_items" "all" "gml_featureid" "fid"
+                   "wfs_extent" "1113194 5621521 1118095 5626422" END
+                 CLASS STYLE COLOR 255 200 0 OUTLINECOLOR 200 50 0 END END END)"});
+        if (!ms->available()) GTEST_SKIP() << ms->error();
+        ASSERT_TRUE(ms->running()) << ms->error();
+    }
+    void TearDown() override {
+        ms.reset();
+        std::error_code ec;
+        if (!dir.empty()) fs::remove_all(dir, ec);
+    }
+    fs::path dir;
+    std::unique_ptr<test::MapServer> ms;
+};
+
+TEST_F(OgcServices, AWmsLayerReadsAsTheImageItServes) {
+    globe::RasterSourceOptions wms, local;
+    wms.path = "WMS:" + ms->url() + "SERVICE=WMS&VERSION=1.1.1&REQUEST=GetMap&LAYERS=world&SRS=EPSG:4326&BBOX=-180,-90,180,90&FORMAT=image/png";
+    wms.cacheDir = (dir / "cache").string();
+    local.path = kWorld.string();
+    auto a = globe::RasterSource::open(local);
+    auto b = globe::RasterSource::open(wms);
+    ASSERT_TRUE(a) << a.message();
+    ASSERT_TRUE(b) << b.message();
+    // Europe, at about the file's own resolution (4096 x 2048 over the world: 11.4 px a degree).
+    const globe::GeoExtent europe{0.0, 40.0, 22.5, 62.5};
+    auto ta = (*a)->readImagery(europe, 256, nullptr);
+    auto tb = (*b)->readImagery(europe, 256, nullptr);
+    ASSERT_TRUE(ta) << ta.message();
+    ASSERT_TRUE(tb) << tb.message();
+    ASSERT_TRUE(tb->anyValid);
+    double sum = 0.0;
+    size_t far = 0;
+    for (size_t i = 0; i < ta->rgba.size(); ++i) {
+        if (i % 4 == 3) continue;
+        const int d = std::abs(int(ta->rgba[i]) - int(tb->rgba[i]));
+        sum += d;
+        far += d > 48;
+    }
+    const double mean = sum / double(ta->rgba.size() / 4 * 3);
+    // The server resamples with its own filter (nearest neighbour) where the local read warps
+    // with GDAL's cubic: the same picture, not the same pixels.
+    EXPECT_LT(mean, 6.0);
+    EXPECT_LT(double(far) / double(ta->rgba.size() / 4 * 3), 0.01);
+    EXPECT_NE(requests(*ms).find("request=getmap"), std::string::npos) << ms->accessLog();
+}
+
+TEST_F(OgcServices, AWfsLayerReadsAsTheFeaturesItServesAskingForTheBoxAndPaging) {
+    vector::VectorReadOptions local, wfs;
+    local.source = (dir / "parcels.gpkg").string();
+    wfs.source = "WFS:" + ms->url();
+    wfs.layers = {"parcels"};
+    auto a = vector::readVector(local);
+    // Paged (Orbis asks for it: GdalSetup), here 30 at a time.
+    test::ScopedGdalConfig pageSize("OGR_WFS_PAGE_SIZE", "30");
+    auto b = vector::readVector(wfs);
+    ASSERT_TRUE(a) << a.message();
+    ASSERT_TRUE(b) << b.message();
+    ASSERT_EQ(b->layers.size(), 1u);
+    const auto& fa = a->layers[0].features;
+    const auto& fb = b->layers[0].features;
+    ASSERT_EQ(fb.size(), 100u);
+    // MapServer writes GML coordinates in degrees with 6 decimals (0.1 m): that close.
+    for (size_t k = 0; k < fa.size(); ++k) {
+        const size_t na = *vector::findField(a->layers[0].fields, "name"), nb = *vector::findField(b->layers[0].fields, "name");
+        EXPECT_EQ(std::get<std::string>(fa[k].attributes[na]), std::get<std::string>(fb[k].attributes[nb]));
+        ASSERT_EQ(fa[k].coords.size(), fb[k].coords.size()) << k;
+        for (size_t v = 0; v < fa[k].coords.size(); ++v) {
+            EXPECT_NEAR(fa[k].coords[v].x, fb[k].coords[v].x, 1e-6) << k;
+            EXPECT_NEAR(fa[k].coords[v].y, fb[k].coords[v].y, 1e-6) << k;
+        }
+    }
+    // Paged: GetFeature asked 30 at a time.
+    const std::string log = requests(*ms);
+    EXPECT_NE(log.find("startindex=30&count=30"), std::string::npos) << log;
+    EXPECT_NE(log.find("startindex=90&count=30"), std::string::npos) << log;
+    // A tile's read asks the server for its box only.
+    vector::VectorReadOptions tile = wfs;
+    tile.within = vector::LonLatBounds{9.99, 44.0, 10.0037, 46.0, false};
+    auto c = vector::readVector(tile);
+    ASSERT_TRUE(c) << c.message();
+    EXPECT_EQ(c->layers[0].features.size(), 10u);
+    EXPECT_NE(requests(*ms).find("bbox"), std::string::npos) << ms->accessLog();
+}
+
+}  // namespace
+}  // namespace orbis

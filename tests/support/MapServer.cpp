@@ -1,0 +1,196 @@
+#include "tests/support/MapServer.h"
+
+#include "tests/support/Loopback.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+namespace orbis::test {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+const char* kLighttpd = "/usr/sbin/lighttpd";
+const char* kMapserv = "/usr/lib/cgi-bin/mapserv";
+
+int waitFor(pid_t pid, std::chrono::milliseconds limit) {
+    const auto end = Clock::now() + limit;
+    while (true) {
+        int status = 0;
+        const pid_t r = ::waitpid(pid, &status, WNOHANG);
+        if (r == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+        if (r < 0) return 255;
+        if (Clock::now() >= end) return -1;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+}
+
+/// GET http://127.0.0.1:port/target (HTTP/1.0: the server closes after the reply), within
+/// `limit`: the status code (0 when there is no answer) and the body.
+std::pair<int, std::string> httpGet(int port, const std::string& target, std::chrono::milliseconds limit) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd < 0) return {0, {}};
+    timeval tv{long(limit.count() / 1000), long(limit.count() % 1000) * 1000};
+    ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    ::setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &tv, sizeof tv);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    addr.sin_port = htons(uint16_t(port));
+    std::string reply;
+    if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0) {
+        const std::string request = "GET " + target + " HTTP/1.0\r\nHost: 127.0.0.1\r\n\r\n";
+        if (::send(fd, request.data(), request.size(), MSG_NOSIGNAL) == ssize_t(request.size())) {
+            char buf[65536];
+            for (ssize_t n; (n = ::recv(fd, buf, sizeof buf, 0)) > 0 && reply.size() < (64u << 20);) reply.append(buf, size_t(n));
+        }
+    }
+    ::close(fd);
+    int status = 0;
+    if (reply.rfind("HTTP/", 0) == 0) status = std::atoi(reply.c_str() + reply.find(' ') + 1);
+    const size_t body = reply.find("\r\n\r\n");
+    return {status, body == std::string::npos ? std::string() : reply.substr(body + 4)};
+}
+
+std::string readAll(const fs::path& file) {
+    std::ifstream in(file);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+}  // namespace
+
+MapServer::MapServer(const std::vector<std::string>& layers) {
+    if (!fs::exists(kLighttpd) || !fs::exists(kMapserv)) {
+        error_ = "MapServer behind lighttpd is not installed (Debian: cgi-mapserver lighttpd; tools/install-deps.sh installs them)";
+        return;
+    }
+    available_ = true;
+    std::string pattern = (fs::temp_directory_path() / "orbis-ms-XXXXXX").string();
+    if (!::mkdtemp(pattern.data())) {
+        error_ = "mkdtemp " + pattern + ": " + std::strerror(errno);
+        return;
+    }
+    root_ = pattern;
+    // A port: bound, noted, released for lighttpd (which says so if it was taken meanwhile).
+    std::string why;
+    const int fd = bindLoopback(0, port_, why);
+    if (fd < 0) {
+        error_ = why;
+        return;
+    }
+    ::close(fd);
+    {
+        std::ofstream map(root_ / "orbis.map");
+        map << "MAP\n  NAME \"orbis\"\n  EXTENT -180 -90 180 90\n  SIZE 1024 512\n  MAXSIZE 4096\n"
+               "  PROJECTION \"init=epsg:4326\" END\n"
+               "  WEB\n    METADATA\n"
+               "      \"ows_title\" \"Orbis test services\"\n"
+               "      \"ows_onlineresource\" \"" << url() << "\"\n"
+               "      \"ows_srs\" \"EPSG:4326 EPSG:3857\"\n"
+               "      \"ows_enable_request\" \"*\"\n"
+               "      \"wfs_getfeature_formatlist\" \"gml,geojson\"\n"
+               "    END\n  END\n"
+               "  OUTPUTFORMAT NAME \"png\" DRIVER \"AGG/PNG\" MIMETYPE \"image/png\" IMAGEMODE RGBA EXTENSION \"png\" END\n"
+               "  OUTPUTFORMAT NAME \"geojson\" DRIVER \"OGR/GEOJSON\" MIMETYPE \"application/json; subtype=geojson\"\n"
+               "    FORMATOPTION \"STORAGE=stream\" FORMATOPTION \"FORM=SIMPLE\" END\n";
+        for (const std::string& layer : layers) map << layer << "\n";
+        map << "END\n";
+        std::ofstream conf(root_ / "mapserver.conf");
+        conf << "CONFIG\n  ENV\n    MS_MAPFILE \"" << (root_ / "orbis.map").string() << "\"\n    MS_ERRORFILE \""
+             << (root_ / "mapserver.log").string() << "\"\n  END\nEND\n";
+        // The CGI: a script that notes each query (unbuffered, unlike lighttpd's access log)
+        // and runs mapserv.
+        {
+            std::ofstream cgi(root_ / "ows.sh");
+            cgi << "#!/bin/sh\nprintf '%s %s\\n' \"$REQUEST_METHOD\" \"$QUERY_STRING\" >> '" << (root_ / "requests.log").string()
+                << "'\nexec " << kMapserv << "\n";
+        }
+        fs::permissions(root_ / "ows.sh", fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
+                                             fs::perms::others_read | fs::perms::others_exec);
+        std::ofstream http(root_ / "lighttpd.conf");
+        http << "server.modules = (\"mod_alias\", \"mod_cgi\", \"mod_setenv\", \"mod_accesslog\")\n"
+             << "server.document-root = \"" << root_.string() << "\"\n"
+             << "server.bind = \"127.0.0.1\"\n"
+             << "server.port = " << port_ << "\n"
+             << "server.errorlog = \"" << (root_ / "error.log").string() << "\"\n"
+             << "accesslog.filename = \"" << (root_ / "access.log").string() << "\"\n"
+             << "alias.url = (\"/ows\" => \"" << (root_ / "ows.sh").string() << "\")\n"
+             << "$HTTP[\"url\"] =~ \"^/ows\" { cgi.assign = (\"\" => \"\") }\n"
+             << "setenv.add-environment = (\"MAPSERVER_CONFIG_FILE\" => \"" << (root_ / "mapserver.conf").string() << "\")\n";
+    }
+    start();
+}
+
+MapServer::~MapServer() {
+    stop();
+    if (!root_.empty()) {
+        std::error_code ec;
+        fs::remove_all(root_, ec);
+    }
+}
+
+std::string MapServer::url() const { return "http://127.0.0.1:" + std::to_string(port_) + "/ows?"; }
+
+std::pair<int, std::string> MapServer::get(const std::string& target) const {
+    return httpGet(port_, target, std::chrono::seconds(20));
+}
+
+std::string MapServer::accessLog() const { return readAll(root_ / "requests.log"); }
+
+bool MapServer::start() {
+    const std::string out = (root_ / "lighttpd.out").string(), conf = (root_ / "lighttpd.conf").string();
+    pid_ = ::fork();
+    if (pid_ == 0) {
+        ::setpgid(0, 0);
+        const int fd = ::open(out.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+        if (fd >= 0) {
+            ::dup2(fd, 1);
+            ::dup2(fd, 2);
+            ::close(fd);
+        }
+        ::execl(kLighttpd, kLighttpd, "-D", "-f", conf.c_str(), static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    if (pid_ < 0) {
+        error_ = std::string("fork: ") + std::strerror(errno);
+        return false;
+    }
+    // Ready when GetCapabilities answers (within 20 s).
+    const auto end = Clock::now() + std::chrono::seconds(20);
+    while (Clock::now() < end) {
+        if (waitFor(pid_, std::chrono::milliseconds(0)) >= 0) {
+            pid_ = -1;
+            error_ = "lighttpd exited at start: " + readAll(out) + readAll(root_ / "error.log");
+            return false;
+        }
+        if (get("/ows?SERVICE=WMS&REQUEST=GetCapabilities").first == 200) return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    error_ = "MapServer did not answer on " + url() + " within 20 s: " + readAll(root_ / "error.log");
+    stop();
+    return false;
+}
+
+void MapServer::stop() {
+    if (pid_ <= 0) return;
+    ::kill(pid_, SIGTERM);
+    if (waitFor(pid_, std::chrono::seconds(10)) < 0) {
+        ::kill(-pid_, SIGKILL);
+        waitFor(pid_, std::chrono::seconds(5));
+    }
+    pid_ = -1;
+}
+
+}  // namespace orbis::test
