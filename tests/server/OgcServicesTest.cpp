@@ -3,6 +3,7 @@
 // locally; a WFS 2.0 layer reads as the same features as the GeoPackage it serves, asks the
 // server for the box of a tile read, and pages its GetFeature requests. Skipped, with the
 // reason, when the packages or the generated world are missing.
+#include "globe/OgcCapabilities.h"
 #include "globe/RasterSource.h"
 #include "layers/vector/VectorReader.h"
 #include "tests/support/MapServer.h"
@@ -10,6 +11,7 @@
 
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <ogrsf_frmts.h>
 #include <unistd.h>
 
@@ -73,7 +75,7 @@ struct OgcServices : ::testing::Test {
             R"(LAYER NAME "parcels" TYPE POLYGON STATUS ON CONNECTIONTYPE OGR CONNECTION ")" + parcels.string() +
                 R"(" DATA "parcels" PROJECTION AUTO END
                  METADATA "ows_title" "Parcels" "wfs_srs" "EPSG:3857" "gml_include_items" "all" "gml_featureid" "fid"
-                   "wfs_extent" "1113194 5621521 1118095 5626422" END
+                 END
                  CLASS STYLE COLOR 255 200 0 OUTLINECOLOR 200 50 0 END END END)"});
         if (!ms->available()) GTEST_SKIP() << ms->error();
         ASSERT_TRUE(ms->running()) << ms->error();
@@ -155,6 +157,62 @@ TEST_F(OgcServices, AWfsLayerReadsAsTheFeaturesItServesAskingForTheBoxAndPaging)
     ASSERT_TRUE(c) << c.message();
     EXPECT_EQ(c->layers[0].features.size(), 10u);
     EXPECT_NE(requests(*ms).find("bbox"), std::string::npos) << ms->accessLog();
+}
+
+TEST_F(OgcServices, CapabilitiesListTheLayersWithTheirCrsAndExtents) {
+    auto described = globe::describeOgcServices(ms->url());
+    ASSERT_TRUE(described) << described.message();
+    const auto j = nlohmann::json::parse(*described);
+    EXPECT_EQ(j["kind"], "ogc-services");
+    ASSERT_TRUE(j.contains("wms")) << *described;
+    ASSERT_TRUE(j.contains("wfs")) << *described;
+    EXPECT_EQ(j["wms"]["title"], "Orbis test services");
+    bool world = false;
+    for (const auto& l : j["wms"]["layers"])
+        if (l["name"] == "world") {
+            world = true;
+            EXPECT_EQ(l["title"], "World colour");
+            ASSERT_TRUE(l["wgs84Bounds"].is_array()) << l.dump();
+            EXPECT_NEAR(l["wgs84Bounds"][0].get<double>(), -180.0, 1e-6);
+            EXPECT_NEAR(l["wgs84Bounds"][3].get<double>(), 90.0, 1e-6);
+            EXPECT_NE(l["crs"].dump().find("EPSG:4326"), std::string::npos) << l.dump();
+        }
+    EXPECT_TRUE(world) << *described;
+    ASSERT_EQ(j["wfs"]["layers"].size(), 1u) << *described;
+    EXPECT_EQ(j["wfs"]["layers"][0]["name"].get<std::string>().find("parcels") != std::string::npos, true);
+    ASSERT_TRUE(j["wfs"]["layers"][0]["wgs84Bounds"].is_array()) << *described;
+    EXPECT_NEAR(j["wfs"]["layers"][0]["wgs84Bounds"][0].get<double>(), 10.0, 1e-3);
+    // Only the service the URL names; a server that is not there: the reason, named.
+    auto wfsOnly = globe::describeOgcServices(ms->url() + "SERVICE=WFS");
+    ASSERT_TRUE(wfsOnly) << wfsOnly.message();
+    EXPECT_FALSE(nlohmann::json::parse(*wfsOnly).contains("wms"));
+    auto nobody = globe::describeOgcServices("http://127.0.0.1:1/ows?");
+    ASSERT_FALSE(nobody);
+    EXPECT_NE(nobody.message().find("http://127.0.0.1:1/ows?"), std::string::npos) << nobody.message();
+}
+
+TEST(OgcCapabilities, ExceptionsAndOtherDocumentsAreClearErrors) {
+    auto e = globe::parseOgcCapabilities(
+        R"(<?xml version="1.0"?><ServiceExceptionReport version="1.1.1"><ServiceException code="LayerNotDefined">no layer 'x'</ServiceException></ServiceExceptionReport>)",
+        globe::OgcService::Wms, "http://h/ows?");
+    ASSERT_FALSE(e);
+    EXPECT_EQ(e.message(), "http://h/ows?: the server reports an exception: no layer 'x'");
+    auto html = globe::parseOgcCapabilities("<html><body>Not Found</body></html>", globe::OgcService::Wms, "u");
+    ASSERT_FALSE(html);
+    EXPECT_EQ(html.message(), "u: not a WMS capabilities document");
+    EXPECT_FALSE(globe::parseOgcCapabilities("garbage <", globe::OgcService::Wfs, "u"));
+    // WMS 1.1.1: SRS and LatLonBoundingBox, inherited CRSs, a time dimension.
+    auto old = globe::parseOgcCapabilities(
+        R"(<WMT_MS_Capabilities version="1.1.1"><Service><Title>T</Title></Service><Capability><Layer><SRS>EPSG:4326</SRS>
+           <Layer><Name>sst</Name><Title>Sea</Title><LatLonBoundingBox minx="-10" miny="-5" maxx="10" maxy="5"/>
+           <Dimension name="time" units="ISO8601"/><Extent name="time">2026-01-01/2026-12-31/P1D</Extent></Layer></Layer></Capability></WMT_MS_Capabilities>)",
+        globe::OgcService::Wms, "u");
+    ASSERT_TRUE(old) << old.message();
+    const auto j = nlohmann::json::parse(*old);
+    ASSERT_EQ(j["layers"].size(), 1u);
+    EXPECT_EQ(j["layers"][0]["crs"][0], "EPSG:4326");
+    EXPECT_EQ(j["layers"][0]["time"], "2026-01-01/2026-12-31/P1D");
+    EXPECT_EQ(j["layers"][0]["wgs84Bounds"][2], 10.0);
 }
 
 }  // namespace

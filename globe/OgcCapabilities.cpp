@@ -1,0 +1,202 @@
+#include "globe/OgcCapabilities.h"
+
+#include "base/Secrets.h"
+#include "globe/GdalSetup.h"
+
+#include <cpl_http.h>
+#include <cpl_minixml.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace orbis::globe {
+namespace {
+
+struct XmlDeleter {
+    void operator()(CPLXMLNode* n) const { CPLDestroyXMLNode(n); }
+};
+
+/// The children of `node` that are elements called `name`.
+std::vector<const CPLXMLNode*> children(const CPLXMLNode* node, const char* name) {
+    std::vector<const CPLXMLNode*> out;
+    for (const CPLXMLNode* c = node ? node->psChild : nullptr; c; c = c->psNext)
+        if (c->eType == CXT_Element && std::string_view(c->pszValue) == name) out.push_back(c);
+    return out;
+}
+
+std::string text(const CPLXMLNode* node, const char* path) {
+    const char* v = node ? CPLGetXMLValue(node, path, nullptr) : nullptr;
+    std::string s = v ? v : "";
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
+    size_t b = 0;
+    while (b < s.size() && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
+    return s.substr(b);
+}
+
+std::optional<double> number(const CPLXMLNode* node, const char* path) {
+    const std::string t = text(node, path);
+    if (t.empty()) return std::nullopt;
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (end == t.c_str() || !std::isfinite(v)) return std::nullopt;
+    return v;
+}
+
+/// "x y" corners (WFS's ows:LowerCorner): two numbers.
+std::optional<std::pair<double, double>> corner(const CPLXMLNode* node, const char* path) {
+    const std::string t = text(node, path);
+    double a = 0, b = 0;
+    char extra = 0;
+    if (std::sscanf(t.c_str(), "%lf %lf %c", &a, &b, &extra) != 2 || !std::isfinite(a) || !std::isfinite(b)) return std::nullopt;
+    return std::make_pair(a, b);
+}
+
+nlohmann::ordered_json bounds(double w, double s, double e, double n) {
+    if (!(w <= e && s <= n && s >= -90.0 && n <= 90.0)) return nullptr;
+    return nlohmann::ordered_json::array({w, s, e, n});
+}
+
+/// A WMS Layer and its sublayers, inheriting CRSs and styles as the specification says.
+void wmsLayers(const CPLXMLNode* layer, std::vector<std::string> crs, nlohmann::ordered_json& out, int depth) {
+    if (depth > 32) return;   // a document nested without end
+    for (const char* tag : {"CRS", "SRS"})
+        for (const CPLXMLNode* c : children(layer, tag)) {
+            std::string v = text(c, "");
+            if (!v.empty() && std::find(crs.begin(), crs.end(), v) == crs.end()) crs.push_back(v);
+        }
+    const std::string name = text(layer, "Name");
+    if (!name.empty()) {
+        nlohmann::ordered_json l{{"name", name}, {"title", text(layer, "Title")}};
+        nlohmann::ordered_json styles = nlohmann::ordered_json::array();
+        for (const CPLXMLNode* s : children(layer, "Style")) styles.push_back(text(s, "Name"));
+        l["styles"] = styles;
+        l["crs"] = crs;
+        if (const CPLXMLNode* g = CPLGetXMLNode(const_cast<CPLXMLNode*>(layer), "EX_GeographicBoundingBox")) {
+            auto w = number(g, "westBoundLongitude"), e = number(g, "eastBoundLongitude");
+            auto s = number(g, "southBoundLatitude"), n = number(g, "northBoundLatitude");
+            if (w && e && s && n) l["wgs84Bounds"] = bounds(*w, *s, *e, *n);
+        } else if (const CPLXMLNode* b = CPLGetXMLNode(const_cast<CPLXMLNode*>(layer), "LatLonBoundingBox")) {
+            auto w = number(b, "minx"), e = number(b, "maxx"), s = number(b, "miny"), n = number(b, "maxy");
+            if (w && e && s && n) l["wgs84Bounds"] = bounds(*w, *s, *e, *n);
+        }
+        for (const char* tag : {"Dimension", "Extent"})
+            for (const CPLXMLNode* d : children(layer, tag)) {
+                std::string dim = text(d, "name");
+                std::transform(dim.begin(), dim.end(), dim.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+                if (dim == "time" && !text(d, "").empty()) l["time"] = text(d, "");
+            }
+        out.push_back(l);
+    }
+    for (const CPLXMLNode* c : children(layer, "Layer")) wmsLayers(c, crs, out, depth + 1);
+}
+
+}  // namespace
+
+// Text from the server that is not UTF-8 is written with U+FFFD in its place (never a throw).
+Result<std::string> parseOgcCapabilities(std::string_view xml, OgcService service, const std::string& source) {
+    const std::string doc(xml);
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    std::unique_ptr<CPLXMLNode, XmlDeleter> root(CPLParseXMLString(doc.c_str()));
+    CPLPopErrorHandler();
+    if (!root) return makeError(source + ": the answer is not XML");
+    CPLStripXMLNamespace(root.get(), nullptr, TRUE);
+    for (const CPLXMLNode* n = root.get(); n; n = n->psNext) {
+        if (n->eType != CXT_Element) continue;
+        const std::string tag = n->pszValue;
+        if (tag == "ServiceExceptionReport" || tag == "ExceptionReport") {
+            std::string why = text(n, "ServiceException");
+            if (why.empty()) why = text(n, "Exception.ExceptionText");
+            return makeError(source + ": the server reports an exception: " + (why.empty() ? std::string("(no text)") : why.substr(0, 500)));
+        }
+        nlohmann::ordered_json out;
+        if (service == OgcService::Wms && (tag == "WMS_Capabilities" || tag == "WMT_MS_Capabilities")) {
+            out["service"] = "WMS";
+            out["version"] = text(n, "version");
+            out["title"] = text(n, "Service.Title");
+            nlohmann::ordered_json layers = nlohmann::ordered_json::array();
+            if (const CPLXMLNode* cap = CPLGetXMLNode(const_cast<CPLXMLNode*>(n), "Capability"))
+                for (const CPLXMLNode* l : children(cap, "Layer")) wmsLayers(l, {}, layers, 0);
+            out["layers"] = layers;
+            return out.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+        }
+        if (service == OgcService::Wfs && tag == "WFS_Capabilities") {
+            out["service"] = "WFS";
+            out["version"] = text(n, "version");
+            std::string title = text(n, "ServiceIdentification.Title");
+            if (title.empty()) title = text(n, "Service.Title");
+            out["title"] = title;
+            nlohmann::ordered_json layers = nlohmann::ordered_json::array();
+            if (const CPLXMLNode* list = CPLGetXMLNode(const_cast<CPLXMLNode*>(n), "FeatureTypeList"))
+                for (const CPLXMLNode* f : children(list, "FeatureType")) {
+                    nlohmann::ordered_json l{{"name", text(f, "Name")}, {"title", text(f, "Title")}};
+                    std::vector<std::string> crs;
+                    for (const char* tag2 : {"DefaultCRS", "DefaultSRS", "SRS", "OtherCRS", "OtherSRS"})
+                        for (const CPLXMLNode* c : children(f, tag2))
+                            if (!text(c, "").empty()) crs.push_back(text(c, ""));
+                    l["crs"] = crs;
+                    auto lo = corner(f, "WGS84BoundingBox.LowerCorner"), hi = corner(f, "WGS84BoundingBox.UpperCorner");
+                    if (lo && hi) l["wgs84Bounds"] = bounds(lo->first, lo->second, hi->first, hi->second);
+                    layers.push_back(l);
+                }
+            out["layers"] = layers;
+            return out.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+        }
+    }
+    return makeError(source + ": not a " + (service == OgcService::Wms ? "WMS" : "WFS") + " capabilities document");
+}
+
+Result<std::string> describeOgcServices(const std::string& url) {
+    configureGdal();   // HTTP timeouts
+    std::string base = url;
+    for (const char* prefix : {"WMS:", "WFS:"})
+        if (base.rfind(prefix, 0) == 0) base = base.substr(4);
+    if (base.rfind("http://", 0) != 0 && base.rfind("https://", 0) != 0)
+        return makeError(redactSecrets(url) + ": not an http:// or https:// address");
+    std::string upper = base;
+    std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return char(std::toupper(c)); });
+    const bool onlyWms = upper.find("SERVICE=WMS") != std::string::npos, onlyWfs = upper.find("SERVICE=WFS") != std::string::npos;
+    // The address without a SERVICE or REQUEST of its own, ready for parameters.
+    if (base.find('?') == std::string::npos) base += '?';
+    else if (base.back() != '?' && base.back() != '&') base += '&';
+    const std::string shown = redactSecrets(url);
+    nlohmann::ordered_json out{{"kind", "ogc-services"}, {"url", shown}};
+    bool any = false;
+    for (const OgcService service : {OgcService::Wms, OgcService::Wfs}) {
+        const bool wms = service == OgcService::Wms;
+        if ((wms && onlyWfs) || (!wms && onlyWms)) continue;
+        const std::string request = base + (onlyWms || onlyWfs ? "" : wms ? "SERVICE=WMS&" : "SERVICE=WFS&") + "REQUEST=GetCapabilities";
+        CPLPushErrorHandler(CPLQuietErrorHandler);
+        CPLHTTPResult* r = CPLHTTPFetch(request.c_str(), nullptr);
+        CPLPopErrorHandler();
+        std::string error;
+        Result<std::string> parsed = makeError("");
+        if (!r) error = "no answer";
+        else if (r->nStatus != 0 || r->pszErrBuf) error = redactSecrets(r->pszErrBuf ? r->pszErrBuf : "the request failed");
+        else parsed = parseOgcCapabilities(std::string_view(reinterpret_cast<const char*>(r->pabyData), size_t(r->nDataLen)), service, shown);
+        if (r) CPLHTTPDestroyResult(r);
+        const char* key = wms ? "wms" : "wfs";
+        if (error.empty() && parsed) {
+            out[key] = nlohmann::ordered_json::parse(*parsed);
+            any = true;
+        } else {
+            out[std::string(key) + "Error"] = error.empty() ? parsed.message() : shown + ": " + error;
+        }
+    }
+    if (!any) {
+        std::string why;
+        for (const char* k : {"wmsError", "wfsError"})
+            if (out.contains(k)) why += (why.empty() ? "" : "; ") + out[k].get<std::string>();
+        return makeError(why.empty() ? shown + ": no OGC service answered" : why);
+    }
+    return out.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
+
+}  // namespace orbis::globe
