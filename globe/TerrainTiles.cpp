@@ -148,16 +148,50 @@ uint32_t TerrainTiles::addImagery(std::shared_ptr<const TileImageSource> source)
 }
 
 void TerrainTiles::replaceImagery(uint32_t layer, std::shared_ptr<const TileImageSource> source) {
+    repaint(layer, std::move(source), nullptr, 0.0);
+}
+
+void TerrainTiles::repaintImagery(uint32_t layer, std::shared_ptr<const TileImageSource> source,
+                                  std::span<const GeoExtent> regions, double tileMargin) {
     if (layer == 0 || layer > imagery_.size()) return;
+    // Another finest level: every tile again (see repaint).
+    const bool sameLevels = source->maxLevel(settings_.imageSize) == imagery_[layer - 1]->maxLevel(settings_.imageSize);
+    repaint(layer, std::move(source), sameLevels ? &regions : nullptr, tileMargin);
+}
+
+void TerrainTiles::repaint(uint32_t layer, std::shared_ptr<const TileImageSource> source, const std::span<const GeoExtent>* regions,
+                           double tileMargin) {
+    if (layer == 0 || layer > imagery_.size()) return;
+    const uint32_t previous = currentGeneration(layer);
     imagery_[layer - 1] = std::move(source);
     if (generations_.size() <= layer) generations_.resize(layer + 1, 0);
-    ++generations_[layer];
+    const uint32_t now = ++generations_[layer];
+    // Whether the change reaches a tile: its extent, grown by the margin, meets a region (a
+    // turn either way included). Without regions, every tile.
+    const auto reached = [&](const TileKey& tile) {
+        if (!regions) return true;
+        GeoExtent e = tile.extent();
+        const double m = tileMargin * tile.sizeDeg();
+        e = {e.west - m, e.south - m, e.east + m, e.north + m};
+        for (const GeoExtent& r : *regions)
+            for (double turn : {-360.0, 0.0, 360.0})
+                if (r.west + turn <= e.east && r.east + turn >= e.west && r.south <= e.north && r.north >= e.south) return true;
+        return false;
+    };
     // Tiles finer than the new source paints are never asked for again: were they kept, their
     // old images would stand in for their ancestors' new ones for good.
     const uint32_t finest = maxDataLevel(layer);
     for (auto it = entries_.begin(); it != entries_.end();) {
         Entry& e = it->second;
         if (it->first.layer != layer) {
+            ++it;
+            continue;
+        }
+        if (!reached(it->first.tile)) {
+            // The new source paints this tile as the last one did: what it has (or is painting)
+            // from the last source stays right.
+            if (e.generation == previous) e.generation = now;
+            if (e.busy() && e.loadingGeneration == previous) e.loadingGeneration = now;
             ++it;
             continue;
         }
@@ -175,58 +209,6 @@ void TerrainTiles::replaceImagery(uint32_t layer, std::shared_ptr<const TileImag
         // had nothing yet, or failed, starts again.
         if ((e.state == DataState::Ready || e.state == DataState::Empty) && it->first.tile.level <= finest) {
             ++it;
-            continue;
-        }
-        cpuBytes_ -= e.bytes;
-        it = entries_.erase(it);
-    }
-    stats_.loading = loadingCount_;
-}
-
-void TerrainTiles::repaintImagery(uint32_t layer, std::shared_ptr<const TileImageSource> source,
-                                  std::span<const GeoExtent> regions, double tileMargin) {
-    if (layer == 0 || layer > imagery_.size()) return;
-    if (source->maxLevel(settings_.imageSize) != imagery_[layer - 1]->maxLevel(settings_.imageSize)) {
-        replaceImagery(layer, std::move(source));
-        return;
-    }
-    const uint32_t previous = currentGeneration(layer);
-    imagery_[layer - 1] = std::move(source);
-    if (generations_.size() <= layer) generations_.resize(layer + 1, 0);
-    const uint32_t now = ++generations_[layer];
-    const auto reached = [&](const TileKey& tile) {
-        GeoExtent e = tile.extent();
-        const double m = tileMargin * tile.sizeDeg();
-        e = {e.west - m, e.south - m, e.east + m, e.north + m};
-        for (const GeoExtent& r : regions)
-            for (double turn : {-360.0, 0.0, 360.0})
-                if (r.west + turn <= e.east && r.east + turn >= e.west && r.south <= e.north && r.north >= e.south) return true;
-        return false;
-    };
-    for (auto it = entries_.begin(); it != entries_.end();) {
-        Entry& e = it->second;
-        if (it->first.layer != layer) {
-            ++it;
-            continue;
-        }
-        if (!reached(it->first.tile)) {
-            // The new source paints this tile as the last one did: what it has (or is painting)
-            // from the last source stays right.
-            if (e.generation == previous) e.generation = now;
-            if (e.busy() && e.loadingGeneration == previous) e.loadingGeneration = now;
-            ++it;
-            continue;
-        }
-        if (e.busy()) {
-            e.job.cancel();
-            if (!e.job.ready()) orphans_.push_back(std::move(e.job));
-            e.job = {};
-            --loadingCount_;
-            ++stats_.cancelled;
-            e.refreshing = false;
-        }
-        if (e.state == DataState::Ready || e.state == DataState::Empty) {
-            ++it;   // shown until its repaint arrives
             continue;
         }
         cpuBytes_ -= e.bytes;

@@ -195,6 +195,10 @@ private:
     };
 
     const Entry* find(uint32_t layer, const TileKey& tile) const;
+    /// replaceImagery (regions null) and repaintImagery: the new source, and its tiles that the
+    /// regions reach painted again.
+    void repaint(uint32_t layer, std::shared_ptr<const TileImageSource> source, const std::span<const GeoExtent>* regions,
+                 double tileMargin);
     /// Starts loading `key` (a Missing entry, or with `refresh` a stale Ready or Empty one, which
     /// keeps its data until the new arrives).
     void startLoad(const DataKey& key, Entry& entry, double priority, bool refresh = false);
