@@ -1,6 +1,7 @@
 #include "tests/support/MapServer.h"
 
 #include "tests/support/Loopback.h"
+#include "tests/support/Shell.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -23,18 +24,6 @@ using Clock = std::chrono::steady_clock;
 
 const char* kLighttpd = "/usr/sbin/lighttpd";
 const char* kMapserv = "/usr/lib/cgi-bin/mapserv";
-
-int waitFor(pid_t pid, std::chrono::milliseconds limit) {
-    const auto end = Clock::now() + limit;
-    while (true) {
-        int status = 0;
-        const pid_t r = ::waitpid(pid, &status, WNOHANG);
-        if (r == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        if (r < 0) return 255;
-        if (Clock::now() >= end) return -1;
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-}
 
 /// GET http://127.0.0.1:port/target (HTTP/1.0: the server closes after the reply), within
 /// `limit`: the status code (0 when there is no answer) and the body.
@@ -172,7 +161,7 @@ bool MapServer::start() {
     // Ready when GetCapabilities answers (within 20 s).
     const auto end = Clock::now() + std::chrono::seconds(20);
     while (Clock::now() < end) {
-        if (waitFor(pid_, std::chrono::milliseconds(0)) >= 0) {
+        if (waitForChild(pid_, std::chrono::milliseconds(0)) >= 0) {
             pid_ = -1;
             error_ = "lighttpd exited at start: " + readAll(out) + readAll(root_ / "error.log");
             return false;
@@ -188,9 +177,9 @@ bool MapServer::start() {
 void MapServer::stop() {
     if (pid_ <= 0) return;
     ::kill(pid_, SIGTERM);
-    if (waitFor(pid_, std::chrono::seconds(10)) < 0) {
+    if (waitForChild(pid_, std::chrono::seconds(10)) < 0) {
         ::kill(-pid_, SIGKILL);
-        waitFor(pid_, std::chrono::seconds(5));
+        waitForChild(pid_, std::chrono::seconds(5));
     }
     pid_ = -1;
 }

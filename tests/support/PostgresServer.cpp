@@ -1,6 +1,7 @@
 #include "tests/support/PostgresServer.h"
 
 #include "tests/support/Loopback.h"
+#include "tests/support/Shell.h"
 
 #include <fcntl.h>
 #include <grp.h>
@@ -50,19 +51,6 @@ std::string quote(const std::string& s) {   // for a shell command line
     std::string q = "'";
     for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
     return q + "'";
-}
-
-/// Waits for `pid` within `limit`: its exit status, or -1 when it is still running.
-int waitFor(pid_t pid, std::chrono::milliseconds limit) {
-    const auto end = Clock::now() + limit;
-    while (true) {
-        int status = 0;
-        const pid_t r = ::waitpid(pid, &status, WNOHANG);
-        if (r == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        if (r < 0) return 255;
-        if (Clock::now() >= end) return -1;
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
 }
 
 }  // namespace
@@ -136,11 +124,11 @@ bool PostgresServer::runTool(const std::vector<std::string>& argv, std::chrono::
         error_ = std::string("fork: ") + std::strerror(errno);
         return false;
     }
-    const int status = waitFor(pid, limit);
+    const int status = waitForChild(pid, limit);
     if (status == 0) return true;
     if (status < 0) {
         ::kill(pid, SIGKILL);
-        waitFor(pid, std::chrono::seconds(5));
+        waitForChild(pid, std::chrono::seconds(5));
     }
     error_ = argv[0] + (status < 0 ? " did not finish within " + std::to_string(limit.count()) + " s"
                                    : " failed (exit " + std::to_string(status) + ")") +
@@ -215,7 +203,7 @@ bool PostgresServer::waitReady(std::chrono::seconds limit) {
     const std::string probe = quote((bin_ / "pg_isready").string()) + " -q -h 127.0.0.1 -p " + std::to_string(port_) +
                               " -U orbis -d postgres -t 1";
     while (Clock::now() < end) {
-        if (waitFor(pid_, std::chrono::milliseconds(0)) >= 0) {   // it exited (port taken, bad data folder)
+        if (waitForChild(pid_, std::chrono::milliseconds(0)) >= 0) {   // it exited (port taken, bad data folder)
             pid_ = -1;
             error_ = "postgres exited at start: " + logTail();
             return false;
@@ -251,16 +239,16 @@ std::string PostgresServer::clientEnv() const {
 void PostgresServer::kill() {
     if (pid_ <= 0) return;
     ::kill(-pid_, SIGKILL);   // the postmaster and its backends (one process group)
-    waitFor(pid_, std::chrono::seconds(10));
+    waitForChild(pid_, std::chrono::seconds(10));
     pid_ = -1;
 }
 
 void PostgresServer::stopServer() {
     if (pid_ <= 0) return;
     ::kill(pid_, SIGINT);   // fast shutdown: ends the sessions, no checkpoint wait on clients
-    if (waitFor(pid_, std::chrono::seconds(15)) < 0) {
+    if (waitForChild(pid_, std::chrono::seconds(15)) < 0) {
         ::kill(-pid_, SIGKILL);
-        waitFor(pid_, std::chrono::seconds(5));
+        waitForChild(pid_, std::chrono::seconds(5));
     }
     pid_ = -1;
 }
