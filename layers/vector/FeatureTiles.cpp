@@ -300,7 +300,7 @@ std::vector<DeferredRead> FeatureTiles::invalidate(std::span<const LonLatBounds>
             // A page that takes long to read (a coarse one over much of a large source) is read
             // again at most a fifth of the time: the change shows there a little later.
             e.retryAt = {};
-            if (e.readTime > kQuickRead) {
+            if (e.readTime > options_.quickRead) {
                 e.retryAt = now + 4 * e.readTime;
                 deferred.push_back({g, e.retryAt});
             }

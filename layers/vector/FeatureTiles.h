@@ -76,6 +76,9 @@ struct FeatureTilesOptions {
     /// Each feature in the one tile that holds the centre of its box, whole (neither clipped
     /// nor simplified, no margin): what meshes need, a building drawn once and entire.
     bool owned = false;
+    /// invalidate: a page whose last read took longer is read again only after four times that
+    /// (FeatureTiles::invalidate).
+    std::chrono::microseconds quickRead{25000};
 };
 
 class FeatureTiles {
@@ -109,11 +112,10 @@ public:
     /// again by the next acquire (the first asking reads, the others wait for it), their old
     /// content in loaded() until then, and served again if that read fails; pages being read
     /// are not kept; failed ones are forgotten. Quick: no read here. Any thread.
-    /// A page that took long to read (more than kQuickRead) is read again only after four
-    /// times its read time: the result names these, with when (tiles painted before then show
-    /// the old content: paint them again at that time).
+    /// A page that took long to read (more than options().quickRead) is read again only after
+    /// four times its read time: the result names these, with when (tiles painted before then
+    /// show the old content: paint them again at that time).
     std::vector<DeferredRead> invalidate(std::span<const LonLatBounds> boxes);
-    static constexpr std::chrono::milliseconds kQuickRead{25};
 
     /// The source changed within `boxes` (lon/lat; empty: anywhere). Each page in memory that
     /// reaches into a box is read again on this thread and replaced when its fingerprint

@@ -353,7 +353,9 @@ TEST(FeatureTiles, ARefreshForgetsAFailedPageSoTheNextAskReadsIt) {
 TEST(FeatureTiles, AnInvalidatedPageShowsItsOldContentUntilTheNextAskReadsItAgain) {
     PointFile file("orbis-invalidate");
     file.write({{10.0, 45.0}, {100.0, -30.0}});
-    FeatureTiles tiles(file.options());
+    FeatureTilesOptions o = file.options();
+    o.quickRead = std::chrono::seconds(60);   // every read counts as quick, however busy the machine
+    FeatureTiles tiles(o);
     const TileKey europe = TileKey::containing(10.0, 45.0, 6), australia = TileKey::containing(100.0, -30.0, 6);
     auto before = tiles.acquire(europe);
     auto far = tiles.acquire(australia);
@@ -381,6 +383,34 @@ TEST(FeatureTiles, AnInvalidatedPageShowsItsOldContentUntilTheNextAskReadsItAgai
     ASSERT_TRUE(served) << served.message();
     EXPECT_EQ(served->get(), after->get());
     EXPECT_NE(tiles.lastError().find("no such file"), std::string::npos) << tiles.lastError();
+}
+
+TEST(FeatureTiles, AnInvalidatedPageSlowToReadIsReadAgainOnlyLater) {
+    PointFile file("orbis-invalidate-slow");
+    file.write({{10.0, 45.0}});
+    FeatureTilesOptions o = file.options();
+    o.quickRead = std::chrono::microseconds(0);   // every read counts as slow
+    FeatureTiles tiles(o);
+    const TileKey europe = TileKey::containing(10.0, 45.0, 6);
+    auto before = tiles.acquire(europe);
+    ASSERT_TRUE(before);
+    file.write({{10.0, 45.0}, {10.1, 45.1}});
+    const LonLatBounds box{10.1, 45.1, 10.1, 45.1, false};
+    const auto deferred = tiles.invalidate(std::span(&box, 1));
+    ASSERT_EQ(deferred.size(), 1u);
+    EXPECT_TRUE(deferred[0].extent.west <= 10.1 && deferred[0].extent.east >= 10.1);
+    // Until then the old content serves, without a read.
+    if (std::chrono::steady_clock::now() < deferred[0].when) {
+        auto early = tiles.acquire(europe);
+        ASSERT_TRUE(early);
+        if (std::chrono::steady_clock::now() < deferred[0].when) {
+            EXPECT_EQ(early->get(), before->get());
+        }
+    }
+    std::this_thread::sleep_until(deferred[0].when + std::chrono::milliseconds(1));
+    auto after = tiles.acquire(europe);
+    ASSERT_TRUE(after);
+    EXPECT_EQ(featuresIn(**after), 2u);
 }
 
 }  // namespace
