@@ -173,10 +173,7 @@ void TerrainTiles::repaint(uint32_t layer, std::shared_ptr<const TileImageSource
         GeoExtent e = tile.extent();
         const double m = tileMargin * tile.sizeDeg();
         e = {e.west - m, e.south - m, e.east + m, e.north + m};
-        for (const GeoExtent& r : *regions)
-            for (double turn : {-360.0, 0.0, 360.0})
-                if (r.west + turn <= e.east && r.east + turn >= e.west && r.south <= e.north && r.north >= e.south) return true;
-        return false;
+        return std::any_of(regions->begin(), regions->end(), [&](const GeoExtent& r) { return e.meetsWithTurns(r); });
     };
     // Tiles finer than the new source paints are never asked for again: were they kept, their
     // old images would stand in for their ancestors' new ones for good.

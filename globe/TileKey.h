@@ -30,6 +30,14 @@ struct GeoExtent {
         return west < o.east && o.west < east && south < o.north && o.south < north;
     }
     bool valid() const { return west < east && south < north; }
+    /// Whether the closed boxes touch, `o` moved a turn (360 degrees) either way included: for
+    /// boxes whose longitudes run on past +-180 (a change region, a tile grown by a margin).
+    bool meetsWithTurns(const GeoExtent& o) const {
+        if (o.north < south || o.south > north) return false;
+        for (double turn : {-360.0, 0.0, 360.0})
+            if (o.west + turn <= east && o.east + turn >= west) return true;
+        return false;
+    }
     bool operator==(const GeoExtent&) const = default;
 };
 

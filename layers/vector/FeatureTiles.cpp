@@ -81,9 +81,7 @@ uint64_t fingerprintOf(const VectorData& data) {
 bool meets(const LonLatBounds& box, const globe::GeoExtent& e) {
     if (box.empty || box.north < e.south || box.south > e.north) return false;
     if (box.spansAllLongitudes()) return true;
-    for (double turn : {-360.0, 0.0, 360.0})
-        if (box.west + turn <= e.east && box.east + turn >= e.west) return true;
-    return false;
+    return e.meetsWithTurns({box.west, box.south, box.east, box.north});
 }
 
 }  // namespace

@@ -111,11 +111,8 @@ void VectorLayer::applyChanges(std::vector<globe::GeoExtent> regions) {
     // The meshes of the tiles the regions reach are built again (the old ones drawn meanwhile).
     for (auto& [key, tile] : tileMeshes_) {
         const globe::GeoExtent e = key.extent();
-        const bool reached = std::any_of(regions.begin(), regions.end(), [&](const globe::GeoExtent& r) {
-            for (double turn : {-360.0, 0.0, 360.0})
-                if (r.west + turn <= e.east && r.east + turn >= e.west && r.south <= e.north && r.north >= e.south) return true;
-            return false;
-        });
+        const bool reached =
+            std::any_of(regions.begin(), regions.end(), [&](const globe::GeoExtent& r) { return e.meetsWithTurns(r); });
         if (!reached) continue;
         tile.generation = 0;
         meshTileChanged_[key] = refreshesApplied_;

@@ -569,5 +569,20 @@ TEST(TileSelector, CameraInsideATallTileNeverCullsIt) {
     EXPECT_TRUE(disjoint(tiles));
 }
 
+TEST(GeoExtent, MeetsWithTurnsSeesABoxAcrossTheAntimeridian) {
+    const GeoExtent eastEdge{170.0, -10.0, 180.0, 10.0};
+    const GeoExtent westEdge{-180.0, -10.0, -170.0, 10.0};
+    // A region written with continuous longitudes past +180 reaches the tile at the west edge.
+    const GeoExtent across{175.0, 0.0, 185.0, 5.0};
+    EXPECT_TRUE(eastEdge.meetsWithTurns(across));
+    EXPECT_TRUE(westEdge.meetsWithTurns(across));
+    EXPECT_TRUE(westEdge.meetsWithTurns({-190.0, 0.0, -175.0, 5.0}));
+    // Closed boxes: touching edges meet; a latitude gap or a longitude gap does not.
+    EXPECT_TRUE(eastEdge.meetsWithTurns({160.0, 10.0, 170.0, 20.0}));
+    EXPECT_FALSE(eastEdge.meetsWithTurns({175.0, 10.5, 185.0, 20.0}));
+    EXPECT_FALSE(westEdge.meetsWithTurns({0.0, 0.0, 10.0, 5.0}));
+    EXPECT_FALSE(westEdge.meetsWithTurns({192.0, 0.0, 195.0, 5.0}));  // -168..-165
+}
+
 }  // namespace
 }  // namespace orbis::globe
