@@ -6,6 +6,7 @@
 #include <cpl_conv.h>
 #include <gdal.h>
 
+#include <cstdlib>
 #include <mutex>
 #include <string>
 
@@ -43,6 +44,71 @@ void configureGdal() {
         GDALAllRegister();
         if (!userCache) GDALSetCacheMax64(kGdalBlockCacheBytes);
     });
+}
+
+namespace {
+
+std::optional<std::string> envValue(const std::string& name) {
+    const char* v = name.empty() ? nullptr : std::getenv(name.c_str());
+    if (!v) return std::nullopt;
+    return std::string(v);
+}
+
+/// GDAL_HTTP_HEADERS splits on commas: a header with a comma or a quote goes in double quotes,
+/// its quotes and backslashes escaped with a backslash.
+std::string gdalHeaderList(const std::string& header) {
+    if (header.find_first_of(",\"\\") == std::string::npos) return header;
+    std::string q = "\"";
+    for (char c : header) {
+        if (c == '"' || c == '\\') q += '\\';
+        q += c;
+    }
+    return q + "\"";
+}
+
+}  // namespace
+
+Result<void> checkHttpAuth(const HttpAuth& auth) {
+    if (!auth.basicEnv.empty()) {
+        const auto v = envValue(auth.basicEnv);
+        if (!v) return makeError("the environment variable " + auth.basicEnv + " (HTTP basic credentials) is not set");
+        if (v->find(':') == std::string::npos || v->front() == ':')
+            return makeError("the environment variable " + auth.basicEnv + " must hold \"user:password\"");
+        if (v->find_first_of("\r\n") != std::string::npos)
+            return makeError("the environment variable " + auth.basicEnv + " holds a line break");
+    }
+    if (!auth.headerEnv.empty()) {
+        const auto v = envValue(auth.headerEnv);
+        if (!v) return makeError("the environment variable " + auth.headerEnv + " (an HTTP header) is not set");
+        const size_t colon = v->find(':');
+        const bool nameOk = colon != std::string::npos && colon > 0 &&
+                            v->find_first_of(" \t\"(),/;<=>?@[\\]{}") >= colon;
+        if (!nameOk) return makeError("the environment variable " + auth.headerEnv + " must hold one header, \"Name: value\"");
+        if (v->find_first_of("\r\n") != std::string::npos)
+            return makeError("the environment variable " + auth.headerEnv + " holds a line break (one header only)");
+    }
+    return {};
+}
+
+ScopedHttpAuth::ScopedHttpAuth(const HttpAuth& auth) {
+    if (!auth.any()) return;
+    configureGdal();
+    if (const auto basic = envValue(auth.basicEnv)) {
+        set("GDAL_HTTP_USERPWD", *basic);
+        set("GDAL_HTTP_AUTH", "BASIC");
+    }
+    if (const auto header = envValue(auth.headerEnv)) set("GDAL_HTTP_HEADERS", gdalHeaderList(*header));
+}
+
+void ScopedHttpAuth::set(const char* key, const std::string& value) {
+    const char* old = CPLGetThreadLocalConfigOption(key, nullptr);
+    saved_.emplace_back(key, old ? std::optional<std::string>(old) : std::nullopt);
+    CPLSetThreadLocalConfigOption(key, value.c_str());
+}
+
+ScopedHttpAuth::~ScopedHttpAuth() {
+    for (auto it = saved_.rbegin(); it != saved_.rend(); ++it)
+        CPLSetThreadLocalConfigOption(it->first.c_str(), it->second ? it->second->c_str() : nullptr);
 }
 
 }  // namespace orbis::globe

@@ -7,9 +7,50 @@
 // servers; GDAL_DEFAULT_WMS_CACHE_PATH in Orbis's tile cache (TileCacheFs.h); GDAL_CACHEMAX 64 MB;
 // WFS GetFeature paged (OGR_WFS_PAGING_ALLOWED=ON, OGR_WFS_PAGE_SIZE=1000).
 // A scene that reads nothing through GDAL never initialises it.
+//
+// HTTP credentials for one source (a WMS, a WFS, a file over /vsicurl/) come from environment
+// variables that the source names, read at each request, so that a scene file, a log or an error
+// message never holds them:
+//
+//   HttpAuth auth{.basicEnv = "ORBIS_WMS_USERPWD"};       // the variable holds "user:password"
+//   if (auto ok = checkHttpAuth(auth); !ok) return ok.error();
+//   ScopedHttpAuth scope(auth);                           // this thread's GDAL requests send them
+
+#include "base/Result.h"
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace orbis::globe {
 
 void configureGdal();
+
+struct HttpAuth {
+    std::string basicEnv;    ///< a variable holding "user:password" (HTTP basic authentication)
+    std::string headerEnv;   ///< a variable holding one request header, "Name: value"
+    bool any() const { return !basicEnv.empty() || !headerEnv.empty(); }
+    bool operator==(const HttpAuth&) const = default;
+};
+
+/// Whether the variables are set and well formed. Errors name the variable and what is wrong,
+/// never its value. Any thread.
+Result<void> checkHttpAuth(const HttpAuth& auth);
+
+/// For its life, the calling thread's GDAL HTTP requests send `auth`'s credentials (thread-local
+/// GDAL_HTTP_USERPWD with GDAL_HTTP_AUTH=BASIC, and GDAL_HTTP_HEADERS); what the thread had
+/// before is put back. Does nothing for an empty `auth`, or a variable that is not set.
+class ScopedHttpAuth {
+public:
+    explicit ScopedHttpAuth(const HttpAuth& auth);
+    ~ScopedHttpAuth();
+    ScopedHttpAuth(const ScopedHttpAuth&) = delete;
+    ScopedHttpAuth& operator=(const ScopedHttpAuth&) = delete;
+
+private:
+    void set(const char* key, const std::string& value);
+    std::vector<std::pair<std::string, std::optional<std::string>>> saved_;
+};
 
 }  // namespace orbis::globe

@@ -85,6 +85,8 @@ Result<std::shared_ptr<RasterSource>> RasterSource::open(const RasterSourceOptio
     if (options.bounds && !options.xyzUrl.empty()) return s.error("\"bounds\" georeferences a file, not an XYZ source");
 
     configureGdal();
+    if (auto ok = checkHttpAuth(options.httpAuth); !ok) return s.error(ok.message());
+    const ScopedHttpAuth auth(options.httpAuth);
     GdalErrors unexpected;  // nothing GDAL says while opening reaches stderr
     const bool remote = isRemotePath(s.openPath);
     if (!remote) {
@@ -115,6 +117,17 @@ Result<std::shared_ptr<RasterSource>> RasterSource::open(const RasterSourceOptio
         GdalErrors errors;
         ds = GDALOpenEx(s.openPath.c_str(), GDAL_OF_RASTER | GDAL_OF_VERBOSE_ERROR, nullptr, nullptr, nullptr);
         if (!ds) return s.error("cannot georeference it with \"bounds\" (" + errors.text() + ")");
+    }
+    if (!options.path.empty() && EQUALN(options.path.c_str(), "WMS:", 4)) {
+        // A WMS URL: read through a description with a timeout and the tile cache (GDAL's own
+        // from a URL has neither).
+        if (auto xml = wmsUrlToXml(ds, options.cacheDir.empty() ? defaultRasterCacheDir() : options.cacheDir)) {
+            GDALClose(ds);
+            s.openPath = *xml;
+            GdalErrors errors;
+            ds = GDALOpenEx(s.openPath.c_str(), GDAL_OF_RASTER | GDAL_OF_VERBOSE_ERROR, nullptr, nullptr, nullptr);
+            if (!ds) return s.error("cannot open its service description (" + errors.text() + ")");
+        }
     }
     DatasetGuard guard{ds};
     if (auto r = s.inspect(ds); !r) return r.error();

@@ -17,6 +17,7 @@
 // far away) come back empty at once (anyValid = false): see minLevel().
 
 #include "base/Result.h"
+#include "globe/GdalSetup.h"
 #include "globe/TileImageSource.h"
 #include "globe/TileKey.h"
 
@@ -61,6 +62,9 @@ struct RasterSourceOptions {
     int maxLevelOverride = -1;
     /// Disk cache for WMS/XYZ tiles. Empty: defaultRasterCacheDir().
     std::string cacheDir;
+    /// HTTP credentials for a remote source, from the environment variables it names (sent by
+    /// every request of this source only; never in a message).
+    HttpAuth httpAuth;
     /// Georeferences a picture that has none (a plate carrée image such as NASA's Blue Marble
     /// as a JPEG): its outer corners in WGS 84 lon/lat degrees. The file's own georeferencing,
     /// if any, is then ignored. Not for XYZ sources.

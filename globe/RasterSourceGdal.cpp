@@ -4,6 +4,7 @@
 #include "globe/TileCacheFs.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -20,6 +21,52 @@ bool isRemotePath(const std::string& p) {
     for (const char* r : kRemote)
         if (p.find(r) != std::string::npos) return true;
     return p.find("://") != std::string::npos || (!p.empty() && p.front() == '<');
+}
+
+std::string plainGdalMessage(const std::string& message) {
+    std::string m = message;
+    // "file, band 1: IReadBlock failed at X offset 0, Y offset 720: <why>" -> "<why>"
+    if (const size_t at = m.find("IReadBlock failed at"); at != std::string::npos) {
+        const size_t colon = m.find(": ", at);
+        m = colon == std::string::npos ? m : m.substr(colon + 2);
+    }
+    const auto trim = [](std::string t) {
+        const size_t a = t.find_first_not_of(" \t\r\n."), b = t.find_last_not_of(" \t\r\n.");
+        return a == std::string::npos ? std::string() : t.substr(a, b - a + 1);
+    };
+    if (m.find("Unable to open downloaded block") != std::string::npos ||
+        m.find("RasterIO failed on downloaded block") != std::string::npos || m.find("ReadBlockFromFile (") != std::string::npos)
+        return {};
+    if (m.rfind("/vsiorbiscache/", 0) == 0 && m.find("No such file or directory") != std::string::npos) return {};
+    if (const size_t at = m.find("HTTP status code: "); at != std::string::npos) {
+        const int code = std::atoi(m.c_str() + at + 18);
+        const size_t e = m.find("error: ", at);
+        std::string why = e == std::string::npos ? std::string() : trim(m.substr(e + 7));
+        why = why.substr(0, why.find('\n'));
+        if (code == 0) return "no answer from the server" + (why.empty() ? std::string() : " (" + why + ")");
+        return "the server answered HTTP " + std::to_string(code) + (why.empty() ? std::string() : ": " + why);
+    }
+    if (m.find("libpng") != std::string::npos || m.find("JPEG") != std::string::npos || m.find("wmsresult.dat") != std::string::npos)
+    {
+        // "Error while reading row 720: libpng: Read Error" -> "libpng: Read Error"
+        const size_t row = m.find("Error while reading row ");
+        if (row != std::string::npos && m.find(": ", row) != std::string::npos) m = m.substr(m.find(": ", row) + 2);
+        return "the server sent a damaged image (" + trim(m) + ")";
+    }
+    if (const size_t at = m.find("GDALWMS: "); at != std::string::npos) m = m.substr(at + 9);
+    return trim(m.substr(0, m.find("\nAdd the HTTP status code")));
+}
+
+std::string GdalErrors::text(const char* fallback) const {
+    std::vector<std::string> plain;
+    for (const std::string& m : messages_) {
+        std::string p = plainGdalMessage(m);
+        if (!p.empty() && std::find(plain.begin(), plain.end(), p) == plain.end()) plain.push_back(std::move(p));
+    }
+    if (plain.empty()) return messages_.empty() ? fallback : messages_.front();
+    std::string s;
+    for (size_t i = 0; i < plain.size() && i < 3; ++i) s += (s.empty() ? "" : "; ") + plain[i];
+    return s;
 }
 
 std::string xmlEscape(const std::string& s) {
@@ -64,6 +111,30 @@ std::string xyzToWmsXml(const std::string& xyzUrl, int maxZoom, const std::strin
       << "<ZeroBlockOnServerException>true</ZeroBlockOnServerException>"
       << "<Cache><Path>" << xmlEscape(cacheDir) << "</Path></Cache></GDAL_WMS>";
     return x.str();
+}
+
+std::optional<std::string> wmsUrlToXml(GDALDatasetH ds, const std::string& cacheDir) {
+    GDALDriverH wms = GDALGetDatasetDriver(ds);
+    if (!wms || std::strcmp(GDALGetDriverShortName(wms), "WMS") != 0) return std::nullopt;
+    // GDAL writes a WMS dataset's description through its CreateCopy: into memory, then read.
+    static std::atomic<uint64_t> serial{0};
+    const std::string tmp = "/vsimem/orbis-wms-" + std::to_string(++serial) + ".xml";
+    GdalErrors quiet;
+    GDALDatasetH copy = GDALCreateCopy(wms, tmp.c_str(), ds, FALSE, nullptr, nullptr, nullptr);
+    if (copy) GDALClose(copy);
+    vsi_l_offset size = 0;
+    GByte* bytes = VSIGetMemFileBuffer(tmp.c_str(), &size, FALSE);
+    std::string xml = bytes ? std::string(reinterpret_cast<const char*>(bytes), size_t(size)) : std::string();
+    VSIUnlink(tmp.c_str());
+    const size_t end = xml.rfind("</GDAL_WMS>");
+    if (end == std::string::npos) return std::nullopt;
+    std::string add;
+    if (xml.find("<Timeout>") == std::string::npos)
+        add += "<Timeout>" + xmlEscape(CPLGetConfigOption("GDAL_HTTP_TIMEOUT", "30")) + "</Timeout>";
+    if (xml.find("<Cache") == std::string::npos) add += "<Cache><Path>" + xmlEscape(tileCachePath(cacheDir)) + "</Path></Cache>";
+    if (xml.find("<MaxConnections>") == std::string::npos) add += "<MaxConnections>4</MaxConnections>";
+    xml.insert(end, add);
+    return xml;
 }
 
 GDALResampleAlg resampleAlg(const std::string& name, bool* ok) {
@@ -348,6 +419,7 @@ Result<bool> RasterSource::Impl::warp(const GeoExtent& extent, int size, bool co
                                       const jobs::CancelToken* cancel, void* bandsOut, uint8_t* alphaOut) const {
     if (isCancelled(cancel)) return error("cancelled");
     if (!coverage.intersects(extent)) return false;
+    const ScopedHttpAuth auth(options.httpAuth);   // this source's credentials, on this thread only
     GdalErrors unexpected;  // nothing GDAL says during a read reaches stderr
     auto leased = checkout(cancel);
     if (!leased) return leased.error();

@@ -49,13 +49,9 @@ public:
     GdalErrors& operator=(const GdalErrors&) = delete;
 
     bool any() const { return !messages_.empty(); }
-    /// "; "-joined failures, or `fallback` when GDAL said nothing.
-    std::string text(const char* fallback = "unknown GDAL error") const {
-        if (messages_.empty()) return fallback;
-        std::string s;
-        for (const auto& m : messages_) s += (s.empty() ? "" : "; ") + m;
-        return s;
-    }
+    /// "; "-joined failures (each said once, in GDAL's HTTP clients' words made plain: see
+    /// plainGdalMessage), or `fallback` when GDAL said nothing.
+    std::string text(const char* fallback = "unknown GDAL error") const;
     void clear() { messages_.clear(); }
 
 private:
@@ -64,7 +60,7 @@ private:
         if (!self || !msg) return;
         if (level >= CE_Failure) {
             log::debug("GDAL: ", msg);
-            if (self->messages_.size() < 3) self->messages_.emplace_back(std::string(msg).substr(0, 400));
+            if (self->messages_.size() < 8) self->messages_.emplace_back(std::string(msg).substr(0, 1000));
         } else if (level == CE_Warning) {
             log::debug("GDAL: ", msg);
         }
@@ -72,11 +68,23 @@ private:
     std::vector<std::string> messages_;
 };
 
+/// One GDAL error in plain words: a WMS block that failed to download becomes "the server
+/// answered HTTP 500: <its text>" or "no answer: <curl's reason>"; an image that does not
+/// decode, "the server sent a damaged image (<decoder's words>)"; a block-read prefix ("IReadBlock
+/// failed at ...") is dropped. Empty for the noise around them (the cache miss before a
+/// download, "Unable to open downloaded block").
+std::string plainGdalMessage(const std::string& message);
+
 bool isRemotePath(const std::string& path);
 std::string xmlEscape(const std::string& s);
 /// A GDAL WMS (TMS minidriver) description of an XYZ server: EPSG:3857, 256-pixel tiles, y down,
 /// four bands (alpha 0 where the server has no tile: 404/204 are empty blocks, not errors).
 std::string xyzToWmsXml(const std::string& xyzUrl, int maxZoom, const std::string& cacheDir);
+/// For a WMS dataset GDAL opened from a "WMS:URL" string (which has no disk cache and waits
+/// 300 s for an answer): its service description as XML, with Orbis's HTTP timeout
+/// (GDAL_HTTP_TIMEOUT), the tile cache in `cacheDir`, and 4 connections added where it names
+/// none. Nothing when `ds` is not such a dataset.
+std::optional<std::string> wmsUrlToXml(GDALDatasetH ds, const std::string& cacheDir);
 /// GDAL's resampling algorithm by gdalwarp's name (-r); *ok = false for an unknown name.
 GDALResampleAlg resampleAlg(const std::string& name, bool* ok);
 std::string fmtExtent(const GeoExtent& e);

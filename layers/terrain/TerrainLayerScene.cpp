@@ -1,5 +1,6 @@
 // The scene-file side of the terrain layer: its keys and its sources' keys, checked.
 #include "engine/scene/JsonReader.h"
+#include "layers/HttpAuthScene.h"
 #include "layers/terrain/TerrainLayer.h"
 #include "shared/TerrainTypes.h"
 
@@ -54,6 +55,7 @@ Result<globe::RasterSourceOptions> readSource(const nlohmann::json& value, const
         }
     }
     if (auto resampling = r.string("resampling", std::string())) o.resampling = *resampling;
+    o.httpAuth = readHttpAuth(r, scene.file.string(), path);
     if (r.has("bounds")) {
         if (auto b = r.numbers("bounds", 4); b && b->size() == 4) {
             const globe::GeoExtent e{(*b)[0], (*b)[1], (*b)[2], (*b)[3]};

@@ -3,6 +3,7 @@
 #include "base/Log.h"
 #include "base/Secrets.h"
 #include "engine/scene/JsonReader.h"
+#include "layers/HttpAuthScene.h"
 #include "layers/vector/VectorLayer.h"
 
 #include <filesystem>
@@ -40,6 +41,7 @@ Result<std::unique_ptr<scene::Layer>> VectorLayer::create(const scene::LayerDesc
             read.layers.push_back(l.get<std::string>());
         }
     }
+    read.httpAuth = readHttpAuth(r, scene.file.string(), desc.jsonPath);
     read.where = r.string("where", std::string()).value_or("");
     read.sql = r.string("sql", std::string()).value_or("");
     if (!read.sql.empty() && (!read.where.empty() || !read.layers.empty()))

@@ -179,6 +179,7 @@ Result<void> checkOptions(const VectorReadOptions& o) {
         return makeError(redactSecrets(o.source) + ": give either an SQL statement or layer names, not both");
     if (!o.sql.empty() && !o.where.empty())
         return makeError(redactSecrets(o.source) + ": give either an SQL statement or a where filter, not both");
+    if (auto ok = globe::checkHttpAuth(o.httpAuth); !ok) return makeError(redactSecrets(o.source) + ": " + ok.message());
     return {};
 }
 
@@ -244,6 +245,7 @@ LayerSummary summarize(OGRLayer& layer, const std::string& source) {
 
 Result<std::vector<LayerSummary>> summarizeVector(const VectorReadOptions& options) {
     if (auto ok = checkOptions(options); !ok) return ok.error();
+    const globe::ScopedHttpAuth auth(options.httpAuth);
     auto dataset = detail::openVectorSource(options.source);
     if (!dataset) return dataset.error();
     GdalErrorScope quiet;
@@ -318,6 +320,7 @@ Result<GDALDataset*> datasetFor(const VectorReadOptions& options, detail::Datase
 
 Result<VectorData> readVectorOnce(const VectorReadOptions& options) {
     if (auto ok = checkOptions(options); !ok) return ok.error();
+    const globe::ScopedHttpAuth auth(options.httpAuth);
     detail::DatasetPtr owned;
     auto dataset = datasetFor(options, owned);
     if (!dataset) return dataset.error();

@@ -24,6 +24,7 @@
 // cannot be transformed, or one over the vertex limit is skipped with a warning naming its fid.
 
 #include "base/Result.h"
+#include "globe/GdalSetup.h"
 #include "layers/vector/SourceStyle.h"
 
 #include <glm/glm.hpp>
@@ -149,6 +150,8 @@ struct VectorReadOptions {
     /// filters are set again on each). Off: opened and closed by the read.
     bool reuseDataset = false;
     VectorLimits limits;
+    /// HTTP credentials for a WFS or a remote file, from the environment variables named here.
+    globe::HttpAuth httpAuth;
 };
 
 struct VectorData {

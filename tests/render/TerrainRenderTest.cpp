@@ -431,6 +431,10 @@ TEST(TerrainSettings, BadSourceEntriesNameTheKeyAndTheProblem) {
         {R"({"xyz": "http://h/{z}/{x}/{y}.png", "maxZoom": 40})", "maxZoom", "30"},
         {R"({"xyz": "http://h/{z}/{x}/{y}.png", "path": "a.tif"})", "xyz", "exactly one of"},
         {R"({"name": "nothing"})", "path", "exactly one of"},
+        {R"({"path": "WMS:http://h/ows?", "auth": {}})", "auth", "basicEnv"},
+        {R"({"path": "WMS:http://h/ows?", "auth": {"basic": "X"}})", "auth", "unknown key"},
+        {R"({"path": "WMS:http://h/ows?", "auth": {"basicEnv": "ORBIS_TEST_SURELY_NOT_SET"}})", "auth",
+         "ORBIS_TEST_SURELY_NOT_SET (HTTP basic credentials) is not set"},
     };
     for (const auto& c : cases) {
         const std::string message = build(c.imagery);

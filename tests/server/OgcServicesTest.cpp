@@ -5,6 +5,7 @@
 // reason, when the packages or the generated world are missing.
 #include "globe/OgcCapabilities.h"
 #include "globe/RasterSource.h"
+#include "globe/TerrainTiles.h"
 #include "layers/vector/VectorReader.h"
 #include "tests/support/MapServer.h"
 #include "tests/support/ScopedGdalConfig.h"
@@ -16,6 +17,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
+#include <thread>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -157,6 +160,159 @@ TEST_F(OgcServices, AWfsLayerReadsAsTheFeaturesItServesAskingForTheBoxAndPaging)
     ASSERT_TRUE(c) << c.message();
     EXPECT_EQ(c->layers[0].features.size(), 10u);
     EXPECT_NE(requests(*ms).find("bbox"), std::string::npos) << ms->accessLog();
+}
+
+/// Europe at about the world file's own resolution, as a WMS GetMap layer of `url`.
+globe::RasterSourceOptions worldWms(const std::string& url, const fs::path& cache) {
+    globe::RasterSourceOptions o;
+    o.path = "WMS:" + url + "SERVICE=WMS&VERSION=1.1.1&REQUEST=GetMap&LAYERS=world&SRS=EPSG:4326&BBOX=-180,-90,180,90&FORMAT=image/png";
+    o.cacheDir = cache.string();
+    return o;
+}
+
+TEST_F(OgcServices, AServerFaultIsAClearErrorAndTheNextReadGetsTheTile) {
+    test::ScopedGdalConfig timeout("GDAL_HTTP_TIMEOUT", "2");
+    struct Case {
+        test::MapServer::Fault fault;
+        const char* says;   // what the message must name
+    };
+    const Case cases[] = {{test::MapServer::Fault::Status500, "HTTP 500"},
+                          {test::MapServer::Fault::Slow, "timed out"},
+                          {test::MapServer::Fault::Truncated, "damaged"},
+                          {test::MapServer::Fault::Exception, "Invalid layer(s)"}};
+    const globe::GeoExtent europe{0.0, 40.0, 22.5, 62.5};
+    int k = 0;
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.says);
+        // A cache of its own each time: no tile comes from an earlier case.
+        auto source = globe::RasterSource::open(worldWms(ms->faultyUrl(), dir / ("cache" + std::to_string(k++))));
+        ASSERT_TRUE(source) << source.message();
+        const int before = ms->faultsServed();
+        ms->setFault(c.fault, 1000, 4);
+        auto bad = (*source)->readImagery(europe, 256, nullptr);
+        ASSERT_FALSE(bad) << "a faulty answer read as a tile";
+        EXPECT_GT(ms->faultsServed(), before);
+        EXPECT_NE(bad.message().find("/faulty?"), std::string::npos) << bad.message();
+        EXPECT_NE(bad.message().find(c.says), std::string::npos) << bad.message();
+        // The server mends: the same read now gets the tile (nothing broken was kept in the cache).
+        ms->setFault(c.fault, 0);
+        auto good = (*source)->readImagery(europe, 256, nullptr);
+        ASSERT_TRUE(good) << good.message();
+        EXPECT_TRUE(good->anyValid);
+    }
+}
+
+// In the terrain: a tile that failed is reported, the other layer's tile is drawn meanwhile, and
+// the pager's retries (TerrainTiles: kTileRetries, back-off from 1 s) fill it in once the
+// server answers again.
+TEST_F(OgcServices, AFailedWmsTileIsReportedAndRetriedWhileTheRestIsDrawn) {
+    auto local = globe::RasterSource::open({.path = kWorld.string()});
+    auto wms = globe::RasterSource::open(worldWms(ms->faultyUrl(), dir / "cache"));
+    ASSERT_TRUE(local) << local.message();
+    ASSERT_TRUE(wms) << wms.message();
+    ms->setFault(test::MapServer::Fault::Status500, 1000);
+    globe::TerrainTiles tiles{{}, {}, {*local, *wms}, nullptr};   // loads inline
+    const globe::TileKey key = globe::TileKey::containing(10.0, 50.0, 3);
+    uint64_t frame = 0;
+    const auto frameOf = [&] {
+        tiles.beginFrame(++frame);
+        tiles.request(1, key, 1.0);
+        tiles.request(2, key, 1.0);
+        tiles.endFrame();
+    };
+    // Coarse first: a frame loads the next level on the way down.
+    for (int i = 0; i < 8; ++i) frameOf();
+    EXPECT_EQ(tiles.state(1, key), globe::DataState::Ready);
+    const globe::TileKey root = globe::TileKey::containing(10.0, 50.0, 0);
+    EXPECT_EQ(tiles.state(2, root), globe::DataState::Failed);
+    EXPECT_EQ(tiles.state(2, key), globe::DataState::Missing);
+    ASSERT_FALSE(tiles.errors().empty());
+    EXPECT_NE(tiles.errors().front().find("/faulty?"), std::string::npos) << tiles.errors().front();
+    EXPECT_NE(tiles.errors().front().find("HTTP 500"), std::string::npos) << tiles.errors().front();
+    ms->setFault(test::MapServer::Fault::Status500, 0);
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (tiles.state(2, key) != globe::DataState::Ready && std::chrono::steady_clock::now() < end) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        frameOf();
+    }
+    EXPECT_EQ(tiles.state(2, key), globe::DataState::Ready);
+    EXPECT_GE(tiles.stats().retried, 1u);
+    ASSERT_TRUE(tiles.imagery(2, key));
+}
+
+/// Sets an environment variable for a scope.
+struct ScopedEnv {
+    ScopedEnv(const char* name, const std::string& value) : name(name) { ::setenv(name, value.c_str(), 1); }
+    ~ScopedEnv() { ::unsetenv(name); }
+    const char* name;
+};
+
+// HTTP basic authentication and a header, both from the environment: without them the server
+// refuses (401, 403) and the message says so; with them the tiles and features come. The
+// secrets appear in no message.
+TEST_F(OgcServices, CredentialsFromTheEnvironmentOpenProtectedServices) {
+    const globe::GeoExtent europe{0.0, 40.0, 22.5, 62.5};
+    const std::string secret = test::MapServer::password(), token = "t0ken-5ecret";
+    {
+        auto refused = globe::RasterSource::open(worldWms(ms->basicUrl(), dir / "c1"));
+        ASSERT_TRUE(refused) << refused.message();
+        auto tile = (*refused)->readImagery(europe, 64, nullptr);
+        ASSERT_FALSE(tile);
+        EXPECT_NE(tile.message().find("HTTP 401"), std::string::npos) << tile.message();
+    }
+    ScopedEnv basic("ORBIS_TEST_WMS_USERPWD", test::MapServer::user() + ":" + secret);
+    ScopedEnv header("ORBIS_TEST_WMS_HEADER", test::MapServer::tokenHeader());
+    ScopedEnv wrongHeader("ORBIS_TEST_WMS_WRONG", "X-Orbis-Token: not-it");
+    std::vector<std::string> messages;
+    for (const auto& [url, auth] : {std::pair{ms->basicUrl(), globe::HttpAuth{.basicEnv = "ORBIS_TEST_WMS_USERPWD"}},
+                                    std::pair{ms->tokenUrl(), globe::HttpAuth{.headerEnv = "ORBIS_TEST_WMS_HEADER"}}}) {
+        auto o = worldWms(url, dir / ("c-" + auth.basicEnv + auth.headerEnv));
+        o.httpAuth = auth;
+        auto source = globe::RasterSource::open(o);
+        ASSERT_TRUE(source) << source.message();
+        auto tile = (*source)->readImagery(europe, 64, nullptr);
+        ASSERT_TRUE(tile) << tile.message();
+        EXPECT_TRUE(tile->anyValid);
+    }
+    {
+        auto o = worldWms(ms->tokenUrl(), dir / "c3");
+        o.httpAuth.headerEnv = "ORBIS_TEST_WMS_WRONG";
+        auto source = globe::RasterSource::open(o);
+        ASSERT_TRUE(source) << source.message();
+        auto tile = (*source)->readImagery(europe, 64, nullptr);
+        ASSERT_FALSE(tile);
+        EXPECT_NE(tile.message().find("HTTP 403"), std::string::npos) << tile.message();
+        messages.push_back(tile.message());
+    }
+    // A WFS behind basic authentication: the same 100 parcels.
+    vector::VectorReadOptions wfs;
+    wfs.source = "WFS:" + ms->basicUrl();
+    wfs.layers = {"parcels"};
+    auto refused = vector::readVector(wfs);
+    ASSERT_FALSE(refused);
+    messages.push_back(refused.message());
+    wfs.httpAuth.basicEnv = "ORBIS_TEST_WMS_USERPWD";
+    auto parcels = vector::readVector(wfs);
+    ASSERT_TRUE(parcels) << parcels.message();
+    EXPECT_EQ(parcels->layers.at(0).features.size(), 100u);
+    // A variable that is not set, or not "user:password": named, its value never shown.
+    auto o = worldWms(ms->basicUrl(), dir / "c4");
+    o.httpAuth.basicEnv = "ORBIS_TEST_NOT_SET";
+    auto unset = globe::RasterSource::open(o);
+    ASSERT_FALSE(unset);
+    EXPECT_NE(unset.message().find("ORBIS_TEST_NOT_SET"), std::string::npos) << unset.message();
+    ScopedEnv bare("ORBIS_TEST_BARE", secret.substr(0, 4));
+    o.httpAuth.basicEnv = "ORBIS_TEST_BARE";
+    auto malformed = globe::RasterSource::open(o);
+    ASSERT_FALSE(malformed);
+    EXPECT_NE(malformed.message().find("user:password"), std::string::npos) << malformed.message();
+    messages.push_back(unset.message());
+    messages.push_back(malformed.message());
+    for (const std::string& m : messages) {
+        EXPECT_EQ(m.find(secret), std::string::npos) << m;
+        EXPECT_EQ(m.find(token), std::string::npos) << m;
+        EXPECT_EQ(m.find(secret.substr(0, 4)), std::string::npos) << m;
+    }
 }
 
 TEST_F(OgcServices, CapabilitiesListTheLayersWithTheirCrsAndExtents) {

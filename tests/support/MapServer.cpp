@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -50,6 +51,12 @@ std::pair<int, std::string> httpGet(int port, const std::string& target, std::ch
     if (reply.rfind("HTTP/", 0) == 0) status = std::atoi(reply.c_str() + reply.find(' ') + 1);
     const size_t body = reply.find("\r\n\r\n");
     return {status, body == std::string::npos ? std::string() : reply.substr(body + 4)};
+}
+
+void writeScript(const fs::path& path, const std::string& text) {
+    std::ofstream(path) << text;
+    fs::permissions(path, fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec | fs::perms::others_read |
+                              fs::perms::others_exec);
 }
 
 std::string readAll(const fs::path& file) {
@@ -102,22 +109,45 @@ MapServer::MapServer(const std::vector<std::string>& layers) {
              << (root_ / "mapserver.log").string() << "\"\n  END\nEND\n";
         // The CGI: a script that notes each query (unbuffered, unlike lighttpd's access log)
         // and runs mapserv.
-        {
-            std::ofstream cgi(root_ / "ows.sh");
-            cgi << "#!/bin/sh\nprintf '%s %s\\n' \"$REQUEST_METHOD\" \"$QUERY_STRING\" >> '" << (root_ / "requests.log").string()
-                << "'\nexec " << kMapserv << "\n";
-        }
-        fs::permissions(root_ / "ows.sh", fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
-                                             fs::perms::others_read | fs::perms::others_exec);
+        const std::string note = "printf '%s %s\\n' \"$REQUEST_METHOD\" \"$QUERY_STRING\" >> '" + (root_ / "requests.log").string() + "'\n";
+        writeScript(root_ / "ows.sh", "#!/bin/sh\n" + note + "exec " + kMapserv + "\n");
+        // The faulty front: "MODE COUNT [SECONDS]" in the file `fault` (taken under a lock, one
+        // request at a time), COUNT faults then the services as they are.
+        const std::string fault = (root_ / "fault").string(), served = (root_ / "faults-served").string();
+        writeScript(root_ / "faulty.sh",
+                    "#!/bin/sh\n" + note +
+                        "exec 9>>'" + fault + ".lock'\nflock 9\nmode=ok\ncount=0\nsecs=5\n"
+                        "[ -s '" + fault + "' ] && read mode count secs < '" + fault + "'\n"
+                        "if [ \"${count:-0}\" -gt 0 ]; then\n"
+                        "  echo \"$mode $((count - 1)) $secs\" > '" + fault + "'\n  echo x >> '" + served + "'\n"
+                        "else\n  mode=ok\nfi\nflock -u 9\n"
+                        "case $mode in\n"
+                        "  500) printf 'Status: 500 Internal Server Error\\r\\nContent-Type: text/plain\\r\\n\\r\\nthe map server failed\\n' ;;\n"
+                        "  slow) sleep \"$secs\"; exec " + kMapserv + " ;;\n"
+                        "  truncated) out=$(mktemp); " + kMapserv + " > \"$out\"; n=$(stat -c %s \"$out\"); head -c $((n / 2)) \"$out\"; rm -f \"$out\" ;;\n"
+                        "  exception) printf 'Content-Type: application/vnd.ogc.se_xml\\r\\n\\r\\n<?xml version=\"1.0\"?>"
+                        "<ServiceExceptionReport version=\"1.1.1\"><ServiceException code=\"LayerNotDefined\">"
+                        "msWMSLoadGetMapParams(): WMS server error. Invalid layer(s) given in the LAYERS parameter.</ServiceException>"
+                        "</ServiceExceptionReport>\\n' ;;\n"
+                        "  *) exec " + kMapserv + " ;;\nesac\n");
+        std::ofstream(root_ / "users") << user() << ":" << password() << "\n";
+        const std::string token = tokenHeader().substr(0, tokenHeader().find(':'));
+        const std::string tokenValue = tokenHeader().substr(tokenHeader().find(':') + 2);
         std::ofstream http(root_ / "lighttpd.conf");
-        http << "server.modules = (\"mod_alias\", \"mod_cgi\", \"mod_setenv\", \"mod_accesslog\")\n"
+        http << "server.modules = (\"mod_access\", \"mod_auth\", \"mod_authn_file\", \"mod_alias\", \"mod_cgi\", \"mod_setenv\", \"mod_accesslog\")\n"
              << "server.document-root = \"" << root_.string() << "\"\n"
              << "server.bind = \"127.0.0.1\"\n"
              << "server.port = " << port_ << "\n"
              << "server.errorlog = \"" << (root_ / "error.log").string() << "\"\n"
              << "accesslog.filename = \"" << (root_ / "access.log").string() << "\"\n"
-             << "alias.url = (\"/ows\" => \"" << (root_ / "ows.sh").string() << "\")\n"
-             << "$HTTP[\"url\"] =~ \"^/ows\" { cgi.assign = (\"\" => \"\") }\n"
+             << "alias.url = (\"/ows\" => \"" << (root_ / "ows.sh").string() << "\", \"/basic\" => \""
+             << (root_ / "ows.sh").string() << "\", \"/token\" => \"" << (root_ / "ows.sh").string() << "\", \"/faulty\" => \""
+             << (root_ / "faulty.sh").string() << "\")\n"
+             << "$HTTP[\"url\"] =~ \"^/(ows|basic|token|faulty)\" { cgi.assign = (\"\" => \"\") }\n"
+             << "auth.backend = \"plain\"\nauth.backend.plain.userfile = \"" << (root_ / "users").string() << "\"\n"
+             << "auth.require = (\"/basic\" => (\"method\" => \"basic\", \"realm\" => \"orbis\", \"require\" => \"valid-user\"))\n"
+             << "$HTTP[\"url\"] =~ \"^/token\" { $REQUEST_HEADER[\"" << token << "\"] != \"" << tokenValue
+             << "\" { url.access-deny = (\"\") } }\n"
              << "setenv.add-environment = (\"MAPSERVER_CONFIG_FILE\" => \"" << (root_ / "mapserver.conf").string() << "\")\n";
     }
     start();
@@ -138,6 +168,22 @@ std::pair<int, std::string> MapServer::get(const std::string& target) const {
 }
 
 std::string MapServer::accessLog() const { return readAll(root_ / "requests.log"); }
+
+std::string MapServer::faultyUrl() const { return "http://127.0.0.1:" + std::to_string(port_) + "/faulty?"; }
+std::string MapServer::basicUrl() const { return "http://127.0.0.1:" + std::to_string(port_) + "/basic?"; }
+std::string MapServer::tokenUrl() const { return "http://127.0.0.1:" + std::to_string(port_) + "/token?"; }
+
+void MapServer::setFault(Fault fault, int count, int slowSeconds) {
+    const char* mode = fault == Fault::Status500 ? "500" : fault == Fault::Slow ? "slow" : fault == Fault::Truncated ? "truncated" : "exception";
+    const fs::path tmp = root_ / "fault.new";
+    std::ofstream(tmp) << mode << " " << count << " " << slowSeconds << "\n";
+    fs::rename(tmp, root_ / "fault");
+}
+
+int MapServer::faultsServed() const {
+    const std::string s = readAll(root_ / "faults-served");
+    return int(std::count(s.begin(), s.end(), '\n'));
+}
 
 bool MapServer::start() {
     const std::string out = (root_ / "lighttpd.out").string(), conf = (root_ / "lighttpd.conf").string();

@@ -40,6 +40,27 @@ public:
     /// The requests served so far, one line each: "GET QUERY_STRING" (noted by the CGI as it
     /// starts; lighttpd's own access log, access.log, is written late).
     std::string accessLog() const;
+
+    /// The same services behind a front that misbehaves on demand: "http://127.0.0.1:PORT/faulty?".
+    std::string faultyUrl() const;
+    /// How the next `count` requests to faultyUrl() fail (then it serves as url() does):
+    ///   Status500  "500 Internal Server Error" with a text body;
+    ///   Slow       the answer starts after `slowSeconds` (for a client's timeout);
+    ///   Truncated  200 and MapServer's own image cut to half its bytes;
+    ///   Exception  200 and an OGC ServiceExceptionReport (what MapServer sends for a bad layer).
+    enum class Fault { Status500, Slow, Truncated, Exception };
+    void setFault(Fault fault, int count, int slowSeconds = 5);
+    /// Requests to faultyUrl() that were answered with a fault so far.
+    int faultsServed() const;
+
+    /// The same services behind HTTP basic authentication (user `user()`, password `password()`):
+    /// "http://127.0.0.1:PORT/basic?"; and behind a header check (`tokenHeader()` must be sent):
+    /// "http://127.0.0.1:PORT/token?". Others get 401 and 403.
+    std::string basicUrl() const;
+    std::string tokenUrl() const;
+    static std::string user() { return "orbis"; }
+    static std::string password() { return "pa55-w0rd!"; }
+    static std::string tokenHeader() { return "X-Orbis-Token: t0ken-5ecret"; }
     const std::filesystem::path& folder() const { return root_; }
 
 private:
