@@ -32,6 +32,10 @@ void configureGdal() {
         const bool userCache = CPLGetConfigOption("GDAL_CACHEMAX", nullptr) != nullptr;
         setConfigDefault("GDAL_HTTP_TIMEOUT", "30");
         setConfigDefault("GDAL_HTTP_CONNECTTIMEOUT", "10");
+        // A server silent for 30 s ends the request whatever timeout a driver sets itself (GDAL's
+        // WMTS and WMS-from-URL wait 300 s).
+        setConfigDefault("GDAL_HTTP_LOW_SPEED_TIME", "30");
+        setConfigDefault("GDAL_HTTP_LOW_SPEED_LIMIT", "1");
         // A busy server (429, 502, 503, 504) is asked again twice, after 1 s then about 2 s.
         setConfigDefault("GDAL_HTTP_MAX_RETRY", "2");
         setConfigDefault("GDAL_HTTP_RETRY_DELAY", "1");

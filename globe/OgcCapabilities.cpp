@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <optional>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
@@ -127,6 +128,47 @@ Result<std::string> parseOgcCapabilities(std::string_view xml, OgcService servic
             out["layers"] = layers;
             return out.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
         }
+        if (service == OgcService::Wmts && tag == "Capabilities") {
+            out["service"] = "WMTS";
+            out["version"] = text(n, "version");
+            out["title"] = text(n, "ServiceIdentification.Title");
+            const CPLXMLNode* contents = CPLGetXMLNode(const_cast<CPLXMLNode*>(n), "Contents");
+            // Each tile matrix set's CRS, for the layers that link to it.
+            std::vector<std::pair<std::string, std::string>> setCrs;
+            for (const CPLXMLNode* t : children(contents, "TileMatrixSet"))
+                setCrs.emplace_back(text(t, "Identifier"), text(t, "SupportedCRS"));
+            nlohmann::ordered_json layers = nlohmann::ordered_json::array();
+            for (const CPLXMLNode* f : children(contents, "Layer")) {
+                nlohmann::ordered_json l{{"name", text(f, "Identifier")}, {"title", text(f, "Title")}};
+                nlohmann::ordered_json styles = nlohmann::ordered_json::array(), formats = nlohmann::ordered_json::array(),
+                                       sets = nlohmann::ordered_json::array(), crs = nlohmann::ordered_json::array();
+                for (const CPLXMLNode* st : children(f, "Style")) styles.push_back(text(st, "Identifier"));
+                for (const CPLXMLNode* fm : children(f, "Format")) formats.push_back(text(fm, ""));
+                for (const CPLXMLNode* link : children(f, "TileMatrixSetLink")) {
+                    const std::string set = text(link, "TileMatrixSet");
+                    sets.push_back(set);
+                    for (const auto& [id, c] : setCrs)
+                        if (id == set && !c.empty() && std::find(crs.begin(), crs.end(), c) == crs.end()) crs.push_back(c);
+                }
+                l["styles"] = styles;
+                l["crs"] = crs;
+                l["formats"] = formats;
+                l["tileMatrixSets"] = sets;
+                auto lo = corner(f, "WGS84BoundingBox.LowerCorner"), hi = corner(f, "WGS84BoundingBox.UpperCorner");
+                if (lo && hi) l["wgs84Bounds"] = bounds(lo->first, lo->second, hi->first, hi->second);
+                for (const CPLXMLNode* d : children(f, "Dimension")) {
+                    std::string dim = text(d, "Identifier");
+                    std::transform(dim.begin(), dim.end(), dim.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+                    if (dim != "time") continue;
+                    std::string values;
+                    for (const CPLXMLNode* v : children(d, "Value")) values += (values.empty() ? "" : ",") + text(v, "");
+                    if (!values.empty()) l["time"] = values;
+                }
+                layers.push_back(l);
+            }
+            out["layers"] = layers;
+            return out.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+        }
         if (service == OgcService::Wfs && tag == "WFS_Capabilities") {
             out["service"] = "WFS";
             out["version"] = text(n, "version");
@@ -150,29 +192,39 @@ Result<std::string> parseOgcCapabilities(std::string_view xml, OgcService servic
             return out.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
         }
     }
-    return makeError(source + ": not a " + (service == OgcService::Wms ? "WMS" : "WFS") + " capabilities document");
+    return makeError(source + ": not a " + std::string(service == OgcService::Wms ? "WMS" : service == OgcService::Wmts ? "WMTS" : "WFS") +
+                     " capabilities document");
 }
 
 Result<std::string> describeOgcServices(const std::string& url) {
     configureGdal();   // HTTP timeouts
     std::string base = url;
-    for (const char* prefix : {"WMS:", "WFS:"})
-        if (base.rfind(prefix, 0) == 0) base = base.substr(4);
+    for (const std::string prefix : {"WMS:", "WMTS:", "WFS:"})
+        if (base.rfind(prefix, 0) == 0) base = base.substr(prefix.size());
     if (base.rfind("http://", 0) != 0 && base.rfind("https://", 0) != 0)
         return makeError(redactSecrets(url) + ": not an http:// or https:// address");
     std::string upper = base;
     std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return char(std::toupper(c)); });
-    const bool onlyWms = upper.find("SERVICE=WMS") != std::string::npos, onlyWfs = upper.find("SERVICE=WFS") != std::string::npos;
+    const bool onlyWms = upper.find("SERVICE=WMS") != std::string::npos, onlyWfs = upper.find("SERVICE=WFS") != std::string::npos,
+               onlyWmts = upper.find("SERVICE=WMTS") != std::string::npos;
+    const bool onlyOne = onlyWms || onlyWfs || onlyWmts;
+    // A WMTS GetCapabilities address as GDAL takes it: its own REQUEST is left to this code.
+    for (const char* own : {"REQUEST=GETCAPABILITIES&", "&REQUEST=GETCAPABILITIES", "REQUEST=GETCAPABILITIES"})
+        if (const size_t at = upper.find(own); at != std::string::npos) {
+            base.erase(at, std::strlen(own));
+            upper.erase(at, std::strlen(own));
+        }
     // The address without a SERVICE or REQUEST of its own, ready for parameters.
     if (base.find('?') == std::string::npos) base += '?';
     else if (base.back() != '?' && base.back() != '&') base += '&';
     const std::string shown = redactSecrets(url);
     nlohmann::ordered_json out{{"kind", "ogc-services"}, {"url", shown}};
     bool any = false;
-    for (const OgcService service : {OgcService::Wms, OgcService::Wfs}) {
-        const bool wms = service == OgcService::Wms;
-        if ((wms && onlyWfs) || (!wms && onlyWms)) continue;
-        const std::string request = base + (onlyWms || onlyWfs ? "" : wms ? "SERVICE=WMS&" : "SERVICE=WFS&") + "REQUEST=GetCapabilities";
+    for (const OgcService service : {OgcService::Wms, OgcService::Wmts, OgcService::Wfs}) {
+        const char* name = service == OgcService::Wms ? "WMS" : service == OgcService::Wmts ? "WMTS" : "WFS";
+        const bool named = service == OgcService::Wms ? onlyWms : service == OgcService::Wmts ? onlyWmts : onlyWfs;
+        if (onlyOne && !named) continue;
+        const std::string request = base + (onlyOne ? "" : "SERVICE=" + std::string(name) + "&") + "REQUEST=GetCapabilities";
         CPLPushErrorHandler(CPLQuietErrorHandler);
         CPLHTTPResult* r = CPLHTTPFetch(request.c_str(), nullptr);
         CPLPopErrorHandler();
@@ -182,7 +234,7 @@ Result<std::string> describeOgcServices(const std::string& url) {
         else if (r->nStatus != 0 || r->pszErrBuf) error = redactSecrets(r->pszErrBuf ? r->pszErrBuf : "the request failed");
         else parsed = parseOgcCapabilities(std::string_view(reinterpret_cast<const char*>(r->pabyData), size_t(r->nDataLen)), service, shown);
         if (r) CPLHTTPDestroyResult(r);
-        const char* key = wms ? "wms" : "wfs";
+        const char* key = service == OgcService::Wms ? "wms" : service == OgcService::Wmts ? "wmts" : "wfs";
         if (error.empty() && parsed) {
             out[key] = nlohmann::ordered_json::parse(*parsed);
             any = true;
@@ -192,7 +244,7 @@ Result<std::string> describeOgcServices(const std::string& url) {
     }
     if (!any) {
         std::string why;
-        for (const char* k : {"wmsError", "wfsError"})
+        for (const char* k : {"wmsError", "wmtsError", "wfsError"})
             if (out.contains(k)) why += (why.empty() ? "" : "; ") + out[k].get<std::string>();
         return makeError(why.empty() ? shown + ": no OGC service answered" : why);
     }

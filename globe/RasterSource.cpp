@@ -85,6 +85,7 @@ Result<std::shared_ptr<RasterSource>> RasterSource::open(const RasterSourceOptio
     if (options.bounds && !options.xyzUrl.empty()) return s.error("\"bounds\" georeferences a file, not an XYZ source");
 
     configureGdal();
+    if (!options.cacheDir.empty()) s.cachePath = tileCachePath(options.cacheDir);
     if (auto ok = checkHttpAuth(options.httpAuth); !ok) return s.error(ok.message());
     const ScopedHttpAuth auth(options.httpAuth);
     GdalErrors unexpected;  // nothing GDAL says while opening reaches stderr
@@ -95,6 +96,8 @@ Result<std::shared_ptr<RasterSource>> RasterSource::open(const RasterSourceOptio
     }
     GDALDatasetH ds = nullptr;
     {
+        // A WMTS builds its tile readers as it opens: they cache in `cacheDir` when one is given.
+        const ScopedThreadOption cache("GDAL_DEFAULT_WMS_CACHE_PATH", s.cachePath.empty() ? nullptr : s.cachePath.c_str());
         GdalErrors errors;
         ds = GDALOpenEx(s.openPath.c_str(), GDAL_OF_RASTER | GDAL_OF_VERBOSE_ERROR, nullptr, nullptr, nullptr);
         if (!ds) {

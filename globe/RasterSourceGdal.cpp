@@ -420,6 +420,8 @@ Result<bool> RasterSource::Impl::warp(const GeoExtent& extent, int size, bool co
     if (isCancelled(cancel)) return error("cancelled");
     if (!coverage.intersects(extent)) return false;
     const ScopedHttpAuth auth(options.httpAuth);   // this source's credentials, on this thread only
+    // Handles opened for this read (a WMTS builds its tile readers then) cache in `cacheDir`.
+    const ScopedThreadOption cache("GDAL_DEFAULT_WMS_CACHE_PATH", cachePath.empty() ? nullptr : cachePath.c_str());
     GdalErrors unexpected;  // nothing GDAL says during a read reaches stderr
     auto leased = checkout(cancel);
     if (!leased) return leased.error();

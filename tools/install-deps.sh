@@ -27,9 +27,9 @@ packages=(
   # database sources: libpq for live layers (LISTEN/NOTIFY); PostgreSQL + PostGIS, started on
   # loopback by the server tests (tests/server)
   libpq-dev postgresql-15 postgresql-15-postgis-3
-  # OGC services (WMS, WFS) from MapServer's CGI behind lighttpd, started on loopback by the
-  # server tests (tests/support/MapServer)
-  cgi-mapserver lighttpd
+  # OGC services (WMS, WFS) from MapServer's CGI, WMTS from MapCache's, behind lighttpd, started
+  # on loopback by the server tests (tests/support/MapServer) and tools/serve-demo.sh
+  cgi-mapserver mapcache-cgi lighttpd
   # tests; the fuzz targets (libFuzzer, ASan and UBSan through clang: tools/fuzz.sh)
   libgtest-dev clang libclang-rt-14-dev
 )

@@ -79,7 +79,8 @@ struct OgcServices : ::testing::Test {
                 R"(" DATA "parcels" PROJECTION AUTO END
                  METADATA "ows_title" "Parcels" "wfs_srs" "EPSG:3857" "gml_include_items" "all" "gml_featureid" "fid"
                  END
-                 CLASS STYLE COLOR 255 200 0 OUTLINECOLOR 200 50 0 END END END)"});
+                 CLASS STYLE COLOR 255 200 0 OUTLINECOLOR 200 50 0 END END END)"},
+            std::vector<std::string>{"world"});
         if (!ms->available()) GTEST_SKIP() << ms->error();
         ASSERT_TRUE(ms->running()) << ms->error();
     }
@@ -122,6 +123,42 @@ TEST_F(OgcServices, AWmsLayerReadsAsTheImageItServes) {
     EXPECT_LT(mean, 6.0);
     EXPECT_LT(double(far) / double(ta->rgba.size() / 4 * 3), 0.01);
     EXPECT_NE(requests(*ms).find("request=getmap"), std::string::npos) << ms->accessLog();
+}
+
+TEST_F(OgcServices, AWmtsLayerReadsAsTheImageItServes) {
+    globe::RasterSourceOptions wmts, local;
+    wmts.path = "WMTS:" + ms->wmtsCapabilitiesUrl() + ",layer=world";
+    wmts.cacheDir = (dir / "cache").string();
+    local.path = kWorld.string();
+    auto a = globe::RasterSource::open(local);
+    auto b = globe::RasterSource::open(wmts);
+    ASSERT_TRUE(a) << a.message();
+    ASSERT_TRUE(b) << b.message();
+    const globe::GeoExtent europe{0.0, 40.0, 22.5, 62.5};
+    auto ta = (*a)->readImagery(europe, 256, nullptr);
+    auto tb = (*b)->readImagery(europe, 256, nullptr);
+    ASSERT_TRUE(ta) << ta.message();
+    ASSERT_TRUE(tb) << tb.message();
+    ASSERT_TRUE(tb->anyValid);
+    double sum = 0.0;
+    for (size_t i = 0; i < ta->rgba.size(); ++i)
+        if (i % 4 != 3) sum += std::abs(int(ta->rgba[i]) - int(tb->rgba[i]));
+    const double mean = sum / double(ta->rgba.size() / 4 * 3);
+    // MapCache's level-3 tiles sample the file at its own resolution (as the local warp does).
+    EXPECT_LT(mean, 6.0);
+    const std::string log = ms->accessLog();
+    EXPECT_NE(log.find("/wmts/1.0.0/world/default/WGS84/3/"), std::string::npos) << log;
+    // The tiles went into the source's cache: a second source over the same cache asks for none.
+    size_t cached = 0;
+    for (const auto& f : fs::recursive_directory_iterator(dir / "cache")) cached += f.is_regular_file();
+    EXPECT_GE(cached, 4u);
+    auto again = globe::RasterSource::open(wmts);
+    ASSERT_TRUE(again) << again.message();
+    auto tc = (*again)->readImagery(europe, 256, nullptr);
+    ASSERT_TRUE(tc) << tc.message();
+    EXPECT_EQ(tc->rgba, tb->rgba);
+    const std::string after = ms->accessLog();
+    EXPECT_EQ(after.find("/wmts/1.0.0/", log.size()), std::string::npos) << "tiles fetched again:\n" << after.substr(log.size());
 }
 
 TEST_F(OgcServices, AWfsLayerReadsAsTheFeaturesItServesAskingForTheBoxAndPaging) {
@@ -338,6 +375,20 @@ TEST_F(OgcServices, CapabilitiesListTheLayersWithTheirCrsAndExtents) {
     EXPECT_EQ(j["wfs"]["layers"][0]["name"].get<std::string>().find("parcels") != std::string::npos, true);
     ASSERT_TRUE(j["wfs"]["layers"][0]["wgs84Bounds"].is_array()) << *described;
     EXPECT_NEAR(j["wfs"]["layers"][0]["wgs84Bounds"][0].get<double>(), 10.0, 1e-3);
+    EXPECT_TRUE(j.contains("wmtsError")) << "MapServer's own address serves no WMTS";
+    // MapCache's WMTS, from the address GDAL takes.
+    auto wmts = globe::describeOgcServices("WMTS:" + ms->wmtsCapabilitiesUrl());
+    ASSERT_TRUE(wmts) << wmts.message();
+    const auto t = nlohmann::json::parse(*wmts);
+    ASSERT_TRUE(t.contains("wmts")) << *wmts;
+    EXPECT_FALSE(t.contains("wms"));
+    ASSERT_EQ(t["wmts"]["layers"].size(), 1u) << *wmts;
+    const auto& tiles = t["wmts"]["layers"][0];
+    EXPECT_EQ(tiles["name"], "world");
+    EXPECT_EQ(tiles["tileMatrixSets"][0], "WGS84");
+    EXPECT_EQ(tiles["formats"][0], "image/png");
+    EXPECT_NE(tiles["crs"][0].get<std::string>().find("4326"), std::string::npos) << tiles.dump();
+    EXPECT_NEAR(tiles["wgs84Bounds"][2].get<double>(), 180.0, 1e-6);
     // Only the service the URL names; a server that is not there: the reason, named.
     auto wfsOnly = globe::describeOgcServices(ms->url() + "SERVICE=WFS");
     ASSERT_TRUE(wfsOnly) << wfsOnly.message();

@@ -25,6 +25,7 @@ using Clock = std::chrono::steady_clock;
 
 const char* kLighttpd = "/usr/sbin/lighttpd";
 const char* kMapserv = "/usr/lib/cgi-bin/mapserv";
+const char* kMapcache = "/usr/lib/cgi-bin/mapcache";
 
 /// GET http://127.0.0.1:port/target (HTTP/1.0: the server closes after the reply), within
 /// `limit`: the status code (0 when there is no answer) and the body.
@@ -68,9 +69,13 @@ std::string readAll(const fs::path& file) {
 
 }  // namespace
 
-MapServer::MapServer(const std::vector<std::string>& layers) {
+MapServer::MapServer(const std::vector<std::string>& layers, const std::vector<std::string>& wmtsLayers) {
     if (!fs::exists(kLighttpd) || !fs::exists(kMapserv)) {
         error_ = "MapServer behind lighttpd is not installed (Debian: cgi-mapserver lighttpd; tools/install-deps.sh installs them)";
+        return;
+    }
+    if (!wmtsLayers.empty() && !fs::exists(kMapcache)) {
+        error_ = "MapCache is not installed (Debian: mapcache-cgi; tools/install-deps.sh installs it)";
         return;
     }
     available_ = true;
@@ -130,6 +135,22 @@ MapServer::MapServer(const std::vector<std::string>& layers) {
                         "msWMSLoadGetMapParams(): WMS server error. Invalid layer(s) given in the LAYERS parameter.</ServiceException>"
                         "</ServiceExceptionReport>\\n' ;;\n"
                         "  *) exec " + kMapserv + " ;;\nesac\n");
+        // MapCache: WMTS tile sets over the layers' WMS, cached on disk in the folder.
+        {
+            std::ofstream mc(root_ / "mapcache.xml");
+            mc << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<mapcache>\n";
+            for (const std::string& name : wmtsLayers)
+                mc << "  <source name=\"" << name << "\" type=\"wms\"><getmap><params><FORMAT>image/png</FORMAT><LAYERS>" << name
+                   << "</LAYERS></params></getmap><http><url>" << url() << "</url></http></source>\n"
+                   << "  <tileset name=\"" << name << "\"><source>" << name
+                   << "</source><cache>disk</cache><grid>WGS84</grid><format>PNG</format><metatile>1 1</metatile></tileset>\n";
+            mc << "  <cache name=\"disk\" type=\"disk\"><base>" << (root_ / "mapcache-tiles").string() << "</base></cache>\n"
+               << "  <service type=\"wmts\" enabled=\"true\"/>\n"
+               << "  <locker type=\"disk\"><directory>" << root_.string() << "</directory></locker>\n"
+               << "  <log_level>warn</log_level>\n</mapcache>\n";
+            writeScript(root_ / "mapcache.sh", "#!/bin/sh\nprintf '%s %s%s\\n' \"$REQUEST_METHOD\" \"$PATH_INFO\" \"${QUERY_STRING:+?$QUERY_STRING}\" >> '" +
+                                                   (root_ / "requests.log").string() + "'\nexec " + kMapcache + "\n");
+        }
         std::ofstream(root_ / "users") << user() << ":" << password() << "\n";
         const std::string token = tokenHeader().substr(0, tokenHeader().find(':'));
         const std::string tokenValue = tokenHeader().substr(tokenHeader().find(':') + 2);
@@ -142,13 +163,14 @@ MapServer::MapServer(const std::vector<std::string>& layers) {
              << "accesslog.filename = \"" << (root_ / "access.log").string() << "\"\n"
              << "alias.url = (\"/ows\" => \"" << (root_ / "ows.sh").string() << "\", \"/basic\" => \""
              << (root_ / "ows.sh").string() << "\", \"/token\" => \"" << (root_ / "ows.sh").string() << "\", \"/faulty\" => \""
-             << (root_ / "faulty.sh").string() << "\")\n"
-             << "$HTTP[\"url\"] =~ \"^/(ows|basic|token|faulty)\" { cgi.assign = (\"\" => \"\") }\n"
+             << (root_ / "faulty.sh").string() << "\", \"/mapcache\" => \"" << (root_ / "mapcache.sh").string() << "\")\n"
+             << "$HTTP[\"url\"] =~ \"^/(ows|basic|token|faulty|mapcache)\" { cgi.assign = (\"\" => \"\") }\n"
              << "auth.backend = \"plain\"\nauth.backend.plain.userfile = \"" << (root_ / "users").string() << "\"\n"
              << "auth.require = (\"/basic\" => (\"method\" => \"basic\", \"realm\" => \"orbis\", \"require\" => \"valid-user\"))\n"
              << "$HTTP[\"url\"] =~ \"^/token\" { $REQUEST_HEADER[\"" << token << "\"] != \"" << tokenValue
              << "\" { url.access-deny = (\"\") } }\n"
-             << "setenv.add-environment = (\"MAPSERVER_CONFIG_FILE\" => \"" << (root_ / "mapserver.conf").string() << "\")\n";
+             << "setenv.add-environment = (\"MAPSERVER_CONFIG_FILE\" => \"" << (root_ / "mapserver.conf").string()
+             << "\", \"MAPCACHE_CONFIG_FILE\" => \"" << (root_ / "mapcache.xml").string() << "\")\n";
     }
     start();
 }
@@ -168,6 +190,10 @@ std::pair<int, std::string> MapServer::get(const std::string& target) const {
 }
 
 std::string MapServer::accessLog() const { return readAll(root_ / "requests.log"); }
+
+std::string MapServer::wmtsCapabilitiesUrl() const {
+    return "http://127.0.0.1:" + std::to_string(port_) + "/mapcache/wmts?SERVICE=WMTS&REQUEST=GetCapabilities";
+}
 
 std::string MapServer::faultyUrl() const { return "http://127.0.0.1:" + std::to_string(port_) + "/faulty?"; }
 std::string MapServer::basicUrl() const { return "http://127.0.0.1:" + std::to_string(port_) + "/basic?"; }

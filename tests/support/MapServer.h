@@ -1,7 +1,7 @@
 #pragma once
 // A throw-away MapServer for the tests of OGC services: lighttpd on 127.0.0.1 on a free port in
 // a temporary folder, running MapServer's CGI (`mapserv`) over a mapfile made from the test's
-// LAYER blocks (WMS 1.1.1/1.3.0, WFS 2.0 and WMTS-free GetMap; every request enabled), with its
+// LAYER blocks (WMS 1.1.1/1.3.0 and WFS 2.0, every request enabled; WMTS through MapCache), with its
 // access log kept so that a test can see what the client asked. Every wait is bounded; the
 // destructor stops lighttpd and removes the folder.
 //
@@ -22,8 +22,10 @@ namespace orbis::test {
 
 class MapServer {
 public:
-    /// `layers`: MapServer LAYER ... END blocks, in drawing order.
-    explicit MapServer(const std::vector<std::string>& layers);
+    /// `layers`: MapServer LAYER ... END blocks, in drawing order. `wmtsLayers`: names of those
+    /// layers that MapCache (MapServer's tile cache, Debian mapcache-cgi) also serves as WMTS
+    /// tile sets on the WGS84 grid (256-pixel tiles, 2 x 1 at level 0), cached in the folder.
+    explicit MapServer(const std::vector<std::string>& layers, const std::vector<std::string>& wmtsLayers = {});
     ~MapServer();
     MapServer(const MapServer&) = delete;
     MapServer& operator=(const MapServer&) = delete;
@@ -35,6 +37,8 @@ public:
     int port() const { return port_; }
     /// "http://127.0.0.1:PORT/ows?": the services' address, ready for parameters.
     std::string url() const;
+    /// MapCache's WMTS GetCapabilities: "http://127.0.0.1:PORT/mapcache/wmts?SERVICE=WMTS&REQUEST=GetCapabilities".
+    std::string wmtsCapabilitiesUrl() const;
     /// GET `target` ("/ows?SERVICE=..."), within 20 s: the HTTP status (0: no answer) and body.
     std::pair<int, std::string> get(const std::string& target) const;
     /// The requests served so far, one line each: "GET QUERY_STRING" (noted by the CGI as it

@@ -35,8 +35,9 @@ const char* kHelp =
     "raw MISB ST 0601 KLV streams (.bin, .klv, or a file that starts with the ST 0601 key) and pose\n"
     "CSV sidecars (.csv), printed as JSON lines, one per packet or row; videos (.ts, .mpg, .mp4, ...):\n"
     "a line on the video stream, then one per ST 0601 packet of its KLV stream with its time.\n"
-    "With an http(s):// URL (or WMS:/WFS: before it): what the OGC server's WMS and WFS offer, from\n"
-    "their GetCapabilities: layers and feature types with titles, styles, CRSs, WGS84 extents, time.\n";
+    "With an http(s):// URL (or WMS:/WMTS:/WFS: before it): what the OGC server's WMS, WMTS and WFS\n"
+    "offer, from their GetCapabilities: layers and feature types with titles, styles, CRSs, WGS84\n"
+    "extents, time; WMTS layers also their formats and tile matrix sets.\n";
 
 std::string version(uint32_t v) {
     return std::to_string(VK_API_VERSION_MAJOR(v)) + "." + std::to_string(VK_API_VERSION_MINOR(v)) + "." +
@@ -213,8 +214,8 @@ int infoCommand(const std::vector<std::string>& argv) {
     if (args.positional().size() > 1) throw UsageError{"info expects at most one FILE"};
     if (args.positional().empty()) return deviceInfo(args);
     const std::string file = args.positional()[0];
-    // An OGC server: what its WMS and WFS offer (GetCapabilities).
-    for (const char* prefix : {"http://", "https://", "WMS:http", "WFS:http"})
+    // An OGC server: what its WMS, WMTS and WFS offer (GetCapabilities).
+    for (const char* prefix : {"http://", "https://", "WMS:http", "WMTS:http", "WFS:http"})
         if (file.rfind(prefix, 0) == 0) return printDescription(globe::describeOgcServices(file));
     std::error_code ec;
     if (!std::filesystem::exists(file, ec)) return badInput(file + ": no such file");
