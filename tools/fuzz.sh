@@ -17,7 +17,7 @@ set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="$here/build-fuzz"
 seconds="${SECONDS_EACH:-60}" runs="${RUNS:-}" regress="${REGRESS:-0}" jobs="${JOBS:-1}"
-all=(klv las scene camera-path input-script trajectory-csv gpx pose-csv livefeed gltf netcdf vector pg-notify ogc-capabilities)
+all=(klv las scene camera-path input-script trajectory-csv gpx pose-csv livefeed gltf netcdf vector pg-notify ogc-capabilities wms-time)
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
 command -v clang++ >/dev/null || { echo "fuzz.sh: clang++ is missing (Debian: apt install clang)" >&2; exit 1; }

@@ -1,5 +1,7 @@
 #include "layers/terrain/TerrainLayer.h"
 
+#include <cstdio>
+
 #include "base/Color.h"
 #include "base/Log.h"
 #include "base/ThreadPool.h"
@@ -56,11 +58,15 @@ void TerrainLayer::openSources(const render::RenderServices& services) {
         else errors_.push_back(s.message()), log::error(s.message());
     }
     imageryIndex_.clear();
+    timeShown_.clear();
     for (size_t i = 0; i < settings_.imagery.size(); ++i) {
-        auto s = globe::RasterSource::open(settings_.imagery[i].source);
+        // A time-enabled layer opens at its first value; the first frame moves it to the scene's.
+        const auto& layer = settings_.imagery[i];
+        auto s = globe::RasterSource::open(layer.times.empty() ? layer.source : atWmsTime(layer.source, layer.times[0]));
         if (s) {
             images.push_back(*s);
             imageryIndex_.push_back(i);
+            timeShown_.push_back(0);
         } else {
             errors_.push_back(s.message()), log::error(s.message());
         }
@@ -170,6 +176,7 @@ void TerrainLayer::update(const scene::FrameContext& frame) {
     view.nearPlane = camera.nearPlane();
     view.viewportHeightPx = frame.height;
     syncDrapes(frame.drapes);
+    followTime(frame.time);
     const auto& selected = selector_->select(view, [&](const globe::TileKey& k) { return drawnHeights(k); });
     stats_.selection = selector_->stats();
 
@@ -184,6 +191,43 @@ void TerrainLayer::update(const scene::FrameContext& frame) {
     buildDrawList(frame, selected);
     for (const auto& err : tiles_->errors())
         if (std::find(errors_.begin(), errors_.end(), err) == errors_.end()) errors_.push_back(err);
+}
+
+globe::RasterSourceOptions atWmsTime(const globe::RasterSourceOptions& source, const globe::WmsTimeValue& time) {
+    globe::RasterSourceOptions o = source;
+    // Percent-encoded where a query needs it ('+' of an offset would read as a space).
+    std::string value;
+    for (char c : time.text) {
+        if (c == '+' || c == '&' || c == '#' || c == ' ' || c == '%') {
+            char hex[4];
+            std::snprintf(hex, sizeof hex, "%%%02X", static_cast<unsigned char>(c));
+            value += hex;
+        } else {
+            value += c;
+        }
+    }
+    o.path += (o.path.find('?') == std::string::npos ? "?" : (o.path.back() == '?' || o.path.back() == '&') ? "" : "&");
+    o.path += "TIME=" + value;
+    return o;
+}
+
+void TerrainLayer::followTime(TimeNs t) {
+    for (size_t l = 0; l < imageryIndex_.size(); ++l) {
+        const ImageryLayerSettings& layer = settings_.imagery[imageryIndex_[l]];
+        if (layer.times.empty()) continue;
+        const size_t now = globe::wmsTimeIndexAt(layer.times, t);
+        if (now == timeShown_[l]) continue;
+        timeShown_[l] = now;   // a value that fails to open is not tried again every frame
+        // Opening a WMS reads nothing from the server (a description, in memory): a few ms.
+        auto source = globe::RasterSource::open(atWmsTime(layer.source, layer.times[now]));
+        if (!source) {
+            if (std::find(errors_.begin(), errors_.end(), source.message()) == errors_.end()) errors_.push_back(source.message());
+            log::error(source.message());
+            continue;
+        }
+        log::debug(layer.name, ": TIME=", layer.times[now].text);
+        tiles_->replaceImagery(uint32_t(1 + l), *source);
+    }
 }
 
 bool TerrainLayer::imageLayerVisible(uint32_t l) const {

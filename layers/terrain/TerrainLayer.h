@@ -33,6 +33,7 @@
 #include "globe/RasterSource.h"
 #include "globe/TerrainTiles.h"
 #include "globe/TileSelector.h"
+#include "globe/WmsTime.h"
 #include "layers/terrain/TerrainGround.h"
 #include "layers/terrain/TileSlotPool.h"
 #include "shared/TerrainTypes.h"
@@ -51,7 +52,14 @@ struct ImageryLayerSettings {
     /// Lights of the night side (city lights): shown where the sun is down, added after the
     /// lighting, not over the day imagery.
     bool night = false;
+    /// A WMS layer's TIME values (scene key "time": its extent, as the server's capabilities
+    /// give it): the layer shows the value in effect at the scene's time (TIME=... added to the
+    /// request), its tiles painted again when the value changes, the old ones shown meanwhile.
+    std::vector<globe::WmsTimeValue> times;
 };
+
+/// `source` asking its WMS for `time` (TIME=... added to the URL).
+globe::RasterSourceOptions atWmsTime(const globe::RasterSourceOptions& source, const globe::WmsTimeValue& time);
 
 struct TerrainSettings {
     std::vector<globe::RasterSourceOptions> elevation;
@@ -168,6 +176,9 @@ private:
     void writeDescriptors(uint32_t frameSlot);
     /// The selected tiles, front to back (descriptor sets and push constants already set).
     void drawSurface(VkCommandBuffer cmd);
+    /// Time-enabled imagery: a layer whose TIME value in effect at `t` changed gets the source
+    /// for the new value.
+    void followTime(TimeNs t);
 
     TerrainSettings settings_;
     std::vector<std::string> errors_;
@@ -206,6 +217,7 @@ private:
     bool warnedDrawCap_ = false;
     bool deferred_ = false;                 ///< ready data waited for upload budget this frame
     std::vector<size_t> imageryIndex_;      ///< model imagery layer i -> settings_.imagery index
+    std::vector<size_t> timeShown_;         ///< model imagery layer i -> index of its TIME value shown
     struct DrapeLayer {
         const void* owner = nullptr;
         uint64_t version = 0;

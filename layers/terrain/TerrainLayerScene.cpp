@@ -4,15 +4,23 @@
 #include "layers/terrain/TerrainLayer.h"
 #include "shared/TerrainTypes.h"
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 
 namespace orbis::layers {
 namespace {
 
+bool startsWithNoCase(const std::string& s, const char* prefix) {
+    for (size_t i = 0; prefix[i]; ++i)
+        if (i >= s.size() || std::toupper(static_cast<unsigned char>(s[i])) != prefix[i]) return false;
+    return true;
+}
+
 Result<globe::RasterSourceOptions> readSource(const nlohmann::json& value, const scene::SceneDesc& scene,
                                               const std::string& path, globe::RasterRole role, scene::JsonReader* outer,
-                                              std::string* name, double* opacity, bool* visible, bool* night = nullptr) {
+                                              std::string* name, double* opacity, bool* visible, bool* night = nullptr,
+                                              std::vector<globe::WmsTimeValue>* times = nullptr) {
     globe::RasterSourceOptions o;
     o.role = role;
     if (value.is_string()) {
@@ -56,6 +64,7 @@ Result<globe::RasterSourceOptions> readSource(const nlohmann::json& value, const
     }
     if (auto resampling = r.string("resampling", std::string())) o.resampling = *resampling;
     o.httpAuth = readHttpAuth(r, scene.file.string(), path);
+    if (auto cache = r.string("cacheDir", std::string()); cache && !cache->empty()) o.cacheDir = scene.resolve(*cache).string();
     if (r.has("bounds")) {
         if (auto b = r.numbers("bounds", 4); b && b->size() == 4) {
             const globe::GeoExtent e{(*b)[0], (*b)[1], (*b)[2], (*b)[3]};
@@ -71,6 +80,34 @@ Result<globe::RasterSourceOptions> readSource(const nlohmann::json& value, const
     if (opacity) *opacity = r.number("opacity", 1.0, TerrainLayer::kImageryOpacityRange.min, TerrainLayer::kImageryOpacityRange.max).value_or(1.0);
     if (visible) *visible = r.boolean("visible", true).value_or(true);
     if (night) *night = r.boolean("night", false).value_or(false);
+    if (times && r.has("time")) {
+        // The TIME extent, as a string (what `orbis info URL` prints) or a list of values.
+        std::string extent;
+        const nlohmann::json& t = value["time"];
+        if (t.is_string()) {
+            extent = t.get<std::string>();
+            r.accept("time");
+        } else if (t.is_array()) {
+            for (const auto& v : t) {
+                if (!v.is_string()) {
+                    r.fail("time", "expected time values as strings, got " + scene::describeJsonType(v));
+                    break;
+                }
+                if (!extent.empty()) extent += ',';
+                extent += v.get_ref<const std::string&>();
+            }
+            r.accept("time");
+        } else {
+            r.fail("time", "expected a WMS time extent (\"2026-01-01/2026-03-01/P1M\") or a list of values, got " +
+                               scene::describeJsonType(t));
+        }
+        if (r.ok() && (o.path.size() < 4 || !startsWithNoCase(o.path, "WMS:")))
+            r.fail("time", "applies to a WMS source (a path starting with \"WMS:\")");
+        if (r.ok()) {
+            if (auto values = globe::parseWmsTimeExtent(extent)) *times = std::move(*values);
+            else r.fail("time", values.message());
+        }
+    }
     if (auto done = r.finish(); !done) return done.error();
     return o;
 }
@@ -95,7 +132,8 @@ Result<std::unique_ptr<scene::Layer>> TerrainLayer::create(const scene::LayerDes
         for (size_t i = 0; i < list->size() && i < shader::kTerrainMaxImagery; ++i) {
             ImageryLayerSettings layer;
             auto o = readSource((*list)[i], scene, desc.jsonPath + "/imagery/" + std::to_string(i),
-                                globe::RasterRole::Imagery, &r, &layer.name, &layer.opacity, &layer.visible, &layer.night);
+                                globe::RasterRole::Imagery, &r, &layer.name, &layer.opacity, &layer.visible, &layer.night,
+                                &layer.times);
             if (!o) return o.error();
             layer.source = std::move(*o);
             s.imagery.push_back(std::move(layer));
@@ -130,7 +168,7 @@ Result<std::unique_ptr<scene::Layer>> TerrainLayer::create(const scene::LayerDes
 }
 
 scene::LayerType TerrainLayer::layerType() {
-    return {"terrain", "WGS84 quadtree terrain streaming DEMs and imagery through GDAL", &TerrainLayer::create, {"/elevation/*", "/elevation/*/path", "/imagery/*", "/imagery/*/path"}};
+    return {"terrain", "WGS84 quadtree terrain streaming DEMs and imagery through GDAL", &TerrainLayer::create, {"/elevation/*", "/elevation/*/path", "/elevation/*/cacheDir", "/imagery/*", "/imagery/*/path", "/imagery/*/cacheDir"}};
 }
 
 }  // namespace orbis::layers

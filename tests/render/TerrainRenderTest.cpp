@@ -435,6 +435,9 @@ TEST(TerrainSettings, BadSourceEntriesNameTheKeyAndTheProblem) {
         {R"({"path": "WMS:http://h/ows?", "auth": {"basic": "X"}})", "auth", "unknown key"},
         {R"({"path": "WMS:http://h/ows?", "auth": {"basicEnv": "ORBIS_TEST_SURELY_NOT_SET"}})", "auth",
          "ORBIS_TEST_SURELY_NOT_SET (HTTP basic credentials) is not set"},
+        {R"({"path": "a.tif", "time": "2026-01-01"})", "time", "applies to a WMS source"},
+        {R"({"path": "WMS:http://h/ows?", "time": "2026-01-01/2026-02-01"})", "time", "no period"},
+        {R"({"path": "WMS:http://h/ows?", "time": [1]})", "time", "as strings"},
     };
     for (const auto& c : cases) {
         const std::string message = build(c.imagery);
