@@ -6,6 +6,10 @@
 // tile) list with RasterSource (GDAL's warper with the transformer kept per handle) on as many
 // plain threads, nothing else. Both runs are repeated and the second of each is reported, so
 // GDAL's block cache is equally warm for both.
+//
+// Sources behind a server (WMS, WMTS, XYZ, http) are measured twice: cold (each run opens its
+// sources on an empty disk cache of its own, so every tile is a request) and warm (both runs on
+// the cache the cold bare run filled, sources opened again: every tile from the disk).
 #include "tools/orbis/BenchModes.h"
 
 #include "base/Log.h"
@@ -21,6 +25,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <thread>
 
 namespace orbis::cli {
@@ -46,14 +52,26 @@ const layers::TerrainLayer* findTerrain(const scene::Scene& scene) {
     return terrain;
 }
 
-/// Every source that opens; the others are reported on stderr.
-TileSources openSources(const layers::TerrainSettings& settings) {
+/// Whether a source is read from a server (its tiles go through the disk cache).
+bool isRemote(const globe::RasterSourceOptions& o) {
+    const auto starts = [&](const char* p) { return o.path.rfind(p, 0) == 0; };
+    return !o.xyzUrl.empty() || starts("WMS:") || starts("WMTS:") || o.path.find("://") != std::string::npos ||
+           o.path.find("/vsicurl") != std::string::npos;
+}
+
+/// Every source that opens (remote ones caching in `cacheDir` when it is given); the others are
+/// reported on stderr.
+TileSources openSources(const layers::TerrainSettings& settings, const std::string& cacheDir = {}) {
     TileSources out;
+    const auto options = [&](globe::RasterSourceOptions o) {
+        if (!cacheDir.empty() && isRemote(o)) o.cacheDir = cacheDir;
+        return o;
+    };
     for (const auto& o : settings.elevation)
-        if (auto s = globe::RasterSource::open(o)) out.dems.push_back(*s), out.grow(**s);
+        if (auto s = globe::RasterSource::open(options(o))) out.dems.push_back(*s), out.grow(**s);
         else std::fprintf(stderr, "orbis: %s\n", s.message().c_str());
     for (const auto& l : settings.imagery)
-        if (auto s = globe::RasterSource::open(l.source)) out.images.push_back(*s), out.grow(**s);
+        if (auto s = globe::RasterSource::open(options(l.source))) out.images.push_back(*s), out.grow(**s);
         else std::fprintf(stderr, "orbis: %s\n", s.message().c_str());
     return out;
 }
@@ -136,23 +154,49 @@ double runBare(const globe::TerrainTilesSettings& ms, const TileSources& sources
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-void printReport(const Args& args, long level, unsigned threads, size_t tiles, size_t loads, const PagerRun& pager,
-                 double bareSeconds) {
-    const double pagerRate = double(pager.produced) / pager.seconds, bareRate = double(loads) / bareSeconds;
+struct TileRunPair {
+    const char* label;   // "" for local sources, "cold "/"warm " for remote ones
+    PagerRun pager;
+    double bareSeconds = 0.0;
+};
+
+void printReport(const Args& args, long level, unsigned threads, size_t tiles, size_t loads, const std::vector<TileRunPair>& runs) {
     if (args.flag("--json")) {
-        nlohmann::json out{{"scene", args.positional()[0]}, {"level", level}, {"threads", threads},
-                           {"tiles", loads}, {"pager_tiles_per_s", pagerRate}, {"bare_tiles_per_s", bareRate},
-                           {"ratio", pagerRate / bareRate}};
+        nlohmann::json out{{"scene", args.positional()[0]}, {"level", level}, {"threads", threads}, {"tiles", loads}};
+        for (const TileRunPair& r : runs) {
+            const double pagerRate = double(r.pager.produced) / r.pager.seconds, bareRate = double(loads) / r.bareSeconds;
+            std::string prefix = r.label;
+            if (!prefix.empty()) prefix.back() = '_';
+            out[prefix + "pager_tiles_per_s"] = pagerRate;
+            out[prefix + "bare_tiles_per_s"] = bareRate;
+            out[prefix + "ratio"] = pagerRate / bareRate;
+        }
         std::printf("%s\n", out.dump(2).c_str());
-    } else {
-        std::printf("orbis bench %s --tiles %ld: %zu tiles of level %ld over the sources, their ancestors and layers "
-                    "= %zu loads, %u threads\n",
-                    args.positional()[0].c_str(), level, tiles, level, loads, threads);
-        std::printf("pager      %8.1f tiles/s  (%.3f s)\n", pagerRate, pager.seconds);
-        std::printf("bare loop  %8.1f tiles/s  (%.3f s)\n", bareRate, bareSeconds);
-        std::printf("pager / bare = %.2f\n", pagerRate / bareRate);
+        return;
+    }
+    std::printf("orbis bench %s --tiles %ld: %zu tiles of level %ld over the sources, their ancestors and layers "
+                "= %zu loads, %u threads\n",
+                args.positional()[0].c_str(), level, tiles, level, loads, threads);
+    for (const TileRunPair& r : runs) {
+        const double pagerRate = double(r.pager.produced) / r.pager.seconds, bareRate = double(loads) / r.bareSeconds;
+        std::printf("%spager      %8.1f tiles/s  (%.3f s)\n", r.label, pagerRate, r.pager.seconds);
+        std::printf("%sbare loop  %8.1f tiles/s  (%.3f s)\n", r.label, bareRate, r.bareSeconds);
+        std::printf("%spager / bare = %.2f\n", r.label, pagerRate / bareRate);
     }
 }
+
+/// A fresh, empty folder under the temporary directory (removed with its tree by ~TempDir).
+struct TempDir {
+    std::filesystem::path path;
+    TempDir() {
+        std::string p = (std::filesystem::temp_directory_path() / "orbis-tile-bench-XXXXXX").string();
+        if (::mkdtemp(p.data())) path = p;
+    }
+    ~TempDir() {
+        std::error_code ec;
+        if (!path.empty()) std::filesystem::remove_all(path, ec);
+    }
+};
 
 }  // namespace
 
@@ -169,13 +213,33 @@ int tileBench(const Args& args, scene::Scene& scene, long level, unsigned thread
     }
     const std::vector<globe::TileKey> tiles = tilesOver(sources.coverage, uint32_t(level));
     const globe::TerrainTilesSettings ms = modelSettings(terrain->settings());
-    // Each run twice, the second reported, so that GDAL's block cache is equally warm for both.
+    const auto& settings = terrain->settings();
+    const bool remote = std::any_of(settings.elevation.begin(), settings.elevation.end(), isRemote) ||
+                        std::any_of(settings.imagery.begin(), settings.imagery.end(),
+                                    [](const layers::ImageryLayerSettings& l) { return isRemote(l.source); });
     std::vector<globe::DataKey> keys;
-    runPager(ms, sources, tiles, threads, &keys);
-    runBare(ms, sources, keys, threads);
-    const PagerRun pager = runPager(ms, sources, tiles, threads, nullptr);
-    const double bareSeconds = runBare(ms, sources, keys, threads);
-    printReport(args, level, threads, tiles.size(), keys.size(), pager, bareSeconds);
+    std::vector<TileRunPair> runs;
+    if (!remote) {
+        // Each run twice, the second reported, so that GDAL's block cache is equally warm for both.
+        runPager(ms, sources, tiles, threads, &keys);
+        runBare(ms, sources, keys, threads);
+        const PagerRun pager = runPager(ms, sources, tiles, threads, nullptr);
+        runs.push_back({"", pager, runBare(ms, sources, keys, threads)});
+    } else {
+        // Cold: each run on sources opened over an empty cache of its own.
+        TempDir coldPager, cache;
+        if (coldPager.path.empty() || cache.path.empty()) {
+            std::fprintf(stderr, "orbis: cannot make a temporary folder for the tile caches\n");
+            return kBadInput;
+        }
+        const PagerRun cold = runPager(ms, openSources(settings, coldPager.path.string()), tiles, threads, &keys);
+        const double coldBare = runBare(ms, openSources(settings, cache.path.string()), keys, threads);
+        runs.push_back({"cold ", cold, coldBare});
+        // Warm: the cache the bare run filled, sources opened again (their block caches empty).
+        const PagerRun warm = runPager(ms, openSources(settings, cache.path.string()), tiles, threads, nullptr);
+        runs.push_back({"warm ", warm, runBare(ms, openSources(settings, cache.path.string()), keys, threads)});
+    }
+    printReport(args, level, threads, tiles.size(), keys.size(), runs);
     return kOk;
 }
 
