@@ -239,6 +239,29 @@ TEST_F(OgcServices, AServerFaultIsAClearErrorAndTheNextReadGetsTheTile) {
     }
 }
 
+// A WFS that fails: the read is a clear error naming the source, and the next read, once the
+// server mends, gets the features (the pager's pages retry after 1 s, doubling: FeatureTiles).
+TEST_F(OgcServices, AWfsFaultIsAClearErrorAndTheNextReadGetsTheFeatures) {
+    test::ScopedGdalConfig timeout("GDAL_HTTP_TIMEOUT", "2");
+    vector::VectorReadOptions wfs;
+    wfs.source = "WFS:" + ms->faultyUrl();
+    wfs.layers = {"parcels"};
+    for (const auto& [fault, says] : {std::pair{test::MapServer::Fault::Status500, "500"},
+                                      std::pair{test::MapServer::Fault::Exception, "Invalid layer(s)"},
+                                      std::pair{test::MapServer::Fault::Slow, "imed out"}}) {
+        SCOPED_TRACE(says);
+        ms->setFault(fault, 1000, 4);
+        auto bad = vector::readVector(wfs);
+        ASSERT_FALSE(bad) << "a faulty answer read as features";
+        EXPECT_NE(bad.message().find("/faulty?"), std::string::npos) << bad.message();
+        EXPECT_NE(bad.message().find(says), std::string::npos) << bad.message();
+        ms->setFault(fault, 0);
+        auto good = vector::readVector(wfs);
+        ASSERT_TRUE(good) << good.message();
+        EXPECT_EQ(good->layers.at(0).features.size(), 100u);
+    }
+}
+
 // In the terrain: a tile that failed is reported, the other layer's tile is drawn meanwhile, and
 // the pager's retries (TerrainTiles: kTileRetries, back-off from 1 s) fill it in once the
 // server answers again.
