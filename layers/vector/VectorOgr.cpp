@@ -61,6 +61,35 @@ std::string withServerTimeouts(const std::string& source) {
     return out;
 }
 
+namespace {
+
+/// A web service's failure in plain words (OGR's WFS driver repeats itself and quotes whole XML
+/// documents): "the server answered HTTP 500", "no answer from the server (<curl's words>)",
+/// "the server reports an exception: <its text>"; anything else as it is.
+std::string plainServiceError(const std::string& why) {
+    if (const size_t at = why.find("HTTP error code : "); at != std::string::npos) {
+        const int code = std::atoi(why.c_str() + at + 18);
+        if (code > 0) return "the server answered HTTP " + std::to_string(code);
+    }
+    if (const size_t at = why.find("timed out"); at != std::string::npos) {
+        const size_t start = why.rfind("Operation", at), end = why.find_first_of(";(", at);
+        return "no answer from the server (" + why.substr(start == std::string::npos ? at : start,
+                                                          end == std::string::npos ? std::string::npos : end - (start == std::string::npos ? at : start)) + ")";
+    }
+    // The first <ServiceException ...> element (not the report around it) and its text.
+    size_t at = why.find("<ServiceException");
+    while (at != std::string::npos && at + 17 < why.size() && why[at + 17] != ' ' && why[at + 17] != '>')
+        at = why.find("<ServiceException", at + 1);
+    if (at != std::string::npos) {
+        const size_t open = why.find('>', at), close = why.find("</", open == std::string::npos ? at : open);
+        if (open != std::string::npos && close != std::string::npos && close > open)
+            return "the server reports an exception: " + why.substr(open + 1, std::min<size_t>(close - open - 1, 500));
+    }
+    return why;
+}
+
+}  // namespace
+
 Result<DatasetPtr> openVectorSource(const std::string& source) {
     globe::configureGdal();   // drivers, and HTTP timeouts: a stalled WFS ends the read
     std::error_code ec;
@@ -69,7 +98,8 @@ Result<DatasetPtr> openVectorSource(const std::string& source) {
     GdalErrorScope errors;
     DatasetPtr dataset(GDALDataset::Open(withServerTimeouts(source).c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
     if (!dataset) {
-        const std::string why = errors.message("no vector driver recognises it");
+        std::string why = errors.message("no vector driver recognises it");
+        if (source.find("://") != std::string::npos) why = plainServiceError(why);
         // The driver's words may quote the connection string.
         return makeError(redactSecrets(source) + ": OGR cannot open it as vector data (" + redactSecrets(why) + ")");
     }

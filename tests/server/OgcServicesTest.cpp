@@ -246,15 +246,17 @@ TEST_F(OgcServices, AWfsFaultIsAClearErrorAndTheNextReadGetsTheFeatures) {
     vector::VectorReadOptions wfs;
     wfs.source = "WFS:" + ms->faultyUrl();
     wfs.layers = {"parcels"};
-    for (const auto& [fault, says] : {std::pair{test::MapServer::Fault::Status500, "500"},
-                                      std::pair{test::MapServer::Fault::Exception, "Invalid layer(s)"},
-                                      std::pair{test::MapServer::Fault::Slow, "imed out"}}) {
+    for (const auto& [fault, says] : {std::pair{test::MapServer::Fault::Status500, "the server answered HTTP 500"},
+                                      std::pair{test::MapServer::Fault::Exception,
+                                                "the server reports an exception: msWMSLoadGetMapParams(): WMS server error. Invalid layer(s)"},
+                                      std::pair{test::MapServer::Fault::Slow, "no answer from the server (Operation timed out"}}) {
         SCOPED_TRACE(says);
         ms->setFault(fault, 1000, 4);
         auto bad = vector::readVector(wfs);
         ASSERT_FALSE(bad) << "a faulty answer read as features";
         EXPECT_NE(bad.message().find("/faulty?"), std::string::npos) << bad.message();
         EXPECT_NE(bad.message().find(says), std::string::npos) << bad.message();
+        EXPECT_EQ(bad.message().find("<?xml"), std::string::npos) << bad.message();
         ms->setFault(fault, 0);
         auto good = vector::readVector(wfs);
         ASSERT_TRUE(good) << good.message();
