@@ -124,7 +124,8 @@ Result<std::shared_ptr<RasterSource>> RasterSource::open(const RasterSourceOptio
     if (!options.path.empty() && EQUALN(options.path.c_str(), "WMS:", 4)) {
         // A WMS URL: read through a description with a timeout and the tile cache (GDAL's own
         // from a URL has neither).
-        if (auto xml = wmsUrlToXml(ds, options.cacheDir.empty() ? defaultRasterCacheDir() : options.cacheDir)) {
+        if (auto xml = wmsUrlToXml(ds, options.cacheDir.empty() ? defaultRasterCacheDir() : options.cacheDir,
+                                   options.role == RasterRole::Elevation)) {
             GDALClose(ds);
             s.openPath = *xml;
             GdalErrors errors;

@@ -113,7 +113,7 @@ std::string xyzToWmsXml(const std::string& xyzUrl, int maxZoom, const std::strin
     return x.str();
 }
 
-std::optional<std::string> wmsUrlToXml(GDALDatasetH ds, const std::string& cacheDir) {
+std::optional<std::string> wmsUrlToXml(GDALDatasetH ds, const std::string& cacheDir, bool heights) {
     GDALDriverH wms = GDALGetDatasetDriver(ds);
     if (!wms || std::strcmp(GDALGetDriverShortName(wms), "WMS") != 0) return std::nullopt;
     // GDAL writes a WMS dataset's description through its CreateCopy: into memory, then read.
@@ -133,7 +133,14 @@ std::optional<std::string> wmsUrlToXml(GDALDatasetH ds, const std::string& cache
         add += "<Timeout>" + xmlEscape(CPLGetConfigOption("GDAL_HTTP_TIMEOUT", "30")) + "</Timeout>";
     if (xml.find("<Cache") == std::string::npos) add += "<Cache><Path>" + xmlEscape(tileCachePath(cacheDir)) + "</Path></Cache>";
     if (xml.find("<MaxConnections>") == std::string::npos) add += "<MaxConnections>4</MaxConnections>";
-    xml.insert(end, add);
+    if (heights) {
+        if (const size_t b = xml.find("<BandsCount>"); b != std::string::npos) {
+            const size_t e = xml.find("</BandsCount>", b);
+            if (e != std::string::npos) xml.replace(b, e - b, "<BandsCount>1");
+        }
+        if (xml.find("<DataType>") == std::string::npos) add += "<DataType>Float32</DataType>";
+    }
+    xml.insert(xml.rfind("</GDAL_WMS>"), add);
     return xml;
 }
 

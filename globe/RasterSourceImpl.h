@@ -104,8 +104,10 @@ std::string xyzToWmsXml(const std::string& xyzUrl, int maxZoom, const std::strin
 /// For a WMS dataset GDAL opened from a "WMS:URL" string (which has no disk cache and waits
 /// 300 s for an answer): its service description as XML, with Orbis's HTTP timeout
 /// (GDAL_HTTP_TIMEOUT), the tile cache in `cacheDir`, and 4 connections added where it names
-/// none. Nothing when `ds` is not such a dataset.
-std::optional<std::string> wmsUrlToXml(GDALDatasetH ds, const std::string& cacheDir);
+/// none. For elevation (`heights`): one band of Float32 (GDAL guesses three of bytes), for a
+/// server that sends heights (FORMAT=image/tiff of a DEM). Nothing when `ds` is not such a
+/// dataset.
+std::optional<std::string> wmsUrlToXml(GDALDatasetH ds, const std::string& cacheDir, bool heights);
 /// GDAL's resampling algorithm by gdalwarp's name (-r); *ok = false for an unknown name.
 GDALResampleAlg resampleAlg(const std::string& name, bool* ok);
 std::string fmtExtent(const GeoExtent& e);

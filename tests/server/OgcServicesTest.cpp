@@ -39,6 +39,7 @@ std::string requests(const test::MapServer& ms) {
 }
 
 const fs::path kWorld = fs::path(ORBIS_SOURCE_DIR) / "assets" / "generated" / "world-colour.tif";
+const fs::path kRelief = fs::path(ORBIS_SOURCE_DIR) / "assets" / "generated" / "world-relief.tif";
 
 /// 100 parcels of 400 m in Web Mercator around lon 10, lat 45 (as the PostGIS tests).
 fs::path writeParcels(const fs::path& path) {
@@ -75,6 +76,8 @@ struct OgcServices : ::testing::Test {
         ms = std::make_unique<test::MapServer>(std::vector<std::string>{
             R"(LAYER NAME "world" TYPE RASTER STATUS ON DATA ")" + kWorld.string() + R"(" PROJECTION AUTO END
                  METADATA "ows_title" "World colour" END END)",
+            R"(LAYER NAME "relief" TYPE RASTER STATUS ON DATA ")" + kRelief.string() + R"(" PROJECTION AUTO END
+                 METADATA "ows_title" "World relief in metres" END END)",
             R"(LAYER NAME "parcels" TYPE POLYGON STATUS ON CONNECTIONTYPE OGR CONNECTION ")" + parcels.string() +
                 R"(" DATA "parcels" PROJECTION AUTO END
                  METADATA "ows_title" "Parcels" "wfs_srs" "EPSG:3857" "gml_include_items" "all" "gml_featureid" "fid"
@@ -141,6 +144,33 @@ TEST_F(OgcServices, AWmsLayerReadsAsTheImageItServes) {
     EXPECT_LT(d.mean, 6.0);
     EXPECT_LT(d.farShare, 0.01);
     EXPECT_NE(requests(*ms).find("request=getmap"), std::string::npos) << ms->accessLog();
+}
+
+// Elevation from a WMS that sends heights (GeoTIFF, Float32): the same terrain as the file.
+TEST_F(OgcServices, AWmsLayerOfHeightsReadsAsTheDemItServes) {
+    globe::RasterSourceOptions wms, local;
+    wms.role = local.role = globe::RasterRole::Elevation;
+    wms.path = "WMS:" + ms->url() + "SERVICE=WMS&VERSION=1.1.1&REQUEST=GetMap&LAYERS=relief&SRS=EPSG:4326&BBOX=-180,-90,180,90&FORMAT=image/tiff";
+    wms.cacheDir = (dir / "cache").string();
+    local.path = kRelief.string();
+    auto a = globe::RasterSource::open(local);
+    auto b = globe::RasterSource::open(wms);
+    ASSERT_TRUE(a) << a.message();
+    ASSERT_TRUE(b) << b.message();
+    auto ta = (*a)->readElevation(kEurope, 65, nullptr);
+    auto tb = (*b)->readElevation(kEurope, 65, nullptr);
+    ASSERT_TRUE(ta) << ta.message();
+    ASSERT_TRUE(tb) << tb.message();
+    ASSERT_TRUE(tb->anyValid);
+    double sum = 0.0;
+    for (size_t i = 0; i < ta->heights.size(); ++i) sum += std::abs(double(ta->heights[i]) - double(tb->heights[i]));
+    const double mean = sum / double(ta->heights.size());
+    // Heights, not bytes: the relief's metres, up to thousands. (The WMS's overview here has the
+    // file's own grid, 4096 samples round the world, so the server's samples are the file's.)
+    EXPECT_GT(ta->maxHeight - ta->minHeight, 500.0f);
+    EXPECT_NEAR(tb->maxHeight, ta->maxHeight, 0.1 * (ta->maxHeight - ta->minHeight));
+    EXPECT_LT(mean, 0.02 * (ta->maxHeight - ta->minHeight)) << "mean difference " << mean << " m";
+    EXPECT_NE(requests(*ms).find("format=image/tiff"), std::string::npos) << ms->accessLog();
 }
 
 TEST_F(OgcServices, AWmtsLayerReadsAsTheImageItServes) {

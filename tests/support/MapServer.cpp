@@ -105,6 +105,7 @@ MapServer::MapServer(const std::vector<std::string>& layers, const std::vector<s
                "      \"wfs_getfeature_formatlist\" \"gml,geojson\"\n"
                "    END\n  END\n"
                "  OUTPUTFORMAT NAME \"png\" DRIVER \"AGG/PNG\" MIMETYPE \"image/png\" IMAGEMODE RGBA EXTENSION \"png\" END\n"
+               "  OUTPUTFORMAT NAME \"tiff32\" DRIVER \"GDAL/GTiff\" MIMETYPE \"image/tiff\" IMAGEMODE FLOAT32 EXTENSION \"tif\" END\n"
                "  OUTPUTFORMAT NAME \"geojson\" DRIVER \"OGR/GEOJSON\" MIMETYPE \"application/json; subtype=geojson\"\n"
                "    FORMATOPTION \"STORAGE=stream\" FORMATOPTION \"FORM=SIMPLE\" END\n";
         for (const std::string& layer : layers) map << layer << "\n";
