@@ -73,14 +73,15 @@ Result<std::shared_ptr<RasterSource>> RasterSource::open(const RasterSourceOptio
         return makeError("raster source: give exactly one of a path and an XYZ URL (got \"" + options.path + "\" and \"" +
                          options.xyzUrl + "\")");
     if (!options.xyzUrl.empty()) {
-        s.name = options.xyzUrl;
+        s.name = redactSecrets(options.xyzUrl);
         if (s.role == RasterRole::Elevation) return s.error("XYZ tile URLs are read as imagery only");
         if (options.xyzUrl.find("{z}") == std::string::npos && options.xyzUrl.find("${z}") == std::string::npos)
             return s.error("an XYZ URL needs {z}, {x} and {y} placeholders");
         s.openPath = xyzToWmsXml(options.xyzUrl, options.xyzMaxZoom,
                                  tileCachePath(options.cacheDir.empty() ? defaultRasterCacheDir() : options.cacheDir));
     } else {
-        s.name = s.openPath = options.path;
+        s.openPath = options.path;
+        s.name = redactSecrets(options.path);   // for messages and logs only
     }
     if (options.bounds && !options.xyzUrl.empty()) return s.error("\"bounds\" georeferences a file, not an XYZ source");
 

@@ -7,6 +7,7 @@
 #include "globe/RasterSource.h"
 
 #include "base/Log.h"
+#include "base/Secrets.h"
 #include "base/ThreadPool.h"
 
 #include <cpl_conv.h>
@@ -59,10 +60,10 @@ private:
         auto* self = static_cast<GdalErrors*>(CPLGetErrorHandlerUserData());
         if (!self || !msg) return;
         if (level >= CE_Failure) {
-            log::debug("GDAL: ", msg);
+            log::debug("GDAL: ", redactSecrets(msg));
             if (self->messages_.size() < 8) self->messages_.emplace_back(std::string(msg).substr(0, 1000));
         } else if (level == CE_Warning) {
-            log::debug("GDAL: ", msg);
+            log::debug("GDAL: ", redactSecrets(msg));
         }
     }
     std::vector<std::string> messages_;
@@ -233,7 +234,8 @@ struct RasterSource::Impl {
         idle.clear();
     }
 
-    Error error(const std::string& what) const { return makeError(name + ": " + what); }
+    /// "<name>: <what>", any password in them (a URL's user info, GDAL quoting a request) as ***.
+    Error error(const std::string& what) const { return makeError(redactSecrets(name + ": " + what)); }
 
     // Opening, in this order.
     Result<bool> inspect(GDALDatasetH ds);

@@ -153,6 +153,29 @@ TEST(RasterSourceRemote, BadServersEndEachReadWithinItsTimeout) {
     EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 20.0);
 }
 
+// A password in a source's URL (user info) is used but never shown: not in the source's name,
+// not in a failed read's message (GDAL quotes the request it made).
+TEST(RasterSourceRemote, APasswordInTheUrlIsNeverInAMessage) {
+    int port = 0;
+    {
+        test::HttpServer gone(tempDir());
+        port = gone.port();
+    }
+    const std::string url = "WMS:http://orbis:s3cret-pw@127.0.0.1:" + std::to_string(port) +
+                            "/ows?SERVICE=WMS&VERSION=1.1.1&REQUEST=GetMap&LAYERS=x&SRS=EPSG:4326&BBOX=-180,-90,180,90&FORMAT=image/png";
+    globe::RasterSourceOptions o;
+    o.path = url;
+    o.cacheDir = (tempDir() / "wms-cache-secret").string();
+    auto src = globe::RasterSource::open(o);
+    ASSERT_TRUE(src.ok()) << src.message();
+    EXPECT_EQ((*src)->name().find("s3cret-pw"), std::string::npos) << (*src)->name();
+    EXPECT_NE((*src)->name().find("orbis:***@127.0.0.1"), std::string::npos) << (*src)->name();
+    auto t = (*src)->readImagery({0, 0, 45, 45}, 32);
+    ASSERT_FALSE(t.ok());
+    EXPECT_EQ(t.message().find("s3cret-pw"), std::string::npos) << t.message();
+    EXPECT_EQ((*src)->describe().find("s3cret-pw"), std::string::npos);
+}
+
 namespace {
 
 /// The tiles in a tile cache folder (no temporary files of tiles being written).
