@@ -263,7 +263,7 @@ TEST_F(VectorRender, APickedFeatureShowsItsAttributesAndIsHighlighted) {
 TEST_F(VectorRender, AKmlKeepsItsOwnStylesUnlessTheSceneOverridesThem) {
     // Shared and inline KML styles (LineStyle, PolyStyle, IconStyle) on the mountain's flank,
     // seen from above; the scene's rule then overrides one feature's line colour only.
-    const auto dir = std::filesystem::current_path() / "vector-render";
+    const auto dir = std::filesystem::path(testOutputDir()) / "vector-render";
     std::filesystem::create_directories(dir);
     const std::string kml = (dir / "styled.kml").string();
     std::ofstream(kml) << R"KML(<?xml version="1.0" encoding="UTF-8"?>

@@ -3,6 +3,7 @@
 // VectorMeshTest): GeoJSON files written into the test's output folder, the mountain and world
 // terrains, a vector layer.
 #include "tests/render/TerrainFixtures.h"
+#include "tests/support/GoldenImage.h"
 
 #include "base/Png.h"
 
@@ -17,21 +18,21 @@ namespace orbis::test {
 inline std::string jsonString(const std::string& s) { return nlohmann::json(s).dump(); }
 
 /// A GeoJSON FeatureCollection of `features` (comma-separated Feature objects) written as
-/// `folder`/`name` under the current directory; its path.
+/// `folder`/`name` under the tests' output folder (never the source tree); its path.
 inline std::string writeGeoJson(const std::string& folder, const std::string& name, const std::string& features) {
-    const auto dir = std::filesystem::current_path() / folder;
+    const auto dir = std::filesystem::path(testOutputDir()) / folder;
     std::filesystem::create_directories(dir);
     const auto path = (dir / name).string();
     std::ofstream(path) << R"({"type": "FeatureCollection", "features": [)" << features << "]}";
     return path;
 }
 
-/// A PNG icon of `width` x `height` pixels written as `folder`/`name` under the current
-/// directory, each pixel (RGBA, transparent black to start with) set by `paint(x, y, pixel)`;
+/// A PNG icon of `width` x `height` pixels written as `folder`/`name` under the tests' output
+/// folder, each pixel (RGBA, transparent black to start with) set by `paint(x, y, pixel)`;
 /// its path.
 template <typename Paint>
 std::filesystem::path writeIcon(const std::string& folder, const std::string& name, uint32_t width, uint32_t height, Paint paint) {
-    const auto dir = std::filesystem::current_path() / folder;
+    const auto dir = std::filesystem::path(testOutputDir()) / folder;
     std::filesystem::create_directories(dir);
     ImageRgba8 icon{width, height, std::vector<uint8_t>(size_t(width) * height * 4, 0)};
     for (uint32_t y = 0; y < height; ++y)
