@@ -94,25 +94,27 @@ Result<void> checkHttpAuth(const HttpAuth& auth) {
     return {};
 }
 
+ScopedThreadOption::ScopedThreadOption(const char* key, const char* value) : key_(key), set_(value != nullptr) {
+    if (!set_) return;
+    if (const char* old = CPLGetThreadLocalConfigOption(key, nullptr)) old_ = old, hadOld_ = true;
+    CPLSetThreadLocalConfigOption(key, value);
+}
+
+ScopedThreadOption::~ScopedThreadOption() {
+    if (set_) CPLSetThreadLocalConfigOption(key_, hadOld_ ? old_.c_str() : nullptr);
+}
+
 ScopedHttpAuth::ScopedHttpAuth(const HttpAuth& auth) {
     if (!auth.any()) return;
     configureGdal();
     if (const auto basic = envValue(auth.basicEnv)) {
-        set("GDAL_HTTP_USERPWD", *basic);
-        set("GDAL_HTTP_AUTH", "BASIC");
+        userPassword_.emplace("GDAL_HTTP_USERPWD", basic->c_str());
+        method_.emplace("GDAL_HTTP_AUTH", "BASIC");
     }
-    if (const auto header = envValue(auth.headerEnv)) set("GDAL_HTTP_HEADERS", gdalHeaderList(*header));
+    if (const auto header = envValue(auth.headerEnv)) headers_.emplace("GDAL_HTTP_HEADERS", gdalHeaderList(*header).c_str());
 }
 
-void ScopedHttpAuth::set(const char* key, const std::string& value) {
-    const char* old = CPLGetThreadLocalConfigOption(key, nullptr);
-    saved_.emplace_back(key, old ? std::optional<std::string>(old) : std::nullopt);
-    CPLSetThreadLocalConfigOption(key, value.c_str());
-}
-
-ScopedHttpAuth::~ScopedHttpAuth() {
-    for (auto it = saved_.rbegin(); it != saved_.rend(); ++it)
-        CPLSetThreadLocalConfigOption(it->first.c_str(), it->second ? it->second->c_str() : nullptr);
-}
+// Members are destroyed in reverse order: each option is put back as it was.
+ScopedHttpAuth::~ScopedHttpAuth() = default;
 
 }  // namespace orbis::globe

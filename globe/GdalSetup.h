@@ -28,6 +28,21 @@ namespace orbis::globe {
 
 void configureGdal();
 
+/// Sets one GDAL configuration option for the calling thread for a scope (nothing with a null
+/// value), and puts back what the thread had.
+class ScopedThreadOption {
+public:
+    ScopedThreadOption(const char* key, const char* value);
+    ~ScopedThreadOption();
+    ScopedThreadOption(const ScopedThreadOption&) = delete;
+    ScopedThreadOption& operator=(const ScopedThreadOption&) = delete;
+
+private:
+    const char* key_;
+    bool set_, hadOld_ = false;
+    std::string old_;
+};
+
 struct HttpAuth {
     std::string basicEnv;    ///< a variable holding "user:password" (HTTP basic authentication)
     std::string headerEnv;   ///< a variable holding one request header, "Name: value"
@@ -50,8 +65,7 @@ public:
     ScopedHttpAuth& operator=(const ScopedHttpAuth&) = delete;
 
 private:
-    void set(const char* key, const std::string& value);
-    std::vector<std::pair<std::string, std::optional<std::string>>> saved_;
+    std::optional<ScopedThreadOption> userPassword_, method_, headers_;
 };
 
 }  // namespace orbis::globe

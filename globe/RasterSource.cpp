@@ -152,6 +152,8 @@ Result<std::shared_ptr<RasterSource>> RasterSource::open(const RasterSourceOptio
     return std::shared_ptr<RasterSource>(new RasterSource(std::move(impl)));
 }
 
+bool isRemoteSource(const RasterSourceOptions& options) { return !options.xyzUrl.empty() || isRemotePath(options.path); }
+
 const std::string& RasterSource::name() const { return impl_->name; }
 RasterRole RasterSource::role() const { return impl_->role; }
 GeoExtent RasterSource::coverage() const { return impl_->coverage; }

@@ -153,6 +153,10 @@ private:
 /// raster) name the file. Any thread.
 Result<std::string> describeRasterJson(const std::string& path);
 
+/// Whether the source is read from a server (WMS, WMTS, XYZ, http, /vsicurl/ and the other
+/// network file systems): its tiles go through the disk cache. Any thread.
+bool isRemoteSource(const RasterSourceOptions& options);
+
 /// Where WMS/XYZ tiles are cached by default: $ORBIS_CACHE_DIR/gdal, else
 /// $XDG_CACHE_HOME/orbis/gdal, else $HOME/.cache/orbis/gdal, else <temp>/orbis-gdal-cache.
 std::string defaultRasterCacheDir();

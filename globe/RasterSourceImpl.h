@@ -69,27 +69,6 @@ private:
     std::vector<std::string> messages_;
 };
 
-/// Sets one GDAL option for the calling thread for a scope (nothing with a null value), and puts
-/// back what the thread had.
-class ScopedThreadOption {
-public:
-    ScopedThreadOption(const char* key, const char* value) : key_(key), set_(value != nullptr) {
-        if (!set_) return;
-        if (const char* old = CPLGetThreadLocalConfigOption(key, nullptr)) old_ = old, hadOld_ = true;
-        CPLSetThreadLocalConfigOption(key, value);
-    }
-    ~ScopedThreadOption() {
-        if (set_) CPLSetThreadLocalConfigOption(key_, hadOld_ ? old_.c_str() : nullptr);
-    }
-    ScopedThreadOption(const ScopedThreadOption&) = delete;
-    ScopedThreadOption& operator=(const ScopedThreadOption&) = delete;
-
-private:
-    const char* key_;
-    bool set_, hadOld_ = false;
-    std::string old_;
-};
-
 /// One GDAL error in plain words: a WMS block that failed to download becomes "the server
 /// answered HTTP 500: <its text>" or "no answer: <curl's reason>"; an image that does not
 /// decode, "the server sent a damaged image (<decoder's words>)"; a block-read prefix ("IReadBlock

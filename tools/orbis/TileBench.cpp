@@ -52,19 +52,12 @@ const layers::TerrainLayer* findTerrain(const scene::Scene& scene) {
     return terrain;
 }
 
-/// Whether a source is read from a server (its tiles go through the disk cache).
-bool isRemote(const globe::RasterSourceOptions& o) {
-    const auto starts = [&](const char* p) { return o.path.rfind(p, 0) == 0; };
-    return !o.xyzUrl.empty() || starts("WMS:") || starts("WMTS:") || o.path.find("://") != std::string::npos ||
-           o.path.find("/vsicurl") != std::string::npos;
-}
-
 /// Every source that opens (remote ones caching in `cacheDir` when it is given); the others are
 /// reported on stderr.
 TileSources openSources(const layers::TerrainSettings& settings, const std::string& cacheDir = {}) {
     TileSources out;
     const auto options = [&](globe::RasterSourceOptions o) {
-        if (!cacheDir.empty() && isRemote(o)) o.cacheDir = cacheDir;
+        if (!cacheDir.empty() && globe::isRemoteSource(o)) o.cacheDir = cacheDir;
         return o;
     };
     for (const auto& o : settings.elevation)
@@ -214,9 +207,9 @@ int tileBench(const Args& args, scene::Scene& scene, long level, unsigned thread
     const std::vector<globe::TileKey> tiles = tilesOver(sources.coverage, uint32_t(level));
     const globe::TerrainTilesSettings ms = modelSettings(terrain->settings());
     const auto& settings = terrain->settings();
-    const bool remote = std::any_of(settings.elevation.begin(), settings.elevation.end(), isRemote) ||
+    const bool remote = std::any_of(settings.elevation.begin(), settings.elevation.end(), globe::isRemoteSource) ||
                         std::any_of(settings.imagery.begin(), settings.imagery.end(),
-                                    [](const layers::ImageryLayerSettings& l) { return isRemote(l.source); });
+                                    [](const layers::ImageryLayerSettings& l) { return globe::isRemoteSource(l.source); });
     std::vector<globe::DataKey> keys;
     std::vector<TileRunPair> runs;
     if (!remote) {
