@@ -9,6 +9,7 @@
 #include "layers/fmv/SyntheticFlight.h"
 #include "layers/fmv/VideoFile.h"
 #include "layers/fmv/VideoWriter.h"
+#include "tests/support/ProcessTempDir.h"
 
 #include <gtest/gtest.h>
 
@@ -25,11 +26,7 @@ namespace {
 
 constexpr int kW = 160, kH = 96;
 
-std::filesystem::path dir() {
-    const auto d = std::filesystem::temp_directory_path() / ("orbis-fmv-video-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    return d;
-}
+std::filesystem::path dir() { return test::processTempDir("orbis-fmv-video"); }
 
 // Frame n: a checkerboard, with n in binary as 8 blocks of 16 x 16 along the top row (white 1,
 // black 0), big enough to survive the compression.

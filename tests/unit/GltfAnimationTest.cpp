@@ -3,6 +3,7 @@
 // is known, the scene-time rule, and bad rigs that must give clear errors.
 #include "layers/models/GltfAnimation.h"
 #include "tests/unit/GltfTestFiles.h"
+#include "tests/support/ProcessTempDir.h"
 
 #include <gtest/gtest.h>
 
@@ -37,8 +38,7 @@ AnimationSampler sampler(AnimationInterpolation i, std::vector<float> times, std
 }
 
 fs::path tempFile(const std::string& name, const std::string& text) {
-    const fs::path dir = fs::temp_directory_path() / ("orbis-gltf-anim-" + std::to_string(::getpid()));
-    fs::create_directories(dir);
+    const fs::path dir = test::processTempDir("orbis-gltf-anim");
     std::ofstream(dir / name, std::ios::binary) << text;
     return dir / name;
 }

@@ -4,6 +4,7 @@
 #include "formats/fmv/KlvFile.h"
 #include "formats/fmv/PoseCsv.h"
 #include "formats/fmv/St0601Encode.h"
+#include "tests/support/ProcessTempDir.h"
 
 #include <gtest/gtest.h>
 
@@ -21,11 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using Buffer = std::vector<uint8_t>;
 
-fs::path tempDir() {
-    const auto dir = fs::temp_directory_path() / ("orbis-klv-" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path tempDir() { return test::processTempDir("orbis-klv"); }
 
 fs::path writeFile(const std::string& name, const void* data, std::size_t size) {
     const fs::path p = tempDir() / name;

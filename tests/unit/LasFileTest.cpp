@@ -3,6 +3,7 @@
 // refused clearly, and headers that lie about the file give errors without allocating.
 #include "globe/Ellipsoid.h"
 #include "layers/points/LasReader.h"
+#include "tests/support/ProcessTempDir.h"
 
 #include <gtest/gtest.h>
 
@@ -16,11 +17,7 @@
 namespace orbis::points {
 namespace {
 
-std::filesystem::path tempDir() {
-    const auto dir = std::filesystem::temp_directory_path() / ("orbis-las-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
-    return dir;
-}
+std::filesystem::path tempDir() { return test::processTempDir("orbis-las"); }
 
 std::string write(const std::string& name, const std::vector<LasPoint>& pts, const LasWriteOptions& o) {
     const std::string path = (tempDir() / name).string();

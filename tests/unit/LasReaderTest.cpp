@@ -4,6 +4,7 @@
 // points, offsets inside the header, reads past the end).
 #include "globe/Ellipsoid.h"
 #include "layers/points/LasReader.h"
+#include "tests/support/ProcessTempDir.h"
 
 #include <gtest/gtest.h>
 #include <ogr_spatialref.h>
@@ -23,11 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path tempDir() {
-    const auto dir = fs::temp_directory_path() / ("orbis-lasreader-" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path tempDir() { return test::processTempDir("orbis-lasreader"); }
 
 std::vector<LasPoint> threePoints(glm::dvec3 origin) {
     std::vector<LasPoint> pts(3);

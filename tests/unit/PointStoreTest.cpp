@@ -7,6 +7,7 @@
 #include "layers/points/NodeResidency.h"
 #include "layers/points/PointCloud.h"
 #include "layers/points/PointStoreFormat.h"
+#include "tests/support/ProcessTempDir.h"
 
 #include <gtest/gtest.h>
 
@@ -29,11 +30,7 @@ namespace orbis::points {
 namespace {
 namespace fs = std::filesystem;
 
-fs::path tempDir() {
-    const auto dir = fs::temp_directory_path() / ("orbis-pointstore-" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path tempDir() { return test::processTempDir("orbis-pointstore"); }
 
 // A survey in local metres (east, north, up of an origin): a wavy ground 300 m x 200 m, a
 // tower of points, and a dense patch; scale 1 mm.

@@ -6,6 +6,7 @@
 #include "tests/support/HttpServer.h"
 #include "tests/support/ScopedGdalConfig.h"
 #include "tests/support/XyzTiles.h"
+#include "tests/support/ProcessTempDir.h"
 
 #include <cpl_conv.h>
 #include <gtest/gtest.h>
@@ -29,11 +30,7 @@ namespace {
 
 /// One temporary folder per test process.
 const fs::path& tempDir() {
-    static const fs::path p = [] {
-        fs::path d = fs::temp_directory_path() / ("orbis-raster-remote-test-" + std::to_string(::getpid()));
-        fs::create_directories(d);
-        return d;
-    }();
+    static const fs::path p = test::processTempDir("orbis-raster-remote-test");
     return p;
 }
 
