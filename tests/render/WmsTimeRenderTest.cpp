@@ -5,6 +5,7 @@
 #include "tests/render/SceneGpuTest.h"
 #include "tests/render/VectorScenes.h"
 #include "tests/support/MapServer.h"
+#include "tests/support/ProcessTempDir.h"
 
 #include <gdal_priv.h>
 #include <ogrsf_frmts.h>
@@ -63,8 +64,7 @@ protected:
         SceneGpuTest::SetUp();
         if (IsSkipped()) return;
         GDALAllRegister();
-        dir = fs::temp_directory_path() / ("orbis-wms-time-" + std::to_string(::getpid()));
-        fs::create_directories(dir);
+        dir = orbis::test::processTempDir("orbis-wms-time");
         writeIndex(dir);
         ms = std::make_unique<MapServer>(std::vector<std::string>{
             R"(LAYER NAME "seasons" TYPE RASTER STATUS ON TILEINDEX ")" + (dir / "seasons.shp").string() + R"(" TILEITEM "location"

@@ -9,6 +9,7 @@
 #include "layers/vector/VectorReader.h"
 #include "tests/support/MapServer.h"
 #include "tests/support/ScopedGdalConfig.h"
+#include "tests/support/ProcessTempDir.h"
 
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
@@ -70,8 +71,7 @@ fs::path writeParcels(const fs::path& path) {
 struct OgcServices : ::testing::Test {
     void SetUp() override {
         if (!fs::exists(kWorld)) GTEST_SKIP() << "assets/generated is not built: no " << kWorld;
-        dir = fs::temp_directory_path() / ("orbis-ogc-test-" + std::to_string(::getpid()));
-        fs::create_directories(dir);
+        dir = test::processTempDir("orbis-ogc-test");
         const fs::path parcels = writeParcels(dir / "parcels.gpkg");
         ms = std::make_unique<test::MapServer>(std::vector<std::string>{
             R"(LAYER NAME "world" TYPE RASTER STATUS ON DATA ")" + kWorld.string() + R"(" PROJECTION AUTO END

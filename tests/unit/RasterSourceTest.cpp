@@ -3,6 +3,7 @@
 #include "globe/RasterSource.h"
 
 #include "base/ThreadPool.h"
+#include "tests/support/ProcessTempDir.h"
 
 #include <cpl_conv.h>
 #include <cpl_string.h>
@@ -43,8 +44,7 @@ class TempDir : public ::testing::Environment {
 public:
     static const fs::path& path() {
         static const fs::path p = [] {
-            fs::path d = fs::temp_directory_path() / ("orbis-raster-test-" + std::to_string(::getpid()));
-            fs::create_directories(d);
+            fs::path d = orbis::test::processTempDir("orbis-raster-test");
             return d;
         }();
         return p;

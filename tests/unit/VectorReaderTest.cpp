@@ -5,6 +5,7 @@
 #include "layers/vector/VectorReader.h"
 #include "tests/support/HttpServer.h"
 #include "tests/support/ScopedGdalConfig.h"
+#include "tests/support/ProcessTempDir.h"
 
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
@@ -28,8 +29,7 @@ namespace fs = std::filesystem;
 
 fs::path tempDir() {
     static const fs::path p = [] {
-        fs::path d = fs::temp_directory_path() / ("orbis-vector-test-" + std::to_string(::getpid()));
-        fs::create_directories(d);
+        fs::path d = orbis::test::processTempDir("orbis-vector-test");
         return d;
     }();
     return p;

@@ -4,6 +4,7 @@
 #include "layers/volume/VolumeReader.h"
 
 #include "tests/support/NetcdfWriter.h"
+#include "tests/support/ProcessTempDir.h"
 
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
@@ -24,8 +25,7 @@ namespace fs = std::filesystem;
 
 fs::path tempDir() {
     static const fs::path p = [] {
-        fs::path d = fs::temp_directory_path() / ("orbis-volume-test-" + std::to_string(::getpid()));
-        fs::create_directories(d);
+        fs::path d = orbis::test::processTempDir("orbis-volume-test");
         return d;
     }();
     return p;

@@ -3,6 +3,7 @@
 // its golden image. Every run has the Khronos validation layer on: the viewer exits with 1 if
 // it reported anything, so exit code 0 also means a clean shutdown.
 #include "tests/support/GoldenImage.h"
+#include "tests/support/ProcessTempDir.h"
 #include "tests/support/Shell.h"
 
 #include <gtest/gtest.h>
@@ -40,7 +41,7 @@ std::string underXvfb(const std::string& cmd) {
 
 /// A fresh folder for one test's script and screenshots.
 fs::path workDir(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("orbis-viewer-test-" + std::to_string(getpid())) / name;
+    const fs::path dir = processTempDir("orbis-viewer-test") / name;
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir;
