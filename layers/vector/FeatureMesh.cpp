@@ -315,10 +315,12 @@ FeatureMesh buildFeatureMesh(const VectorContent& content, const ContentStyles& 
                     icon = got->first + 1;
                     aspect = float(got->second->width) / float(got->second->height);
                 }
-            for (size_t c = 0; c < f.coords.size(); ++c)
-                w.chunk.markers.push_back({w.relative(ell.toEcef(f.coords[c].x, f.coords[c].y, surfaceAt(c))),
-                                           packColor(style.color, style.opacity), float(style.iconSizePx), id, icon, aspect,
-                                           glm::vec3(float(style.iconNearM), float(style.iconFarM), float(style.iconFarScale))});
+            for (size_t c = 0; c < f.coords.size(); ++c) {
+                const glm::vec3 at = w.relative(ell.toEcef(f.coords[c].x, f.coords[c].y, surfaceAt(c)));
+                w.chunk.markers.push_back({at, packColor(style.color, style.opacity), float(style.iconSizePx), id, icon, aspect,
+                                           glm::vec3(float(style.iconNearM), float(style.iconFarM), float(style.iconFarScale)), at,
+                                           glm::vec2(0.0f)});
+            }
         }
         for (size_t p = 0; f.kind == GeometryKind::Polygons && p < f.polygons.size(); ++p) {
             const LocalPlane plane(f.coords[f.parts[f.polygons[p]]].x, f.coords[f.parts[f.polygons[p]]].y);

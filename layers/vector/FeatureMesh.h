@@ -112,6 +112,9 @@ struct MeshChunk {
     std::vector<uint32_t> translucent;   ///< surfaces below fillOpacity 1: one face each, blended
     std::vector<shader::VectorSegment> segments;   ///< lines at altitude
     std::vector<shader::VectorMarker> markers;     ///< points at altitude
+    /// The clock of its moving markers' glides (MarkerMotion: seconds on the layer's steady
+    /// clock); 0: none glides.
+    double glideEpoch = 0.0;
     bool empty() const { return indices.empty() && translucent.empty() && segments.empty() && markers.empty(); }
 };
 

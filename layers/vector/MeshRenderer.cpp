@@ -173,6 +173,8 @@ void MeshRenderer::setMesh(std::shared_ptr<const vector::FeatureMesh> mesh) {
         d.attributes.push_back({shader::kMarkerInputIcon, 0, VK_FORMAT_R32_UINT, offsetof(VectorMarker, icon)});
         d.attributes.push_back({shader::kMarkerInputAspect, 0, VK_FORMAT_R32_SFLOAT, offsetof(VectorMarker, aspect)});
         d.attributes.push_back({shader::kMarkerInputScale, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(VectorMarker, scale)});
+        d.attributes.push_back({shader::kMarkerInputFrom, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(VectorMarker, from)});
+        d.attributes.push_back({shader::kMarkerInputGlide, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(VectorMarker, glide)});
         d.name = "vector markers";
         markerPipeline_ = gpu::createGraphicsPipeline(*services_.device, d);
     }
@@ -253,6 +255,8 @@ void MeshRenderer::record(const render::RecordContext& rc) {
         for (const uint32_t i : visible_) {
             const Range& r = ranges_[i];
             push.originFromEye = glm::vec3(mesh_->chunks[i].origin - eye);   // double: large minus large
+            const double epoch = mesh_->chunks[i].glideEpoch;
+            push.glideNow = epoch > 0.0 ? float(glideClock_ - epoch) : 0.0f;
             if (!draw(r, /*check*/ true)) continue;
             vkCmdPushConstants(cmd, layout_.vk(), kPushStages, 0, sizeof(push), &push);
             draw(r, false);

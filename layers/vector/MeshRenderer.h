@@ -36,6 +36,8 @@ public:
     void setMesh(std::shared_ptr<const vector::FeatureMesh> mesh);
     /// The feature tinted as picked (meshFeatureId), 0: none.
     void setHighlight(uint32_t id) { highlight_ = id; }
+    /// This frame's time on the clock of the chunks' glides (MeshChunk::glideEpoch).
+    void setGlideClock(double seconds) { glideClock_ = seconds; }
 
     /// Uploads a new mesh. Called while recording, before the passes.
     void recordTransfers(const render::RecordContext& rc);
@@ -74,6 +76,7 @@ private:
     std::vector<Range> ranges_;      ///< per chunk of mesh_
     std::vector<uint32_t> visible_;  ///< this frame's chunks
     uint32_t highlight_ = 0;
+    double glideClock_ = 0.0;
     uint32_t chunksDrawn_ = 0;
 };
 

@@ -115,6 +115,7 @@ void VectorLabels::setContent(std::shared_ptr<const VectorContent> content, std:
             e.feature = i;
             const int64_t fid = l < content_->layers.size() && i < content_->layers[l].data.features.size() ? content_->layers[l].data.features[i].fid : -1;
             e.id = uint64_t(l) << 40 | (idsByFid && fid >= 0 ? uint64_t(fid) & ((1ull << 40) - 1) : i);
+            e.fid = fid;
             e.priority = labelPriority(a.kind, a.sizeM, s.rule);
             e.anchor = &a;
             e.style = &s;
@@ -287,11 +288,14 @@ bool VectorLabels::gatherOnce(const scene::FrameContext& frame, const glm::dmat4
         const FeatureTimes& times = content_->layers[e.layer].times;
         if (times.timed() && !times.spans[e.feature].shows(frame.time)) continue;
         locate(e, frame);
-        const double distance = glm::length(e.ecef - project.eye);
+        glm::dvec3 at = e.ecef, surface = e.surface;
+        if (markerPlace_ && e.fid >= 0 && e.fid < int64_t(UINT32_MAX) && e.anchor->kind == GeometryKind::Points)
+            if (const auto marker = markerPlace_(uint32_t(e.fid + 1))) at = surface = *marker;
+        const double distance = glm::length(at - project.eye);
         if (distance < e.style->minRangeM || distance > e.style->maxRangeM) continue;
         glm::dvec2 px;
-        if (!project(e.ecef, px) || px.x < 0.0 || px.y < 0.0 || px.x > project.screen.x || px.y > project.screen.y) continue;
-        if (hiddenByEllipsoid(project.eye, e.surface)) continue;
+        if (!project(at, px) || px.x < 0.0 || px.y < 0.0 || px.x > project.screen.x || px.y > project.screen.y) continue;
+        if (hiddenByEllipsoid(project.eye, surface)) continue;
         if (candidates_.size() >= options_.maxCandidates) {
             stats_.capped = true;
             break;
@@ -301,6 +305,7 @@ bool VectorLabels::gatherOnce(const scene::FrameContext& frame, const glm::dmat4
         if (layout.quads.empty()) continue;
 
         Seen s{index, px, glm::dvec2(0.0), 0.0, e.style->iconSizeAt(distance)};
+        s.at = at;
         const glm::dvec2 lo(layout.min), hi(layout.max);
         if (e.anchor->kind == GeometryKind::Points)   // right of the icon, centred on the point's height
             s.offset = glm::dvec2(0.5 * s.iconPx + options_.iconGapPx, -0.5 * (lo.y + hi.y));
@@ -379,7 +384,7 @@ void VectorLabels::gather(const scene::FrameContext& frame) {
 }
 
 bool VectorLabels::hiddenByGround(uint32_t index, const scene::FrameContext& frame) const {
-    return frame.camera && vector::hiddenByGround(frame.camera->position(), entries_[seen_[index].entry].ecef, frame.groundHeight);
+    return frame.camera && vector::hiddenByGround(frame.camera->position(), seen_[index].at, frame.groundHeight);
 }
 
 void VectorLabels::build(std::span<const uint32_t> chosen, double placementMs, size_t hidden) {

@@ -36,7 +36,9 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -96,6 +98,11 @@ public:
     bool hiddenByGround(uint32_t index, const scene::FrameContext& frame) const;
     /// Added to every label's id (a layer's own, so that ids stay unique on a shared board).
     void setIdBase(uint64_t base);
+    /// Where a point drawn as a 3-D marker is shown now (ECEF), by its marker's feature id
+    /// (1 + fid: MeshOptions::idsByFid); none: at its anchor. A moving point's label follows
+    /// its marker (MarkerMotion) rather than jump ahead of it.
+    using MarkerPlace = std::function<std::optional<glm::dvec3>(uint32_t featureId)>;
+    void setMarkerPlace(MarkerPlace place) { markerPlace_ = std::move(place); }
 
     std::span<const shader::LabelGlyph> glyphs() const { return glyphs_; }
     GlyphAtlas& atlas() { return atlas_; }
@@ -109,6 +116,7 @@ private:
     /// One labelled feature, best ranked first.
     struct Entry {
         uint32_t layer = 0, feature = 0;
+        int64_t fid = -1;
         uint64_t id = 0;
         double priority = 0.0;
         const LabelAnchor* anchor = nullptr;
@@ -131,6 +139,7 @@ private:
         /// place (its top left corner, in window pixels) and angle. None: the text is
         /// straight, turned by `angle`.
         uint32_t bentFirst = 0, bentCount = 0;
+        glm::dvec3 at{0.0};   ///< where it stands (ECEF): its anchor, or its marker
     };
 
     struct Projection;
@@ -165,6 +174,7 @@ private:
     std::vector<shader::LabelGlyph> glyphs_;
     VectorLabelStats stats_;
     uint64_t idBase_ = 0;
+    MarkerPlace markerPlace_;
 };
 
 /// True when the ellipsoid hides `point` from `eye` (ECEF): the straight line between them

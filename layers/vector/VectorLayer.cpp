@@ -122,8 +122,16 @@ void VectorLayer::poll() {
     }
     if (r->pages) {
         pagedMeshes_ = settings_.content.style.namesExtrusion() || settings_.altitude != vector::AltitudeMode::Clamped;
+        if (pagedMeshes_ && settings_.refresh.enabled() && settings_.refresh.glideSeconds != 0.0) {
+            motion_ = std::make_unique<vector::MarkerMotion>(vector::GlideOptions{.seconds = settings_.refresh.glideSeconds});
+            // The labels of points drawn as markers stand by their markers, moving with them.
+            if (labels_) labels_->setMarkerPlace([this](uint32_t id) { return motion_->shownAt(id, glideClock()); });
+        }
         pages_ = std::move(r->pages);
         pagedBounds_ = r->bounds;
+        // Read again on a clock only: rows may come anywhere, unannounced; tiles are not kept
+        // within the box read at the start.
+        if (settings_.refresh.everySeconds > 0.0 && settings_.refresh.listen.empty()) pagedBounds_.reset();
         pagedFeatures_ = r->features;
         republish();
         return;
@@ -151,6 +159,7 @@ void VectorLayer::update(const scene::FrameContext& frame) {
     }
     if (pages_) {
         updatePagedMeshes(frame);
+        if (meshRenderer_) meshRenderer_->setGlideClock(glideClock());
         updatePagedLabels();
         updateLabels(frame);
         return;

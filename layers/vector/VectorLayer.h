@@ -11,7 +11,7 @@
 //    "opacity": 1, "maxLevel": 18, "simplifyPx": 0.5, "labels": true,
 //    "paging": "auto" | true | false, "pageLevel": 12, "pageBudgetMB": 256,
 //    "refresh": {"listen": "channel", "trigger": {"table": "t", "geometry": "geom"},
-//                "everySeconds": 0}}
+//                "everySeconds": 0, "glide": "auto" | seconds | false}}
 //
 // "altitude": "clamped" (the default): lines, points and flat polygons are painted into the
 // terrain's tiles (VectorDrape) and lie exactly on the surface drawn, at every zoom. A scene
@@ -67,7 +67,17 @@
 // its own thread with its own connection, made only when the layer is first shown; a lost
 // connection is in status() and opened again, then everything in memory is read again (what
 // was notified meanwhile was lost). A page that cannot be read again keeps its old features;
-// the refresh is tried again a second later.
+// the refresh is tried again a second later. Tiles are read within the source's box read at the
+// start; a notified box out of it grows it (a row inserted elsewhere, a vehicle driving out).
+//
+// Moving points (a vehicles table updated several times a second): drawn as 3-D markers
+// ("relative" or "absolute"), each glides from where it is shown to its new place when the mesh
+// of its tile comes in (MarkerMotion: "glide" "auto", over the time since that point last moved,
+// at most 2 s; or a fixed number of seconds; false: they jump), on the GPU from the markers'
+// `from` and the chunk's clock; their labels stand beside the markers as they move. Draped
+// ("clamped") points are painted into the terrain's tiles: they move when those are painted
+// again, at the feed's rate. Features in 3-D take their labels from the tiles their meshes were
+// built from.
 
 #include "base/ThreadPool.h"
 #include "engine/scene/Layer.h"
@@ -80,6 +90,7 @@
 #include "layers/vector/FeatureTiles.h"
 #include "layers/vector/LabelAnchors.h"
 #include "layers/vector/LabelBoard.h"
+#include "layers/vector/MarkerMotion.h"
 #include "layers/vector/PgListener.h"
 #include "layers/vector/VectorContent.h"
 #include "layers/vector/VectorDrape.h"
@@ -110,6 +121,9 @@ struct RefreshSettings {
     /// Every so many seconds, the pages in memory are read again and those that changed are
     /// replaced (any source: a file written by another program, a WFS); 0: never.
     double everySeconds = 0.0;
+    /// Points drawn as 3-D markers glide to their new places (MarkerMotion) over this many
+    /// seconds; negative: "auto" (each point's own time between moves, at most 2 s); 0: they jump.
+    double glideSeconds = -1.0;
     bool enabled() const { return !listen.empty() || everySeconds > 0.0; }
 };
 
@@ -164,7 +178,7 @@ public:
     void record(scene::Pass pass, const render::RecordContext& context) override;
     bool busy() const override {
         return loading_ || meshPending() || tileMeshesPending_ > 0 || tileMeshesChanged_ || refreshing_ || refreshQueued() ||
-               !deferredRepaints_.empty();
+               !deferredRepaints_.empty() || (motion_ && motion_->moving(glideClock()));
     }
     std::string status() const override;
 
@@ -214,6 +228,8 @@ public:
     const vector::FeatureMesh* mesh() const { return mesh_.get(); }
     /// Whether the mesh pipeline was made (only when there is a mesh to draw).
     bool hasMeshRenderer() const { return meshRenderer_ != nullptr; }
+    /// A live layer's moving points (null unless live, paged with meshes, and gliding).
+    const vector::MarkerMotion* motion() const { return motion_.get(); }
 
 private:
     /// What the worker reads: the content, and each feature's label anchor when labels are drawn.
@@ -258,6 +274,8 @@ private:
     void drapeChangedIn(std::vector<globe::GeoExtent> regions);
     /// A change applied: the drape's tiles and the mesh tiles the regions reach made again.
     void applyChanges(std::vector<globe::GeoExtent> regions);
+    /// A change's box out of the source's box (pagedBounds_) grows it; true when it grew.
+    bool growBounds(const vector::LonLatBounds& box);
 
     VectorLayerSettings settings_;
     jobs::Job<Result<Loaded>> job_;
@@ -277,14 +295,18 @@ private:
     // first, drawn together; a generation for the settings they were built with.
     static constexpr uint32_t kMeshLevel = 14;
     struct TileMesh {
-        std::shared_ptr<const vector::FeatureMesh> mesh;
+        std::shared_ptr<vector::FeatureMesh> mesh;
         uint64_t generation = 0;
         uint64_t lastWanted = 0;
+        bool arrived = false;   ///< drawn once: its markers' glides are set (motion_)
+        /// The features it was built from: the labels of features drawn in 3-D come from these.
+        std::shared_ptr<const vector::FeatureTile> page;
     };
     struct TileMeshBuild {
         globe::TileKey key;
         uint64_t generation = 0;
-        std::shared_ptr<const vector::FeatureMesh> mesh;
+        std::shared_ptr<vector::FeatureMesh> mesh;
+        std::shared_ptr<const vector::FeatureTile> page;
         bool drapes = false;   ///< the tile has a feature to paint on the terrain
         uint64_t refreshes = 0;   ///< refreshesApplied_ when it started
     };
@@ -306,10 +328,17 @@ private:
     /// Paged with meshes: whether a feature to paint on the terrain was met. Until then no
     /// drape is published (an empty drape still makes the terrain refine to its finest level).
     bool pagedDrapes_ = false;
+    /// Live and paged with meshes: the moving points' glides (none with "glide": 0).
+    std::unique_ptr<vector::MarkerMotion> motion_;
+    /// Now on the glides' clock (steady_clock, seconds).
+    static double glideClock();
     // Paged labels: the gathering on the pool, the pages' changes it saw, a restyle to redo.
     jobs::Job<Loaded> pagedLabelJob_;
     bool pagedLabelLoading_ = false, pagedLabelsStale_ = false;
     uint64_t pagedLabelChanges_ = ~0ull;
+    /// Counts the meshes composed (their pages hold the labels of features in 3-D), and the
+    /// count the labels were last gathered at.
+    uint64_t meshesComposed_ = 0, pagedLabelComposed_ = ~0ull;
     std::optional<vector::LonLatBounds> pagedBounds_;
     uint64_t pagedFeatures_ = 0;
     // Live sources (RefreshSettings): the listener, the changes not yet applied, the refresh

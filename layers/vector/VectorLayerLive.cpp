@@ -48,11 +48,17 @@ void VectorLayer::pollRefresh() {
         }
         refreshingBoxes_.clear();
     }
-    if (listener_)
+    if (listener_) {
+        bool grew = false;
         for (const vector::DatabaseChange& change : listener_->take()) {
             if (!change.box) refreshAnywhere_ = true;
             else refreshBoxes_.push_back(*change.box);
+            // Tiles are read within the source's box: a row moved or inserted out of it grows
+            // it (a change anywhere, or one whose box was lost, lifts it).
+            if (pagedBounds_) grew = (change.box ? growBounds(*change.box) : (pagedBounds_.reset(), true)) || grew;
         }
+        if (grew) republish();
+    }
     // Pages read slowly, left outdated a while: their tiles are painted again when they may be read.
     const auto now = Clock::now();
     std::vector<globe::GeoExtent> due;
@@ -104,6 +110,15 @@ void VectorLayer::pollRefresh() {
                                           [pages = pages_, boxes = refreshingBoxes_](const jobs::CancelToken& cancel) {
                                               return pages->refresh(boxes, &cancel);
                                           });
+}
+
+bool VectorLayer::growBounds(const vector::LonLatBounds& box) {
+    if (box.empty || !pagedBounds_) return false;
+    vector::LonLatBounds& b = *pagedBounds_;
+    if (!b.empty && b.west <= box.west && box.east <= b.east && b.south <= box.south && box.north <= b.north) return false;
+    if (b.empty) b = box;
+    else b = {std::min(b.west, box.west), std::min(b.south, box.south), std::max(b.east, box.east), std::max(b.north, box.north), false};
+    return true;
 }
 
 void VectorLayer::applyChanges(std::vector<globe::GeoExtent> regions) {

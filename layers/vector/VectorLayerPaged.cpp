@@ -146,9 +146,8 @@ void VectorLayer::updatePagedMeshes(const scene::FrameContext& frame) {
                 for (size_t l = 0; l < content.layers.size() && !drapes; ++l)
                     for (size_t i = 0; i < content.layers[l].data.features.size() && !drapes; ++i)
                         drapes = styles[l][i].visible && !vector::drawnIn3d(content.layers[l].data.features[i], styles[l][i], meshOptions.mode);
-                return {key, generation,
-                        std::make_shared<const vector::FeatureMesh>(vector::buildFeatureMesh(content, styles, sampled, meshOptions, &cancel)),
-                        drapes, refreshes};
+                auto mesh = std::make_shared<vector::FeatureMesh>(vector::buildFeatureMesh(content, styles, sampled, meshOptions, &cancel));
+                return {key, generation, std::move(mesh), std::make_shared<const vector::FeatureTile>(std::move(*tile)), drapes, refreshes};
             }));
     }
     // Past the budget, the meshes wanted least recently go.
@@ -175,16 +174,26 @@ void VectorLayer::updatePagedMeshes(const scene::FrameContext& frame) {
     tileMeshesChanged_ = false;
     composedTiles_ = drawable;
     auto combined = std::make_shared<vector::FeatureMesh>();
+    const double now = glideClock();
     for (const globe::TileKey& key : drawable) {
         const auto it = tileMeshes_.find(key);
+        // A tile drawn for the first time: its moving points glide from where they are shown.
+        if (!it->second.arrived && motion_) motion_->arrive(*it->second.mesh, now);
+        it->second.arrived = true;
         const vector::FeatureMesh& m = *it->second.mesh;
         combined->chunks.insert(combined->chunks.end(), m.chunks.begin(), m.chunks.end());
         combined->features += m.features, combined->triangles += m.triangles;
         combined->segments += m.segments, combined->markers += m.markers, combined->forced += m.forced;
     }
+    if (motion_) motion_->drawing(*combined, now);
+    ++meshesComposed_;
     mesh_ = std::move(combined);
     if (!meshRenderer_ && !mesh_->chunks.empty()) meshRenderer_ = std::make_unique<MeshRenderer>(services_, icons_);
     if (meshRenderer_) meshRenderer_->setMesh(mesh_);
+}
+
+double VectorLayer::glideClock() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 void VectorLayer::pollPagedMeshes() {
@@ -200,7 +209,7 @@ void VectorLayer::pollPagedMeshes() {
                 // Started before a change reached it: shown, and built again.
                 const auto changed = meshTileChanged_.find(build.key);
                 const bool stale = changed != meshTileChanged_.end() && build.refreshes < changed->second;
-                tileMeshes_[build.key] = {std::move(build.mesh), stale ? 0 : build.generation, meshFrame_};
+                tileMeshes_[build.key] = {std::move(build.mesh), stale ? 0 : build.generation, meshFrame_, false, std::move(build.page)};
                 if (!stale && changed != meshTileChanged_.end()) meshTileChanged_.erase(changed);
                 tileMeshesChanged_ = true;
                 if (build.drapes && !pagedDrapes_) {
@@ -223,12 +232,22 @@ void VectorLayer::pollPagedMeshes() {
 void VectorLayer::updatePagedLabels() {
     if (!labels_ || !settings_.labels || pagedLabelLoading_) return;
     const uint64_t changes = pages_->changes();
-    if (changes == pagedLabelChanges_ && !pagedLabelsStale_) return;
+    if (changes == pagedLabelChanges_ && meshesComposed_ == pagedLabelComposed_ && !pagedLabelsStale_) return;
     pagedLabelChanges_ = changes;
+    pagedLabelComposed_ = meshesComposed_;
     pagedLabelsStale_ = false;
     pagedLabelLoading_ = true;
+    // The pages in memory hold the draped features; with meshes, the features in 3-D come from
+    // the pages the meshes drawn were built from (the drape's pages are read again when a
+    // change repaints it; without a drape nothing reads them again, and a moved or deleted
+    // feature's old label would stay).
+    std::vector<std::shared_ptr<const vector::FeatureTile>> pages;
+    if (!pagedMeshes_ || pagedDrapes_) pages = pages_->loaded();
+    if (pagedMeshes_)
+        for (const globe::TileKey& key : composedTiles_)
+            if (const auto it = tileMeshes_.find(key); it != tileMeshes_.end() && it->second.page) pages.push_back(it->second.page);
     pagedLabelJob_ = services_.jobs().submit(0.0, jobs::CancelToken{},
-                                             [pages = pages_->loaded(), style = settings_.content.style](const jobs::CancelToken&) {
+                                             [pages = std::move(pages), style = settings_.content.style](const jobs::CancelToken&) {
                                                  Loaded out;
                                                  out.content = vector::labelledFeatures(pages, style);
                                                  out.anchors = std::make_shared<const vector::ContentAnchors>(vector::labelAnchors(*out.content));

@@ -74,6 +74,16 @@ Result<std::unique_ptr<scene::Layer>> VectorLayer::create(const scene::LayerDesc
         RefreshSettings& live = s.refresh;
         live.listen = f.string("listen", std::string()).value_or("");
         live.everySeconds = f.number("everySeconds", 0.0, 0.0, 86400.0).value_or(0.0);
+        if (refresh->contains("glide")) {
+            const nlohmann::json& glide = (*refresh)["glide"];
+            f.accept("glide");
+            if (glide.is_string() && glide.get<std::string>() == "auto") live.glideSeconds = -1.0;
+            else if (glide.is_boolean() && !glide.get<bool>()) live.glideSeconds = 0.0;
+            else if (glide.is_number() && glide.get<double>() >= 0.0 && glide.get<double>() <= 60.0) live.glideSeconds = glide.get<double>();
+            else
+                f.fail("glide", "expected \"auto\" (each point's time between moves), seconds from 0 to 60, or false (points jump), got " +
+                                    glide.dump());
+        }
         if (const nlohmann::json* trigger = f.object("trigger")) {
             scene::JsonReader t(*trigger, scene.file.string(), desc.jsonPath + "/refresh/trigger");
             live.triggerTable = t.string("table").value_or("");

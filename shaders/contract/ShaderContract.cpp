@@ -123,7 +123,7 @@ std::vector<PipelineContract> pipelines() {
         {"vector markers", {ORBIS_SHADER(vector, marker, vert), ORBIS_SHADER(vector, marker, frag)},
          {frame, ORBIS_SET(kMeshSet, kMeshBindings)}, nullptr, {}, {},
          {kMarkerInputPosition, kMarkerInputColor, kMarkerInputSize, kMarkerInputFeature, kMarkerInputIcon, kMarkerInputAspect,
-          kMarkerInputScale}},
+          kMarkerInputScale, kMarkerInputFrom, kMarkerInputGlide}},
         // Vector labels (layers/vector/LabelRenderer.cpp): halos and text, one pipeline each.
         {"vector labels", {ORBIS_SHADER(vector, label, vert), ORBIS_SHADER(vector, label, frag)},
          {frame, ORBIS_SET(kLabelSet, kLabelBindings)}, ORBIS_SPECS(kLabelSpecConstants), {},

@@ -74,6 +74,8 @@ ORBIS_CONST(uint, kMarkerInputFeature, 3)
 ORBIS_CONST(uint, kMarkerInputIcon, 4)
 ORBIS_CONST(uint, kMarkerInputAspect, 5)
 ORBIS_CONST(uint, kMarkerInputScale, 6)
+ORBIS_CONST(uint, kMarkerInputFrom, 7)
+ORBIS_CONST(uint, kMarkerInputGlide, 8)
 
 // The 3-D markers' icons (MeshRenderer): one atlas of kMeshIconCells x kMeshIconCells square
 // cells of kMeshIconCellPx, icon i (IconCache's index) in cell i, fitted and centred.
@@ -101,12 +103,17 @@ struct VectorMarker {
     float aspect;    // the icon's width over its height
     vec3 scale;      // near, far (m), farScale: the size x 1 nearer than near, x farScale past
                      // far, linear between (far <= near: a constant size); FeatureStyle::iconSizeAt
+    vec3 from;       // a moving point (MarkerMotion.h): where it glides from, relative to the origin
+    vec2 glide;      // when its glide starts and ends (s on the chunk's clock, glideNow); end <=
+                     // start: at `position`
 };
 
 // Push constants, per chunk (meshes, segments and markers).
 struct VectorMeshPush {
     vec3 originFromEye;   // the chunk's origin minus the eye (m, world axes)
     uint highlight;       // the picked feature's id, 0: none
+    float glideNow;       // seconds since the chunk's glideEpoch: where its moving markers are
+    float pad0, pad1, pad2;
 };
 
 ORBIS_NAMESPACE_END
@@ -132,10 +139,12 @@ static_assert(sizeof(orbis::shader::VectorMeshVertex) == 24 && offsetof(orbis::s
 static_assert(sizeof(orbis::shader::VectorSegment) == 48 && offsetof(orbis::shader::VectorSegment, b) == 16 &&
                   offsetof(orbis::shader::VectorSegment, feature) == 32 && offsetof(orbis::shader::VectorSegment, dashPx) == 40,
               "VectorSegment layout changed");
-static_assert(sizeof(orbis::shader::VectorMarker) == 44 && offsetof(orbis::shader::VectorMarker, sizePx) == 16 &&
-                  offsetof(orbis::shader::VectorMarker, icon) == 24 && offsetof(orbis::shader::VectorMarker, scale) == 32,
+static_assert(sizeof(orbis::shader::VectorMarker) == 64 && offsetof(orbis::shader::VectorMarker, sizePx) == 16 &&
+                  offsetof(orbis::shader::VectorMarker, icon) == 24 && offsetof(orbis::shader::VectorMarker, scale) == 32 &&
+                  offsetof(orbis::shader::VectorMarker, from) == 44 && offsetof(orbis::shader::VectorMarker, glide) == 56,
               "VectorMarker layout changed");
-static_assert(sizeof(orbis::shader::VectorMeshPush) == 16 && offsetof(orbis::shader::VectorMeshPush, highlight) == 12,
+static_assert(sizeof(orbis::shader::VectorMeshPush) == 32 && offsetof(orbis::shader::VectorMeshPush, highlight) == 12 &&
+                  offsetof(orbis::shader::VectorMeshPush, glideNow) == 16,
               "VectorMeshPush must match std430");
 #endif
 

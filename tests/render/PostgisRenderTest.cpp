@@ -3,7 +3,8 @@
 // for pixel; with "refresh" an INSERT, UPDATE or DELETE from another connection shows in the
 // next frames, drawn as a fresh read of the table draws it; a server killed while the scene
 // runs is reported in the layer's status, frames go on, and once it is back the layer catches
-// up. Skipped, with the reason, when the packages are missing.
+// up; a moving point glides to its new place with its label beside it. Skipped, with the reason,
+// when the packages are missing.
 #include "layers/vector/VectorLayer.h"
 #include "tests/render/SceneGpuTest.h"
 #include "tests/render/VectorScenes.h"
@@ -15,6 +16,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <optional>
+#include <vector>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -186,6 +189,107 @@ TEST_F(PostgisRender, AServerKilledWhileShownIsReportedAndTheLayerCatchesUpWhenI
     EXPECT_EQ(countDifferentPixels(settled, expected, 0), 0u) << layer.status();
     EXPECT_EQ(layer.listener()->reconnects(), 1u) << layer.status();
     EXPECT_GT(countDifferentPixels(before, settled, 0), 100u);
+}
+
+/// The centre of the pure red pixels (the vehicle's marker), in pixels; none when there are none.
+std::optional<glm::dvec2> redCentre(const ImageRgba8& image) {
+    glm::dvec2 sum(0.0);
+    size_t n = 0;
+    for (uint32_t y = 0; y < image.height; ++y)
+        for (uint32_t x = 0; x < image.width; ++x) {
+            const uint8_t* p = &image.pixels[(size_t(y) * image.width + x) * 4];
+            if (p[0] > 200 && p[1] < 60 && p[2] < 60) sum += glm::dvec2(x, y), ++n;
+        }
+    if (n < 20) return std::nullopt;
+    return sum / double(n);
+}
+
+TEST_F(PostgisRender, MovingPointsGlideToTheirNewPlacesAndTheirLabelsFollow) {
+    // A vehicle in a live table, drawn as a marker on the ground ("relative") with its name; a
+    // glide of 2 s, so that frames on lavapipe see it on its way.
+    const auto made = db->sql("CREATE TABLE vehicles (id integer PRIMARY KEY, name text, geom geometry(Point, 4326));\n"
+                              "INSERT INTO vehicles VALUES (1, 'Bus 7', ST_SetSRID(ST_MakePoint(10.010, 45.016), 4326));\n");
+    ASSERT_EQ(made.exitCode, 0) << made.output;
+    const auto scene = [&](const std::string& glide) {
+        return load(vectorSceneJson(
+            kView,
+            ground() + "," + vectorLayerJson("Vehicles", db->ogrConnection(),
+                                             R"(, "layers": ["vehicles"], "altitude": "relative",)"
+                                             R"( "style": {"color": [1, 0, 0], "iconSize": 14, "label": "{name}", "labelSize": 14},)"
+                                             R"( "refresh": {"listen": "vehicles_changed", "trigger": {"table": "vehicles"}, "glide": )" +
+                                                 glide + "}"),
+            "2026-06-21T12:00:00Z"));
+    };
+    auto live = scene("2");
+    ASSERT_TRUE(live);
+    const ImageRgba8 before = renderScene(*live, 256, 256);
+    layers::VectorLayer& layer = vectorLayer(*live);
+    ASSERT_NE(layer.motion(), nullptr);
+    ASSERT_NE(layer.labels(), nullptr);
+    for (int i = 0; i < 200 && !layer.listener()->listening(); ++i) std::this_thread::sleep_for(25ms);
+    ASSERT_TRUE(layer.listener()->listening()) << layer.status();
+    const auto from = redCentre(before);
+    ASSERT_TRUE(from) << "no marker drawn";
+    ASSERT_EQ(layer.labels()->placed().size(), 1u);
+    const double labelGap = layer.labels()->placed()[0].min.x - from->x;
+
+    ASSERT_EQ(db->sql("UPDATE vehicles SET geom = ST_SetSRID(ST_MakePoint(10.035, 45.016), 4326) WHERE id = 1").exitCode, 0);
+    // Frames until the moved marker's tile is drawn (its glide starts), then for 3 s.
+    ImageRgba8 frame = before;
+    const auto end = std::chrono::steady_clock::now() + 15s;
+    while (layer.motion()->glides() == 0 && std::chrono::steady_clock::now() < end) {
+        frame = renderOnce(*renderer_, *live);
+        std::this_thread::sleep_for(10ms);
+    }
+    ASSERT_EQ(layer.motion()->glides(), 1u) << layer.status();
+    struct Seen {
+        glm::dvec2 marker;
+        std::optional<double> labelX;
+    };
+    std::vector<Seen> seen;
+    const auto look = [&](const ImageRgba8& image) {
+        const auto c = redCentre(image);
+        ASSERT_TRUE(c) << "the marker went missing";
+        Seen s{*c, std::nullopt};
+        if (layer.labels()->placed().size() == 1) s.labelX = layer.labels()->placed()[0].min.x;
+        seen.push_back(s);
+    };
+    look(frame);
+    const auto glideEnd = std::chrono::steady_clock::now() + 3s;
+    while (std::chrono::steady_clock::now() < glideEnd) look(renderOnce(*renderer_, *live));
+    const ImageRgba8 settled = renderScene(*live, 256, 256);
+    look(settled);
+
+    // Where a fresh read of the table draws it.
+    auto fresh = scene("0");
+    ASSERT_TRUE(fresh);
+    const auto to = redCentre(renderScene(*fresh, 256, 256));
+    ASSERT_TRUE(to);
+    const double distance = to->x - from->x;
+    ASSERT_GT(distance, 40.0) << "the move is too short on the screen to follow";
+    const auto fraction = [&](const Seen& s) { return (s.marker.x - from->x) / distance; };
+    // No jump: the first frame drawn with the new row shows the marker where it was.
+    EXPECT_LT(fraction(seen.front()), 0.1);
+    // On its way: frames between, each further along, on the line between the two places.
+    size_t between = 0;
+    for (size_t i = 0; i < seen.size(); ++i) {
+        SCOPED_TRACE(i);
+        between += fraction(seen[i]) > 0.2 && fraction(seen[i]) < 0.8;
+        EXPECT_NEAR(seen[i].marker.y, from->y, 1.5);
+        if (i > 0) {
+            EXPECT_GE(fraction(seen[i]), fraction(seen[i - 1]) - 0.03);
+        }
+        // The label stands beside the marker all the way (within its whole-pixel rounding).
+        if (seen[i].labelX) {
+            EXPECT_NEAR(*seen[i].labelX - seen[i].marker.x, labelGap, 2.0);
+        }
+    }
+    EXPECT_GE(between, 2u) << seen.size() << " frames";
+    EXPECT_NEAR(seen.back().marker.x, to->x, 0.5);
+    EXPECT_NEAR(seen.back().marker.y, to->y, 0.5);
+    EXPECT_TRUE(seen.back().labelX.has_value());
+    EXPECT_EQ(layer.motion()->jumps(), 0u);
+    EXPECT_FALSE(live->busy());
 }
 
 }  // namespace

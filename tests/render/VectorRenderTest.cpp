@@ -346,6 +346,17 @@ TEST_F(VectorRender, BadInputsNameTheFileAndTheKey) {
         ASSERT_FALSE(s.ok()) << extra;
         EXPECT_NE(s.message().find("/layers/1/"), std::string::npos) << s.message();
     }
+    // A glide that is neither "auto", seconds from 0 to 60 nor false: the key and what it takes.
+    for (const char* glide : {R"("fast")", "-1", "61", "true", "[1]"}) {
+        auto d = scene::parseSceneText(
+            sceneJson(kRidgeView, mountain() + "," + vectorLayer(ridgeFeatures(), std::string(R"(, "refresh": {"everySeconds": 1, "glide": )") + glide + "}")),
+            "test.json", ".");
+        ASSERT_TRUE(d.ok());
+        auto s = scene::Scene::build(std::move(d).value(), registry_);
+        ASSERT_FALSE(s.ok()) << glide;
+        EXPECT_NE(s.message().find("/layers/1/refresh/glide"), std::string::npos) << s.message();
+        EXPECT_NE(s.message().find("seconds from 0 to 60"), std::string::npos) << s.message();
+    }
     // A rule on a field the data lacks: the layer reports it and draws nothing.
     auto scene = load(sceneJson(kRidgeView, mountain() + "," +
                                               vectorLayer(ridgeFeatures(), R"(, "style": {"rules": [{"when": {"lanes": 2}}]})")));
