@@ -294,6 +294,8 @@ private:
     // each read (its features whole) and meshed on the pool, kept within the budget nearest
     // first, drawn together; a generation for the settings they were built with.
     static constexpr uint32_t kMeshLevel = 14;
+    /// Meshes up to this size are gathered and uploaded again as each tile comes in.
+    static constexpr uint64_t kComposeAtOnceBytes = 1u << 20;
     struct TileMesh {
         std::shared_ptr<vector::FeatureMesh> mesh;
         uint64_t generation = 0;

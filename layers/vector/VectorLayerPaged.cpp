@@ -164,13 +164,14 @@ void VectorLayer::updatePagedMeshes(const scene::FrameContext& frame) {
         tileMeshesChanged_ = true;
     }
     // Drawn together: the wanted tiles' meshes, gathered again when builds came in or the view
-    // wants another set of those built (at most every eighth frame while more are on their
-    // way: each gathering uploads them all again).
+    // wants another set of those built (while more are on their way, at most every eighth
+    // frame when they are large: each gathering uploads them all again; a live layer's few
+    // points go at once).
     std::vector<globe::TileKey> drawable;
     for (const globe::TileKey& key : wanted)
         if (tileMeshes_.contains(key)) drawable.push_back(key);
     if (drawable != composedTiles_) tileMeshesChanged_ = true;
-    if (!tileMeshesChanged_ || (!tileJobs_.empty() && meshFrame_ % 8 != 0)) return;
+    if (!tileMeshesChanged_ || (!tileJobs_.empty() && meshFrame_ % 8 != 0 && bytes > kComposeAtOnceBytes)) return;
     tileMeshesChanged_ = false;
     composedTiles_ = drawable;
     auto combined = std::make_shared<vector::FeatureMesh>();
