@@ -41,7 +41,7 @@ TEST(Cli, NoArgumentsIsUsage) {
 }
 
 TEST(Cli, HelpExitsZeroForEveryCommand) {
-    for (const char* c : {"--help", "render --help", "bench --help", "info --help"}) {
+    for (const char* c : {"--help", "render --help", "bench --help", "info --help", "measure --help"}) {
         const CliRun r = run(c);
         EXPECT_EQ(r.exitCode, 0) << c << ": " << r.output;
         EXPECT_NE(r.output.find("usage:"), std::string::npos) << c;
@@ -59,12 +59,28 @@ TEST(Cli, UsageErrorsExitTwo) {
                            "render " ORBIS_DEFAULT_SCENE " -o x.png --time noon",
                            "bench " ORBIS_DEFAULT_SCENE " --frames 0",
                            "bench " ORBIS_DEFAULT_SCENE " --frames ten",
-                           "info a b", "--nonsense info"};
+                           "info a b", "--nonsense info", "measure", "measure --path \"0,0\"", "measure --path \"0,0 1,x\"",
+                           "measure --path \"0,0 1,95\"", "measure --path \"0,0 1,1\" --sight \"0,0,1 1,1,1\"",
+                           "measure --sight \"0,0,1 1,1,1\"", "measure --path \"0,0 1,1\" --polygon",
+                           "measure --path \"0,0 1,1\" --csv x.csv"};
     for (const char* c : cases) {
         const CliRun r = run(c);
         EXPECT_EQ(r.exitCode, 2) << c << ": " << r.output;
         EXPECT_EQ(r.output.find("Segmentation"), std::string::npos);
     }
+}
+
+TEST(Cli, MeasureGivesGeodesicLengthsAndAreasAndNamesABadDem) {
+    // A quarter of the equator: a times pi / 2; a degree square across the antimeridian.
+    const CliRun quarter = run("measure --path \"0,0 90,0\"");
+    EXPECT_EQ(quarter.exitCode, 0) << quarter.output;
+    EXPECT_NE(quarter.output.find("length      10018.754 km over 2 points"), std::string::npos) << quarter.output;
+    const CliRun square = run("measure --polygon --path \"179.5,-0.5;-179.5,-0.5;-179.5,0.5;179.5,0.5\"");
+    EXPECT_EQ(square.exitCode, 0) << square.output;
+    EXPECT_NE(square.output.find("(12309.2 km^2)"), std::string::npos) << square.output;
+    const CliRun missing = run("measure --sight \"0,0,1 1,1,1\" --dem /nonexistent/dem.tif");
+    EXPECT_EQ(missing.exitCode, 1) << missing.output;
+    EXPECT_NE(missing.output.find("/nonexistent/dem.tif"), std::string::npos) << missing.output;
 }
 
 TEST(Cli, MissingSceneFileExitsOneNamingIt) {

@@ -9,5 +9,6 @@ int renderCommand(const std::vector<std::string>& args);
 int benchCommand(const std::vector<std::string>& args);
 int infoCommand(const std::vector<std::string>& args);
 int viewCommand(const std::vector<std::string>& args);
+int measureCommand(const std::vector<std::string>& args);
 
 }  // namespace orbis::cli

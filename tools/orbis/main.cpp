@@ -21,6 +21,7 @@ const char* kUsage =
     "  render SCENE -o OUT.png   render one frame headlessly to a PNG\n"
     "  bench SCENE               frame-time statistics (CPU, GPU per pass)\n"
     "  info [FILE]               the GPU and features used, or what FILE holds\n"
+    "  measure --path|--sight    geodesic lengths and areas, terrain profiles, lines of sight\n"
     "Run 'orbis COMMAND --help' for a command's options.\n"
     "Exit codes: 0 ok, 1 bad input (the message names the file and the problem), 2 usage.\n";
 
@@ -62,6 +63,7 @@ int main(int argc, char** argv) {
         if (command == "render") return cli::renderCommand(args);
         if (command == "bench") return cli::benchCommand(args);
         if (command == "info") return cli::infoCommand(args);
+        if (command == "measure") return cli::measureCommand(args);
         if (command == "help") {
             std::printf("%s", kUsage);
             return cli::kOk;
