@@ -10,6 +10,7 @@
 #   3. the latency from a committed UPDATE to the frame that shows it, LIVE times (default 100),
 #      one vehicle moved each time (orbis bench --live), at SIZE (default 640x360).
 #   usage: tools/bench-postgis.sh [BUILD_DIR]   env: LIVE=100 SIZE=640x360 RUNS=3 ONLY=read|frame|live
+#   GLIDE=auto|false|SECONDS (the vehicles' "glide" for the latency; default the scene's auto)
 #   DEVICE=cpu|discrete|... (orbis bench --device; default: the first discrete GPU, else lavapipe)
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
@@ -59,6 +60,12 @@ JSON
 fi
 if [ -z "$only" ] || [ "$only" = live ]; then
     echo "bench-postgis: commit to changed frame, $live updates of one vehicle each (assets/scenes/postgis-live.json, $size)"
-    "$build/bin/orbis" bench "${dev[@]}" "$here/assets/scenes/postgis-live.json" --size "$size" --live "$live" \
+    scene="$here/assets/scenes/postgis-live.json"
+    if [ "${GLIDE:-auto}" != auto ]; then   # the vehicles' glide set otherwise (false: they jump)
+        scene="$data/postgis-live-glide-$GLIDE.json"
+        sed -e "s|\"glide\": \"auto\"|\"glide\": $GLIDE|" -e "s|\.\./generated/|$here/assets/generated/|g" \
+            "$here/assets/scenes/postgis-live.json" > "$scene"
+    fi
+    "$build/bin/orbis" bench "${dev[@]}" "$scene" --size "$size" --live "$live" \
         --update "UPDATE vehicles SET geom = ST_Translate(geom, 0.0004 * (({i} % 2) * 2 - 1), 0) WHERE id = {i} % 40 + 1"
 fi
