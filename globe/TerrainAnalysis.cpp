@@ -20,6 +20,7 @@ TerrainProfile terrainProfile(std::span<const LonLat> path, const HeightAt& grou
     // The step grows so that the samples fit (each segment adds its end vertex).
     maxSamples = std::max<size_t>(maxSamples, path.size() + 1);
     stepM = std::max({stepM, 1e-3, length.metres / double(maxSamples - path.size())});
+    std::optional<double> lastKnown;   // rises and falls are between neighbouring known samples
     const auto add = [&](const LonLat& at, double distance) {
         ProfileSample s{distance, {wrapLongitude(at.x), at.y}, ground ? ground(wrapLongitude(at.x), at.y) : std::nullopt};
         if (s.height && !std::isfinite(*s.height)) s.height.reset();
@@ -27,13 +28,11 @@ TerrainProfile terrainProfile(std::span<const LonLat> path, const HeightAt& grou
         else {
             out.minHeight = std::min(out.minHeight.value_or(*s.height), *s.height);
             out.maxHeight = std::max(out.maxHeight.value_or(*s.height), *s.height);
-            // Rises and falls between neighbouring known samples.
-            for (auto it = out.samples.rbegin(); it != out.samples.rend(); ++it)
-                if (it->height) {
-                    const double dh = *s.height - *it->height;
-                    (dh > 0.0 ? out.ascentM : out.descentM) += std::abs(dh);
-                    break;
-                }
+            if (lastKnown) {
+                const double dh = *s.height - *lastKnown;
+                (dh > 0.0 ? out.ascentM : out.descentM) += std::abs(dh);
+            }
+            lastKnown = s.height;
         }
         out.samples.push_back(s);
     };

@@ -16,6 +16,10 @@ constexpr size_t kDrapeChangesKept = 64;
 
 globe::GeoExtent extentOf(const vector::LonLatBounds& b) { return {b.west, b.south, b.east, b.north}; }
 
+vector::LonLatBounds unionOf(const vector::LonLatBounds& a, const vector::LonLatBounds& b) {
+    return {std::min(a.west, b.west), std::min(a.south, b.south), std::max(a.east, b.east), std::max(a.north, b.north), false};
+}
+
 }  // namespace
 
 void VectorLayer::pollRefresh() {
@@ -99,7 +103,7 @@ void VectorLayer::pollRefresh() {
     if (refreshBoxes_.size() > kBoxesKept) {
         vector::LonLatBounds all = refreshBoxes_.front();
         for (const vector::LonLatBounds& b : refreshBoxes_)
-            all = {std::min(all.west, b.west), std::min(all.south, b.south), std::max(all.east, b.east), std::max(all.north, b.north), false};
+            all = unionOf(all, b);
         refreshBoxes_ = {all};
     }
     if (refreshAnywhere_) refreshBoxes_.clear();
@@ -117,7 +121,7 @@ bool VectorLayer::growBounds(const vector::LonLatBounds& box) {
     vector::LonLatBounds& b = *pagedBounds_;
     if (!b.empty && b.west <= box.west && box.east <= b.east && b.south <= box.south && box.north <= b.north) return false;
     if (b.empty) b = box;
-    else b = {std::min(b.west, box.west), std::min(b.south, box.south), std::max(b.east, box.east), std::max(b.north, box.north), false};
+    else b = unionOf(b, box);
     return true;
 }
 

@@ -7,7 +7,6 @@
 #include "tests/support/ProcessTempDir.h"
 #include "tests/support/Shell.h"
 
-#include <cpl_conv.h>
 #include <gdal.h>
 #include <ogr_srs_api.h>
 
@@ -34,13 +33,7 @@ fs::path writeDem(const std::string& name, double west, double north, double pix
     GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GTiff"), file.c_str(), n, n, 1, GDT_Float32, nullptr);
     double gt[6] = {west, pixel, 0.0, north, 0.0, -pixel};
     GDALSetGeoTransform(ds, gt);
-    OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
-    OSRImportFromEPSG(srs, 4326);
-    char* wkt = nullptr;
-    OSRExportToWkt(srs, &wkt);
-    GDALSetProjection(ds, wkt);
-    CPLFree(wkt);
-    OSRRelease(srs);
+    GDALSetProjection(ds, SRS_WKT_WGS84_LAT_LONG);
     std::vector<float> v(size_t(n) * size_t(n));
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
