@@ -53,16 +53,28 @@ std::optional<Period> parsePeriod(std::string_view p) {
 }
 
 /// `start` moved by `k` whole periods (calendar months and years from the start's date, the day
-/// clamped to the month's length).
-TimeNs advance(TimeNs start, const Period& p, int64_t k) {
+/// clamped to the month's length); nothing when the result falls outside what TimeNs holds
+/// (about 1678 to 2261), so a huge period ends the interval instead of overflowing.
+std::optional<TimeNs> advance(TimeNs start, const Period& p, int64_t k) {
     const int64_t days = start >= 0 ? start / kNsPerDay : -((-start + kNsPerDay - 1) / kNsPerDay);
     const TimeNs ofDay = start - days * kNsPerDay;
-    CivilDate d = civilFromDays(days);
-    const int64_t months = int64_t(d.year) * 12 + (d.month - 1) + k * (p.years * 12 + p.months);
-    const int year = int(months >= 0 ? months / 12 : -((-months + 11) / 12));
-    const int month = int(months - int64_t(year) * 12) + 1;
+    const CivilDate d = civilFromDays(days);
+    int64_t months = 0, step = 0;
+    if (__builtin_mul_overflow(p.years, int64_t(12), &step) || __builtin_add_overflow(step, p.months, &step) ||
+        __builtin_mul_overflow(k, step, &step) || __builtin_add_overflow(int64_t(d.year) * 12 + (d.month - 1), step, &months))
+        return std::nullopt;
+    const int64_t year64 = months >= 0 ? months / 12 : -((-months + 11) / 12);
+    if (year64 < 1600 || year64 > 2300) return std::nullopt;
+    const int year = int(year64);
+    const int month = int(months - year64 * 12) + 1;
     const int day = std::min(d.day, daysInMonth(year, month));
-    return (daysFromCivil(year, month, day) + k * p.days) * kNsPerDay + ofDay + k * p.seconds * kNsPerSecond;
+    int64_t allDays = 0, ns = 0, secs = 0, secNs = 0;
+    if (__builtin_mul_overflow(k, p.days, &allDays) || __builtin_add_overflow(allDays, int64_t(daysFromCivil(year, month, day)), &allDays) ||
+        __builtin_mul_overflow(allDays, kNsPerDay, &ns) || __builtin_add_overflow(ns, ofDay, &ns) ||
+        __builtin_mul_overflow(k, p.seconds, &secs) || __builtin_mul_overflow(secs, kNsPerSecond, &secNs) ||
+        __builtin_add_overflow(ns, secNs, &ns))
+        return std::nullopt;
+    return ns;
 }
 
 }  // namespace
@@ -98,8 +110,9 @@ Result<std::vector<WmsTimeValue>> parseWmsTimeExtent(std::string_view extent) {
                 return makeError("time extent \"" + all + "\": \"" + pp + "\" is not an ISO 8601 period of whole units (such as P1M, P1D, PT6H)");
             const bool dateOnly = a.size() == 10;
             for (int64_t k = 0;; ++k) {
-                const TimeNs t = advance(*start, *period, k);
-                if (t > *end) break;
+                const auto next = advance(*start, *period, k);
+                if (!next || *next > *end) break;
+                const TimeNs t = *next;
                 if (out.size() >= kMaxWmsTimeValues)
                     return makeError("time extent \"" + all + "\": more than " + std::to_string(kMaxWmsTimeValues) + " values");
                 out.push_back({dateOnly ? formatIso8601(t, 0).substr(0, 10) : formatIso8601(t, 0), t});

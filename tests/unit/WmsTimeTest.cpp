@@ -61,5 +61,19 @@ TEST(WmsTime, BadExtentsAreClearErrors) {
     }
 }
 
+TEST(WmsTime, HugePeriodsEndTheIntervalInsteadOfOverflowing) {
+    // Found by fuzz-wms-time: a period of 777777770 days overflowed the nanosecond arithmetic.
+    for (const char* extent : {"2020-01-01/2261-12-31/P777777770D", "2020-01-01/2261-12-31/P999999999Y999999999Y",
+                               "2020-01-01/2261-12-31/PT999999999H", "1700-01-01/2261-12-31/P100Y"}) {
+        auto r = parseWmsTimeExtent(extent);
+        ASSERT_TRUE(r) << extent << ": " << r.message();
+        ASSERT_FALSE(r->empty()) << extent;
+        EXPECT_EQ(r->front().text.substr(0, 4), std::string(extent).substr(0, 4)) << extent;
+    }
+    auto century = parseWmsTimeExtent("1700-01-01/2261-12-31/P100Y");
+    ASSERT_TRUE(century);
+    EXPECT_EQ(century->size(), 6u) << "1700 .. 2200";
+}
+
 }  // namespace
 }  // namespace orbis::globe
