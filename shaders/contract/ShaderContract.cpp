@@ -24,7 +24,10 @@
 #include "shared/PolylineTypes.h"
 #include "shared/TerrainTypes.h"
 #include "shared/VectorTypes.h"
+#include "shared/ViewshedTypes.h"
 #include "shared/VolumeTypes.h"
+#include "spv/analysis/viewshed.comp.h"
+#include "spv/analysis/viewshed_cpu.comp.h"
 
 #include "spv/common/composite.frag.h"
 #include "spv/common/fullscreen.vert.h"
@@ -91,6 +94,11 @@ std::vector<PipelineContract> pipelines() {
          {frame, ORBIS_SET(kPointSet, kPointBindings)}, ORBIS_SPECS(kPointSpecConstants)},
         {"points list", {ORBIS_SHADER(points, pointlist, vert), ORBIS_SHADER(points, pointlist, frag)},
          {frame, ORBIS_SET(kPointSet, kPointBindings)}, ORBIS_SPECS(kPointSpecConstants)},
+        // Analysis (layers/analysis/ViewshedGpu.cpp).
+        {"viewshed", {ORBIS_SHADER(analysis, viewshed, comp)}, {ORBIS_SET(kViewshedSet, kViewshedBindings)}, nullptr, {},
+         {kViewshedGroupSize, 1, 1}},
+        {"viewshed (CPU device)", {ORBIS_SHADER(analysis, viewshed_cpu, comp)}, {ORBIS_SET(kViewshedSet, kViewshedBindings)}, nullptr, {},
+         {kViewshedCpuGroupSize, 1, 1}},
         // Full-motion video (layers/fmv/FmvLayer.cpp).
         {"fmv drape", {ORBIS_SHADER(fmv, drape, comp)}, {frame, ORBIS_SET(kFmvSet, kFmvBindings)}, nullptr, {},
          {kFmvGroupSize, kFmvGroupSize, 1}},

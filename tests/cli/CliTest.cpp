@@ -41,7 +41,7 @@ TEST(Cli, NoArgumentsIsUsage) {
 }
 
 TEST(Cli, HelpExitsZeroForEveryCommand) {
-    for (const char* c : {"--help", "render --help", "bench --help", "info --help", "measure --help"}) {
+    for (const char* c : {"--help", "render --help", "bench --help", "info --help", "measure --help", "viewshed --help"}) {
         const CliRun r = run(c);
         EXPECT_EQ(r.exitCode, 0) << c << ": " << r.output;
         EXPECT_NE(r.output.find("usage:"), std::string::npos) << c;
@@ -62,7 +62,10 @@ TEST(Cli, UsageErrorsExitTwo) {
                            "info a b", "--nonsense info", "measure", "measure --path \"0,0\"", "measure --path \"0,0 1,x\"",
                            "measure --path \"0,0 1,95\"", "measure --path \"0,0 1,1\" --sight \"0,0,1 1,1,1\"",
                            "measure --sight \"0,0,1 1,1,1\"", "measure --path \"0,0 1,1\" --polygon",
-                           "measure --path \"0,0 1,1\" --csv x.csv"};
+                           "measure --path \"0,0 1,1\" --csv x.csv", "viewshed", "viewshed --synthetic 1 --radius 100",
+                           "viewshed --synthetic 1 --dem x.tif --observer 0,0 --radius 100",
+                           "viewshed --synthetic 1 --observer 0,95 --radius 100", "viewshed --synthetic 1 --observer 0:0 --radius 100",
+                           "viewshed --synthetic 1 --observer 0,0 --radius 0", "viewshed --synthetic 1 --observer 0,0 --radius 100 --method fast"};
     for (const char* c : cases) {
         const CliRun r = run(c);
         EXPECT_EQ(r.exitCode, 2) << c << ": " << r.output;
@@ -81,6 +84,28 @@ TEST(Cli, MeasureGivesGeodesicLengthsAndAreasAndNamesABadDem) {
     const CliRun missing = run("measure --sight \"0,0,1 1,1,1\" --dem /nonexistent/dem.tif");
     EXPECT_EQ(missing.exitCode, 1) << missing.output;
     EXPECT_NE(missing.output.find("/nonexistent/dem.tif"), std::string::npos) << missing.output;
+}
+
+TEST(Cli, ViewshedOnTheGpuAgreesWithGdalAndTheExactSightLines) {
+    // Generated hills, 3 km around at 30 m cells, on lavapipe: the GPU and GDAL's algorithm cell
+    // for cell, both within a percent of the exact sight lines; a viewshed GeoTIFF written.
+    const fs::path out = fs::temp_directory_path() / "orbis-cli-test" / "viewshed.tif";
+    fs::create_directories(out.parent_path());
+    const CliRun r = run("viewshed --synthetic 1 --observer 8.5,46.5 --radius 3000 --height 10 --compare --sweep --repeat 1 --device cpu --validation -o " +
+                         out.string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("grid        201 x 201 cells of 30.000 m"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("gpu/cpu     100.000 %"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("gpu/gdal    100.000 %"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("gpu/exact   99."), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("factor   cell_m"), std::string::npos) << r.output;
+    EXPECT_TRUE(fs::file_size(out) > 1000) << out;
+    const CliRun missing = run("viewshed --dem /nonexistent/dem.tif --observer 0,0 --radius 100 --device cpu");
+    EXPECT_EQ(missing.exitCode, 1) << missing.output;
+    EXPECT_NE(missing.output.find("/nonexistent/dem.tif"), std::string::npos) << missing.output;
+    const CliRun huge = run("viewshed --synthetic 1 --observer 0,0 --radius 1000000 --cell 10 --device cpu");
+    EXPECT_EQ(huge.exitCode, 1) << huge.output;
+    EXPECT_NE(huge.output.find("use larger cells"), std::string::npos) << huge.output;
 }
 
 TEST(Cli, MissingSceneFileExitsOneNamingIt) {

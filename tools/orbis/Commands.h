@@ -10,5 +10,6 @@ int benchCommand(const std::vector<std::string>& args);
 int infoCommand(const std::vector<std::string>& args);
 int viewCommand(const std::vector<std::string>& args);
 int measureCommand(const std::vector<std::string>& args);
+int viewshedCommand(const std::vector<std::string>& args);
 
 }  // namespace orbis::cli
