@@ -60,6 +60,10 @@ Result<void> readDrag(const nlohmann::json& j, const std::string& where, ScriptS
         if (s.button != "left" && s.button != "right" && s.button != "middle")
             return Error{where + ": \"button\" is left, right or middle, not \"" + s.button + "\""};
     }
+    if (j.contains("shift")) {
+        if (!j["shift"].is_boolean()) return Error{where + ": \"shift\" is true or false"};
+        s.shift = j["shift"].get<bool>();
+    }
     return readFrames(j, where, 8, s);
 }
 

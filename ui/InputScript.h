@@ -5,6 +5,7 @@
 //
 // [
 //   {"do": "drag", "button": "left", "from": [640, 360], "to": [700, 360], "frames": 8},
+//   {"do": "drag", "from": [640, 360], "to": [700, 360], "shift": true},   (Shift held)
 //   {"do": "drag", "item": "opacity##Plume", "from": [0.8, 0.9], "to": [0.8, 0.2]},
 //                                                 (on a panel item: fractions of its rectangle)
 //   {"do": "scroll", "at": [640, 360], "lines": -3},
@@ -33,6 +34,7 @@ struct ScriptStep {
     enum class Kind { Drag, Scroll, Key, DoubleClick, Click, Settle, Screenshot, Idle, Quit };
     Kind kind = Kind::Settle;
     std::string button = "left";      ///< Drag: left | right | middle
+    bool shift = false;               ///< Drag: with Shift held (moves a viewshed's observer)
     std::array<double, 2> from{0, 0}, to{0, 0};   ///< Drag; Click/DoubleClick/Scroll use `from`
     int frames = 1;                   ///< Drag: frames the move takes; Key: frames held
     double lines = 0.0;               ///< Scroll: + up (zoom in), - down

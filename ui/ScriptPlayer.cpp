@@ -99,9 +99,9 @@ bool ScriptPlayer::playDrag(const ScriptStep& step, glm::dvec2 from, glm::dvec2 
     const MouseButton b = buttonNamed(step.button);
     const int f = frame_;
     if (f == 0) moveTo(in, from);
-    else if (f == 1) press(in, b, true, from);
+    else if (f == 1) press(in, b, true, from, step.shift);
     else if (f <= step.frames + 1) moveTo(in, from + (to - from) * (double(f - 1) / step.frames));
-    else press(in, b, false, to);
+    else press(in, b, false, to, step.shift);
     return f > step.frames + 1;
 }
 
@@ -128,11 +128,12 @@ bool ScriptPlayer::playSettle(const std::function<bool()>& settled) {
     return finished;
 }
 
-void ScriptPlayer::press(FrameInput& in, MouseButton button, bool down, glm::dvec2 at) {
+void ScriptPlayer::press(FrameInput& in, MouseButton button, bool down, glm::dvec2 at, bool shift) {
     MouseButtonEvent e;
     e.button = button;
     e.pressed = down;
     e.position = at;
+    e.modifiers.shift = shift;
     e.timeSeconds = time_;
     in.events.push_back(e);
     buttons_[int(button)] = down;

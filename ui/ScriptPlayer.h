@@ -62,7 +62,7 @@ private:
     bool playDrag(const ScriptStep& step, glm::dvec2 from, glm::dvec2 to, FrameInput& in);
     bool playKey(const ScriptStep& step, FrameInput& in);
     bool playSettle(const std::function<bool()>& settled);
-    void press(FrameInput& in, MouseButton button, bool down, glm::dvec2 at);
+    void press(FrameInput& in, MouseButton button, bool down, glm::dvec2 at, bool shift = false);
     void moveTo(FrameInput& in, glm::dvec2 at);
     void finishStep();
 

@@ -117,6 +117,11 @@ private:
     // Clicking features (ViewerPins.cpp): the feature under a click, its attributes in the
     // Feature panel and the feature highlighted; a click on nothing clears them.
     void featureClick(const MouseButtonEvent& event);
+    // Shift + left drag (ViewerPins.cpp): the observer of every shown layer that has one (a
+    // viewshed: live settings observerLon and observerLat) follows the ground under the pointer.
+    // False when no shown layer has an observer: the press goes on to the camera.
+    bool observerDrag(const MouseButtonEvent& event);
+    bool moveObservers(glm::dvec2 atPx);
     void pickFeature(glm::dvec2 atPx);
     void clearPicks();
 
@@ -155,6 +160,7 @@ private:
     ViewerStats stats_;
     std::optional<glm::dvec2> pinPress_;         ///< the press of the click that places a pin
     std::optional<glm::dvec2> pickPress_;        ///< the press of a click that may pick a feature
+    bool draggingObserver_ = false;              ///< a Shift + left drag is moving an observer
     std::optional<render::FrameResult> previous_;   ///< its GPU times arrive a frame later
     uint64_t drawnRevision_ = ~0ull;             ///< the navigation's revision last drawn
     int uiFrames_ = 2;                           ///< frames ImGui still needs after input

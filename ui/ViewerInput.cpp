@@ -53,12 +53,19 @@ void Viewer::route(const MouseButtonEvent& event) {
         pinClick(event);
         return;
     }
+    if (event.button == MouseButton::Left && (event.modifiers.shift || draggingObserver_) && observerDrag(event)) return;
     if (event.button == MouseButton::Left) featureClick(event);   // a click (not a drag) picks
     takeCameraBack();
     nav_.handle(event);
 }
 
-void Viewer::route(const MouseMoveEvent& event) { nav_.handle(event); }
+void Viewer::route(const MouseMoveEvent& event) {
+    if (draggingObserver_) {
+        moveObservers(event.position);
+        return;
+    }
+    nav_.handle(event);
+}
 
 void Viewer::route(const ScrollEvent& event) {
     if (gui_->wantsMouse()) return;

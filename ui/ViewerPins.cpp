@@ -1,7 +1,7 @@
 // The Viewer's clicks on the globe: while the panels' Annotations > Place pin is on, a left click
 // drops a named annotation there and makes sure the scene has a layer that draws them; else a
 // left click picks the feature under it (vector data): its attributes go to the Feature panel
-// and the layer highlights it.
+// and the layer highlights it. Shift + left drag moves the observers of viewsheds.
 #include "ui/Viewer.h"
 
 #include <algorithm>
@@ -76,6 +76,44 @@ void Viewer::clearPicks() {
     for (auto& r : scene_->resources())
         if (auto* pickable = r.layer->asPickable()) pickable->clearPick();
     dirty_ = true;
+}
+
+bool Viewer::observerDrag(const MouseButtonEvent& event) {
+    if (!event.pressed) {
+        if (!draggingObserver_) return false;
+        draggingObserver_ = false;
+        return true;
+    }
+    if (!moveObservers(event.position)) return false;
+    draggingObserver_ = true;
+    return true;
+}
+
+bool Viewer::moveObservers(glm::dvec2 atPx) {
+    std::vector<scene::LiveSettings*> observers;
+    for (auto& r : scene_->resources()) {
+        if (!r.visible) continue;
+        scene::LiveSettings* live = r.layer->asLiveSettings();
+        if (!live) continue;
+        const auto settings = live->liveSettings();
+        if (std::any_of(settings.begin(), settings.end(), [](const scene::LayerSetting& s) { return s.name == "observerLon"; }))
+            observers.push_back(live);
+    }
+    if (observers.empty()) return false;
+    const auto hit = groundAt(atPx);
+    if (!hit) {
+        readout_.message = "no ground there: the observer stays where it is";
+        return true;
+    }
+    for (scene::LiveSettings* live : observers) {
+        live->setParameter("observerLon", hit->geodetic.lonDeg);
+        live->setParameter("observerLat", hit->geodetic.latDeg);
+    }
+    char text[120];
+    std::snprintf(text, sizeof text, "observer at lon %.5f lat %.5f", hit->geodetic.lonDeg, hit->geodetic.latDeg);
+    readout_.message = text;
+    dirty_ = true;
+    return true;
 }
 
 /// The ground under a window position, seen from the scene's camera.

@@ -53,6 +53,7 @@ TEST(InputScript, EveryStepKindIsReadWithItsDefaults) {
     EXPECT_EQ(s[0].button, "left");
     EXPECT_EQ(s[0].frames, 8);
     EXPECT_EQ(s[0].to[1], 4.0);
+    EXPECT_FALSE(s[0].shift);
     EXPECT_EQ(s[1].kind, ScriptStep::Kind::Scroll);
     EXPECT_EQ(s[1].lines, -3.0);
     EXPECT_EQ(s[2].kind, ScriptStep::Kind::Key);
@@ -64,6 +65,13 @@ TEST(InputScript, EveryStepKindIsReadWithItsDefaults) {
     EXPECT_TRUE(s[6].file.is_absolute() || s[6].file.has_parent_path());   // beside the script
     EXPECT_EQ(s[7].seconds, 2.0);
     EXPECT_EQ(s[8].kind, ScriptStep::Kind::Quit);
+}
+
+TEST(InputScript, ADragMayHoldShift) {
+    auto steps = readScript(R"([{"do": "drag", "from": [1, 2], "to": [3, 4], "shift": true}])");
+    ASSERT_TRUE(steps.ok()) << steps.message();
+    EXPECT_TRUE((*steps)[0].shift);
+    EXPECT_TRUE(contains(stepError(R"({"do": "drag", "from": [1, 2], "to": [3, 4], "shift": 1})"), "\"shift\" is true or false"));
 }
 
 TEST(InputScript, ShortcutKeysAreAccepted) {

@@ -189,6 +189,37 @@ TEST(Viewer, PlacesDeletesAndSavesPins) {
     EXPECT_LT(countDifferentPixels(none, deleted, 8), size_t(960 * 24));
 }
 
+TEST(Viewer, ShiftDragMovesTheViewshedsObserverAndTheSceneKeepsIt) {
+    REQUIRE_XVFB();
+    const fs::path dir = workDir("viewshed");
+    // assets/scenes/viewshed.json: Shift + drag from near the mast to the south-west; the
+    // viewshed is computed again there (the drape changes), the camera stays, and the saved
+    // scene holds the new observer.
+    const ViewerRun r = view(dir, R"([
+        {"do": "settle"}, {"do": "key", "key": "F1"}, {"do": "screenshot", "file": "before.png"},
+        {"do": "drag", "from": [480, 300], "to": [380, 340], "frames": 4, "shift": true},
+        {"do": "settle"}, {"do": "screenshot", "file": "after.png"},
+        {"do": "key", "key": "Ctrl+S"}, {"do": "quit"}])",
+                             std::string(ORBIS_SOURCE_DIR) + "/assets/scenes/viewshed.json",
+                             "--save-to \"" + (dir / "moved.json").string() + "\"");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const ImageRgba8 before = shot(dir / "before.png"), after = shot(dir / "after.png");
+    EXPECT_GT(countDifferentPixels(before, after, 16), size_t(960 * 540 / 50)) << "the drape did not change";
+    // The terrain's corners, outside the drape: the camera did not move.
+    for (const auto& [x, y] : {std::pair{20u, 20u}, std::pair{940u, 20u}, std::pair{20u, 520u}, std::pair{940u, 520u}})
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(int(before.pixels[(size_t(y) * 960 + x) * 4 + c]), int(after.pixels[(size_t(y) * 960 + x) * 4 + c]), 6) << x << "," << y;
+    const std::string text = readText(dir / "moved.json");
+    const std::regex observerRe(R"re("observer": \[\s*([-0-9.e]+),\s*([-0-9.e]+)\s*\])re");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(text, m, observerRe)) << text;
+    const double lon = std::stod(m[1]), lat = std::stod(m[2]);
+    EXPECT_LT(lon, 9.03 - 0.002) << "moved west";
+    EXPECT_LT(lat, 46.02 - 0.001) << "moved south";
+    EXPECT_GT(lon, 9.0);
+    EXPECT_GT(lat, 46.0);
+}
+
 TEST(Viewer, TransferFunctionEditorChangesTheVolume) {
     REQUIRE_XVFB();
     const fs::path dir = workDir("transfer");
