@@ -1,5 +1,6 @@
 #include "layers/analysis/ViewshedGpu.h"
 
+#include "engine/gpu/Barriers.h"
 #include "engine/gpu/Device.h"
 #include "engine/gpu/Pipeline.h"
 #include "engine/gpu/Uploader.h"
@@ -17,19 +18,6 @@ namespace {
 
 double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-void computeBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
-                    VkAccessFlags2 dstAccess) {
-    VkMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-    barrier.srcStageMask = srcStage;
-    barrier.srcAccessMask = srcAccess;
-    barrier.dstStageMask = dstStage;
-    barrier.dstAccessMask = dstAccess;
-    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dep.memoryBarrierCount = 1;
-    dep.pMemoryBarriers = &barrier;
-    vkCmdPipelineBarrier2(cmd, &dep);
 }
 
 }  // namespace
@@ -72,7 +60,11 @@ Result<void> ViewshedGpu::setGrid(const globe::ViewshedGrid& grid) {
             .update(device_);
     }
     gpu::Uploader uploader(device_);
-    device_.runOnce([&](VkCommandBuffer cmd) { uploader.toBuffer(cmd, heights_, grid.heights.data(), bytes); });
+    device_.runOnce([&](VkCommandBuffer cmd) {
+        uploader.toBuffer(cmd, heights_, grid.heights.data(), bytes);
+        gpu::bufferBarrier(cmd, heights_, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                           VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    });
     grid_ = grid;
     return {};
 }
@@ -101,7 +93,7 @@ Result<void> ViewshedGpu::record(VkCommandBuffer cmd, const globe::ViewshedOptio
     if (options.radiusM > 0.0) rings = std::min(rings, int(std::ceil(radiusCells)));
 
     vkCmdFillBuffer(cmd, sights_.vk(), 0, bytes, shader::kSightOutOfRange);
-    computeBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+    gpu::bufferBarrier(cmd, sights_, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                    VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.vk());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), shader::kViewshedSet, 1, &descriptors_.sets[0], 0, nullptr);
@@ -124,11 +116,11 @@ Result<globe::Viewshed> ViewshedGpu::run(const globe::ViewshedOptions& options, 
         recorded = record(cmd, options);
         if (scope >= 0) timer_.end(cmd, scope);
         if (!recorded) return;
-        computeBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+        gpu::bufferBarrier(cmd, sights_, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
                        VK_ACCESS_2_TRANSFER_READ_BIT);
         const VkBufferCopy copy{0, 0, bytes};
         vkCmdCopyBuffer(cmd, sights_.vk(), readback_.vk(), 1, &copy);
-        computeBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+        gpu::bufferBarrier(cmd, readback_, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
                        VK_ACCESS_2_HOST_READ_BIT);
     });
     if (!recorded) return recorded.error();
