@@ -1,6 +1,7 @@
 #include "globe/OgcCapabilities.h"
 
 #include "base/Secrets.h"
+#include "globe/CplXml.h"
 #include "globe/GdalSetup.h"
 
 #include <cpl_http.h>
@@ -21,44 +22,10 @@
 namespace orbis::globe {
 namespace {
 
-struct XmlDeleter {
-    void operator()(CPLXMLNode* n) const { CPLDestroyXMLNode(n); }
-};
-
-/// The children of `node` that are elements called `name`.
-std::vector<const CPLXMLNode*> children(const CPLXMLNode* node, const char* name) {
-    std::vector<const CPLXMLNode*> out;
-    for (const CPLXMLNode* c = node ? node->psChild : nullptr; c; c = c->psNext)
-        if (c->eType == CXT_Element && std::string_view(c->pszValue) == name) out.push_back(c);
-    return out;
-}
-
-std::string text(const CPLXMLNode* node, const char* path) {
-    const char* v = node ? CPLGetXMLValue(node, path, nullptr) : nullptr;
-    std::string s = v ? v : "";
-    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
-    size_t b = 0;
-    while (b < s.size() && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-    return s.substr(b);
-}
-
-std::optional<double> number(const CPLXMLNode* node, const char* path) {
-    const std::string t = text(node, path);
-    if (t.empty()) return std::nullopt;
-    char* end = nullptr;
-    const double v = std::strtod(t.c_str(), &end);
-    if (end == t.c_str() || !std::isfinite(v)) return std::nullopt;
-    return v;
-}
-
-/// "x y" corners (WFS's ows:LowerCorner): two numbers.
-std::optional<std::pair<double, double>> corner(const CPLXMLNode* node, const char* path) {
-    const std::string t = text(node, path);
-    double a = 0, b = 0;
-    char extra = 0;
-    if (std::sscanf(t.c_str(), "%lf %lf %c", &a, &b, &extra) != 2 || !std::isfinite(a) || !std::isfinite(b)) return std::nullopt;
-    return std::make_pair(a, b);
-}
+using xml::children;
+using xml::corner;
+using xml::number;
+using xml::text;
 
 nlohmann::ordered_json bounds(double w, double s, double e, double n) {
     if (!(w <= e && s <= n && s >= -90.0 && n <= 90.0)) return nullptr;
@@ -103,12 +70,8 @@ void wmsLayers(const CPLXMLNode* layer, std::vector<std::string> crs, nlohmann::
 
 // Text from the server that is not UTF-8 is written with U+FFFD in its place (never a throw).
 Result<std::string> parseOgcCapabilities(std::string_view xml, OgcService service, const std::string& source) {
-    const std::string doc(xml);
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-    std::unique_ptr<CPLXMLNode, XmlDeleter> root(CPLParseXMLString(doc.c_str()));
-    CPLPopErrorHandler();
+    const xml::Document root = xml::parse(xml);
     if (!root) return makeError(source + ": the answer is not XML");
-    CPLStripXMLNamespace(root.get(), nullptr, TRUE);
     for (const CPLXMLNode* n = root.get(); n; n = n->psNext) {
         if (n->eType != CXT_Element) continue;
         const std::string tag = n->pszValue;
