@@ -30,6 +30,9 @@ packages=(
   # OGC services (WMS, WFS) from MapServer's CGI, WMTS from MapCache's, behind lighttpd, started
   # on loopback by the server tests (tests/support/MapServer) and tools/serve-demo.sh
   cgi-mapserver mapcache-cgi lighttpd
+  # a processing server: PyWPS 4.5 (WSGI through werkzeug) with processes in Python on GDAL,
+  # started on loopback by the server tests and tools/serve-wps.sh (tools/wps/)
+  python3-pywps python3-gdal
   # tests; the fuzz targets (libFuzzer, ASan and UBSan through clang: tools/fuzz.sh)
   libgtest-dev clang libclang-rt-14-dev
 )

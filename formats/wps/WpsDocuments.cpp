@@ -174,6 +174,19 @@ std::string escape(std::string_view s) {
     return out;
 }
 
+/// EPSG:4326 (and 4258, and their URNs) put latitude first: OWS corners are in the CRS's axis
+/// order, so such a box is written and read "lat lon" (OWSLib, under PyWPS, reads it so).
+/// CRS84 is longitude first.
+bool latitudeFirst(const std::string& crs) {
+    const std::string c = lower(crs);
+    if (c.find("crs84") != std::string::npos) return false;
+    for (const char* code : {"4326", "4258", "4269"}) {
+        const size_t at = c.rfind(code);
+        if (at != std::string::npos && at + 4 == c.size() && (at == 0 || !std::isdigit(static_cast<unsigned char>(c[at - 1])))) return true;
+    }
+    return false;
+}
+
 std::string number(double v) {
     char b[40];
     std::snprintf(b, sizeof b, "%.17g", v);
@@ -348,7 +361,8 @@ Result<ExecuteResponse> parseExecuteResponse(std::string_view text, const std::s
                 v.crs = xml::text(bb, "crs");
                 const auto lo = xml::corner(bb, "LowerCorner"), hi = xml::corner(bb, "UpperCorner");
                 if (!lo || !hi) return makeError(source + ": output \"" + v.identifier + "\" is a bounding box without two corners");
-                v.bbox = {lo->first, lo->second, hi->first, hi->second};
+                v.bbox = latitudeFirst(v.crs) ? std::array<double, 4>{lo->second, lo->first, hi->second, hi->first}
+                                              : std::array<double, 4>{lo->first, lo->second, hi->first, hi->second};
             } else {
                 return makeError(source + ": output \"" + v.identifier + "\" holds no data the client knows");
             }
@@ -477,9 +491,11 @@ std::string executeRequest(const std::string& process, std::span<const InputValu
                 }
                 x += "        <wps:ComplexData" + formatAttributes() + ">" + body + "</wps:ComplexData>\n";
             } else {
+                const bool swap = latitudeFirst(in.crs);
+                const auto corner = [&](double x, double y) { return swap ? number(y) + " " + number(x) : number(x) + " " + number(y); };
                 x += "        <wps:BoundingBoxData" + (in.crs.empty() ? std::string() : " crs=\"" + escape(in.crs) + "\"") +
-                     " dimensions=\"2\">\n          <ows:LowerCorner>" + number(in.bbox[0]) + " " + number(in.bbox[1]) +
-                     "</ows:LowerCorner>\n          <ows:UpperCorner>" + number(in.bbox[2]) + " " + number(in.bbox[3]) +
+                     " dimensions=\"2\">\n          <ows:LowerCorner>" + corner(in.bbox[0], in.bbox[1]) +
+                     "</ows:LowerCorner>\n          <ows:UpperCorner>" + corner(in.bbox[2], in.bbox[3]) +
                      "</ows:UpperCorner>\n        </wps:BoundingBoxData>\n";
             }
             x += "      </wps:Data>\n";

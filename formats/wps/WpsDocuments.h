@@ -89,7 +89,9 @@ struct OutputValue {
     std::string dataType, uom;   ///< literals
     Format format;               ///< complex data, inline or by reference
     std::string reference;       ///< complex data by reference: the URL to fetch it from
-    std::array<double, 4> bbox{0, 0, 0, 0};   ///< lower x, lower y, upper x, upper y
+    /// West, south, east, north (x before y, whatever the CRS's axis order: a box in EPSG:4326,
+    /// whose corners are written latitude first, is read back as lon, lat).
+    std::array<double, 4> bbox{0, 0, 0, 0};
     std::string crs;
 };
 
@@ -123,7 +125,7 @@ struct InputValue {
     std::string value;       ///< a literal, or complex data sent inline (XML is embedded, other text escaped)
     Format format;           ///< complex: what `value` or `reference` is
     std::string reference;   ///< complex: a URL the server fetches instead of `value`
-    std::array<double, 4> bbox{0, 0, 0, 0};
+    std::array<double, 4> bbox{0, 0, 0, 0};   ///< west, south, east, north (x first; written in the CRS's axis order)
     std::string crs;         ///< bounding boxes
 };
 

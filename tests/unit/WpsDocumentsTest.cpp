@@ -226,7 +226,7 @@ TEST(WpsDocuments, AnExecuteRequestIsValidXmlWithEveryKindOfInput) {
     EXPECT_STREQ(CPLGetXMLValue(root, "ResponseForm.ResponseDocument.Output.asReference", ""), "true");
     const CPLXMLNode* in = CPLGetXMLNode(root, "DataInputs.Input");
     ASSERT_TRUE(in);
-    EXPECT_STREQ(CPLGetXMLValue(in, "Data.BoundingBoxData.LowerCorner", ""), "6 45");
+    EXPECT_STREQ(CPLGetXMLValue(in, "Data.BoundingBoxData.LowerCorner", ""), "45 6") << "EPSG:4326's axis order: latitude first";
     in = in->psNext;
     while (in && in->eType != CXT_Element) in = in->psNext;
     ASSERT_TRUE(in);
@@ -266,7 +266,7 @@ TEST(WpsDocuments, ExecuteResponsesInEveryState) {
 0,512
 30,520]]></wps:ComplexData></wps:Data></wps:Output>
         <wps:Output><ows:Identifier>extent</ows:Identifier><ows:Title>Extent</ows:Title>
-            <wps:Data><wps:BoundingBoxData crs="epsg:4326" dimensions="2"><ows:LowerCorner> 6.0  45.0 </ows:LowerCorner><ows:UpperCorner> 7.0  46.0 </ows:UpperCorner></wps:BoundingBoxData></wps:Data></wps:Output>
+            <wps:Data><wps:BoundingBoxData crs="epsg:4326" dimensions="2"><ows:LowerCorner> 45.0  6.0 </ows:LowerCorner><ows:UpperCorner> 46.0  7.0 </ows:UpperCorner></wps:BoundingBoxData></wps:Data></wps:Output>
     </wps:ProcessOutputs>)"),
         "demo");
     ASSERT_TRUE(done) << done.message();
@@ -278,7 +278,7 @@ TEST(WpsDocuments, ExecuteResponsesInEveryState) {
     EXPECT_EQ(done->outputs[1].value, "12.5");
     EXPECT_EQ(done->outputs[1].dataType, "float");
     EXPECT_EQ(done->outputs[2].value, "d,h\n0,512\n30,520");
-    EXPECT_EQ(done->outputs[3].bbox, (std::array<double, 4>{6.0, 45.0, 7.0, 46.0}));
+    EXPECT_EQ(done->outputs[3].bbox, (std::array<double, 4>{6.0, 45.0, 7.0, 46.0})) << "read back lon, lat";
     EXPECT_EQ(done->outputs[3].crs, "epsg:4326");
 }
 
