@@ -41,7 +41,7 @@ TEST(Cli, NoArgumentsIsUsage) {
 }
 
 TEST(Cli, HelpExitsZeroForEveryCommand) {
-    for (const char* c : {"--help", "render --help", "bench --help", "info --help", "measure --help", "viewshed --help"}) {
+    for (const char* c : {"--help", "render --help", "bench --help", "info --help", "measure --help", "viewshed --help", "wps --help"}) {
         const CliRun r = run(c);
         EXPECT_EQ(r.exitCode, 0) << c << ": " << r.output;
         EXPECT_NE(r.output.find("usage:"), std::string::npos) << c;
@@ -65,7 +65,9 @@ TEST(Cli, UsageErrorsExitTwo) {
                            "measure --path \"0,0 1,1\" --csv x.csv", "viewshed", "viewshed --synthetic 1 --radius 100",
                            "viewshed --synthetic 1 --dem x.tif --observer 0,0 --radius 100",
                            "viewshed --synthetic 1 --observer 0,95 --radius 100", "viewshed --synthetic 1 --observer 0:0 --radius 100",
-                           "viewshed --synthetic 1 --observer 0,0 --radius 0", "viewshed --synthetic 1 --observer 0,0 --radius 100 --method fast"};
+                           "viewshed --synthetic 1 --observer 0,0 --radius 0", "viewshed --synthetic 1 --observer 0,0 --radius 100 --method fast",
+                           "wps", "wps http://127.0.0.1:1/wps --describe a --run b", "wps http://127.0.0.1:1/wps --run a --input nothing",
+                           "wps http://127.0.0.1:1/wps --run a --bbox area=1,2,3", "wps http://127.0.0.1:1/wps --repeat 0"};
     for (const char* c : cases) {
         const CliRun r = run(c);
         EXPECT_EQ(r.exitCode, 2) << c << ": " << r.output;

@@ -5,6 +5,7 @@
 // zonal statistics as GeoJSON; bad inputs refused before sending, a process that fails, an
 // unknown process and a server that is gone reported with their reasons.
 #include "formats/wps/WpsClient.h"
+#include "tests/support/Shell.h"
 #include "tests/support/WpsServer.h"
 
 #include <cpl_vsi.h>
@@ -13,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <unistd.h>
 #include <sstream>
 
 namespace orbis::test {
@@ -206,6 +208,26 @@ TEST_F(WpsServerTest, AProfileTableInlineAndZonalStatisticsAsGeoJson) {
         EXPECT_LE(p["mean"].get<double>(), p["max"].get<double>());
         EXPECT_GT(p["min"].get<double>(), 500.0) << "the hills stand 520 m and more";
     }
+}
+
+TEST_F(WpsServerTest, OrbisWpsListsDescribesAndRunsWritingTheOutputs) {
+    const std::filesystem::path out = std::filesystem::temp_directory_path() / ("orbis-wps-cli-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(out);
+    const std::string orbis = std::string(ORBIS_BINARY) + " wps " + server_->url();
+    const ShellRun list = runShell(orbis);
+    ASSERT_EQ(list.exitCode, 0) << list.output;
+    EXPECT_NE(list.output.find("Orbis demo processes (WPS 1.0.0, Orbis): 5 processes"), std::string::npos) << list.output;
+    const ShellRun describe = runShell(orbis + " --describe terrain");
+    ASSERT_EQ(describe.exitCode, 0) << describe.output;
+    EXPECT_NE(describe.output.find("string in slope | aspect | hillshade, default slope"), std::string::npos) << describe.output;
+    const ShellRun run = runShell(orbis + " --run terrain --bbox area=9.01,46.01,9.05,46.03 --input product=hillshade --async --out " + out.string());
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    EXPECT_NE(run.output.find("progress    100 %"), std::string::npos) << run.output;
+    EXPECT_GT(std::filesystem::file_size(out / "raster.tif"), 10000u) << run.output;
+    const ShellRun failed = runShell(orbis + " --run viewshed --input lon=12 --input lat=46");
+    EXPECT_EQ(failed.exitCode, 1) << failed.output;
+    EXPECT_NE(failed.output.find("\"viewshed\" failed: Process error: the observer is outside the DEM"), std::string::npos) << failed.output;
+    std::filesystem::remove_all(out);
 }
 
 TEST_F(WpsServerTest, BadInputsFailuresUnknownProcessesAndAGoneServerSayWhy) {

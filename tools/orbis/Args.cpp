@@ -30,6 +30,7 @@ Args::Args(const std::vector<std::string>& argv, const std::set<std::string>& va
                 inlineValue = argv[++i];
             }
             values_[arg] = *inlineValue;
+            all_[arg].push_back(*inlineValue);
         } else if (flags.count(arg)) {
             if (inlineValue) throw UsageError{"option " + arg + " takes no value"};
             flags_.insert(arg);
@@ -40,6 +41,11 @@ Args::Args(const std::vector<std::string>& argv, const std::set<std::string>& va
 }
 
 int Args::count(const std::string& name) const { return static_cast<int>(flags_.count(name)); }
+
+std::vector<std::string> Args::values(const std::string& name) const {
+    auto it = all_.find(name);
+    return it == all_.end() ? std::vector<std::string>{} : it->second;
+}
 
 std::optional<std::string> Args::value(const std::string& name) const {
     auto it = values_.find(name);

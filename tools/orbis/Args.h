@@ -23,7 +23,10 @@ public:
 
     bool flag(const std::string& name) const { return flags_.count(name) != 0; }
     int count(const std::string& name) const;
+    /// The last value given (an option given twice keeps the second).
     std::optional<std::string> value(const std::string& name) const;
+    /// Every value given, in order (options that may repeat: --input a=1 --input b=2).
+    std::vector<std::string> values(const std::string& name) const;
     const std::vector<std::string>& positional() const { return positional_; }
 
     /// Integer in [min, max]; throws UsageError naming the option.
@@ -35,6 +38,7 @@ public:
 
 private:
     std::map<std::string, std::string> values_;
+    std::map<std::string, std::vector<std::string>> all_;
     std::multiset<std::string> flags_;
     std::vector<std::string> positional_;
 };

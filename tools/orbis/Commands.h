@@ -11,5 +11,6 @@ int infoCommand(const std::vector<std::string>& args);
 int viewCommand(const std::vector<std::string>& args);
 int measureCommand(const std::vector<std::string>& args);
 int viewshedCommand(const std::vector<std::string>& args);
+int wpsCommand(const std::vector<std::string>& args);
 
 }  // namespace orbis::cli

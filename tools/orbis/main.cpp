@@ -23,6 +23,7 @@ const char* kUsage =
     "  info [FILE]               the GPU and features used, or what FILE holds\n"
     "  measure --path|--sight    geodesic lengths and areas, terrain profiles, lines of sight\n"
     "  viewshed --dem --observer what an observer sees of the ground (GPU), against GDAL's\n"
+    "  wps URL [--describe|--run] a WPS processing server: its processes, a process, a run\n"
     "Run 'orbis COMMAND --help' for a command's options.\n"
     "Exit codes: 0 ok, 1 bad input (the message names the file and the problem), 2 usage.\n";
 
@@ -66,6 +67,7 @@ int main(int argc, char** argv) {
         if (command == "info") return cli::infoCommand(args);
         if (command == "measure") return cli::measureCommand(args);
         if (command == "viewshed") return cli::viewshedCommand(args);
+        if (command == "wps") return cli::wpsCommand(args);
         if (command == "help") {
             std::printf("%s", kUsage);
             return cli::kOk;
