@@ -43,6 +43,21 @@ std::optional<double> number(const CPLXMLNode* node, const char* path) {
     return v;
 }
 
+std::string escape(std::string_view text) {
+    std::string out;
+    out.reserve(text.size());
+    for (char c : text) {
+        switch (c) {
+            case '&': out += "&amp;"; break;
+            case '<': out += "&lt;"; break;
+            case '>': out += "&gt;"; break;
+            case '"': out += "&quot;"; break;
+            default: out += c;
+        }
+    }
+    return out;
+}
+
 std::optional<std::pair<double, double>> corner(const CPLXMLNode* node, const char* path) {
     const std::string t = text(node, path);
     double a = 0, b = 0;

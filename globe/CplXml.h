@@ -35,6 +35,9 @@ std::string text(const CPLXMLNode* node, const char* path);
 /// A finite number at `path`; nothing when absent or not a number.
 std::optional<double> number(const CPLXMLNode* node, const char* path);
 
+/// `text` with & < > " written as entities, for an element's text or an attribute's value.
+std::string escape(std::string_view text);
+
 /// "x y" at `path` (ows:LowerCorner): two finite numbers.
 std::optional<std::pair<double, double>> corner(const CPLXMLNode* node, const char* path);
 

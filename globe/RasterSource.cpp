@@ -1,5 +1,6 @@
 // RasterSource: opening a source, reading tiles, describing a file. The GDAL side (configuration,
 // handle pool, warping, inspecting) is in RasterSourceGdal.cpp; shared internals in RasterSourceImpl.h.
+#include "globe/CplXml.h"
 #include "globe/RasterSourceImpl.h"
 #include "globe/TileCacheFs.h"
 
@@ -48,7 +49,7 @@ Result<std::string> georeferencedVrt(GDALDatasetH ds, const std::string& path, c
         GDALRasterBandH band = GDALGetRasterBand(ds, i);
         x << "<VRTRasterBand dataType=\"" << GDALGetDataTypeName(GDALGetRasterDataType(band)) << "\" band=\"" << i
           << "\"><ColorInterp>" << GDALGetColorInterpretationName(GDALGetRasterColorInterpretation(band))
-          << "</ColorInterp><SimpleSource><SourceFilename relativeToVRT=\"0\">" << xmlEscape(path)
+          << "</ColorInterp><SimpleSource><SourceFilename relativeToVRT=\"0\">" << xml::escape(path)
           << "</SourceFilename><SourceBand>" << i << "</SourceBand>"
           // Without the source's size and the rectangles, GDAL's implicit overviews of the VRT
           // read zeros (GDAL 3.6: measured).

@@ -1,5 +1,6 @@
 // RasterSource internals over GDAL: configuration, the pool of open handles, warping a tile,
 // and inspecting a file when it is opened.
+#include "globe/CplXml.h"
 #include "globe/RasterSourceImpl.h"
 #include "globe/TileCacheFs.h"
 
@@ -69,20 +70,6 @@ std::string GdalErrors::text(const char* fallback) const {
     return s;
 }
 
-std::string xmlEscape(const std::string& s) {
-    std::string out;
-    for (char c : s) {
-        switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            default: out += c;
-        }
-    }
-    return out;
-}
-
 /// A GDAL WMS (TMS minidriver) description of an XYZ server: EPSG:3857, 256-pixel tiles, y down,
 /// four bands (alpha 0 where the server has no tile: 404/204 are empty blocks, not errors).
 std::string xyzToWmsXml(const std::string& xyzUrl, int maxZoom, const std::string& cacheDir) {
@@ -97,7 +84,7 @@ std::string xyzToWmsXml(const std::string& xyzUrl, int maxZoom, const std::strin
     }
     const char* timeout = CPLGetConfigOption("GDAL_HTTP_TIMEOUT", "30");
     std::ostringstream x;
-    x << "<GDAL_WMS><Service name=\"TMS\"><ServerUrl>" << xmlEscape(url) << "</ServerUrl></Service>"
+    x << "<GDAL_WMS><Service name=\"TMS\"><ServerUrl>" << xml::escape(url) << "</ServerUrl></Service>"
       << "<DataWindow><UpperLeftX>-20037508.342789244</UpperLeftX>"
       << "<UpperLeftY>20037508.342789244</UpperLeftY>"
       << "<LowerRightX>20037508.342789244</LowerRightX>"
@@ -106,10 +93,10 @@ std::string xyzToWmsXml(const std::string& xyzUrl, int maxZoom, const std::strin
       << "<TileCountX>1</TileCountX><TileCountY>1</TileCountY><YOrigin>top</YOrigin></DataWindow>"
       << "<Projection>EPSG:3857</Projection><BlockSizeX>256</BlockSizeX><BlockSizeY>256</BlockSizeY>"
       << "<BandsCount>4</BandsCount><MaxConnections>4</MaxConnections>"
-      << "<Timeout>" << xmlEscape(timeout) << "</Timeout>"
+      << "<Timeout>" << xml::escape(timeout) << "</Timeout>"
       << "<ZeroBlockHttpCodes>204,404</ZeroBlockHttpCodes>"
       << "<ZeroBlockOnServerException>true</ZeroBlockOnServerException>"
-      << "<Cache><Path>" << xmlEscape(cacheDir) << "</Path></Cache></GDAL_WMS>";
+      << "<Cache><Path>" << xml::escape(cacheDir) << "</Path></Cache></GDAL_WMS>";
     return x.str();
 }
 
@@ -130,8 +117,8 @@ std::optional<std::string> wmsUrlToXml(GDALDatasetH ds, const std::string& cache
     if (end == std::string::npos) return std::nullopt;
     std::string add;
     if (xml.find("<Timeout>") == std::string::npos)
-        add += "<Timeout>" + xmlEscape(CPLGetConfigOption("GDAL_HTTP_TIMEOUT", "30")) + "</Timeout>";
-    if (xml.find("<Cache") == std::string::npos) add += "<Cache><Path>" + xmlEscape(tileCachePath(cacheDir)) + "</Path></Cache>";
+        add += "<Timeout>" + xml::escape(CPLGetConfigOption("GDAL_HTTP_TIMEOUT", "30")) + "</Timeout>";
+    if (xml.find("<Cache") == std::string::npos) add += "<Cache><Path>" + xml::escape(tileCachePath(cacheDir)) + "</Path></Cache>";
     if (xml.find("<MaxConnections>") == std::string::npos) add += "<MaxConnections>4</MaxConnections>";
     if (heights) {
         if (const size_t b = xml.find("<BandsCount>"); b != std::string::npos) {

@@ -77,7 +77,6 @@ private:
 std::string plainGdalMessage(const std::string& message);
 
 bool isRemotePath(const std::string& path);
-std::string xmlEscape(const std::string& s);
 /// A GDAL WMS (TMS minidriver) description of an XYZ server: EPSG:3857, 256-pixel tiles, y down,
 /// four bands (alpha 0 where the server has no tile: 404/204 are empty blocks, not errors).
 std::string xyzToWmsXml(const std::string& xyzUrl, int maxZoom, const std::string& cacheDir);

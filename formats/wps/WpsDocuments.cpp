@@ -16,6 +16,7 @@ namespace orbis::wps {
 namespace {
 
 namespace xml = globe::xml;
+using xml::escape;
 
 std::string lower(std::string s) {
     for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -157,21 +158,6 @@ double parseNumber(const std::string& t, bool& ok) {
     const double v = std::strtod(t.c_str(), &end);
     ok = !t.empty() && end != t.c_str() && *end == 0 && std::isfinite(v);
     return v;
-}
-
-std::string escape(std::string_view s) {
-    std::string out;
-    out.reserve(s.size());
-    for (char c : s) {
-        switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            default: out += c;
-        }
-    }
-    return out;
 }
 
 /// EPSG:4326 (and 4258, and their URNs) put latitude first: OWS corners are in the CRS's axis
