@@ -88,28 +88,6 @@ TEST(Cli, MeasureGivesGeodesicLengthsAndAreasAndNamesABadDem) {
     EXPECT_NE(missing.output.find("/nonexistent/dem.tif"), std::string::npos) << missing.output;
 }
 
-TEST(Cli, ViewshedOnTheGpuAgreesWithGdalAndTheExactSightLines) {
-    // Generated hills, 3 km around at 30 m cells, on lavapipe: the GPU and GDAL's algorithm cell
-    // for cell, both within a percent of the exact sight lines; a viewshed GeoTIFF written.
-    const fs::path out = fs::temp_directory_path() / "orbis-cli-test" / "viewshed.tif";
-    fs::create_directories(out.parent_path());
-    const CliRun r = run("viewshed --synthetic 1 --observer 8.5,46.5 --radius 3000 --height 10 --compare --sweep --repeat 1 --device cpu --validation -o " +
-                         out.string());
-    ASSERT_EQ(r.exitCode, 0) << r.output;
-    EXPECT_NE(r.output.find("grid        201 x 201 cells of 30.000 m"), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("gpu/cpu     100.000 %"), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("gpu/gdal    100.000 %"), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("gpu/exact   99."), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("factor   cell_m"), std::string::npos) << r.output;
-    EXPECT_TRUE(fs::file_size(out) > 1000) << out;
-    const CliRun missing = run("viewshed --dem /nonexistent/dem.tif --observer 0,0 --radius 100 --device cpu");
-    EXPECT_EQ(missing.exitCode, 1) << missing.output;
-    EXPECT_NE(missing.output.find("/nonexistent/dem.tif"), std::string::npos) << missing.output;
-    const CliRun huge = run("viewshed --synthetic 1 --observer 0,0 --radius 1000000 --cell 10 --device cpu");
-    EXPECT_EQ(huge.exitCode, 1) << huge.output;
-    EXPECT_NE(huge.output.find("use larger cells"), std::string::npos) << huge.output;
-}
-
 TEST(Cli, MissingSceneFileExitsOneNamingIt) {
     const CliRun r = run("render /nonexistent/scene.json -o /tmp/x.png");
     EXPECT_EQ(r.exitCode, 1);
@@ -201,6 +179,28 @@ class CliGpu : public ::testing::Test {
 protected:
     void SetUp() override { ASSERT_TRUE(selectLavapipe()); }
 };
+
+TEST_F(CliGpu, ViewshedOnTheGpuAgreesWithGdalAndTheExactSightLines) {
+    // Generated hills, 3 km around at 30 m cells, on lavapipe: the GPU and GDAL's algorithm cell
+    // for cell, both within a percent of the exact sight lines; a viewshed GeoTIFF written.
+    const fs::path out = fs::temp_directory_path() / "orbis-cli-test" / "viewshed.tif";
+    fs::create_directories(out.parent_path());
+    const CliRun r = run("viewshed --synthetic 1 --observer 8.5,46.5 --radius 3000 --height 10 --compare --sweep --repeat 1 --device cpu --validation -o " +
+                         out.string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("grid        201 x 201 cells of 30.000 m"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("gpu/cpu     100.000 %"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("gpu/gdal    100.000 %"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("gpu/exact   99."), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("factor   cell_m"), std::string::npos) << r.output;
+    EXPECT_TRUE(fs::file_size(out) > 1000) << out;
+    const CliRun missing = run("viewshed --dem /nonexistent/dem.tif --observer 0,0 --radius 100 --device cpu");
+    EXPECT_EQ(missing.exitCode, 1) << missing.output;
+    EXPECT_NE(missing.output.find("/nonexistent/dem.tif"), std::string::npos) << missing.output;
+    const CliRun huge = run("viewshed --synthetic 1 --observer 0,0 --radius 1000000 --cell 10 --device cpu");
+    EXPECT_EQ(huge.exitCode, 1) << huge.output;
+    EXPECT_NE(huge.output.find("use larger cells"), std::string::npos) << huge.output;
+}
 
 TEST_F(CliGpu, InfoDescribesTheDevice) {
     const CliRun r = run("info --validation");
