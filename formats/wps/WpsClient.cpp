@@ -14,6 +14,13 @@
 #include <vector>
 
 namespace orbis::wps {
+namespace {
+
+/// Polls in a row whose status could not be read (a document caught half written) before the
+/// wait gives up.
+constexpr int kStatusRetries = 3;
+
+}  // namespace
 
 WpsClient::WpsClient(std::string url, double timeoutSeconds)
     : url_(std::move(url)), shown_(redactSecrets(url_)), timeoutSeconds_(std::clamp(timeoutSeconds, 1.0, 3600.0)) {}
@@ -103,6 +110,7 @@ Result<ExecuteResponse> WpsClient::wait(ExecuteResponse job, const std::function
     using Clock = std::chrono::steady_clock;
     const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.timeoutSeconds));
     double delay = std::max(0.01, options.firstDelaySeconds);
+    int failures = 0;
     while (!job.finished()) {
         if (progress && !progress(job)) return makeError(shown_ + ": stopped waiting for \"" + job.processId + "\" at " + std::to_string(job.percent) + " %");
         if (Clock::now() + std::chrono::duration<double>(delay) > deadline)
@@ -110,7 +118,13 @@ Result<ExecuteResponse> WpsClient::wait(ExecuteResponse job, const std::function
         std::this_thread::sleep_for(std::chrono::duration<double>(delay));
         delay = std::min(options.maxDelaySeconds, delay * 2.0);
         auto next = status(job);
-        if (!next) return next.error();
+        if (!next) {
+            // A server writes the status document in place (PyWPS does): a poll can catch it half
+            // written, or the server busy. A few such polls in a row are retried; more end the wait.
+            if (++failures <= kStatusRetries) continue;
+            return next.error();
+        }
+        failures = 0;
         if (next->statusLocation.empty()) next->statusLocation = job.statusLocation;
         if (next->processId.empty()) next->processId = job.processId;
         job = std::move(*next);

@@ -41,7 +41,8 @@ public:
     Result<ExecuteResponse> status(const ExecuteResponse& job) const;
     /// Polls `job` until it has succeeded or failed; `progress` sees each status and returns false
     /// to stop waiting (the job is left to the server: WPS 1.0.0 has no dismiss). A job that
-    /// failed is a result, not an error; an error is a server that stopped answering, a stop, or
+    /// failed is a result, not an error; an error is a server that stopped answering (three polls
+    /// in a row without a readable status: one caught half written is polled again), a stop, or
     /// the timeout.
     Result<ExecuteResponse> wait(ExecuteResponse job, const std::function<bool(const ExecuteResponse&)>& progress = {},
                                  const WaitOptions& options = {}) const;
