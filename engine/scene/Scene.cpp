@@ -102,6 +102,32 @@ Result<void> Scene::ensureAnnotationLayer(const LayerRegistry& registry) {
     return {};
 }
 
+Result<Resource*> Scene::addLayer(LayerDesc layer, const LayerRegistry& registry) {
+    if (layer.name.empty()) layer.name = layer.type;
+    for (int n = 2; find(layer.name); ++n) {
+        const auto cut = layer.name.rfind(" (");
+        if (n > 2 && cut != std::string::npos) layer.name.resize(cut);
+        layer.name += " (" + std::to_string(n) + ")";
+    }
+    layer.jsonPath = "/layers/" + std::to_string(desc_.layers.size());
+    layer.settings["type"] = layer.type;
+    layer.settings["name"] = layer.name;
+    auto made = registry.create(layer, desc_);
+    if (!made) return made.error();
+    Resource r;
+    r.name = layer.name;
+    r.type = layer.type;
+    r.visible = layer.visible;
+    r.viewpoint = layer.viewpoint;
+    r.filePaths = registry.filePaths(layer.type);
+    r.layer = std::move(made).value();
+    // Before the pins' layer, which is not in desc_.layers and draws last.
+    auto at = std::find_if(resources_.begin(), resources_.end(), [](const Resource& x) { return x.type == kAnnotationLayerType; });
+    at = resources_.insert(at, std::move(r));
+    desc_.layers.push_back(std::move(layer));
+    return &*at;
+}
+
 Resource* Scene::find(const std::string& name) {
     return const_cast<Resource*>(std::as_const(*this).find(name));
 }

@@ -56,6 +56,12 @@ public:
     /// the list) if the scene has none yet and `registry` knows the type. Scenes without pins
     /// never build it. An error only when the layer cannot be made.
     Result<void> ensureAnnotationLayer(const LayerRegistry& registry);
+    /// Adds a layer while the scene is shown (a processing job's result): built from `layer`
+    /// as a scene file's layer would be (its relative paths against the scene's folder), kept
+    /// in desc() so that it is saved with the scene, and drawn before the pins. Its name is made
+    /// unique (" (2)", ...). Returns the resource; an error, and nothing added, when the layer
+    /// cannot be built. Main thread only, between frames.
+    Result<Resource*> addLayer(LayerDesc layer, const LayerRegistry& registry);
 
     Camera& camera() { return camera_; }
     const Camera& camera() const { return camera_; }

@@ -192,17 +192,22 @@ nlohmann::json sceneToJson(const Scene& scene, const fs::path& saveTo) {
         root["annotations"] = std::move(pins);
     }
 
-    // Resources are in the order Scene::build made them from desc.layers.
+    // Resources are in the order of desc.layers (Scene::build, Scene::addLayer), with the pins'
+    // layer, which the file does not list, among them.
     const fs::path toFolder = normalAbsolute(saveTo).parent_path();
     nlohmann::json layers = nlohmann::json::array();
-    const auto& resources = scene.resources();
-    for (size_t i = 0; i < resources.size() && i < desc.layers.size(); ++i) {
-        nlohmann::json layer = desc.layers[i].settings;
-        layer["name"] = resources[i].name;
+    size_t i = 0;
+    for (const Resource& resource : scene.resources()) {
+        if (resource.type == kAnnotationLayerType && (i >= desc.layers.size() || desc.layers[i].type != kAnnotationLayerType)) continue;
+        if (i >= desc.layers.size()) break;
+        const LayerDesc& from = desc.layers[i++];
+        nlohmann::json layer = from.settings;
+        layer["name"] = resource.name;
         // A layer that could not be built keeps what its file said.
-        layer["visible"] = resources[i].error.empty() ? resources[i].visible : desc.layers[i].visible;
-        if (const LiveSettings* live = resources[i].layer->asLiveSettings()) writeLiveSettings(layer, live->liveSettings());
-        rebaseLayerPaths(layer, desc.folder, toFolder, resources[i].filePaths);
+        layer["visible"] = resource.error.empty() ? resource.visible : from.visible;
+        if (const LiveSettings* live = resource.layer->asLiveSettings()) writeLiveSettings(layer, live->liveSettings());
+        rebaseLayerPaths(layer, desc.folder, toFolder, resource.filePaths);
+        if (!from.origin.is_null()) layer["origin"] = from.origin;
         layers.push_back(std::move(layer));
     }
     root["layers"] = std::move(layers);

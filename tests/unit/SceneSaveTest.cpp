@@ -277,6 +277,51 @@ TEST_F(SceneSave, CurrentStateIsWrittenOverTheLoadedScene) {
     EXPECT_EQ(back->annotations[0].name, "Summit");
 }
 
+TEST_F(SceneSave, ALayerAddedWhileShownIsSavedWithItsOriginBeforeThePins) {
+    registry_.add(LayerType{kAnnotationLayerType, "test pins", [](const LayerDesc&, const SceneDesc&) -> Result<std::unique_ptr<Layer>> {
+        return std::unique_ptr<Layer>(new KnobLayer);
+    }, {}});
+    ASSERT_TRUE(scene_->ensureAnnotationLayer(registry_));
+    LayerDesc result;
+    result.type = "knobs";
+    result.name = "A";   // taken: becomes "A (2)"
+    result.settings = {{"path", "results/slope.tif"}, {"quality", 3}};
+    result.origin = {{"wps", "http://127.0.0.1:5000/wps"}, {"process", "terrain"}, {"reference", "http://127.0.0.1:5000/outputs/x.tif"}};
+    auto added = scene_->addLayer(result, registry_);
+    ASSERT_TRUE(added) << added.message();
+    EXPECT_EQ((*added)->name, "A (2)");
+    auto again = scene_->addLayer(result, registry_);
+    ASSERT_TRUE(again);
+    EXPECT_EQ((*again)->name, "A (3)");
+    LayerDesc unknown;
+    unknown.type = "no-such-type";
+    EXPECT_FALSE(scene_->addLayer(unknown, registry_)) << "an unknown type is an error and adds nothing";
+
+    const auto& r = scene_->resources();
+    ASSERT_EQ(r.size(), 5u);
+    EXPECT_EQ(r[2].name, "A (2)");
+    EXPECT_EQ(r[3].name, "A (3)");
+    EXPECT_EQ(r[4].type, kAnnotationLayerType) << "the pins stay last, drawn over the results";
+
+    const nlohmann::json j = sceneToJson(*scene_, "/data/saved/knobs.json");
+    ASSERT_EQ(j["layers"].size(), 4u) << j["layers"].dump() << ": the pins' layer is not in the file";
+    const auto& saved = j["layers"][2];
+    EXPECT_EQ(saved["name"], "A (2)");
+    EXPECT_EQ(saved["type"], "knobs");
+    EXPECT_EQ(saved["path"], "../scenes/results/slope.tif") << "relative to the scene it was added to";
+    EXPECT_EQ(saved["origin"]["process"], "terrain");
+    EXPECT_EQ(j["layers"][3]["name"], "A (3)");
+
+    auto back = parseSceneText(j.dump(), "/data/saved/knobs.json", "/data/saved");
+    ASSERT_TRUE(back.ok()) << back.message();
+    ASSERT_EQ(back->layers.size(), 4u);
+    EXPECT_EQ(back->layers[2].origin["reference"], "http://127.0.0.1:5000/outputs/x.tif");
+    EXPECT_FALSE(back->layers[2].settings.contains("origin")) << "the layer's own reader never sees it";
+    EXPECT_TRUE(back->layers[0].origin.is_null());
+    EXPECT_FALSE(parseSceneText(R"({"layers": [{"type": "knobs", "origin": 3}]})", "bad.json", "/data"))
+        << "an origin that is not an object";
+}
+
 /// Position within 1 µm and the view and up axes within 1e-9 rad: rounding of the pose ->
 /// viewpoint -> pose round trip in double at 10^3..10^7 m.
 void expectSamePose(const globe::Pose& a, const globe::Pose& b) {
