@@ -1,5 +1,6 @@
 #include "layers/BuiltinLayers.h"
 
+#include "layers/analysis/OverlayLayer.h"
 #include "layers/analysis/ViewshedLayer.h"
 #include "layers/annotations/AnnotationLayer.h"
 #include "layers/fmv/FmvLayer.h"
@@ -15,7 +16,8 @@ namespace orbis::layers {
 void registerBuiltinLayers(scene::LayerRegistry& registry) {
     for (scene::LayerType type : {EarthLayer::layerType(), TerrainLayer::layerType(), VolumeLayer::layerType(),
                                   PointsLayer::layerType(), ModelLayer::layerType(), AnnotationLayer::layerType(),
-                                  FmvLayer::layerType(), VectorLayer::layerType(), ViewshedLayer::layerType()})
+                                  FmvLayer::layerType(), VectorLayer::layerType(), ViewshedLayer::layerType(),
+                                  OverlayLayer::layerType()})
         registry.add(std::move(type));
 }
 
