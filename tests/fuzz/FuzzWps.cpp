@@ -1,13 +1,16 @@
 // A WPS server's answers (formats/wps/WpsDocuments.h): capabilities, process descriptions and
 // execute responses, then the inputs of each described process checked and an Execute request
-// written from them, as the Processes panel would.
+// written from them, as the Processes panel would; and the text as a CSV table output (the
+// panel's plots).
 #include "formats/wps/WpsDocuments.h"
+#include "formats/wps/WpsJob.h"
 #include "tests/fuzz/FuzzInput.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string_view text = orbis::fuzz::text(data, size);
     (void)orbis::wps::parseCapabilities(text, "fuzz");
     (void)orbis::wps::parseExecuteResponse(text, "fuzz");
+    (void)orbis::wps::parseTable(text, "fuzz");
     if (auto processes = orbis::wps::parseProcessDescriptions(text, "fuzz")) {
         for (const auto& p : *processes) {
             std::vector<orbis::wps::InputValue> inputs;

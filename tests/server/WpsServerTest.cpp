@@ -5,6 +5,8 @@
 // zonal statistics as GeoJSON; bad inputs refused before sending, a process that fails, an
 // unknown process and a server that is gone reported with their reasons.
 #include "formats/wps/WpsClient.h"
+#include "formats/wps/WpsJob.h"
+#include "tests/support/ProcessTempDir.h"
 #include "tests/support/Shell.h"
 #include "tests/support/WpsServer.h"
 
@@ -16,6 +18,9 @@
 #include <filesystem>
 #include <unistd.h>
 #include <sstream>
+#include <fstream>
+#include <thread>
+#include <chrono>
 
 namespace orbis::test {
 namespace {
@@ -249,6 +254,88 @@ TEST_F(WpsServerTest, BadInputsFailuresUnknownProcessesAndAGoneServerSayWhy) {
     auto none = gone.capabilities();
     ASSERT_FALSE(none);
     EXPECT_NE(none.message().find("http://127.0.0.1:1/wps"), std::string::npos) << none.message();
+}
+
+TEST_F(WpsServerTest, AJobInTheBackgroundReportsProgressAndSavesItsOutputsAsFiles) {
+    WpsClient client(server_->url());
+    auto terrain = client.describe("terrain");
+    ASSERT_TRUE(terrain);
+    const auto folder = processTempDir("orbis-wps-job") / "slope";
+    WpsJob job(server_->url(), *terrain,
+               {{.identifier = "area", .kind = DataKind::BoundingBox, .bbox = {9.01, 46.01, 9.05, 46.03}, .crs = "epsg:4326"},
+                {.identifier = "product", .value = "hillshade"}},
+               folder, {.firstDelaySeconds = 0.05, .maxDelaySeconds = 0.2, .timeoutSeconds = 60});
+    job.join();
+    const auto done = job.snapshot();
+    EXPECT_FALSE(done.running);
+    ASSERT_EQ(done.state, JobState::Succeeded) << done.message << "\n" << server_->log();
+    EXPECT_EQ(done.percent, 100);
+    ASSERT_EQ(done.outputs.size(), 1u);
+    const SavedOutput& raster = done.outputs[0];
+    EXPECT_EQ(raster.kind, OutputKind::Raster);
+    EXPECT_EQ(raster.file, folder / "raster.tif");
+    EXPECT_FALSE(raster.reference.empty());
+    GDALAllRegister();
+    GDALDatasetH ds = GDALOpen(raster.file.c_str(), GA_ReadOnly);
+    ASSERT_NE(ds, nullptr) << raster.file;
+    double gt[6];
+    ASSERT_EQ(GDALGetGeoTransform(ds, gt), CE_None);
+    EXPECT_NEAR(gt[0], 9.01, 0.002) << "the area's west edge";
+    EXPECT_NEAR(gt[3], 46.03, 0.002) << "its north edge";
+    GDALClose(ds);
+
+    // A table and a literal; the table parses into columns.
+    auto profile = client.describe("profile");
+    ASSERT_TRUE(profile);
+    WpsJob table(server_->url(), *profile,
+                 {{.identifier = "path", .kind = DataKind::Complex,
+                   .value = R"({"type": "LineString", "coordinates": [[9.01, 46.02], [9.05, 46.02]]})", .format = {.mimeType = "application/geo+json"}},
+                  {.identifier = "step", .value = "500"}},
+                 folder.parent_path() / "profile");
+    table.join();
+    const auto t = table.snapshot();
+    ASSERT_EQ(t.state, JobState::Succeeded) << t.message;
+    ASSERT_EQ(t.outputs.size(), 1u);
+    EXPECT_EQ(t.outputs[0].kind, OutputKind::Table);
+    std::ifstream in(t.outputs[0].file);
+    std::stringstream text;
+    text << in.rdbuf();
+    auto parsed = parseTable(text.str(), t.outputs[0].file.string());
+    ASSERT_TRUE(parsed) << parsed.message();
+    ASSERT_EQ(parsed->columns.size(), 4u);
+    EXPECT_EQ(parsed->columns[3], "height_m");
+    EXPECT_GE(parsed->rows(), 7u) << "3.1 km every 500 m";
+    EXPECT_GT(parsed->values[3][0], 500.0) << "the hills stand 520 m and more";
+}
+
+TEST_F(WpsServerTest, AJobCanBeStoppedAndBadInputsOrAGoneServerEndItWithTheReason) {
+    WpsClient client(server_->url());
+    auto sleep = client.describe("sleep");
+    ASSERT_TRUE(sleep);
+    const auto folder = processTempDir("orbis-wps-job") / "sleep";
+    WpsJob job(server_->url(), *sleep, {{.identifier = "seconds", .value = "30"}}, folder, {.firstDelaySeconds = 0.05, .maxDelaySeconds = 0.1});
+    for (int i = 0; i < 200 && job.snapshot().percent == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(25));
+    EXPECT_GT(job.snapshot().percent, 0) << "progress arrives while it runs: " << job.snapshot().message;
+    EXPECT_TRUE(job.snapshot().running);
+    const auto stopAt = std::chrono::steady_clock::now();
+    job.stop();
+    job.join();
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - stopAt).count(), 5.0);
+    const auto stopped = job.snapshot();
+    EXPECT_FALSE(stopped.running);
+    EXPECT_TRUE(stopped.stopped);
+    EXPECT_EQ(stopped.state, JobState::Failed);
+    EXPECT_NE(stopped.message.find("stopped waiting"), std::string::npos) << stopped.message;
+
+    WpsJob bad(server_->url(), *sleep, {{.identifier = "seconds", .value = "-4"}}, folder);
+    bad.join();
+    EXPECT_EQ(bad.snapshot().state, JobState::Failed);
+    EXPECT_NE(bad.snapshot().message.find("seconds"), std::string::npos) << bad.snapshot().message;
+
+    WpsJob gone("http://127.0.0.1:1/wps", *sleep, {{.identifier = "seconds", .value = "1"}}, folder);
+    gone.join();
+    EXPECT_EQ(gone.snapshot().state, JobState::Failed);
+    EXPECT_NE(gone.snapshot().message.find("127.0.0.1:1"), std::string::npos) << gone.snapshot().message;
 }
 
 }  // namespace

@@ -5,6 +5,9 @@
 // GDAL's XML parser; inputs checked against the description; exception reports and bad
 // documents refused with their reason.
 #include "formats/wps/WpsDocuments.h"
+#include "formats/wps/WpsJob.h"
+
+#include <cmath>
 
 #include <cpl_minixml.h>
 #include <gtest/gtest.h>
@@ -318,6 +321,32 @@ TEST(WpsDocuments, ExceptionReportsAndBadDocumentsSayWhy) {
               "http://h/wps?service=WPS&identifier=a%20b%26c");
     EXPECT_EQ(kvpUrl("http://h/wps?map=x", std::vector<std::pair<std::string, std::string>>{{"request", "GetCapabilities"}}),
               "http://h/wps?map=x&request=GetCapabilities");
+}
+
+TEST(WpsTables, ACsvOutputBecomesColumnsOfNumbers) {
+    auto t = parseTable("distance_m,lon,lat,height_m\r\n0.0,9.01,46.02,612.5\n100.0,9.0113,46.02,\n\n200.0,9.0126,46.02,\"640\"\n", "profile.csv");
+    ASSERT_TRUE(t) << t.message();
+    ASSERT_EQ(t->columns, (std::vector<std::string>{"distance_m", "lon", "lat", "height_m"}));
+    ASSERT_EQ(t->rows(), 3u);
+    EXPECT_DOUBLE_EQ(t->values[0][2], 200.0);
+    EXPECT_DOUBLE_EQ(t->values[3][0], 612.5);
+    EXPECT_TRUE(std::isnan(t->values[3][1])) << "an empty cell (no data there)";
+    EXPECT_DOUBLE_EQ(t->values[3][2], 640.0) << "quotes are taken off";
+    auto words = parseTable("name,value\nwest,abc\n", "t.csv");
+    ASSERT_TRUE(words);
+    EXPECT_TRUE(std::isnan(words->values[0][0]) && std::isnan(words->values[1][0])) << "text is not a number";
+
+    auto ragged = parseTable("a,b\n1,2\n3\n", "ragged.csv");
+    ASSERT_FALSE(ragged);
+    EXPECT_NE(ragged.message().find("ragged.csv: line 3: 1 cells where the header names 2"), std::string::npos) << ragged.message();
+    EXPECT_FALSE(parseTable("", "empty.csv"));
+    EXPECT_FALSE(parseTable(std::string(300, ','), "wide.csv")) << "more than 256 columns";
+    EXPECT_EQ(kindOf({.kind = DataKind::Complex, .format = {.mimeType = "image/tiff; subtype=geotiff"}}), OutputKind::Raster);
+    EXPECT_EQ(kindOf({.kind = DataKind::Complex, .format = {.mimeType = "application/geo+json"}}), OutputKind::Vector);
+    EXPECT_EQ(kindOf({.kind = DataKind::Complex, .format = {.mimeType = "text/csv"}}), OutputKind::Table);
+    EXPECT_EQ(kindOf({.kind = DataKind::Literal}), OutputKind::Literal);
+    EXPECT_EQ(extensionFor("application/gml+xml"), ".gml");
+    EXPECT_EQ(mimeTypeFor("zones.GeoJSON"), "application/geo+json");
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 //   orbis wps URL --run ID [--input NAME=VALUE]... [--bbox NAME=W,S,E,N] [--file NAME=PATH]
 //                  [--async] [--out DIR] [--repeat N]
 #include "formats/wps/WpsClient.h"
+#include "formats/wps/WpsJob.h"
 #include "tools/orbis/Args.h"
 #include "tools/orbis/Commands.h"
 #include "tools/orbis/Session.h"
@@ -71,24 +72,6 @@ std::pair<std::string, std::string> nameValue(const std::string& option, const s
     return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
-std::string mimeFor(const fs::path& p) {
-    const std::string e = p.extension().string();
-    if (e == ".geojson" || e == ".json") return "application/geo+json";
-    if (e == ".gml") return "application/gml+xml";
-    if (e == ".kml") return "application/vnd.google-earth.kml+xml";
-    if (e == ".csv") return "text/csv";
-    return "text/plain";
-}
-
-std::string extensionFor(const std::string& mime) {
-    if (mime.find("tiff") != std::string::npos) return ".tif";
-    if (mime.find("json") != std::string::npos) return ".geojson";
-    if (mime.find("csv") != std::string::npos) return ".csv";
-    if (mime.find("gml") != std::string::npos || mime.find("xml") != std::string::npos) return ".xml";
-    if (mime.find("png") != std::string::npos) return ".png";
-    return ".dat";
-}
-
 double msSince(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
@@ -146,7 +129,7 @@ int wpsCommand(const std::vector<std::string>& argv) {
         std::stringstream data;
         data << in.rdbuf();
         if (data.str().size() > kMaxDocumentBytes) return badInput(path + ": larger than " + std::to_string(kMaxDocumentBytes >> 20) + " MB");
-        inputs.push_back({.identifier = name, .kind = DataKind::Complex, .value = data.str(), .format = {.mimeType = mimeFor(path)}});
+        inputs.push_back({.identifier = name, .kind = DataKind::Complex, .value = data.str(), .format = {.mimeType = mimeTypeFor(path)}});
     }
     const auto t0 = std::chrono::steady_clock::now();
     auto d = client.describe(describeId ? *describeId : *runId);
