@@ -70,6 +70,31 @@ struct Sample {
 
 }  // namespace
 
+std::optional<glm::dvec2> projectToWindow(const globe::Pose& pose, double fovYRad, const glm::dvec2& viewportPx, const glm::dvec3& ecef,
+                                          double marginPx, const globe::Ellipsoid& ellipsoid) {
+    const std::optional<glm::dquat> orientation = validOrientation(pose);
+    if (!orientation || !(fovYRad > 0.0 && fovYRad < kPi) || !(viewportPx.x > 0.0) || !(viewportPx.y > 0.0) || !finite(ecef))
+        return std::nullopt;
+    // Behind the horizon: in the space where the ellipsoid is the unit sphere, a point is hidden
+    // when it lies past the plane of the eye's horizon circle and inside the cone of it.
+    const glm::dvec3 radii(ellipsoid.equatorialRadius(), ellipsoid.equatorialRadius(), ellipsoid.polarRadius());
+    const glm::dvec3 eye = pose.position / radii, point = ecef / radii;
+    const double beyond = glm::dot(eye, eye) - 1.0;
+    if (beyond > 0.0) {
+        const glm::dvec3 toPoint = point - eye;
+        const double along = -glm::dot(toPoint, eye);
+        if (along > beyond && along * along / glm::dot(toPoint, toPoint) > beyond) return std::nullopt;
+    }
+    const glm::dvec3 v = glm::conjugate(*orientation) * (ecef - pose.position);
+    if (!(v.z < 0.0)) return std::nullopt;
+    const double t = std::tan(0.5 * fovYRad), aspect = viewportPx.x / viewportPx.y;
+    const glm::dvec2 ndc(v.x / (-v.z * t * aspect), -v.y / (-v.z * t));
+    const glm::dvec2 px((ndc.x + 1.0) * 0.5 * viewportPx.x, (ndc.y + 1.0) * 0.5 * viewportPx.y);
+    if (px.x < -marginPx || px.y < -marginPx || px.x > viewportPx.x + marginPx || px.y > viewportPx.y + marginPx || !finite(glm::dvec3(px, 0.0)))
+        return std::nullopt;
+    return px;
+}
+
 std::optional<GroundPoint> pick(const globe::Pose& pose, double fovYRad, double aspect, const glm::dvec2& ndc,
                                 const HeightQuery& heightQuery, const globe::Ellipsoid& ellipsoid) {
     const std::optional<glm::dquat> orientation = validOrientation(pose);

@@ -43,6 +43,13 @@ std::optional<double> metresPerPixel(const globe::Pose& pose, double fovYRad, co
                                      const glm::dvec2& atPx, const HeightQuery& heightQuery,
                                      const globe::Ellipsoid& ellipsoid = globe::Ellipsoid::wgs84());
 
+/// Where `ecef` is drawn in a window of `viewportPx` seen from `pose` (the inverse of pick()'s
+/// ray): window pixels, origin top left. Nothing behind the eye, outside the view by more than
+/// `marginPx`, hidden behind the ellipsoid's horizon (the terrain does not hide it), or for bad
+/// input. Overlays drawn over the picture (sketches, their labels) use it.
+std::optional<glm::dvec2> projectToWindow(const globe::Pose& pose, double fovYRad, const glm::dvec2& viewportPx, const glm::dvec3& ecef,
+                                          double marginPx = 0.0, const globe::Ellipsoid& ellipsoid = globe::Ellipsoid::wgs84());
+
 /// A scale bar: a round length and how wide it is drawn.
 struct ScaleBar {
     double metres = 0.0;        ///< 1, 2 or 5 x 10^n
