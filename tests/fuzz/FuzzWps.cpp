@@ -3,6 +3,7 @@
 // written from them, as the Processes panel would; and the text as a CSV table output (the
 // panel's plots).
 #include "formats/wps/WpsDocuments.h"
+#include "formats/wps/WpsForm.h"
 #include "formats/wps/WpsJob.h"
 #include "tests/fuzz/FuzzInput.h"
 
@@ -25,6 +26,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                 inputs.push_back(std::move(v));
             }
             (void)orbis::wps::checkInputs(p, inputs);
+            // The panel's form of it, filled from a drawn box, shape and point.
+            auto form = orbis::wps::makeForm(p);
+            (void)orbis::wps::bindPoint(form, {9.0, 46.0});
+            for (auto& f : form)
+                if (f.widget == orbis::wps::FieldWidget::File) f.send = false;   // no files read while fuzzing
+            (void)orbis::wps::formInputs(p, form, {.bounds = std::array<double, 4>{0, 0, 1, 1}, .geoJson = "{}", .point = std::array<double, 2>{9, 46}});
             (void)orbis::wps::executeRequest(p.identifier, inputs, {}, p.storeSupported);
         }
     }

@@ -5,6 +5,7 @@
 // GDAL's XML parser; inputs checked against the description; exception reports and bad
 // documents refused with their reason.
 #include "formats/wps/WpsDocuments.h"
+#include "formats/wps/WpsForm.h"
 #include "formats/wps/WpsJob.h"
 
 #include <cmath>
@@ -347,6 +348,67 @@ TEST(WpsTables, ACsvOutputBecomesColumnsOfNumbers) {
     EXPECT_EQ(kindOf({.kind = DataKind::Literal}), OutputKind::Literal);
     EXPECT_EQ(extensionFor("application/gml+xml"), ".gml");
     EXPECT_EQ(mimeTypeFor("zones.GeoJSON"), "application/geo+json");
+}
+
+TEST(WpsForms, AFormHasAFieldPerInputWithItsWidgetAndDefault) {
+    auto all = parseProcessDescriptions(kDescription, "test");
+    ASSERT_TRUE(all) << all.message();
+    const ProcessDescription& slope = all->front();
+    auto form = makeForm(slope);
+    ASSERT_EQ(form.size(), 5u);
+    EXPECT_EQ(form[0].widget, FieldWidget::Area);
+    EXPECT_TRUE(form[0].required);
+    EXPECT_EQ(form[1].widget, FieldWidget::Number);
+    EXPECT_EQ(form[1].text, "1.0");
+    EXPECT_TRUE(form[1].send) << "an optional input with a default is sent";
+    EXPECT_EQ(form[1].hint, "0.1 .. 10");
+    EXPECT_EQ(form[2].widget, FieldWidget::Choice);
+    EXPECT_EQ(form[2].choices, (std::vector<std::string>{"degrees", "percent"}));
+    EXPECT_EQ(form[2].text, "degrees");
+    EXPECT_EQ(form[3].widget, FieldWidget::Integer);
+    EXPECT_FALSE(form[3].send) << "optional, no default: not sent until asked";
+    EXPECT_EQ(form[4].widget, FieldWidget::Geometry);
+    EXPECT_EQ(form[4].mimeType, "application/geo+json");
+
+    // Nothing drawn: the area is asked for by name.
+    auto none = formInputs(slope, form, {});
+    ASSERT_FALSE(none);
+    EXPECT_NE(none.message().find("\"area\": draw an area"), std::string::npos) << none.message();
+    const FormGeometry drawn{.bounds = std::array<double, 4>{9.01, 46.01, 9.05, 46.03},
+                             .geoJson = R"({"type": "FeatureCollection", "features": []})", .point = std::array<double, 2>{9.0, 46.0}};
+    form[4].send = true;
+    auto inputs = formInputs(slope, form, drawn);
+    ASSERT_TRUE(inputs) << inputs.message();
+    ASSERT_EQ(inputs->size(), 4u);
+    EXPECT_EQ((*inputs)[0].bbox, (std::array<double, 4>{9.01, 46.01, 9.05, 46.03}));
+    EXPECT_EQ((*inputs)[0].crs, "epsg:4326");
+    EXPECT_EQ((*inputs)[3].value, drawn.geoJson);
+    EXPECT_EQ((*inputs)[3].format.mimeType, "application/geo+json");
+
+    // A value out of range or not a number: checkInputs names it.
+    form[1].text = "50";
+    auto high = formInputs(slope, form, drawn);
+    ASSERT_FALSE(high);
+    EXPECT_NE(high.message().find("scale"), std::string::npos) << high.message();
+    form[1].text = "1";
+    form[3].send = true;
+    form[3].text = "2.5";
+    auto notWhole = formInputs(slope, form, drawn);
+    ASSERT_FALSE(notWhole);
+    EXPECT_NE(notWhole.message().find("steps"), std::string::npos) << notWhole.message();
+}
+
+TEST(WpsForms, APointFillsLongitudeAndLatitudeInputs) {
+    std::vector<FormField> form = {{.identifier = "lon", .widget = FieldWidget::Number, .required = false, .send = false},
+                                   {.identifier = "Latitude", .widget = FieldWidget::Number},
+                                   {.identifier = "height", .widget = FieldWidget::Number, .text = "2"}};
+    ASSERT_TRUE(bindPoint(form, {9.03, 46.02}));
+    EXPECT_EQ(form[0].text, "9.0300000");
+    EXPECT_TRUE(form[0].send);
+    EXPECT_EQ(form[1].text, "46.0200000");
+    EXPECT_EQ(form[2].text, "2");
+    std::vector<FormField> other = {{.identifier = "radius", .widget = FieldWidget::Number}};
+    EXPECT_FALSE(bindPoint(other, {1, 2}));
 }
 
 }  // namespace
