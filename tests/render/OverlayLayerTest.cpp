@@ -72,6 +72,24 @@ TEST_F(OverlayLayerTest, ARasterDrapedLooksAsTheTerrainsOwnImageryInAnyCrs) {
     EXPECT_GT(meanDifference(ground, draped), 20.0) << "the overlay shows";
 }
 
+TEST_F(OverlayLayerTest, AnOverlayAddedWhileTheSceneIsShownIsDrapedOnTheLoadedTiles) {
+    const std::string image = terrainFixtures().image;
+    auto reference = load(vectorSceneJson(kAbove, mountainTerrain() + "," + overlay(image), "2026-06-21T11:00:00Z"));
+    auto scene = load(vectorSceneJson(kAbove, mountainTerrain(), "2026-06-21T11:00:00Z"));
+    ASSERT_TRUE(reference && scene);
+    const auto expected = renderScene(*reference, 320, 240);
+    const auto bare = renderScene(*scene, 320, 240);
+    scene::LayerDesc added;
+    added.type = "overlay";
+    added.name = "Result";
+    added.settings = {{"path", image}};
+    auto r = scene->addLayer(added, registry_);
+    ASSERT_TRUE(r) << r.message();
+    const auto after = renderScene(*scene, 320, 240);
+    EXPECT_GT(meanDifference(bare, after), 20.0) << "the overlay shows";
+    EXPECT_LT(meanDifference(expected, after), 1.0) << "as it does when the scene starts with it";
+}
+
 TEST_F(OverlayLayerTest, BadObjectsNameTheKeyAndAMissingFileIsReported) {
     const struct { const char* extra; const char* says; } cases[] = {
         {R"(, "opacity": 2)", "/layers/1/opacity"},
