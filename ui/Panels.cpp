@@ -200,9 +200,30 @@ PanelActions Panels::draw(scene::Scene& scene, const ViewerStats& stats, const M
     timePanel(scene, actions);
     statsPanel(stats, scene);
     annotationsPanel(scene, actions);
+    analysisPanel(scene, actions);
     if (map.picked) featurePanel(*map.picked, actions);
     mapFurniture(map, uiScale);
     return actions;
+}
+
+/// One window on the right for the drawing tools and measures, and the processing servers.
+void Panels::analysisPanel(scene::Scene& scene, PanelActions& actions) {
+    processes_.update(actions.addLayers, actions.changed);
+    const ImGuiIO& io = ImGui::GetIO();
+    const float s = io.FontGlobalScale;
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 350 * s, 180 * s), ImGuiCond_FirstUseEver);
+    // As tall as its contents, up to the bottom of the window.
+    ImGui::SetNextWindowSizeConstraints(ImVec2(340 * s, 0.0f), ImVec2(340 * s, std::max(200.0f * s, io.DisplaySize.y - 230 * s)));
+    if (ImGui::Begin("Analysis", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        const RememberItem rememberItem = [this](const std::string& label) { remember(label); };
+        if (ImGui::CollapsingHeader("Measure", ImGuiTreeNodeFlags_DefaultOpen)) measure_.draw(scene, rememberItem, actions.changed);
+        remember("Measure##analysis");
+        if (ImGui::CollapsingHeader("Processes", processes_.hasServers() ? ImGuiTreeNodeFlags_DefaultOpen : 0))
+            processes_.draw(measure_.sketch(), rememberItem);
+        remember("Processes##analysis");
+    }
+    ImGui::End();
+    processes_.drawPlots();
 }
 
 void Panels::featurePanel(const scene::PickedAttributes& picked, PanelActions& actions) {

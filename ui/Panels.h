@@ -7,8 +7,11 @@
 // Gui::newFrame() and Gui::record().
 
 #include "engine/gpu/GpuTimer.h"
+#include "engine/scene/SceneDesc.h"
 #include "engine/scene/LayerCapabilities.h"
 #include "globe/Viewpoint.h"
+#include "ui/MeasurePanel.h"
+#include "ui/ProcessesPanel.h"
 
 #include <array>
 #include <cstdint>
@@ -32,6 +35,8 @@ struct PanelActions {
     bool changed = false;   ///< a setting, visibility or the time changed: draw a new frame
     bool clearPick = false;   ///< the Feature panel was closed: end the highlight
     std::optional<globe::Viewpoint> flyTo;
+    /// Layers to add to the scene (processing results), in order.
+    std::vector<scene::LayerDesc> addLayers;
 };
 
 /// Figures the viewer measures and the panels show.
@@ -76,6 +81,13 @@ public:
         if (placed) pinName_[0] = '\0';
     }
 
+    /// The Measure panel (drawing tools, measures, profile, line of sight) and the Processes
+    /// panel (WPS servers, forms, jobs); built on first use of their windows' contents.
+    MeasurePanel& measure() { return measure_; }
+    const MeasurePanel& measure() const { return measure_; }
+    ProcessesPanel& processes() { return processes_; }
+    const ProcessesPanel& processes() const { return processes_; }
+
     /// Where ImGui drew the item with this label in the last frame, in window pixels: its
     /// rectangle (min x, min y, max x, max y). Scripted input clicks and drags there
     /// ("Visible##Terrain", "opacity##Plume" for a curve editor).
@@ -87,6 +99,7 @@ private:
     void statsPanel(const ViewerStats& stats, const scene::Scene& scene);
     void annotationsPanel(scene::Scene& scene, PanelActions& actions);
     void featurePanel(const scene::PickedAttributes& picked, PanelActions& actions);
+    void analysisPanel(scene::Scene& scene, PanelActions& actions);
     void mapFurniture(const MapReadout& map, float uiScale);
     void remember(const std::string& label);
 
@@ -101,6 +114,8 @@ private:
         std::array<float, 4> rect;
     };
     std::vector<Item> items_;
+    MeasurePanel measure_;
+    ProcessesPanel processes_;
 };
 
 }  // namespace orbis::ui

@@ -6,6 +6,8 @@
 #include "layers/BuiltinLayers.h"
 #include "ui/InputScript.h"
 
+#include <imgui.h>
+
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
@@ -128,6 +130,7 @@ void Viewer::setUpPanels() {
     const std::filesystem::path& scene = options_.scene;
     panels_.setSavePath(options_.saveTo.empty() ? (scene.parent_path() / (scene.stem().string() + "-view.json")).string()
                                                 : options_.saveTo.string());
+    panels_.processes().setUp(options_.wpsServers, options_.resultsFolder);
 }
 
 void Viewer::setUpNavigation() {
@@ -182,7 +185,7 @@ bool Viewer::runFrame() {
         if (!wantFrame && input.events.empty()) return true;   // asleep, as a user's viewer would be
     }
     if (playingScript) {   // a script owns the input while it plays
-        auto played = script_->play(panels_, [this] { return !scene_->busy() && !nav_.animating(); });
+        auto played = script_->play(panels_, [this] { return !scene_->busy() && !nav_.animating() && !analysisBusy(); });
         if (!played) {
             printError(played.message());
             return false;
@@ -200,13 +203,19 @@ bool Viewer::runFrame() {
     // A script expects its files: one that cannot be written ends the session.
     if (requests.saveScene && !saveScene() && script_) return false;
     const auto frame = drawFrame(requests.screenshot);
+    if (resultRequested_ && frame && !scene_->busy()) {
+        // The processing round trip: Run pressed to the result's layer drawn, loaded.
+        std::printf("result on screen %.2f s after Run\n", std::chrono::duration<double>(Clock::now() - *resultRequested_).count());
+        std::fflush(stdout);
+        resultRequested_.reset();
+    }
     if (frame && requests.screenshot && !writeScreenshot(*frame, requests.screenshotFile) && script_) return false;
     return true;
 }
 
 /// Whether this turn draws: something changed, moves, plays or loads, or the script plays.
 bool Viewer::wantsFrame(bool playingScript) const {
-    const bool animating = nav_.animating() || scene_->time().playing() || scene_->busy() ||
+    const bool animating = nav_.animating() || scene_->time().playing() || scene_->busy() || analysisBusy() ||
                            scene_->cameraMode().mode != scene::CameraMode::Free || nav_.revision() != drawnRevision_;
     return dirty_ || uiFrames_ > 0 || animating || playingScript;
 }
@@ -254,14 +263,44 @@ void Viewer::drawPanels(FrameRequests& requests) {
     } else {
         gui_->newFrame();
     }
-    const PanelActions actions = panels_.draw(*scene_, stats_, readout_, uiScale_);
+    PanelActions actions = panels_.draw(*scene_, stats_, readout_, uiScale_);
     if (actions.changed) dirty_ = true;
+    if (!actions.addLayers.empty()) addLayers(std::move(actions.addLayers));
+    if (panels_.visible()) {
+        // The sketch over the picture, in ImGui's units (window coordinates).
+        const ImVec2 display = ImGui::GetIO().DisplaySize;
+        const globe::Pose pose = scene_->camera().pose();
+        const double fov = scene_->camera().verticalFovRad();
+        const glm::dvec2 viewport(display.x, display.y);
+        panels_.measure().drawOverlay(
+            [&](const globe::Geodetic& g) { return projectToWindow(pose, fov, viewport, globe::Ellipsoid::wgs84().toEcef(g), 50.0); },
+            [this](double lon, double lat) { return scene_->heightAt(lon, lat); });
+    }
     if (actions.quit) quit_ = true;
     if (actions.home) nav_.flyHome();
     if (actions.flyTo) nav_.flyTo(*actions.flyTo);
     if (actions.clearPick) clearPicks();
     requests.screenshot = requests.screenshot || actions.screenshot;
     requests.saveScene = requests.saveScene || actions.saveScene;
+}
+
+bool Viewer::analysisBusy() const { return panels_.measure().busy() || panels_.processes().busy(); }
+
+void Viewer::addLayers(std::vector<scene::LayerDesc> layers) {
+    for (scene::LayerDesc& layer : layers) {
+        auto added = scene_->addLayer(std::move(layer), registry_);
+        if (!added) {
+            readout_.message = added.message();
+            printError(added.message());
+            continue;
+        }
+        readout_.message = "added \"" + (*added)->name + "\"";
+        resultRequested_ = panels_.processes().lastResultRequested();
+        const double after = resultRequested_ ? std::chrono::duration<double>(Clock::now() - *resultRequested_).count() : 0.0;
+        std::printf("added layer \"%s\" (%.2f s after Run)\n", (*added)->name.c_str(), after);
+        std::fflush(stdout);
+    }
+    dirty_ = true;
 }
 
 /// After the loop: the device idle, a script's frame times, and validation's verdict.

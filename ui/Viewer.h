@@ -30,6 +30,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace orbis::ui {
 
@@ -43,6 +44,8 @@ struct ViewerOptions {
     std::filesystem::path screenshotFolder = ".";
     std::filesystem::path saveTo;           ///< "Save scene" (Ctrl+S); default SCENE-view.json beside it
     bool panels = true;
+    std::vector<std::string> wpsServers;    ///< offered in the Processes panel (the first filled in)
+    std::filesystem::path resultsFolder;    ///< processing results; default the user's cache
 };
 
 /// Runs the viewer until its window closes (or the script quits). Returns a process exit code:
@@ -122,6 +125,13 @@ private:
     // False when no shown layer has an observer: the press goes on to the camera.
     bool observerDrag(const MouseButtonEvent& event);
     bool moveObservers(glm::dvec2 atPx);
+    // A click (not a drag) on the ground while a Measure tool is chosen adds a point to the
+    // sketch (ViewerPins.cpp); drags still move the camera.
+    void sketchClick(const MouseButtonEvent& event);
+    /// A request, job or analysis of the panels is under way.
+    bool analysisBusy() const;
+    /// Processing results into the scene (PanelActions::addLayers).
+    void addLayers(std::vector<scene::LayerDesc> layers);
     void pickFeature(glm::dvec2 atPx);
     void clearPicks();
 
@@ -160,8 +170,11 @@ private:
     ViewerStats stats_;
     std::optional<glm::dvec2> pinPress_;         ///< the press of the click that places a pin
     std::optional<glm::dvec2> pickPress_;        ///< the press of a click that may pick a feature
+    std::optional<glm::dvec2> sketchPress_;      ///< the press of a click that may add a sketch point
     bool draggingObserver_ = false;              ///< a Shift + left drag is moving an observer
     std::optional<render::FrameResult> previous_;   ///< its GPU times arrive a frame later
+    /// Run was pressed then for results now added as layers, not yet all on screen.
+    std::optional<Clock::time_point> resultRequested_;
     uint64_t drawnRevision_ = ~0ull;             ///< the navigation's revision last drawn
     int uiFrames_ = 2;                           ///< frames ImGui still needs after input
     bool dirty_ = true;

@@ -54,7 +54,8 @@ void Viewer::route(const MouseButtonEvent& event) {
         return;
     }
     if (event.button == MouseButton::Left && (event.modifiers.shift || draggingObserver_) && observerDrag(event)) return;
-    if (event.button == MouseButton::Left) featureClick(event);   // a click (not a drag) picks
+    if (event.button == MouseButton::Left && panels_.measure().drawing()) sketchClick(event);   // a click draws
+    else if (event.button == MouseButton::Left) featureClick(event);   // a click (not a drag) picks
     takeCameraBack();
     nav_.handle(event);
 }

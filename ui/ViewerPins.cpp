@@ -78,6 +78,22 @@ void Viewer::clearPicks() {
     dirty_ = true;
 }
 
+void Viewer::sketchClick(const MouseButtonEvent& event) {
+    if (event.pressed) {
+        sketchPress_ = event.position;
+        return;
+    }
+    if (!sketchPress_ || glm::length(event.position - *sketchPress_) > kClickSlopPx) return;
+    sketchPress_.reset();
+    const auto hit = groundAt(event.position);
+    if (!hit) {
+        readout_.message = "no ground there: the sketch needs a point on the globe";
+        return;
+    }
+    panels_.measure().sketch().add(hit->geodetic);
+    dirty_ = true;
+}
+
 bool Viewer::observerDrag(const MouseButtonEvent& event) {
     if (!event.pressed) {
         if (!draggingObserver_) return false;

@@ -23,12 +23,15 @@ const char* kHelp =
     "                     for the user: tests, demos, screenshots of the live UI\n"
     "  --screenshots DIR  where F12 writes its PNGs (default: the current folder)\n"
     "  --save-to FILE     where Ctrl+S saves the scene (camera, time, layers, settings) for\n"
-    "                     orbis render (default: SCENE-view.json beside SCENE)\n";
+    "                     orbis render (default: SCENE-view.json beside SCENE)\n"
+    "  --wps URL          a processing server (OGC WPS 1.0.0) for the Processes panel; repeat\n"
+    "                     for more (tools/serve-wps.sh starts the demo server)\n"
+    "  --results DIR      where processing results are written (default: ~/.cache/orbis/wps)\n";
 }  // namespace
 
 int viewCommand(const std::vector<std::string>& argv) {
     std::set<std::string> valued = gpuValuedOptions();
-    valued.insert({"--size", "--script", "--screenshots", "--save-to"});
+    valued.insert({"--size", "--script", "--screenshots", "--save-to", "--wps", "--results"});
     std::set<std::string> flags = gpuFlagOptions();
     flags.insert({"--help", "--no-vsync", "--no-panels"});
     Args args(argv, valued, flags, {{"-h", "--help"}});
@@ -49,6 +52,12 @@ int viewCommand(const std::vector<std::string>& argv) {
     o.script = args.value("--script").value_or("");
     o.screenshotFolder = args.value("--screenshots").value_or(".");
     o.saveTo = args.value("--save-to").value_or("");
+    for (const std::string& url : args.values("--wps")) {
+        if (url.rfind("http://", 0) != 0 && url.rfind("https://", 0) != 0)
+            throw UsageError{"--wps: \"" + url + "\" is not an http(s) address"};
+        o.wpsServers.push_back(url);
+    }
+    o.resultsFolder = args.value("--results").value_or("");
     const int code = ui::runViewer(o);
     if (code == ui::Viewer::kDeviceLostExit) return kDeviceLost;
     return code == 0 ? kOk : kBadInput;
