@@ -117,7 +117,11 @@ void ProcessesPanel::serverSection(const RememberItem& remember) {
         capabilities_.reset();
         process_.reset();
         form_.clear();
-        connecting_ = std::async(std::launch::async, [url = connectedUrl_] { return wps::WpsClient(url).capabilities(); });
+        connecting_ = std::async(std::launch::async, [url = connectedUrl_]() -> Result<wps::Capabilities> {
+            auto client = wps::connectProcessing(url);
+            if (!client) return client.error();
+            return (*client)->capabilities();
+        });
     }
     remember("Connect##wps");
     if (servers_.size() > 1 && ImGui::BeginCombo("##servers", "other servers")) {
@@ -132,7 +136,11 @@ void ProcessesPanel::serverSection(const RememberItem& remember) {
         for (const auto& p : capabilities_->processes) {
             const bool chosen = process_ && process_->identifier == p.identifier;
             if (ImGui::Selectable((p.identifier + "##process").c_str(), chosen) && !describing_.valid()) {
-                describing_ = std::async(std::launch::async, [url = connectedUrl_, id = p.identifier] { return wps::WpsClient(url).describe(id); });
+                describing_ = std::async(std::launch::async, [url = connectedUrl_, id = p.identifier]() -> Result<wps::ProcessDescription> {
+                    auto client = wps::connectProcessing(url);
+                    if (!client) return client.error();
+                    return (*client)->describe(id);
+                });
             }
             remember(p.identifier + "##process");
             if (ImGui::IsItemHovered() && !p.title.empty()) ImGui::SetTooltip("%s", p.title.c_str());

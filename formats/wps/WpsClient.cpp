@@ -135,4 +135,10 @@ Result<ExecuteResponse> WpsClient::wait(ExecuteResponse job, const std::function
 
 Result<std::string> WpsClient::fetch(const std::string& url) const { return get(url); }
 
+Result<std::unique_ptr<ProcessingClient>> connectProcessing(const std::string& url, double timeoutSeconds) {
+    if (url.rfind("http://", 0) != 0 && url.rfind("https://", 0) != 0)
+        return makeError(redactSecrets(url) + ": not an http(s) address of a processing server");
+    return std::unique_ptr<ProcessingClient>(new WpsClient(url, timeoutSeconds));
+}
+
 }  // namespace orbis::wps

@@ -65,7 +65,7 @@ std::string mimeTypeFor(const fs::path& file) {
     return "text/plain";
 }
 
-Result<std::vector<SavedOutput>> saveOutputs(const WpsClient& client, const ExecuteResponse& response, const fs::path& folder) {
+Result<std::vector<SavedOutput>> saveOutputs(const ProcessingClient& client, const ExecuteResponse& response, const fs::path& folder) {
     std::vector<SavedOutput> saved;
     for (const OutputValue& o : response.outputs) {
         SavedOutput s{.identifier = o.identifier, .title = o.title, .kind = kindOf(o), .reference = o.reference, .mimeType = o.format.mimeType};
@@ -137,7 +137,12 @@ void WpsJob::run() {
             s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
         });
     };
-    const WpsClient client(url_);
+    auto connected = connectProcessing(url_);
+    if (!connected) {
+        end(JobState::Failed, connected.message());
+        return;
+    }
+    const ProcessingClient& client = **connected;
     std::vector<OutputRequest> wanted;
     for (const Parameter& o : process_.outputs) wanted.push_back({.identifier = o.identifier, .asReference = o.kind == DataKind::Complex});
     const bool async = process_.storeSupported && process_.statusSupported;

@@ -1,5 +1,5 @@
 #pragma once
-// One processing job run in the background, as the viewer's Processes panel starts it: the
+// One processing job run in the background (through ProcessingClient, any protocol), as the viewer's Processes panel starts it: the
 // Execute sent (stored with status updates where the process allows, else synchronous), the
 // status polled with back-off, the progress and the server's message readable at any time, a
 // stop that ends the wait (WPS 1.0.0 has no dismiss: the server finishes on its own), and the
@@ -11,7 +11,7 @@
 //   while (job.snapshot().running) draw(job.snapshot().percent);
 //   for (const SavedOutput& o : job.snapshot().outputs) show(o);
 
-#include "formats/wps/WpsClient.h"
+#include "formats/wps/ProcessingClient.h"
 #include "formats/wps/WpsDocuments.h"
 
 #include <atomic>
@@ -50,7 +50,7 @@ struct SavedOutput {
 
 /// Writes the job's outputs into `folder` (made when missing) as IDENTIFIER.EXT, fetching those
 /// given by reference; literals and boxes become text. Errors name the output and the file.
-Result<std::vector<SavedOutput>> saveOutputs(const WpsClient& client, const ExecuteResponse& response,
+Result<std::vector<SavedOutput>> saveOutputs(const ProcessingClient& client, const ExecuteResponse& response,
                                              const std::filesystem::path& folder);
 
 class WpsJob {

@@ -332,6 +332,17 @@ TEST_F(WpsServerTest, AJobCanBeStoppedAndBadInputsOrAGoneServerEndItWithTheReaso
     EXPECT_EQ(bad.snapshot().state, JobState::Failed);
     EXPECT_NE(bad.snapshot().message.find("seconds"), std::string::npos) << bad.snapshot().message;
 
+    auto neutral = connectProcessing(server_->url());
+    ASSERT_TRUE(neutral);
+    EXPECT_STREQ((*neutral)->protocol(), "OGC WPS 1.0.0");
+    EXPECT_TRUE((*neutral)->capabilities()) << "through the protocol-neutral interface";
+    auto notHttp = connectProcessing("ftp://127.0.0.1/wps");
+    ASSERT_FALSE(notHttp);
+    EXPECT_NE(notHttp.message().find("not an http(s) address"), std::string::npos) << notHttp.message();
+    WpsJob ftp("ftp://127.0.0.1/wps", *sleep, {{.identifier = "seconds", .value = "1"}}, folder);
+    ftp.join();
+    EXPECT_NE(ftp.snapshot().message.find("not an http(s) address"), std::string::npos) << ftp.snapshot().message;
+
     WpsJob gone("http://127.0.0.1:1/wps", *sleep, {{.identifier = "seconds", .value = "1"}}, folder);
     gone.join();
     EXPECT_EQ(gone.snapshot().state, JobState::Failed);
