@@ -213,14 +213,15 @@ void Panels::analysisPanel(scene::Scene& scene, PanelActions& actions) {
     const float s = io.FontGlobalScale;
     ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 350 * s, 180 * s), ImGuiCond_FirstUseEver);
     // As tall as its contents, up to the bottom of the window.
-    ImGui::SetNextWindowSizeConstraints(ImVec2(340 * s, 0.0f), ImVec2(340 * s, std::max(200.0f * s, io.DisplaySize.y - 230 * s)));
+    ImGui::SetNextWindowSizeConstraints(ImVec2(340 * s, 0.0f), ImVec2(340 * s, std::max(200.0f * s, io.DisplaySize.y - 210 * s)));
     if (ImGui::Begin("Analysis", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         const RememberItem rememberItem = [this](const std::string& label) { remember(label); };
-        if (ImGui::CollapsingHeader("Measure", ImGuiTreeNodeFlags_DefaultOpen)) measure_.draw(scene, rememberItem, actions.changed);
+        const bool measure = ImGui::CollapsingHeader("Measure", ImGuiTreeNodeFlags_DefaultOpen);
         remember("Measure##analysis");
-        if (ImGui::CollapsingHeader("Processes", processes_.hasServers() ? ImGuiTreeNodeFlags_DefaultOpen : 0))
-            processes_.draw(measure_.sketch(), rememberItem);
+        if (measure) measure_.draw(scene, rememberItem, actions.changed);
+        const bool processes = ImGui::CollapsingHeader("Processes", processes_.hasServers() ? ImGuiTreeNodeFlags_DefaultOpen : 0);
         remember("Processes##analysis");
+        if (processes) processes_.draw(measure_.sketch(), scene.desc(), rememberItem);
     }
     ImGui::End();
     processes_.drawPlots();

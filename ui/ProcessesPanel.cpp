@@ -62,6 +62,24 @@ std::optional<scene::LayerDesc> layerFor(const wps::WpsJob& job, const wps::Save
     return d;
 }
 
+/// The files the scene's layers read (a layer's "path", a terrain's elevation and imagery
+/// files), resolved, with the layer's name: what a file input may send.
+std::vector<std::pair<std::string, std::string>> layerFiles(const scene::SceneDesc& scene) {
+    std::vector<std::pair<std::string, std::string>> files;
+    const auto add = [&](const std::string& name, const nlohmann::json& entry) {
+        const nlohmann::json* path = entry.is_string() ? &entry : entry.is_object() && entry.contains("path") ? &entry["path"] : nullptr;
+        if (path && path->is_string() && !path->get<std::string>().empty())
+            files.emplace_back(name, scene.resolveSource(path->get<std::string>()));
+    };
+    for (const auto& layer : scene.layers) {
+        if (layer.settings.contains("path")) add(layer.name, layer.settings["path"]);
+        for (const char* list : {"elevation", "imagery"})
+            if (layer.settings.contains(list) && layer.settings[list].is_array())
+                for (const auto& e : layer.settings[list]) add(layer.name + " (" + list + ")", e);
+    }
+    return files;
+}
+
 }  // namespace
 
 ProcessesPanel::ProcessesPanel() = default;
@@ -149,7 +167,7 @@ void ProcessesPanel::serverSection(const RememberItem& remember) {
     }
 }
 
-void ProcessesPanel::formSection(const Sketch& sketch, const RememberItem& remember) {
+void ProcessesPanel::formSection(const Sketch& sketch, const scene::SceneDesc& scene, const RememberItem& remember) {
     if (!process_) return;
     const float s = ImGui::GetIO().FontGlobalScale;
     ImGui::Separator();
@@ -191,12 +209,33 @@ void ProcessesPanel::formSection(const Sketch& sketch, const RememberItem& remem
                 else
                     ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.4f, 1.0f), "%s: draw a box (Measure)", f.title.c_str());
                 break;
-            case wps::FieldWidget::Geometry:
-                if (sketch.complete() && sketch.tool() != SketchTool::None)
-                    ImGui::Text("%s: the drawn %s", f.title.c_str(), toString(sketch.tool()));
-                else
-                    ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.4f, 1.0f), "%s: draw it (Measure)", f.title.c_str());
+            case wps::FieldWidget::Geometry: {
+                // The drawn shape, or a layer's vector file.
+                const std::string drawn = sketch.complete() && sketch.tool() != SketchTool::None
+                                              ? std::string("the drawn ") + toString(sketch.tool()) : std::string("draw it (Measure)");
+                const std::string shown = f.text.empty() ? drawn : std::filesystem::path(f.text).filename().string();
+                if (ImGui::BeginCombo(label.c_str(), shown.c_str())) {
+                    if (ImGui::Selectable(drawn.c_str(), f.text.empty())) f.text.clear();
+                    for (const auto& [name, path] : layerFiles(scene))
+                        if (ImGui::Selectable((name + "##" + path).c_str(), f.text == path)) f.text = path;
+                    ImGui::EndCombo();
+                }
                 break;
+            }
+            case wps::FieldWidget::File: {
+                // A file or an address typed in, or a layer's data picked from the scene.
+                if (ImGui::InputText(label.c_str(), text, sizeof text)) f.text = text;
+                const auto files = layerFiles(scene);
+                if (!files.empty()) {
+                    ImGui::SameLine();
+                    if (ImGui::BeginCombo("##layerFile", "layer", ImGuiComboFlags_NoPreview)) {
+                        for (const auto& [name, path] : files)
+                            if (ImGui::Selectable((name + "##" + path).c_str())) f.text = path;
+                        ImGui::EndCombo();
+                    }
+                }
+                break;
+            }
             default:
                 if (ImGui::InputText(label.c_str(), text, sizeof text)) f.text = text;
                 if (!f.hint.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", f.hint.c_str());
@@ -285,7 +324,9 @@ void ProcessesPanel::drawPlots() {
         Job& j = jobs_[i];
         if (!j.table || !j.showTable || j.table->rows() == 0) continue;
         const std::string title = "Table " + std::to_string(i + 1) + ": " + j.job->process().identifier;
-        ImGui::SetNextWindowSize(ImVec2(420, 220), ImGuiCond_FirstUseEver);
+        const float s = ImGui::GetIO().FontGlobalScale;
+        ImGui::SetNextWindowPos(ImVec2(360 * s + 20 * float(i), 40 * s + 20 * float(i)), ImGuiCond_FirstUseEver);
+        ImGui::SetNextWindowSize(ImVec2(420 * s, 200 * s), ImGuiCond_FirstUseEver);
         if (ImGui::Begin(title.c_str(), &j.showTable)) {
             const auto& t = *j.table;
             const size_t column = t.columns.size() - 1;
@@ -296,7 +337,8 @@ void ProcessesPanel::drawPlots() {
             for (double x : t.values[column]) v.push_back(std::isfinite(x) ? float(x) : lo);
             ImGui::Text("%s over %zu rows (%s %.6g .. %.6g)", t.columns[column].c_str(), t.rows(), t.columns[0].c_str(), t.values[0].front(),
                         t.values[0].back());
-            ImGui::PlotLines("##table", v.data(), int(v.size()), 0, nullptr, lo, std::max(hi, lo + 1.0f), ImVec2(-1.0f, -1.0f));
+            ImGui::PlotLines("##table", v.data(), int(v.size()), 0, nullptr, lo, std::max(hi, lo + 1.0f),
+                             ImVec2(ImGui::GetContentRegionAvail().x, std::max(40.0f, ImGui::GetContentRegionAvail().y)));
         }
         ImGui::End();
     }
@@ -311,10 +353,10 @@ void ProcessesPanel::update(std::vector<scene::LayerDesc>& addLayers, bool& chan
     }
 }
 
-void ProcessesPanel::draw(const Sketch& sketch, const RememberItem& remember) {
+void ProcessesPanel::draw(const Sketch& sketch, const scene::SceneDesc& scene, const RememberItem& remember) {
     serverSection(remember);
     if (describing_.valid()) ImGui::TextDisabled("reading the description...");
-    formSection(sketch, remember);
+    formSection(sketch, scene, remember);
     if (!error_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.5f, 0.4f, 1.0f), "%s", error_.c_str());
     jobsSection(remember);
 }

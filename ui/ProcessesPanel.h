@@ -40,7 +40,8 @@ public:
     /// ended go to `addLayers`; `changed` is set while something moves (a job's progress).
     void update(std::vector<scene::LayerDesc>& addLayers, bool& changed);
     /// The panel's contents (in the Analysis window).
-    void draw(const Sketch& sketch, const RememberItem& remember);
+    /// The scene's layers' files are offered for file inputs (a layer's data sent to the server).
+    void draw(const Sketch& sketch, const scene::SceneDesc& scene, const RememberItem& remember);
     /// The tables' plot windows.
     void drawPlots();
     /// Servers were given (the panel starts open).
@@ -62,7 +63,7 @@ private:
         bool showTable = false;
     };
     void serverSection(const RememberItem& remember);
-    void formSection(const Sketch& sketch, const RememberItem& remember);
+    void formSection(const Sketch& sketch, const scene::SceneDesc& scene, const RememberItem& remember);
     void jobsSection(const RememberItem& remember);
     void collect(Job& job, std::vector<scene::LayerDesc>& addLayers);
     void poll();

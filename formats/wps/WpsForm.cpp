@@ -34,6 +34,21 @@ std::string rangeHint(const std::vector<ValueRange>& ranges) {
 
 constexpr double kDefaultMaxMegabytes = 16.0;
 
+/// The file a field names, whole, within the input's size limit.
+Result<std::string> readInput(const FormField& f, const Parameter& p) {
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(f.text, ec);
+    const double maxMb = p.maximumMegabytes > 0.0 ? p.maximumMegabytes : kDefaultMaxMegabytes;
+    if (ec) return makeError(f.text + ": " + ec.message());
+    if (double(size) > maxMb * 1024.0 * 1024.0)
+        return makeError(f.text + " is larger than the " + std::to_string(int(maxMb)) + " MB the input takes");
+    std::ifstream in(f.text, std::ios::binary);
+    std::stringstream data;
+    data << in.rdbuf();
+    if (!in) return makeError(f.text + " cannot be read");
+    return data.str();
+}
+
 }  // namespace
 
 const char* toString(FieldWidget widget) {
@@ -136,6 +151,16 @@ Result<std::vector<InputValue>> formInputs(const ProcessDescription& process, co
                 v.crs = f.crs;
                 break;
             case FieldWidget::Geometry:
+                if (!f.text.empty()) {   // a layer's file instead of the drawing
+                    auto data = readInput(f, *p);
+                    if (!data) {
+                        problem(f, data.message());
+                        continue;
+                    }
+                    v.value = std::move(*data);
+                    v.format = {.mimeType = f.mimeType};
+                    break;
+                }
                 if (geometry.geoJson.empty()) {
                     problem(f, "draw its geometry on the globe first (Measure: a path, a polygon or a point)");
                     continue;
@@ -153,25 +178,12 @@ Result<std::vector<InputValue>> formInputs(const ProcessDescription& process, co
                     problem(f, "name a file or an http(s) address");
                     continue;
                 }
-                std::error_code ec;
-                const auto size = std::filesystem::file_size(f.text, ec);
-                const double maxMb = p->maximumMegabytes > 0.0 ? p->maximumMegabytes : kDefaultMaxMegabytes;
-                if (ec) {
-                    problem(f, f.text + ": " + ec.message());
+                auto data = readInput(f, *p);
+                if (!data) {
+                    problem(f, data.message());
                     continue;
                 }
-                if (double(size) > maxMb * 1024.0 * 1024.0) {
-                    problem(f, f.text + " is larger than the " + std::to_string(int(maxMb)) + " MB the input takes");
-                    continue;
-                }
-                std::ifstream in(f.text, std::ios::binary);
-                std::stringstream data;
-                data << in.rdbuf();
-                if (!in) {
-                    problem(f, f.text + " cannot be read");
-                    continue;
-                }
-                v.value = data.str();
+                v.value = std::move(*data);
                 if (v.format.mimeType.empty()) v.format.mimeType = mimeTypeFor(f.text);
                 break;
             }

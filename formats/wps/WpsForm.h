@@ -52,7 +52,8 @@ std::vector<FormField> makeForm(const ProcessDescription& process);
 bool bindPoint(std::vector<FormField>& fields, const std::array<double, 2>& lonLat);
 
 /// The Execute inputs from the fields: Area fields take the geometry's bounds, Geometry fields
-/// its GeoJSON (both required to be drawn when the field is sent), File fields read the file
+/// its GeoJSON, or the file their text names (a vector layer's data) when it names one (both
+/// required to be drawn or named when the field is sent), File fields read the file
 /// named (at most the input's maximumMegabytes, else 16 MB) or send an http(s) address as a
 /// reference. Every problem in one message, naming the field; the rest of the checks are
 /// checkInputs' (types, ranges, allowed values), which this calls.

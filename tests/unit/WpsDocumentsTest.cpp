@@ -9,6 +9,9 @@
 #include "formats/wps/WpsJob.h"
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
 
 #include <cpl_minixml.h>
 #include <gtest/gtest.h>
@@ -384,6 +387,20 @@ TEST(WpsForms, AFormHasAFieldPerInputWithItsWidgetAndDefault) {
     EXPECT_EQ((*inputs)[0].crs, "epsg:4326");
     EXPECT_EQ((*inputs)[3].value, drawn.geoJson);
     EXPECT_EQ((*inputs)[3].format.mimeType, "application/geo+json");
+
+    // A layer's file instead of the drawing.
+    const auto file = std::filesystem::temp_directory_path() / ("orbis-wps-form-" + std::to_string(::getpid()) + ".geojson");
+    std::ofstream(file) << R"({"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {}, "geometry": null}]})";
+    form[4].text = file.string();
+    auto fromFile = formInputs(slope, form, drawn);
+    ASSERT_TRUE(fromFile) << fromFile.message();
+    EXPECT_NE((*fromFile)[3].value.find("FeatureCollection"), std::string::npos);
+    EXPECT_NE((*fromFile)[3].value, drawn.geoJson);
+    std::filesystem::remove(file);
+    auto gone = formInputs(slope, form, drawn);
+    ASSERT_FALSE(gone);
+    EXPECT_NE(gone.message().find("\"mask\": " + file.string()), std::string::npos) << gone.message();
+    form[4].text.clear();
 
     // A value out of range or not a number: checkInputs names it.
     form[1].text = "50";
