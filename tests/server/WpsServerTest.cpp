@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <unistd.h>
 #include <sstream>
+#include <memory>
 #include <fstream>
 #include <thread>
 #include <chrono>
@@ -347,6 +348,29 @@ TEST_F(WpsServerTest, AJobCanBeStoppedAndBadInputsOrAGoneServerEndItWithTheReaso
     gone.join();
     EXPECT_EQ(gone.snapshot().state, JobState::Failed);
     EXPECT_NE(gone.snapshot().message.find("127.0.0.1:1"), std::string::npos) << gone.snapshot().message;
+}
+
+TEST_F(WpsServerTest, AServerThatStopsMidJobEndsTheJobWithTheReason) {
+    // A server of its own, stopped while a long job runs.
+    auto own = std::make_unique<WpsServer>(kDem);
+    ASSERT_TRUE(own->running()) << own->error();
+    WpsClient client(own->url());
+    auto sleep = client.describe("sleep");
+    ASSERT_TRUE(sleep) << sleep.message();
+    WpsJob job(own->url(), *sleep, {{.identifier = "seconds", .value = "60"}}, processTempDir("orbis-wps-job") / "stopped",
+               {.firstDelaySeconds = 0.05, .maxDelaySeconds = 0.2, .timeoutSeconds = 120});
+    for (int i = 0; i < 400 && job.snapshot().percent == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(25));
+    ASSERT_TRUE(job.snapshot().running);
+    const std::string url = own->url();
+    own.reset();   // the server and its jobs are gone
+    const auto gone = std::chrono::steady_clock::now();
+    job.join();
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - gone).count(), 30.0) << "the wait ends, it does not hang";
+    const auto ended = job.snapshot();
+    EXPECT_FALSE(ended.running);
+    EXPECT_EQ(ended.state, JobState::Failed);
+    EXPECT_FALSE(ended.stopped) << "nobody pressed Stop";
+    EXPECT_NE(ended.message.find("127.0.0.1"), std::string::npos) << ended.message;
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 // state with outputs inline and by reference; the Execute request written back and read by
 // GDAL's XML parser; inputs checked against the description; exception reports and bad
 // documents refused with their reason.
+#include "formats/wps/WpsClient.h"
 #include "formats/wps/WpsDocuments.h"
 #include "formats/wps/WpsForm.h"
 #include "formats/wps/WpsJob.h"
@@ -325,6 +326,32 @@ TEST(WpsDocuments, ExceptionReportsAndBadDocumentsSayWhy) {
               "http://h/wps?service=WPS&identifier=a%20b%26c");
     EXPECT_EQ(kvpUrl("http://h/wps?map=x", std::vector<std::pair<std::string, std::string>>{{"request", "GetCapabilities"}}),
               "http://h/wps?map=x&request=GetCapabilities");
+}
+
+TEST(WpsDocuments, HostileAnswersAreRefusedClearly) {
+    // Deep nesting, a huge number, and an output that points at a file on this machine.
+    std::string deep = "<ProcessDescriptions>";
+    for (int i = 0; i < 20000; ++i) deep += "<a>";
+    for (int i = 0; i < 20000; ++i) deep += "</a>";
+    deep += "</ProcessDescriptions>";
+    auto d = parseProcessDescriptions(deep, "hostile");
+    EXPECT_FALSE(d) << "20 000 nested elements hold no process";
+    auto huge = parseExecuteResponse(response("<wps:ProcessStarted percentCompleted=\"1e308\">going</wps:ProcessStarted>"), "hostile");
+    if (huge) {
+        EXPECT_LE(huge->percent, 100) << "a percentage stays a percentage";
+    }
+    auto local = parseExecuteResponse(response("<wps:ProcessSucceeded>done</wps:ProcessSucceeded>",
+                                               "<wps:ProcessOutputs><wps:Output><ows:Identifier>raster</ows:Identifier><ows:Title>r</ows:Title>"
+                                               "<wps:Reference href=\"file:///etc/passwd\" mimeType=\"image/tiff\"/></wps:Output></wps:ProcessOutputs>"),
+                                      "hostile");
+    ASSERT_TRUE(local) << local.message();
+    const WpsClient client("http://127.0.0.1:1/wps");
+    const auto folder = std::filesystem::temp_directory_path() / ("orbis-wps-hostile-" + std::to_string(::getpid()));
+    auto saved = saveOutputs(client, *local, folder);
+    ASSERT_FALSE(saved) << "a reference to a local file is never read";
+    EXPECT_NE(saved.message().find("output \"raster\": file:///etc/passwd: not an http(s) address"), std::string::npos) << saved.message();
+    EXPECT_FALSE(std::filesystem::exists(folder / "raster.tif"));
+    std::filesystem::remove_all(folder);
 }
 
 TEST(WpsTables, ACsvOutputBecomesColumnsOfNumbers) {
