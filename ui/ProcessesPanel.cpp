@@ -115,6 +115,9 @@ void ProcessesPanel::poll() {
         if (d) {
             process_ = std::move(d).value();
             form_ = wps::makeForm(*process_);
+            std::printf("described \"%s\" in %.3f s: a form of %zu fields\n", process_->identifier.c_str(),
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - describeAsked_).count(), form_.size());
+            std::fflush(stdout);
             boundRevision_ = ~0ull;
             error_.clear();
         } else {
@@ -154,6 +157,7 @@ void ProcessesPanel::serverSection(const RememberItem& remember) {
         for (const auto& p : capabilities_->processes) {
             const bool chosen = process_ && process_->identifier == p.identifier;
             if (ImGui::Selectable((p.identifier + "##process").c_str(), chosen) && !describing_.valid()) {
+                describeAsked_ = std::chrono::steady_clock::now();
                 describing_ = std::async(std::launch::async, [url = connectedUrl_, id = p.identifier]() -> Result<wps::ProcessDescription> {
                     auto client = wps::connectProcessing(url);
                     if (!client) return client.error();
@@ -244,6 +248,11 @@ void ProcessesPanel::formSection(const Sketch& sketch, const scene::SceneDesc& s
         ImGui::EndDisabled();
         ImGui::PopID();
     }
+    if (process_->storeSupported && process_->statusSupported) {
+        ImGui::Checkbox("synchronous##wps", &synchronous_);
+        remember("synchronous##wps");
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("wait on the request itself (no progress) instead of a stored job polled for its status");
+    }
     if (ImGui::Button("Run##wps", ImVec2(-1.0f, 0.0f))) {
         wps::FormGeometry geometry;
         if (const auto b = sketch.bounds(); b && (sketch.tool() == SketchTool::Box || sketch.tool() == SketchTool::Polygon))
@@ -259,7 +268,8 @@ void ProcessesPanel::formSection(const Sketch& sketch, const scene::SceneDesc& s
             Job job;
             job.started = std::chrono::steady_clock::now();
             job.job = std::make_unique<wps::WpsJob>(connectedUrl_, *process_, std::move(inputs).value(),
-                                                    resultsFolder_ / (std::to_string(stamp) + "-" + process_->identifier));
+                                                    resultsFolder_ / (std::to_string(stamp) + "-" + process_->identifier),
+                                                    wps::WaitOptions{}, synchronous_);
             jobs_.push_back(std::move(job));
         }
     }

@@ -75,9 +75,11 @@ private:
     std::future<Result<wps::Capabilities>> connecting_;
     std::optional<wps::Capabilities> capabilities_;
     std::future<Result<wps::ProcessDescription>> describing_;
+    std::chrono::steady_clock::time_point describeAsked_;
     std::optional<wps::ProcessDescription> process_;
     std::vector<wps::FormField> form_;
     uint64_t boundRevision_ = ~0ull;
+    bool synchronous_ = false;   ///< Run waits on the request instead of a stored job
     std::string error_;
     std::vector<Job> jobs_;
     std::optional<std::chrono::steady_clock::time_point> lastResultRequested_;

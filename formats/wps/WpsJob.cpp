@@ -97,8 +97,10 @@ Result<std::vector<SavedOutput>> saveOutputs(const ProcessingClient& client, con
     return saved;
 }
 
-WpsJob::WpsJob(std::string url, ProcessDescription process, std::vector<InputValue> inputs, fs::path folder, WaitOptions wait)
+WpsJob::WpsJob(std::string url, ProcessDescription process, std::vector<InputValue> inputs, fs::path folder, WaitOptions wait,
+               bool synchronous)
     : url_(std::move(url)), process_(std::move(process)), inputs_(std::move(inputs)), folder_(std::move(folder)), wait_(wait),
+      synchronous_(synchronous),
       start_(std::chrono::steady_clock::now()) {
     snapshot_.message = "sending the request";
     thread_ = std::thread([this] { run(); });
@@ -145,7 +147,7 @@ void WpsJob::run() {
     const ProcessingClient& client = **connected;
     std::vector<OutputRequest> wanted;
     for (const Parameter& o : process_.outputs) wanted.push_back({.identifier = o.identifier, .asReference = o.kind == DataKind::Complex});
-    const bool async = process_.storeSupported && process_.statusSupported;
+    const bool async = process_.storeSupported && process_.statusSupported && !synchronous_;
     auto response = client.execute(process_, inputs_, wanted, async);
     if (response && async && !response->finished()) {
         response = client.wait(*response, [this](const ExecuteResponse& r) {

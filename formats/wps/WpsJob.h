@@ -66,9 +66,11 @@ public:
     };
 
     /// Starts the job on its own thread. Inputs are checked against `process` first (a bad
-    /// one ends the job at once with the message). `folder` receives the outputs.
+    /// one ends the job at once with the message). `folder` receives the outputs. The job is
+    /// stored and polled where the process allows, unless `synchronous` (the answer awaited on
+    /// the request itself: no progress, no stop but the request's timeout).
     WpsJob(std::string url, ProcessDescription process, std::vector<InputValue> inputs, std::filesystem::path folder,
-           WaitOptions wait = {});
+           WaitOptions wait = {}, bool synchronous = false);
     /// Stops waiting and joins the thread (a request under way ends within its timeout).
     ~WpsJob();
     WpsJob(const WpsJob&) = delete;
@@ -95,6 +97,7 @@ private:
     std::vector<InputValue> inputs_;
     std::filesystem::path folder_;
     WaitOptions wait_;
+    bool synchronous_ = false;
     std::chrono::steady_clock::time_point start_;
     mutable std::mutex mutex_;
     Snapshot snapshot_;
