@@ -47,9 +47,10 @@ struct ViewshedGrid {
     /// The plane offsets (east, north metres) of a cell's centre from the grid's centre.
     double east(int col) const { return (col - radiusCells) * cellM; }
     double north(int row) const { return (radiusCells - row) * cellM; }
-    /// Where a cell's centre is on the ellipsoid.
+    /// Where a cell's centre is on the ellipsoid. Each call sets up the tangent plane: for
+    /// one lookup; in a loop use a ViewshedPlane made once.
     LonLat lonLatOf(int col, int row) const;
-    /// The cell under a point (nothing outside the grid).
+    /// The cell under a point (nothing outside the grid). As lonLatOf: one lookup.
     std::optional<std::pair<int, int>> cellOf(double lonDeg, double latDeg) const;
 };
 

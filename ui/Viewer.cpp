@@ -205,7 +205,9 @@ bool Viewer::runFrame() {
     const auto frame = drawFrame(requests.screenshot);
     if (resultRequested_ && frame && !scene_->busy()) {
         // The processing round trip: Run pressed to the result's layer drawn, loaded.
-        std::printf("result on screen %.2f s after Run\n", std::chrono::duration<double>(Clock::now() - *resultRequested_).count());
+        std::printf("result on screen %.2f s after Run (%llu frames after its layer was added)\n",
+                    std::chrono::duration<double>(Clock::now() - *resultRequested_).count(),
+                    static_cast<unsigned long long>(stats_.framesDrawn - framesAtResult_));
         std::fflush(stdout);
         resultRequested_.reset();
     }
@@ -296,6 +298,7 @@ void Viewer::addLayers(std::vector<scene::LayerDesc> layers) {
         }
         readout_.message = "added \"" + (*added)->name + "\"";
         resultRequested_ = panels_.processes().lastResultRequested();
+        framesAtResult_ = stats_.framesDrawn;
         const double after = resultRequested_ ? std::chrono::duration<double>(Clock::now() - *resultRequested_).count() : 0.0;
         std::printf("added layer \"%s\" (%.2f s after Run)\n", (*added)->name.c_str(), after);
         std::fflush(stdout);

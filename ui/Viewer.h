@@ -175,6 +175,7 @@ private:
     std::optional<render::FrameResult> previous_;   ///< its GPU times arrive a frame later
     /// Run was pressed then for results now added as layers, not yet all on screen.
     std::optional<Clock::time_point> resultRequested_;
+    uint64_t framesAtResult_ = 0;   ///< stats_.framesDrawn when the result's layer was added
     uint64_t drawnRevision_ = ~0ull;             ///< the navigation's revision last drawn
     int uiFrames_ = 2;                           ///< frames ImGui still needs after input
     bool dirty_ = true;

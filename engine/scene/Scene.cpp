@@ -25,18 +25,24 @@ private:
     std::string type_, error_;
 };
 
+/// The resource for a layer of the scene file, its layer not yet made.
+Resource resourceFor(const LayerDesc& layer, const LayerRegistry& registry) {
+    Resource r;
+    r.name = layer.name;
+    r.type = layer.type;
+    r.visible = layer.visible;
+    r.viewpoint = layer.viewpoint;
+    r.filePaths = registry.filePaths(layer.type);
+    return r;
+}
+
 }  // namespace
 
 Result<std::unique_ptr<Scene>> Scene::build(SceneDesc desc, const LayerRegistry& registry, const SceneBuildOptions& options) {
     std::unique_ptr<Scene> scene(new Scene(std::move(desc)));
     for (const LayerDesc& layer : scene->desc_.layers) {
         auto made = registry.create(layer, scene->desc_);
-        Resource r;
-        r.name = layer.name;
-        r.type = layer.type;
-        r.visible = layer.visible;
-        r.viewpoint = layer.viewpoint;
-        r.filePaths = registry.filePaths(layer.type);
+        Resource r = resourceFor(layer, registry);
         if (made) {
             r.layer = std::move(made).value();
         } else if (options.keepGoing) {
@@ -114,12 +120,7 @@ Result<Resource*> Scene::addLayer(LayerDesc layer, const LayerRegistry& registry
     layer.settings["name"] = layer.name;
     auto made = registry.create(layer, desc_);
     if (!made) return made.error();
-    Resource r;
-    r.name = layer.name;
-    r.type = layer.type;
-    r.visible = layer.visible;
-    r.viewpoint = layer.viewpoint;
-    r.filePaths = registry.filePaths(layer.type);
+    Resource r = resourceFor(layer, registry);
     r.layer = std::move(made).value();
     // Before the pins' layer, which is not in desc_.layers and draws last.
     auto at = std::find_if(resources_.begin(), resources_.end(), [](const Resource& x) { return x.type == kAnnotationLayerType; });

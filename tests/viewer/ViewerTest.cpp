@@ -281,6 +281,12 @@ TEST(Viewer, AProcessRunsOnADrawnBoxAndItsResultIsALayerSavedWithTheScene) {
     EXPECT_EQ(layer["origin"]["reference"].get<std::string>().rfind(wps.url().substr(0, wps.url().rfind('/')), 0), 0u) << layer.dump();
     const fs::path raster = dir / layer["path"].get<std::string>();
     EXPECT_TRUE(fs::exists(raster)) << raster;
+    // The saved scene renders the result headless, as the viewer showed it.
+    const ViewerRun render = shell("VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json " + std::string(ORBIS_BINARY) + " render \"" +
+                                   (dir / "saved.json").string() + "\" --device cpu --validation --size 480x270 -o \"" +
+                                   (dir / "saved.png").string() + "\"");
+    ASSERT_EQ(render.exitCode, 0) << render.output;
+    EXPECT_TRUE(matchesGolden(shot(dir / "saved.png"), "viewer_processing_result"));
 }
 
 TEST(Viewer, MeasureToolsDrawAPathWithItsLengthAndALineOfSight) {
