@@ -26,9 +26,9 @@ fs::path defaultResultsFolder() {
     return fs::temp_directory_path() / "orbis-wps";
 }
 
-/// What the job was asked, for the result layer's "origin" (a complex input's data is not
+/// What the job was asked, for the result layer's "provenance" (a complex input's data is not
 /// repeated: its size is).
-nlohmann::json originOf(const wps::WpsJob& job, const wps::SavedOutput& output) {
+nlohmann::json provenanceOf(const wps::WpsJob& job, const wps::SavedOutput& output) {
     nlohmann::json inputs = nlohmann::json::object();
     for (const wps::InputValue& v : job.inputs()) {
         if (v.kind == wps::DataKind::BoundingBox) inputs[v.identifier] = {v.bbox[0], v.bbox[1], v.bbox[2], v.bbox[3]};
@@ -37,10 +37,10 @@ nlohmann::json originOf(const wps::WpsJob& job, const wps::SavedOutput& output) 
                                                        : v.reference;
         else inputs[v.identifier] = v.value;
     }
-    nlohmann::json origin = {{"wps", redactSecrets(job.url())}, {"process", job.process().identifier}, {"inputs", inputs},
+    nlohmann::json provenance = {{"wps", redactSecrets(job.url())}, {"process", job.process().identifier}, {"inputs", inputs},
                              {"output", output.identifier}};
-    if (!output.reference.empty()) origin["reference"] = redactSecrets(output.reference);
-    return origin;
+    if (!output.reference.empty()) provenance["reference"] = redactSecrets(output.reference);
+    return provenance;
 }
 
 /// The layer that shows a raster or vector output.
@@ -58,7 +58,7 @@ std::optional<scene::LayerDesc> layerFor(const wps::WpsJob& job, const wps::Save
     } else {
         return std::nullopt;
     }
-    d.origin = originOf(job, output);
+    d.provenance = provenanceOf(job, output);
     return d;
 }
 

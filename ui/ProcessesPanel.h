@@ -6,7 +6,7 @@
 // the server's messages, Stop (the wait ends; WPS 1.0.0 has no dismiss) and the outputs: a
 // raster becomes an overlay layer, vectors a vector layer (both added to the scene and saved
 // with it, with the job's server, process, inputs and the output's reference as the layer's
-// "origin"), a table a plot, literals text. Requests run on threads of their own (one per
+// "provenance"), a table a plot, literals text. Requests run on threads of their own (one per
 // request or job, none until the user asks). Main thread only, between Gui::newFrame() and
 // Gui::record().
 

@@ -159,11 +159,11 @@ Result<LayerDesc> readLayer(const nlohmann::json& value, const std::string& name
         layer.viewpoint = readViewpoint(*vp, name, path + "/viewpoint", &err);
         if (!layer.viewpoint && lr.ok()) return err;
     }
-    if (const auto* origin = lr.object("origin")) layer.origin = *origin;
+    if (const auto* provenance = lr.object("provenance")) layer.provenance = *provenance;
     if (lr.ok() && layer.type.empty()) lr.fail("type", "must not be empty");
     if (!lr.ok()) return lr.finish().error();
     layer.settings = value;
-    layer.settings.erase("origin");
+    layer.settings.erase("provenance");
     return layer;
 }
 

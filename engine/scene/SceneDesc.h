@@ -36,12 +36,12 @@ struct LayerDesc {
     std::string name;
     bool visible = true;
     std::optional<globe::Viewpoint> viewpoint;
-    nlohmann::json settings;   ///< the layer's whole object but "origin"; its factory reads its own keys
+    nlohmann::json settings;   ///< the layer's whole object but "provenance"; its factory reads its own keys
     std::string jsonPath;      ///< e.g. "/layers/2", for messages
-    /// Where a layer made by the viewer came from ("origin": an object, e.g. the processing
+    /// Where a layer made by the viewer came from ("provenance": an object, e.g. the processing
     /// job whose result it shows: server, process, inputs, the result's reference). Kept and
     /// saved with the scene, never read by the layer; null when the file has none.
-    nlohmann::json origin;
+    nlohmann::json provenance;
 };
 
 struct TimeDesc {

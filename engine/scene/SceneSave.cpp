@@ -207,7 +207,7 @@ nlohmann::json sceneToJson(const Scene& scene, const fs::path& saveTo) {
         layer["visible"] = resource.error.empty() ? resource.visible : from.visible;
         if (const LiveSettings* live = resource.layer->asLiveSettings()) writeLiveSettings(layer, live->liveSettings());
         rebaseLayerPaths(layer, desc.folder, toFolder, resource.filePaths);
-        if (!from.origin.is_null()) layer["origin"] = from.origin;
+        if (!from.provenance.is_null()) layer["provenance"] = from.provenance;
         layers.push_back(std::move(layer));
     }
     root["layers"] = std::move(layers);

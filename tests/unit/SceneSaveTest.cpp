@@ -277,7 +277,7 @@ TEST_F(SceneSave, CurrentStateIsWrittenOverTheLoadedScene) {
     EXPECT_EQ(back->annotations[0].name, "Summit");
 }
 
-TEST_F(SceneSave, ALayerAddedWhileShownIsSavedWithItsOriginBeforeThePins) {
+TEST_F(SceneSave, ALayerAddedWhileShownIsSavedWithItsProvenanceBeforeThePins) {
     registry_.add(LayerType{kAnnotationLayerType, "test pins", [](const LayerDesc&, const SceneDesc&) -> Result<std::unique_ptr<Layer>> {
         return std::unique_ptr<Layer>(new KnobLayer);
     }, {}});
@@ -286,7 +286,7 @@ TEST_F(SceneSave, ALayerAddedWhileShownIsSavedWithItsOriginBeforeThePins) {
     result.type = "knobs";
     result.name = "A";   // taken: becomes "A (2)"
     result.settings = {{"path", "results/slope.tif"}, {"quality", 3}};
-    result.origin = {{"wps", "http://127.0.0.1:5000/wps"}, {"process", "terrain"}, {"reference", "http://127.0.0.1:5000/outputs/x.tif"}};
+    result.provenance = {{"wps", "http://127.0.0.1:5000/wps"}, {"process", "terrain"}, {"reference", "http://127.0.0.1:5000/outputs/x.tif"}};
     auto added = scene_->addLayer(result, registry_);
     ASSERT_TRUE(added) << added.message();
     EXPECT_EQ((*added)->name, "A (2)");
@@ -309,17 +309,17 @@ TEST_F(SceneSave, ALayerAddedWhileShownIsSavedWithItsOriginBeforeThePins) {
     EXPECT_EQ(saved["name"], "A (2)");
     EXPECT_EQ(saved["type"], "knobs");
     EXPECT_EQ(saved["path"], "../scenes/results/slope.tif") << "relative to the scene it was added to";
-    EXPECT_EQ(saved["origin"]["process"], "terrain");
+    EXPECT_EQ(saved["provenance"]["process"], "terrain");
     EXPECT_EQ(j["layers"][3]["name"], "A (3)");
 
     auto back = parseSceneText(j.dump(), "/data/saved/knobs.json", "/data/saved");
     ASSERT_TRUE(back.ok()) << back.message();
     ASSERT_EQ(back->layers.size(), 4u);
-    EXPECT_EQ(back->layers[2].origin["reference"], "http://127.0.0.1:5000/outputs/x.tif");
-    EXPECT_FALSE(back->layers[2].settings.contains("origin")) << "the layer's own reader never sees it";
-    EXPECT_TRUE(back->layers[0].origin.is_null());
-    EXPECT_FALSE(parseSceneText(R"({"layers": [{"type": "knobs", "origin": 3}]})", "bad.json", "/data"))
-        << "an origin that is not an object";
+    EXPECT_EQ(back->layers[2].provenance["reference"], "http://127.0.0.1:5000/outputs/x.tif");
+    EXPECT_FALSE(back->layers[2].settings.contains("provenance")) << "the layer's own reader never sees it";
+    EXPECT_TRUE(back->layers[0].provenance.is_null());
+    EXPECT_FALSE(parseSceneText(R"({"layers": [{"type": "knobs", "provenance": 3}]})", "bad.json", "/data"))
+        << "a provenance that is not an object";
 }
 
 /// Position within 1 µm and the view and up axes within 1e-9 rad: rounding of the pose ->

@@ -245,7 +245,7 @@ TEST(Viewer, AProcessRunsOnADrawnBoxAndItsResultIsALayerSavedWithTheScene) {
     const fs::path dir = workDir("processes");
     // assets/scenes/processing.json at 1280x720: connect to the demo server, choose the terrain
     // process (slope by default), draw a box with the Measure panel, Run; the slope comes back
-    // as an overlay on the box, and Ctrl+S saves it with its origin.
+    // as an overlay on the box, and Ctrl+S saves it with its provenance.
     const ViewerRun r = view(dir, R"([
         {"do": "settle"},
         {"do": "click", "item": "Connect##wps"}, {"do": "settle"},
@@ -272,13 +272,13 @@ TEST(Viewer, AProcessRunsOnADrawnBoxAndItsResultIsALayerSavedWithTheScene) {
     ASSERT_EQ(saved["layers"].size(), 2u) << saved.dump(1);
     const auto& layer = saved["layers"][1];
     EXPECT_EQ(layer["type"], "overlay");
-    EXPECT_EQ(layer["origin"]["process"], "terrain");
-    EXPECT_EQ(layer["origin"]["wps"], wps.url());
-    EXPECT_EQ(layer["origin"]["inputs"]["product"], "slope");
-    ASSERT_EQ(layer["origin"]["inputs"]["area"].size(), 4u);
-    const double west = layer["origin"]["inputs"]["area"][0], east = layer["origin"]["inputs"]["area"][2];
+    EXPECT_EQ(layer["provenance"]["process"], "terrain");
+    EXPECT_EQ(layer["provenance"]["wps"], wps.url());
+    EXPECT_EQ(layer["provenance"]["inputs"]["product"], "slope");
+    ASSERT_EQ(layer["provenance"]["inputs"]["area"].size(), 4u);
+    const double west = layer["provenance"]["inputs"]["area"][0], east = layer["provenance"]["inputs"]["area"][2];
     EXPECT_GT(east - west, 0.005) << "the drawn box, about 1 km wide";
-    EXPECT_EQ(layer["origin"]["reference"].get<std::string>().rfind(wps.url().substr(0, wps.url().rfind('/')), 0), 0u) << layer.dump();
+    EXPECT_EQ(layer["provenance"]["reference"].get<std::string>().rfind(wps.url().substr(0, wps.url().rfind('/')), 0), 0u) << layer.dump();
     const fs::path raster = dir / layer["path"].get<std::string>();
     EXPECT_TRUE(fs::exists(raster)) << raster;
     // The saved scene renders the result headless, as the viewer showed it.
