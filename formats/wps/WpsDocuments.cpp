@@ -18,11 +18,6 @@ namespace {
 namespace xml = globe::xml;
 using xml::escape;
 
-std::string lower(std::string s) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
-
 /// The root element (the first element at the top level that is not the XML declaration).
 const CPLXMLNode* rootElement(const CPLXMLNode* doc) {
     for (const CPLXMLNode* n = doc; n; n = n->psNext)
@@ -65,7 +60,7 @@ Format readFormat(const CPLXMLNode* f) { return {xml::text(f, "MimeType"), xml::
 int occurs(const CPLXMLNode* n, const char* attribute, int fallback) {
     const std::string t = xml::text(n, attribute);
     if (t.empty()) return fallback;
-    if (lower(t) == "unbounded") return 1 << 30;
+    if (lowerAscii(t) == "unbounded") return 1 << 30;
     char* end = nullptr;
     const long v = std::strtol(t.c_str(), &end, 10);
     if (end == t.c_str() || *end != 0 || v < 0) return fallback;
@@ -80,7 +75,7 @@ Result<LiteralDomain> readLiteral(const CPLXMLNode* lit, const std::string& wher
         const std::string ref = xml::text(lit, "DataType.reference");
         d.dataType = ref.substr(ref.find('#') == std::string::npos ? 0 : ref.find('#') + 1);
     }
-    d.dataType = lower(d.dataType);
+    d.dataType = lowerAscii(d.dataType);
     if (const size_t colon = d.dataType.find(':'); colon != std::string::npos) d.dataType = d.dataType.substr(colon + 1);   // "xs:int"
     d.uom = xml::text(lit, "UOMs.Default.UOM");
     if (const CPLXMLNode* allowed = CPLGetXMLNode(const_cast<CPLXMLNode*>(lit), "AllowedValues")) {
@@ -164,7 +159,7 @@ double parseNumber(const std::string& t, bool& ok) {
 /// order, so such a box is written and read "lat lon" (OWSLib, under PyWPS, reads it so).
 /// CRS84 is longitude first.
 bool latitudeFirst(const std::string& crs) {
-    const std::string c = lower(crs);
+    const std::string c = lowerAscii(crs);
     if (c.find("crs84") != std::string::npos) return false;
     for (const char* code : {"4326", "4258", "4269"}) {
         const size_t at = c.rfind(code);
@@ -180,6 +175,12 @@ std::string number(double v) {
 }
 
 }  // namespace
+
+std::string lowerAscii(std::string_view text) {
+    std::string s(text);
+    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
 
 bool ValueRange::contains(double v) const {
     const bool openLow = closure == "open" || closure == "open-closed", openHigh = closure == "open" || closure == "closed-open";
@@ -256,8 +257,8 @@ Result<std::vector<ProcessDescription>> parseProcessDescriptions(std::string_vie
         d.title = xml::text(pd, "Title");
         d.abstract = xml::text(pd, "Abstract");
         d.version = xml::text(pd, "processVersion");
-        d.storeSupported = lower(xml::text(pd, "storeSupported")) == "true";
-        d.statusSupported = lower(xml::text(pd, "statusSupported")) == "true";
+        d.storeSupported = lowerAscii(xml::text(pd, "storeSupported")) == "true";
+        d.statusSupported = lowerAscii(xml::text(pd, "statusSupported")) == "true";
         for (const auto& [section, item, input] :
              {std::tuple{"DataInputs", "Input", true}, std::tuple{"ProcessOutputs", "Output", false}}) {
             const CPLXMLNode* s = CPLGetXMLNode(const_cast<CPLXMLNode*>(pd), section);
@@ -324,7 +325,7 @@ Result<ExecuteResponse> parseExecuteResponse(std::string_view text, const std::s
             if (const CPLXMLNode* lit = CPLGetXMLNode(const_cast<CPLXMLNode*>(data), "LiteralData")) {
                 v.kind = DataKind::Literal;
                 v.value = xml::text(lit, "");
-                v.dataType = lower(xml::text(lit, "dataType"));
+                v.dataType = lowerAscii(xml::text(lit, "dataType"));
                 v.uom = xml::text(lit, "uom");
             } else if (const CPLXMLNode* cx = CPLGetXMLNode(const_cast<CPLXMLNode*>(data), "ComplexData")) {
                 v.kind = DataKind::Complex;
@@ -393,7 +394,7 @@ Result<void> checkInputs(const ProcessDescription& process, std::span<const Inpu
                     ok = false;
                 }
             } else if (t == "boolean") {
-                const std::string b = lower(in.value);
+                const std::string b = lowerAscii(in.value);
                 if (b != "true" && b != "false" && b != "1" && b != "0") problems.push_back(name + ": \"" + in.value + "\" is not true or false"), ok = false;
             }
             if (ok && !d.anyValue) {
@@ -418,7 +419,7 @@ Result<void> checkInputs(const ProcessDescription& process, std::span<const Inpu
         } else if (p->kind == DataKind::Complex) {
             if (in.value.empty() && in.reference.empty()) problems.push_back(name + " has neither data nor a reference");
             if (!in.format.mimeType.empty() && !p->formats.empty() &&
-                std::none_of(p->formats.begin(), p->formats.end(), [&](const Format& f) { return lower(f.mimeType) == lower(in.format.mimeType); }))
+                std::none_of(p->formats.begin(), p->formats.end(), [&](const Format& f) { return lowerAscii(f.mimeType) == lowerAscii(in.format.mimeType); }))
                 problems.push_back(name + ": the server takes no " + in.format.mimeType);
         } else {
             const auto& b = in.bbox;
@@ -465,8 +466,8 @@ std::string executeRequest(const std::string& process, std::span<const InputValu
             if (in.kind == DataKind::Literal) x += "        <wps:LiteralData>" + escape(in.value) + "</wps:LiteralData>\n";
             else if (in.kind == DataKind::Complex) {
                 // XML (a GML or KML document) goes in as elements, anything else as text in CDATA.
-                const bool isXml = lower(in.format.mimeType).find("xml") != std::string::npos ||
-                                   lower(in.format.mimeType).find("gml") != std::string::npos;
+                const bool isXml = lowerAscii(in.format.mimeType).find("xml") != std::string::npos ||
+                                   lowerAscii(in.format.mimeType).find("gml") != std::string::npos;
                 std::string body = in.value;
                 if (isXml && body.rfind("<?xml", 0) == 0) body = body.substr(std::min(body.size(), body.find("?>") + 2));
                 if (!isXml) {

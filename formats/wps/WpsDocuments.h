@@ -147,6 +147,10 @@ Result<void> checkInputs(const ProcessDescription& process, std::span<const Inpu
 std::string executeRequest(const std::string& process, std::span<const InputValue> inputs, std::span<const OutputRequest> outputs,
                            bool async);
 
+/// `text` in ASCII lower case: MIME types, data types, identifiers and flags compared as the
+/// standards say, whatever case a server writes them in.
+std::string lowerAscii(std::string_view text);
+
 /// A key-value-pair GET address: `base` (with or without '?' and earlier parameters) and the
 /// parameters, percent-encoded.
 std::string kvpUrl(const std::string& base, std::span<const std::pair<std::string, std::string>> parameters);

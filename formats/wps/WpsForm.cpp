@@ -2,23 +2,18 @@
 
 #include "formats/wps/WpsJob.h"
 
+#include "base/FileText.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace orbis::wps {
 namespace {
 
-std::string lower(std::string s) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
-
 bool isGeometryFormat(const std::string& mime) {
-    const std::string m = lower(mime);
+    const std::string m = lowerAscii(mime);
     return m.find("json") != std::string::npos;
 }
 
@@ -36,17 +31,8 @@ constexpr double kDefaultMaxMegabytes = 16.0;
 
 /// The file a field names, whole, within the input's size limit.
 Result<std::string> readInput(const FormField& f, const Parameter& p) {
-    std::error_code ec;
-    const auto size = std::filesystem::file_size(f.text, ec);
     const double maxMb = p.maximumMegabytes > 0.0 ? p.maximumMegabytes : kDefaultMaxMegabytes;
-    if (ec) return makeError(f.text + ": " + ec.message());
-    if (double(size) > maxMb * 1024.0 * 1024.0)
-        return makeError(f.text + " is larger than the " + std::to_string(int(maxMb)) + " MB the input takes");
-    std::ifstream in(f.text, std::ios::binary);
-    std::stringstream data;
-    data << in.rdbuf();
-    if (!in) return makeError(f.text + " cannot be read");
-    return data.str();
+    return readTextFile(f.text, std::uintmax_t(maxMb * 1024.0 * 1024.0), "file for \"" + f.identifier + "\"");
 }
 
 }  // namespace
@@ -81,7 +67,7 @@ std::vector<FormField> makeForm(const ProcessDescription& process) {
             f.mimeType = f.widget == FieldWidget::Geometry ? mime : p.defaultFormat.mimeType;
         } else {
             const LiteralDomain& d = p.literal;
-            const std::string type = lower(d.dataType);
+            const std::string type = lowerAscii(d.dataType);
             f.uom = d.uom;
             if (!d.anyValue && !d.values.empty()) {
                 f.widget = FieldWidget::Choice;
@@ -112,7 +98,7 @@ bool bindPoint(std::vector<FormField>& fields, const std::array<double, 2>& lonL
     bool bound = false;
     for (FormField& f : fields) {
         if (f.widget != FieldWidget::Number && f.widget != FieldWidget::Text) continue;
-        const std::string id = lower(f.identifier);
+        const std::string id = lowerAscii(f.identifier);
         int axis = -1;
         if (id == "lon" || id == "longitude" || id == "x") axis = 0;
         else if (id == "lat" || id == "latitude" || id == "y") axis = 1;

@@ -1,5 +1,7 @@
 #include "formats/wps/WpsJob.h"
 
+#include "base/CsvText.h"
+
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -13,11 +15,6 @@ namespace fs = std::filesystem;
 namespace {
 
 bool has(const std::string& text, const char* part) { return text.find(part) != std::string::npos; }
-
-std::string lower(std::string s) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
 
 }  // namespace
 
@@ -36,7 +33,7 @@ const char* toString(OutputKind kind) {
 OutputKind kindOf(const OutputValue& output) {
     if (output.kind == DataKind::Literal) return OutputKind::Literal;
     if (output.kind == DataKind::BoundingBox) return OutputKind::BoundingBox;
-    const std::string mime = lower(output.format.mimeType);
+    const std::string mime = lowerAscii(output.format.mimeType);
     if (has(mime, "tiff") || has(mime, "x-netcdf") || has(mime, "jp2")) return OutputKind::Raster;
     if (has(mime, "json") || has(mime, "gml") || has(mime, "kml")) return OutputKind::Vector;
     if (has(mime, "csv")) return OutputKind::Table;
@@ -44,7 +41,7 @@ OutputKind kindOf(const OutputValue& output) {
 }
 
 std::string extensionFor(const std::string& mimeType) {
-    const std::string mime = lower(mimeType);
+    const std::string mime = lowerAscii(mimeType);
     if (has(mime, "tiff")) return ".tif";
     if (has(mime, "json")) return ".geojson";
     if (has(mime, "csv")) return ".csv";
@@ -56,7 +53,7 @@ std::string extensionFor(const std::string& mimeType) {
 }
 
 std::string mimeTypeFor(const fs::path& file) {
-    const std::string e = lower(file.extension().string());
+    const std::string e = lowerAscii(file.extension().string());
     if (e == ".geojson" || e == ".json") return "application/geo+json";
     if (e == ".gml") return "application/gml+xml";
     if (e == ".kml") return "application/vnd.google-earth.kml+xml";
@@ -176,45 +173,30 @@ void WpsJob::run() {
     end(JobState::Succeeded, response->message.empty() ? "done" : response->message, std::move(saved).value());
 }
 
-Result<Table> parseTable(std::string_view csv, const std::string& source) {
+Result<Table> parseTable(std::string_view text, const std::string& source) {
     Table table;
-    size_t line = 0, pos = 0;
-    const auto cells = [](std::string_view row) {
-        std::vector<std::string_view> out;
-        size_t start = 0;
-        for (size_t i = 0; i <= row.size(); ++i) {
-            if (i == row.size() || row[i] == ',') {
-                std::string_view c = row.substr(start, i - start);
-                while (!c.empty() && (c.front() == ' ' || c.front() == '"')) c.remove_prefix(1);
-                while (!c.empty() && (c.back() == ' ' || c.back() == '"' || c.back() == '\r')) c.remove_suffix(1);
-                out.push_back(c);
-                start = i + 1;
-            }
-        }
-        return out;
-    };
-    while (pos < csv.size()) {
-        const size_t eol = std::min(csv.find('\n', pos), csv.size());
-        const std::string_view row = csv.substr(pos, eol - pos);
-        pos = eol + 1;
+    size_t pos = 0, line = 0;
+    while (pos < text.size()) {
+        const std::string_view row = csv::nextLine(text, pos);
         ++line;
-        if (row.empty() || row == "\r") continue;
-        const auto c = cells(row);
+        if (csv::skipLine(row)) continue;
+        const auto cells = csv::splitLine(row, ',');
         if (table.columns.empty()) {
-            if (c.size() > kMaxTableColumns)
+            if (cells.size() > kMaxTableColumns)
                 return makeError(source + ": line " + std::to_string(line) + ": more than " + std::to_string(kMaxTableColumns) + " columns");
-            for (auto name : c) table.columns.emplace_back(name);
-            table.values.resize(c.size());
+            table.columns = cells;
+            table.values.resize(cells.size());
             continue;
         }
-        if (c.size() != table.columns.size())
-            return makeError(source + ": line " + std::to_string(line) + ": " + std::to_string(c.size()) + " cells where the header names " +
+        if (cells.size() != table.columns.size())
+            return makeError(source + ": line " + std::to_string(line) + ": " + std::to_string(cells.size()) + " cells where the header names " +
                              std::to_string(table.columns.size()));
         if (table.rows() >= kMaxTableRows) return makeError(source + ": more than " + std::to_string(kMaxTableRows) + " rows");
-        for (size_t i = 0; i < c.size(); ++i) {
+        for (size_t i = 0; i < cells.size(); ++i) {
+            const std::string& c = cells[i];
             double v = std::numeric_limits<double>::quiet_NaN();
-            const auto [end, ec] = std::from_chars(c[i].data(), c[i].data() + c[i].size(), v);
-            if (ec != std::errc() || end != c[i].data() + c[i].size() || !std::isfinite(v)) v = std::numeric_limits<double>::quiet_NaN();
+            const auto [end, ec] = std::from_chars(c.data(), c.data() + c.size(), v);
+            if (ec != std::errc() || end != c.data() + c.size() || !std::isfinite(v)) v = std::numeric_limits<double>::quiet_NaN();
             table.values[i].push_back(v);
         }
     }

@@ -115,6 +115,6 @@ struct Table {
 };
 inline constexpr size_t kMaxTableRows = 1000000;
 inline constexpr size_t kMaxTableColumns = 256;
-Result<Table> parseTable(std::string_view csv, const std::string& source);
+Result<Table> parseTable(std::string_view text, const std::string& source);
 
 }  // namespace orbis::wps
