@@ -45,7 +45,7 @@ seed() {
     return 0
 }
 seed klv "$shared"/klv/*.bin
-seed las "$shared"/lidar/*.las
+seed las "$shared"/lidar/*.las "$shared"/lidar/simple.laz "$shared"/lidar/simple-laszip-compressor-version-1.2r0.laz "$shared"/lidar/1.2-with-color.copc.laz
 seed gpx "$shared"/trajectory/*.gpx "$shared"/bad/*.gpx
 seed gltf "$shared"/models/BoxTextured.glb "$shared"/models/BoxTextured_embedded.gltf "$shared"/bad/*.glb
 seed scene "$shared"/bad/scene-*.json

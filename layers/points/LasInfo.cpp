@@ -32,6 +32,7 @@ Result<std::string> describeLasJson(const std::string& path) {
     out["recordLength"] = h.recordLength;
     out["extraBytes"] = h.extraBytes;
     out["points"] = h.pointCount;
+    if (!h.compression.empty()) out["compression"] = h.compression;
     nlohmann::json byReturn = nlohmann::json::array();
     const size_t returns = h.versionMinor >= 4 ? 15 : 5;
     for (size_t i = 0; i < returns; ++i) byReturn.push_back(h.pointsByReturn[i]);

@@ -1,6 +1,7 @@
 #include "layers/points/LasReader.h"
 
 #include "base/FileText.h"
+#include "layers/points/LazChunks.h"
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
@@ -12,10 +13,14 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <mutex>
+#include <set>
 #include <sstream>
+#include <thread>
 
 namespace orbis::points {
 namespace {
@@ -169,14 +174,12 @@ LasCrs crsFromGeoKeys(const GeoKeys& keys) {
     return crs;
 }
 
-const char* const kLazError = "LAZ (LASzip-compressed) files are not supported yet";
-
 std::string num(uint64_t v) { return std::to_string(v); }
 
 /// The public header block (LAS 1.4 R15 Table 3; 1.0-1.3 are its prefix up to byte 227/235).
 /// `evlrStart`/`evlrCount` come from the 1.4 part.
 Result<uint16_t> parseHeader(const std::string& path, const uint8_t* d, uint64_t bytes, LasHeader& h,
-                             uint64_t& evlrStart, uint32_t& evlrCount) {
+                             uint64_t& evlrStart, uint32_t& evlrCount, bool& compressedFlag) {
     h.globalEncoding = get<uint16_t>(d + 6);
     h.versionMajor = d[24];
     h.versionMinor = d[25];
@@ -193,9 +196,10 @@ Result<uint16_t> parseHeader(const std::string& path, const uint8_t* d, uint64_t
                               .append(num(h.versionMinor)).append(" (at least ").append(num(minHeader))
                               .append(" bytes, within the file's ").append(num(bytes)).append(")"));
     h.pointOffset = get<uint32_t>(d + 96);
-    const uint8_t format = d[104];
-    // LASzip sets bit 7 (and bit 6) of the format byte in compressed files.
-    if (format & 0xC0) return fail(path, kLazError);
+    // LASzip sets bit 7 (and older writers bit 6) of the format byte in compressed files, so that
+    // readers that do not know LAZ refuse them.
+    compressedFlag = (d[104] & 0xC0) != 0;
+    const uint8_t format = d[104] & 0x3F;
     if (format > 10) return fail(path, std::string("unknown point data format ").append(num(format)).append(" (0 to 10)"));
     h.pointFormat = format;
     h.recordLength = get<uint16_t>(d + 105);
@@ -229,7 +233,7 @@ Result<uint16_t> parseHeader(const std::string& path, const uint8_t* d, uint64_t
 /// The VLRs between the header and the points (54-byte headers, 16-bit lengths) and the 1.4
 /// EVLRs after them (60-byte headers, 64-bit lengths); `payloads` gets each one's data offset.
 Result<void> readVlrs(const std::string& path, const uint8_t* d, uint64_t bytes, uint16_t headerSize, uint32_t vlrCount,
-                      uint64_t evlrStart, uint32_t evlrCount, LasHeader& h, std::vector<uint64_t>& payloads) {
+                      uint64_t evlrStart, uint32_t evlrCount, uint64_t pointsEnd, LasHeader& h, std::vector<uint64_t>& payloads) {
     uint64_t at = headerSize;
     for (uint32_t i = 0; i < vlrCount; ++i) {
         if (at + 54 > h.pointOffset)
@@ -244,12 +248,10 @@ Result<void> readVlrs(const std::string& path, const uint8_t* d, uint64_t bytes,
             return fail(path, std::string("variable-length record ").append(num(i)).append(" (").append(v.userId).append(" ")
                                   .append(num(v.recordId)).append(", ").append(num(v.length))
                                   .append(" bytes) runs past the start of the point data"));
-        if (v.userId == "laszip encoded" || v.recordId == 22204) return fail(path, kLazError);
         payloads.push_back(at + 54);
         h.vlrs.push_back(std::move(v));
         at += 54 + h.vlrs.back().length;
     }
-    const uint64_t pointsEnd = h.pointOffset + h.pointCount * h.recordLength;   // validated by the caller
     at = evlrStart;
     for (uint32_t i = 0; i < evlrCount; ++i) {
         if (at < pointsEnd || at > bytes || bytes - at < 60)
@@ -298,6 +300,182 @@ bool LasHeader::hasGpsTime() const { return pointFormat == 1 || pointFormat >= 3
 bool LasHeader::hasRgb() const { return pointFormat == 2 || pointFormat == 3 || pointFormat == 5 || pointFormat == 7 || pointFormat == 8 || pointFormat == 10; }
 bool LasHeader::hasNir() const { return pointFormat == 8 || pointFormat == 10; }
 
+// ---------------------------------------------------------------------------------------------
+// LAZ
+
+namespace {
+
+/// A chunk holding more points than this is refused: its decoding buffer would be unbounded (LASzip
+/// writes 50 000 per chunk, COPC writers a few hundred thousand per node).
+constexpr uint64_t kMaxChunkPoints = 8u << 20;
+
+const char* compressorName(uint16_t c) {
+    return c == 1 ? "point-wise" : c == 2 ? "point-wise chunked" : "layered chunked";
+}
+
+/// Reads exactly `n` bytes at `offset`; false when the file is shorter now.
+bool preadAll(int fd, uint8_t* p, uint64_t n, uint64_t offset) {
+    while (n > 0) {
+        const ssize_t r = ::pread(fd, p, n, off_t(offset));
+        if (r < 0 && errno == EINTR) continue;
+        if (r <= 0) return false;
+        p += r, n -= uint64_t(r), offset += uint64_t(r);
+    }
+    return true;
+}
+
+}  // namespace
+
+struct LasFile::Laz {
+    laz::LaszipVlr vlr;
+    std::vector<laz::Chunk> chunks;
+    std::atomic<unsigned> threads{std::max(1u, std::thread::hardware_concurrency())};
+    std::atomic<bool> skipDamaged{false};
+    // The last chunk decoded (sequential reads rarely end on a chunk's edge) and the damage seen.
+    mutable std::mutex mutex;
+    mutable size_t cachedChunk = SIZE_MAX;
+    mutable uint32_t cachedFields = 0;
+    mutable std::shared_ptr<const std::vector<uint8_t>> cached;
+    mutable uint64_t skipped = 0;
+    mutable std::set<size_t> damaged;
+    mutable std::vector<std::string> damageMessages;
+};
+
+Result<void> LasFile::openLaz(const uint8_t* d, uint64_t evlrStart, const std::vector<uint64_t>& payloads) {
+    LasHeader& h = header_;
+    size_t index = 0;
+    while (!(h.vlrs[index].userId == "laszip encoded" && h.vlrs[index].recordId == 22204)) ++index;
+    auto vlr = laz::parseLaszipVlr({d + payloads[index], size_t(h.vlrs[index].length)});
+    if (!vlr) return fail(path_, vlr.message());
+    if (auto items = laz::checkItems(*vlr, h.pointFormat, h.recordLength); !items) return fail(path_, items.message());
+    auto state = std::make_unique<Laz>();
+    state->vlr = std::move(vlr).value();
+    const uint64_t end = evlrStart > h.pointOffset && evlrStart <= bytes_ ? evlrStart : bytes_;
+    if (state->vlr.compressor == 1) {
+        // Not chunked: one stream from the point data to the end.
+        if (h.pointCount > kMaxChunkPoints)
+            return fail(path_, std::string("a LAZ file that is not chunked (compressor 1) with ").append(num(h.pointCount))
+                                   .append(" points: Orbis decodes at most ").append(num(kMaxChunkPoints))
+                                   .append(" points at once; re-compress it chunked (laszip, or orbis convert)"));
+        if (h.pointCount > 0) state->chunks.push_back({h.pointOffset, end - h.pointOffset, h.pointCount, 0});
+    } else {
+        if (h.pointOffset + 8 > end) return fail(path_, "the LAZ point data is cut short before its chunk table offset");
+        int64_t tableAt = get<int64_t>(d + h.pointOffset);
+        if (tableAt == -1 && bytes_ >= 8) tableAt = get<int64_t>(d + bytes_ - 8);   // written last by a streaming writer
+        if (tableAt < int64_t(h.pointOffset + 8) || uint64_t(tableAt) > end - 8)
+            return fail(path_, std::string("the LAZ chunk table offset ").append(std::to_string(tableAt)).append(" lies outside the point data (bytes ")
+                                   .append(num(h.pointOffset + 8)).append(" to ").append(num(end)).append(")"));
+        const uint64_t table = uint64_t(tableAt);
+        auto chunks = laz::decodeChunkTable(state->vlr, {d + table, size_t(end - table)}, h.pointOffset + 8, table, h.pointCount);
+        if (!chunks) return fail(path_, chunks.message());
+        state->chunks = std::move(chunks).value();
+        for (size_t i = 0; i < state->chunks.size(); ++i)
+            if (state->chunks[i].points > kMaxChunkPoints)
+                return fail(path_, std::string("LAZ chunk ").append(num(i)).append(" claims ").append(num(state->chunks[i].points))
+                                       .append(" points, more than the ").append(num(kMaxChunkPoints)).append(" Orbis decodes at once"));
+    }
+    char text[160];
+    std::snprintf(text, sizeof text, "LAZ (LASzip %u.%ur%u, %s, %zu chunk%s)", unsigned(state->vlr.versionMajor), unsigned(state->vlr.versionMinor),
+                  unsigned(state->vlr.versionRevision), compressorName(state->vlr.compressor), state->chunks.size(),
+                  state->chunks.size() == 1 ? "" : "s");
+    h.compression = text;
+    laz_ = std::move(state);
+    return {};
+}
+
+Result<void> LasFile::readLaz(uint64_t first, uint64_t count, std::vector<uint8_t>& raw, uint32_t fields) const {
+    const Laz& z = *laz_;
+    const LasHeader& h = header_;
+    const uint64_t record = h.recordLength;
+    raw.clear();
+    if (count == 0 || z.chunks.empty()) return {};
+    const uint64_t last = first + count - 1;
+    const auto byFirst = [](uint64_t p, const laz::Chunk& c) { return p < c.firstPoint; };
+    const size_t lo = size_t(std::upper_bound(z.chunks.begin(), z.chunks.end(), first, byFirst) - z.chunks.begin()) - 1;
+    const size_t hi = size_t(std::upper_bound(z.chunks.begin(), z.chunks.end(), last, byFirst) - z.chunks.begin()) - 1;
+    const size_t n = hi - lo + 1;
+    std::vector<std::shared_ptr<const std::vector<uint8_t>>> decoded(n);
+    std::vector<std::string> errors(n);
+    {
+        std::lock_guard lock(z.mutex);
+        if (z.cachedChunk >= lo && z.cachedChunk <= hi && (z.cachedFields & fields) == fields) decoded[z.cachedChunk - lo] = z.cached;
+    }
+    const auto decodeOne = [&](size_t i) {
+        const laz::Chunk& c = z.chunks[lo + i];
+        std::vector<uint8_t> bytes(c.bytes);
+        auto out = std::make_shared<std::vector<uint8_t>>(c.points * record);
+        if (!preadAll(fd_, bytes.data(), c.bytes, c.offset)) {
+            errors[i] = "cannot be read: the file is shorter than when it was opened (changed while loading?)";
+            return;
+        }
+        if (auto r = laz::decodeChunk(z.vlr, bytes, c.points, fields, out->data()); !r) {
+            errors[i] = r.message();
+            return;
+        }
+        decoded[i] = std::move(out);
+    };
+    std::vector<size_t> todo;
+    for (size_t i = 0; i < n; ++i)
+        if (!decoded[i]) todo.push_back(i);
+    const unsigned threads = unsigned(std::min<size_t>(z.threads.load(), todo.size()));
+    if (threads <= 1) {
+        for (size_t i : todo) decodeOne(i);
+    } else {
+        std::atomic<size_t> next{0};
+        std::vector<std::thread> workers;
+        for (unsigned t = 0; t < threads; ++t)
+            workers.emplace_back([&] {
+                for (size_t k; (k = next.fetch_add(1)) < todo.size();) decodeOne(todo[k]);
+            });
+        for (std::thread& w : workers) w.join();
+    }
+    std::lock_guard lock(z.mutex);
+    if (decoded[n - 1]) {
+        z.cachedChunk = hi;
+        z.cachedFields = fields;
+        z.cached = decoded[n - 1];
+    }
+    raw.reserve(count * record);
+    for (size_t i = 0; i < n; ++i) {
+        const laz::Chunk& c = z.chunks[lo + i];
+        const uint64_t from = std::max(first, c.firstPoint), to = std::min(last + 1, c.firstPoint + c.points);
+        if (!decoded[i]) {
+            const std::string message = std::string("LAZ chunk ").append(num(lo + i)).append(" of ").append(num(z.chunks.size()))
+                                            .append(" (points ").append(num(c.firstPoint)).append(" to ").append(num(c.firstPoint + c.points - 1))
+                                            .append(", ").append(num(c.bytes)).append(" bytes at ").append(num(c.offset)).append("): ").append(errors[i]);
+            if (!z.skipDamaged) {
+                raw.clear();
+                return fail(path_, message);
+            }
+            if (z.damaged.insert(lo + i).second) {
+                z.damageMessages.push_back(std::string(path_).append(": ").append(message).append("; its points are left out"));
+                z.skipped += c.points;
+            }
+            continue;
+        }
+        const uint8_t* src = decoded[i]->data() + (from - c.firstPoint) * record;
+        raw.insert(raw.end(), src, src + (to - from) * record);
+    }
+    return {};
+}
+
+void LasFile::setDecodeThreads(unsigned threads) {
+    if (laz_) laz_->threads = std::max(1u, threads);
+}
+void LasFile::setSkipDamagedChunks(bool skip) {
+    if (laz_) laz_->skipDamaged = skip;
+}
+uint64_t LasFile::skippedPoints() const {
+    if (!laz_) return 0;
+    std::lock_guard lock(laz_->mutex);
+    return laz_->skipped;
+}
+std::vector<std::string> LasFile::damagedChunks() const {
+    if (!laz_) return {};
+    std::lock_guard lock(laz_->mutex);
+    return laz_->damageMessages;
+}
+
 LasFile::~LasFile() {
     if (fd_ >= 0) close(fd_);
 }
@@ -320,8 +498,6 @@ Result<std::unique_ptr<LasFile>> LasFile::open(const std::string& path) {
     f->path_ = path;
     f->fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (f->fd_ < 0) return fail(path, std::string("cannot open: ").append(std::strerror(errno)));
-    const std::string ext = std::filesystem::path(path).extension().string();
-    if (ext == ".laz" || ext == ".LAZ") return fail(path, kLazError);
     struct stat st {};
     if (fstat(f->fd_, &st) != 0 || !S_ISREG(st.st_mode)) return fail(path, "not a regular file");
     f->bytes_ = uint64_t(st.st_size);
@@ -335,7 +511,8 @@ Result<std::unique_ptr<LasFile>> LasFile::open(const std::string& path) {
     LasHeader& h = f->header_;
     uint64_t evlrStart = 0;
     uint32_t evlrCount = 0;
-    auto headerSize = parseHeader(path, d, f->bytes_, h, evlrStart, evlrCount);
+    bool compressedFlag = false;
+    auto headerSize = parseHeader(path, d, f->bytes_, h, evlrStart, evlrCount, compressedFlag);
     if (!headerSize) return headerSize.error();
     if (h.pointOffset < *headerSize)
         return fail(path, std::string("the point data offset ").append(num(h.pointOffset)).append(" lies inside the ")
@@ -343,15 +520,23 @@ Result<std::unique_ptr<LasFile>> LasFile::open(const std::string& path) {
     if (h.pointOffset > f->bytes_)
         return fail(path, std::string("the point data offset ").append(num(h.pointOffset)).append(" is past the end of the file (")
                               .append(num(f->bytes_)).append(" bytes)"));
-    // offset + count * record length within the file, compared by division: no overflow.
+    // offset + count * record length within the file, compared by division: no overflow. (A LAZ
+    // file's chunks are checked against the file when its chunk table is read.)
     const uint64_t room = f->bytes_ - h.pointOffset;
-    if (h.pointCount > room / h.recordLength)
+    if (!compressedFlag && h.pointCount > room / h.recordLength)
         return fail(path, std::string("the header declares ").append(num(h.pointCount)).append(" points of ")
                               .append(num(h.recordLength)).append(" bytes but the file holds ")
                               .append(num(room / h.recordLength)).append(" (truncated or a corrupt header)"));
+    const uint64_t pointsEnd = compressedFlag ? h.pointOffset : h.pointOffset + h.pointCount * h.recordLength;
     std::vector<uint64_t> payloads;
-    if (auto vlrs = readVlrs(path, d, f->bytes_, *headerSize, get<uint32_t>(d + 100), evlrStart, evlrCount, h, payloads); !vlrs)
+    if (auto vlrs = readVlrs(path, d, f->bytes_, *headerSize, get<uint32_t>(d + 100), evlrStart, evlrCount, pointsEnd, h, payloads); !vlrs)
         return vlrs.error();
+    const bool lazVlr = std::any_of(h.vlrs.begin(), h.vlrs.end(), [](const LasVlr& v) { return v.userId == "laszip encoded" && v.recordId == 22204; });
+    if (compressedFlag && !lazVlr)
+        return fail(path, "the point format marks the file compressed (LAZ) but it has no \"laszip encoded\" VLR");
+    if (lazVlr) {
+        if (auto laz = f->openLaz(d, evlrCount > 0 ? evlrStart : 0, payloads); !laz) return laz.error();
+    }
 
     // The CRS: WKT VLR, then GeoTIFF keys, then a sidecar (a sidecar also stands in for GeoTIFF
     // keys that name no EPSG code).
@@ -373,7 +558,8 @@ Result<std::unique_ptr<LasFile>> LasFile::open(const std::string& path) {
     return f;
 }
 
-Result<void> LasFile::readRaw(uint64_t first, uint64_t count, std::vector<uint8_t>& raw) const {
+Result<void> LasFile::readRaw(uint64_t first, uint64_t count, std::vector<uint8_t>& raw, uint32_t fields) const {
+    if (laz_) return readLaz(first, count, raw, fields);
     const LasHeader& h = header_;
     raw.resize(count * h.recordLength);
     uint64_t offset = h.pointOffset + first * h.recordLength, left = raw.size();
@@ -399,10 +585,11 @@ Result<void> LasFile::read(uint64_t first, uint64_t count, std::vector<LasPoint>
     first = std::min(first, h.pointCount);
     count = std::min(count, h.pointCount - first);
     std::vector<uint8_t> raw;
-    if (auto r = readRaw(first, count, raw); !r) {
+    if (auto r = readRaw(first, count, raw, laz::kFieldsAll); !r) {
         out.clear();
         return r;
     }
+    count = raw.size() / h.recordLength;   // fewer when damaged LAZ chunks were skipped
     out.resize(count);
     const bool modern = h.pointFormat >= 6;
     const uint8_t f = h.pointFormat;
@@ -448,10 +635,11 @@ Result<void> LasFile::readPositions(uint64_t first, uint64_t count, std::vector<
     first = std::min(first, h.pointCount);
     count = std::min(count, h.pointCount - first);
     std::vector<uint8_t> raw;
-    if (auto r = readRaw(first, count, raw); !r) {
+    if (auto r = readRaw(first, count, raw, laz::kFieldPositions); !r) {
         out.clear();
         return r;
     }
+    count = raw.size() / h.recordLength;
     out.resize(count);
     for (uint64_t i = 0; i < count; ++i) {
         const uint8_t* r = raw.data() + i * h.recordLength;

@@ -5,8 +5,13 @@
 // with pread in ranges, so clouds larger than RAM stream through a bounded buffer, and a file cut
 // short or replaced in place while it loads gives an error naming it, never a SIGBUS. The header
 // is validated against the file's size before anything is read: counts, offsets and record
-// lengths that disagree give a clear error naming the file, never a huge allocation. LAZ (LASzip)
-// files are recognised and refused with a clear message.
+// lengths that disagree give a clear error naming the file, never a huge allocation.
+//
+// LAZ (LASzip-compressed) files read through the same API: the chunk table is read when the file
+// opens, and a read decodes the chunks that hold the points asked for (several chunks on several
+// threads), keeping the last one decoded for the next read. A chunk that is corrupt or cut short
+// is an error naming the file and the chunk; with `setSkipDamagedChunks(true)` its points are
+// left out instead (counted in `skippedPoints()`) and the other chunks still load.
 //
 // The coordinate reference system comes, in this order, from the scene (an override), the OGC
 // WKT VLR (LASF_Projection 2112), the GeoTIFF key VLRs (LASF_Projection 34735/34736/34737),
@@ -50,6 +55,8 @@ struct LasHeader {
     std::string systemId, software;
     uint16_t creationDay = 0, creationYear = 0;
     std::vector<LasVlr> vlrs;
+    /// "" for LAS; for LAZ what LASzip wrote, e.g. "LAZ (LASzip 3.4r3, layered chunked, 65 chunks)".
+    std::string compression;
 
     bool hasGpsTime() const;   ///< formats 1, 3..10
     bool hasRgb() const;       ///< formats 2, 3, 5, 7, 8, 10
@@ -97,18 +104,33 @@ public:
     /// (replaced). Any thread. An error (naming the file, the points and its size now) when the
     /// file no longer holds them: cut short or rewritten while loaded.
     Result<void> read(uint64_t first, uint64_t count, std::vector<LasPoint>& out) const;
-    /// Only the scaled positions of points [first, first + count) (the fast path for loading).
+    /// Only the scaled positions of points [first, first + count) (the fast path for loading; in
+    /// LAZ files of formats 6-10 the other fields' layers are not decoded).
     Result<void> readPositions(uint64_t first, uint64_t count, std::vector<glm::dvec3>& out) const;
+
+    bool compressed() const { return laz_ != nullptr; }
+    /// LAZ: threads decoding the chunks of one read (default: the hardware's cores).
+    void setDecodeThreads(unsigned threads);
+    /// LAZ: leave out the points of damaged chunks (warned once each) instead of failing the read.
+    void setSkipDamagedChunks(bool skip);
+    /// Points left out so far by setSkipDamagedChunks, and the messages naming their chunks.
+    uint64_t skippedPoints() const;
+    std::vector<std::string> damagedChunks() const;
 
 private:
     LasFile() = default;
-    /// The raw records of points [first, first + count) into `raw`.
-    Result<void> readRaw(uint64_t first, uint64_t count, std::vector<uint8_t>& raw) const;
+    struct Laz;
+    /// The raw records of points [first, first + count) into `raw`; `fields` (laz::Fields) says
+    /// which a LAZ read must decode.
+    Result<void> readRaw(uint64_t first, uint64_t count, std::vector<uint8_t>& raw, uint32_t fields) const;
+    Result<void> readLaz(uint64_t first, uint64_t count, std::vector<uint8_t>& raw, uint32_t fields) const;
+    Result<void> openLaz(const uint8_t* map, uint64_t evlrStart, const std::vector<uint64_t>& payloads);
     std::string path_;
     LasHeader header_;
     LasCrs crs_;
     uint64_t bytes_ = 0;   // the file's size when opened
     int fd_ = -1;
+    std::unique_ptr<Laz> laz_;
 };
 
 /// A CRS to ECEF (WGS84, metres) through GDAL/OGR.
@@ -147,8 +169,13 @@ struct LasWriteOptions {
     int verticalEpsg = 0;          ///< with `epsg`: VerticalCSTypeGeoKey (4096)
     uint16_t linearUnits = 0;      ///< with `epsg`: ProjLinearUnitsGeoKey (3076), an EPSG unit code (9002 ft, 9003 US ft)
     uint16_t verticalUnits = 0;    ///< with `epsg`: VerticalUnitsGeoKey (4099), an EPSG unit code
+    /// LAZ: layered chunks (compressor 3, LASzip's format for LAS 1.4) of `lazChunkPoints` points;
+    /// point formats 6, 7 and 8 (the ones with a version 3 coder Orbis writes).
+    bool laz = false;
+    uint32_t lazChunkPoints = 50000;
 };
-/// Streams points to a file: the header's counts and bounds are written when closed.
+/// Streams points to a file: the header's counts and bounds (and a LAZ file's chunk table) are
+/// written when closed.
 class LasWriter {
 public:
     static Result<std::unique_ptr<LasWriter>> create(const std::string& path, const LasWriteOptions& options);

@@ -1,6 +1,8 @@
-// LAS writing for tests and the synthetic generator: any version 1.0-1.4, point formats 0-10,
-// an optional WKT VLR or GeoTIFF EPSG keys, extra bytes; counts and bounds written on close.
+// LAS writing for tests, the synthetic generator and `orbis convert`: any version 1.0-1.4, point
+// formats 0-10, an optional WKT VLR or GeoTIFF EPSG keys, extra bytes, and LAZ (layered chunks);
+// counts and bounds written on close.
 #include "layers/points/LasReader.h"
+#include "layers/points/LazChunks.h"
 
 #include <cpl_error.h>
 #include <ogr_spatialref.h>
@@ -10,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <optional>
 
 namespace orbis::points {
 namespace {
@@ -82,8 +85,30 @@ struct LasWriter::Impl {
     std::array<uint64_t, 15> byReturn{};
     glm::dvec3 lo{std::numeric_limits<double>::max()}, hi{-std::numeric_limits<double>::max()};
     std::vector<uint8_t> vlrs, buffer;
+    uint32_t vlrCount = 0;
     bool failed = false;
     bool outOfRange = false;
+    // LAZ: the records of the chunk being filled, the chunks written, where the data goes next.
+    std::optional<laz::LaszipVlr> laz;
+    std::vector<uint8_t> pending, encoded;
+    std::vector<laz::Chunk> chunks;
+    uint64_t written = 0;
+    std::string lazError;
+
+    /// Compresses the pending records as one chunk and writes it.
+    void flushChunk() {
+        const uint64_t n = pending.size() / recordLength;
+        if (n == 0) return;
+        encoded.clear();
+        if (auto r = laz::encodeChunk(*laz, pending.data(), n, encoded); !r) {
+            if (lazError.empty()) lazError = r.message();
+            failed = true;
+        }
+        if (std::fwrite(encoded.data(), 1, encoded.size(), file) != encoded.size()) failed = true;
+        chunks.push_back({written, encoded.size(), n, 0});
+        written += encoded.size();
+        pending.clear();
+    }
 };
 
 LasWriter::~LasWriter() {
@@ -110,11 +135,42 @@ Result<std::unique_ptr<LasWriter>> LasWriter::create(const std::string& path, co
             return makeError(path + ": GeoTIFF keys hold EPSG codes up to 65535");
         vlr(m.vlrs, options.versionMinor, "LASF_Projection", 34735, geoKeys(options), "GeoTIFF GeoKeyDirectoryTag");
     }
+    m.vlrCount = m.vlrs.empty() ? 0 : 1;
+    if (options.laz) {
+        if (options.pointFormat < 6 || options.pointFormat > 8)
+            return makeError(path + ": Orbis writes LAZ for point formats 6, 7 and 8 (LAS 1.4, layered chunks)");
+        if (options.versionMinor < 4) return makeError(path + ": LAZ of point formats 6-8 needs LAS 1.4");
+        if (options.lazChunkPoints == 0) return makeError(path + ": a LAZ chunk must hold at least one point");
+        laz::LaszipVlr z;
+        z.compressor = 3;
+        z.versionMajor = 3, z.versionMinor = 4, z.versionRevision = 3;   // the format LASzip 3.4 reads
+        z.chunkSize = options.lazChunkPoints;
+        z.items.push_back({laz::ItemType::Point14, 30, 3});
+        if (options.pointFormat == 7) z.items.push_back({laz::ItemType::Rgb14, 6, 3});
+        if (options.pointFormat == 8) z.items.push_back({laz::ItemType::RgbNir14, 8, 3});
+        if (options.extraBytes > 0) z.items.push_back({laz::ItemType::Byte14, options.extraBytes, 3});
+        std::vector<uint8_t> payload(34 + 6 * z.items.size(), 0);
+        put<uint16_t>(payload, 0, z.compressor);
+        payload[4] = z.versionMajor, payload[5] = z.versionMinor;
+        put<uint16_t>(payload, 6, z.versionRevision);
+        put<uint32_t>(payload, 12, z.chunkSize);
+        put<int64_t>(payload, 16, -1);   // no special EVLRs
+        put<int64_t>(payload, 24, -1);
+        put<uint16_t>(payload, 32, uint16_t(z.items.size()));
+        for (size_t i = 0; i < z.items.size(); ++i) {
+            put<uint16_t>(payload, 34 + 6 * i, uint16_t(z.items[i].type));
+            put<uint16_t>(payload, 36 + 6 * i, z.items[i].size);
+            put<uint16_t>(payload, 38 + 6 * i, z.items[i].version);
+        }
+        vlr(m.vlrs, options.versionMinor, "laszip encoded", 22204, payload, "Orbis LAZ (LASzip format)");
+        ++m.vlrCount;
+        m.laz = std::move(z);
+    }
     m.pointOffset = uint32_t(m.headerSize + m.vlrs.size());
     m.file = std::fopen(path.c_str(), "wb");
     if (!m.file) return makeError(path + ": cannot create the file");
     // Room for the header and VLRs, written by close() once the counts and bounds are known.
-    std::vector<uint8_t> headerSpace(m.pointOffset, 0);
+    std::vector<uint8_t> headerSpace(m.pointOffset + (m.laz ? 8 : 0), 0);   // LAZ: the chunk table's offset
     if (std::fwrite(headerSpace.data(), 1, headerSpace.size(), m.file) != headerSpace.size())
         return makeError(path + ": write failed");
     return w;
@@ -172,13 +228,31 @@ void LasWriter::write(std::span<const LasPoint> points) {
         if (p.returnNumber >= 1 && p.returnNumber <= 15) ++m.byReturn[size_t(p.returnNumber - 1)];
     }
     m.count += points.size();
-    if (std::fwrite(m.buffer.data(), 1, m.buffer.size(), m.file) != m.buffer.size()) m.failed = true;
+    if (!m.laz) {
+        if (std::fwrite(m.buffer.data(), 1, m.buffer.size(), m.file) != m.buffer.size()) m.failed = true;
+        return;
+    }
+    const uint64_t chunkBytes = uint64_t(m.laz->chunkSize) * m.recordLength;
+    for (size_t at = 0; at < m.buffer.size();) {
+        const size_t take = size_t(std::min<uint64_t>(chunkBytes - m.pending.size(), m.buffer.size() - at));
+        m.pending.insert(m.pending.end(), m.buffer.begin() + ptrdiff_t(at), m.buffer.begin() + ptrdiff_t(at + take));
+        at += take;
+        if (m.pending.size() == chunkBytes) m.flushChunk();
+    }
 }
 
 Result<void> LasWriter::close() {
     Impl& m = *impl_;
     if (!m.file) return makeError(m.path + ": already closed");
     if (m.count == 0) m.lo = m.hi = glm::dvec3(0.0);
+    uint64_t tableAt = 0;
+    if (m.laz) {
+        m.flushChunk();
+        tableAt = m.pointOffset + 8 + m.written;
+        std::vector<uint8_t> table;
+        laz::encodeChunkTable(*m.laz, m.chunks, table);
+        if (std::fwrite(table.data(), 1, table.size(), m.file) != table.size()) m.failed = true;
+    }
     std::vector<uint8_t> h(m.headerSize, 0);
     putString(h, 0, "LASF", 4);
     const bool wkt = !m.o.wkt.empty();
@@ -191,8 +265,8 @@ Result<void> LasWriter::close() {
     put<uint16_t>(h, 92, 2026);
     put<uint16_t>(h, 94, m.headerSize);
     put<uint32_t>(h, 96, m.pointOffset);
-    put<uint32_t>(h, 100, m.vlrs.empty() ? 0u : 1u);
-    h[104] = m.o.pointFormat;
+    put<uint32_t>(h, 100, m.vlrCount);
+    h[104] = uint8_t(m.o.pointFormat | (m.laz ? 0x80 : 0));   // LASzip's mark of compressed points
     put<uint16_t>(h, 105, m.recordLength);
     const bool legacy = m.o.pointFormat < 6 && m.count <= 0xFFFFFFFFull;
     put<uint32_t>(h, 107, legacy ? uint32_t(m.count) : 0u);
@@ -210,9 +284,14 @@ Result<void> LasWriter::close() {
         for (int i = 0; i < 15; ++i) put<uint64_t>(h, 255 + 8 * i, m.byReturn[size_t(i)]);
     }
     h.insert(h.end(), m.vlrs.begin(), m.vlrs.end());
+    if (m.laz) {
+        h.resize(h.size() + 8);
+        put<int64_t>(h, m.pointOffset, int64_t(tableAt));
+    }
     const bool ok = std::fseek(m.file, 0, SEEK_SET) == 0 && std::fwrite(h.data(), 1, h.size(), m.file) == h.size() && !m.failed;
     const bool closed = std::fclose(m.file) == 0;
     m.file = nullptr;
+    if (!m.lazError.empty()) return makeError(m.path + ": " + m.lazError);
     if (!ok || !closed) return makeError(m.path + ": write failed");
     if (m.count > 0xFFFFFFFFull && m.o.versionMinor < 4)
         return makeError(m.path + ": " + std::to_string(m.count) + " points need LAS 1.4 (64-bit counts)");

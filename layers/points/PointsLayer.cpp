@@ -89,6 +89,7 @@ void PointsLayer::finishLoading() {
             return;
         }
         store_ = std::move(loaded).value();
+        for (const std::string& damage : file_->damagedChunks()) log::warn("points: ", damage);
     } catch (const std::exception& e) {
         loadError_ = std::string(file_->path()).append(": loading failed: ").append(e.what());
         log::error(loadError_);
@@ -527,8 +528,10 @@ std::string PointsLayer::status() const {
         return text;
     }
     if (!store_ || !residency_) return {};
+    const uint64_t skipped = file_->skippedPoints();
     std::snprintf(text, sizeof text,
-                  "points: %.3g M of %.3g M drawn in %zu nodes; %.3g M resident (%.0f of %.0f MB), %llu reads, %llu evicted",
+                  "points: %s%.3g M of %.3g M drawn in %zu nodes; %.3g M resident (%.0f of %.0f MB), %llu reads, %llu evicted",
+                  skipped > 0 ? (std::to_string(skipped).append(" points of damaged LAZ chunks left out; ")).c_str() : "",
                   drawnPoints_ * 1e-6, double(store_->info().points) * 1e-6, drawList_.size(),
                   double(residency_->residentPoints()) * 1e-6, double(residency_->residentBytes()) / 1048576.0,
                   double(residency_->capacity()) / 1048576.0, static_cast<unsigned long long>(residency_->readsInFlight()),

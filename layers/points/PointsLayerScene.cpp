@@ -54,6 +54,8 @@ Result<std::unique_ptr<scene::Layer>> PointsLayer::create(const scene::LayerDesc
     const std::string where = scene.file.string() + ": " + desc.jsonPath;
     auto file = points::LasFile::open(scene.resolve(*path).string());
     if (!file) return makeError(where + ": " + file.message());
+    // A LAZ chunk that is damaged costs its points, not the cloud (named in the log and the status).
+    (*file)->setSkipDamagedChunks(true);
     auto georef = points::PointGeoreference::create(**file, placement);
     if (!georef) return makeError(where + ": " + georef.message());
     // Colour: what the scene asks for, else the file's colours when it has them, else height.

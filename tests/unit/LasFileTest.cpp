@@ -1,6 +1,6 @@
 // LAS reading: every version and point format round-trips through the writer, the real file
-// in ../shared/data/lidar (CRS only in a sidecar, Oregon Lambert in international feet), LAZ
-// refused clearly, and headers that lie about the file give errors without allocating.
+// in ../shared/data/lidar (CRS only in a sidecar, Oregon Lambert in international feet), and
+// headers that lie about the file give errors without allocating.
 #include "globe/Ellipsoid.h"
 #include "layers/points/LasReader.h"
 #include "tests/support/ProcessTempDir.h"
@@ -184,20 +184,6 @@ TEST(LasFile, FileChangedWhileLoadedGivesAClearErrorNotACrash) {
     EXPECT_DOUBLE_EQ(pts[999].position.x, many[999].position.x);
 }
 
-TEST(LasFile, LazIsRefusedClearly) {
-    const std::filesystem::path file = std::filesystem::path(ORBIS_SHARED_DATA_DIR) / "lidar/simple.laz";
-    if (!std::filesystem::exists(file)) GTEST_SKIP() << "../shared/data is absent";
-    auto f = LasFile::open(file.string());
-    ASSERT_FALSE(f.ok());
-    EXPECT_NE(f.message().find("simple.laz"), std::string::npos);
-    EXPECT_NE(f.message().find("LAZ"), std::string::npos);
-    // The compressed bit in the format byte, whatever the extension.
-    const std::string copy = (tempDir() / "compressed.las").string();
-    std::filesystem::copy_file(file, copy, std::filesystem::copy_options::overwrite_existing);
-    auto g = LasFile::open(copy);
-    ASSERT_FALSE(g.ok());
-    EXPECT_NE(g.message().find("LAZ"), std::string::npos) << g.message();
-}
 
 /// A valid 3-point file with `patch` applied to its bytes.
 std::string patched(const std::string& name, const std::function<void(std::vector<char>&)>& patch) {

@@ -417,8 +417,8 @@ TEST(LasReader, MoreLyingHeadersGiveClearErrors) {
              std::memcpy(b.data() + 227 + 2, "laszip encoded", 14);
              poke<uint16_t>(b, 227 + 18, 22204);
          },
-         "LAZ (LASzip-compressed) files are not supported yet"},
-        {"compressed-bit.las", [](std::vector<char>& b) { b[104] = char(0x83); }, "LAZ"},
+         "the laszip VLR is 24 bytes, shorter than its 34-byte header"},   // another VLR renamed: a clear refusal
+        {"compressed-bit.las", [](std::vector<char>& b) { b[104] = char(0x83); }, "marks the file compressed (LAZ) but it has no"},
         {"vlr-too-long.las", [](std::vector<char>& b) { poke<uint16_t>(b, 227 + 20, 60000); }, "runs past the start of the point data"},
         {"too-many-vlrs.las", [](std::vector<char>& b) { poke<uint32_t>(b, 100, 1000000); }, "runs past the start of the point data"},
         {"offset-in-header.las", [](std::vector<char>& b) { poke<uint32_t>(b, 96, 100); }, "inside the 227-byte header"},
@@ -434,12 +434,12 @@ TEST(LasReader, MoreLyingHeadersGiveClearErrors) {
         EXPECT_NE(f.message().find(c.name), std::string::npos) << f.message();
         EXPECT_NE(f.message().find(c.says), std::string::npos) << c.name << ": " << f.message();
     }
-    // A .laz name is refused before its bytes are looked at; a missing file says so.
+    // The bytes decide, not the name: a LAS file called .laz reads as LAS; a missing file says so.
     const fs::path laz = tempDir() / "renamed.laz";
     fs::copy_file(broken("plain.las", [](std::vector<char>&) {}), laz, fs::copy_options::overwrite_existing);
     auto f = LasFile::open(laz.string());
-    ASSERT_FALSE(f.ok());
-    EXPECT_NE(f.message().find("renamed.laz: LAZ"), std::string::npos) << f.message();
+    ASSERT_TRUE(f.ok()) << f.message();
+    EXPECT_FALSE((*f)->compressed());
     f = LasFile::open((tempDir() / "absent.las").string());
     ASSERT_FALSE(f.ok());
     EXPECT_NE(f.message().find("absent.las: cannot open"), std::string::npos) << f.message();

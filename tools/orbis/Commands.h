@@ -12,5 +12,6 @@ int viewCommand(const std::vector<std::string>& args);
 int measureCommand(const std::vector<std::string>& args);
 int viewshedCommand(const std::vector<std::string>& args);
 int wpsCommand(const std::vector<std::string>& args);
+int convertCommand(const std::vector<std::string>& args);
 
 }  // namespace orbis::cli

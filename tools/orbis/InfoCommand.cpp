@@ -28,7 +28,7 @@ const char* kHelp =
     "usage: orbis info [FILE] [options]\n"
     "Without FILE: the Vulkan devices, the one Orbis would pick, its driver and the features used.\n"
     "With FILE: what the file holds, as JSON. Readers so far: scene files (.json), point clouds (LAS\n"
-    "1.0-1.4: header, VLRs, CRS, bounds on the globe, first points), volumes (netCDF and other\n"
+    "1.0-1.4 and LAZ: header, compression, VLRs, CRS, bounds on the globe, first points), volumes (netCDF and other\n"
     "multidimensional files: variables, dimensions, ranges), rasters (GDAL), vector data (anything OGR\n"
     "opens that is not a raster: Shapefile, GeoPackage, GeoJSON, ...: layers, geometry types, counts,\n"
     "CRS, fields, extents in WGS84), and FMV metadata:\n"

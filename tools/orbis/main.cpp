@@ -24,6 +24,7 @@ const char* kUsage =
     "  measure --path|--sight    geodesic lengths and areas, terrain profiles, lines of sight\n"
     "  viewshed --dem --observer what an observer sees of the ground (GPU), against GDAL's\n"
     "  wps URL [--describe|--run] a WPS processing server: its processes, a process, a run\n"
+    "  convert IN OUT            point clouds between LAS and LAZ (--decode: decoding speed)\n"
     "Run 'orbis COMMAND --help' for a command's options.\n"
     "Exit codes: 0 ok, 1 bad input (the message names the file and the problem), 2 usage.\n";
 
@@ -68,6 +69,7 @@ int main(int argc, char** argv) {
         if (command == "measure") return cli::measureCommand(args);
         if (command == "viewshed") return cli::viewshedCommand(args);
         if (command == "wps") return cli::wpsCommand(args);
+        if (command == "convert") return cli::convertCommand(args);
         if (command == "help") {
             std::printf("%s", kUsage);
             return cli::kOk;

@@ -1,0 +1,1099 @@
+// Layered LAZ chunks (compressor 3, item version 3): the LAS 1.4 point formats 6-10.
+//
+// A chunk is the first record raw, the chunk's point count, the byte size of every layer, then
+// the layers. Each layer is an arithmetic stream of its own, so a field group nobody asked for
+// is stepped over without decoding, and an empty layer means the field never changes in the
+// chunk. Every item keeps up to four contexts, one per scanner channel: a point is predicted from
+// the last point of its own channel, and a channel seen for the first time starts from the point
+// before it. Written from the format's description and checked against files LASzip and PDAL wrote
+// (the contexts, the models and their order decide every bit, so they follow LASzip 3.4 exactly).
+
+#include "layers/points/LazChunks.h"
+
+#include "layers/points/LazCoder.h"
+
+#include <array>
+#include <cstdarg>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+namespace orbis::points::laz::detail {
+namespace {
+
+template <typename T>
+T load(const uint8_t* p) {
+    T v;
+    std::memcpy(&v, p, sizeof(T));
+    return v;
+}
+
+template <typename T>
+void store(uint8_t* p, T v) {
+    std::memcpy(p, &v, sizeof(T));
+}
+
+[[gnu::format(printf, 1, 2)]] Error fail(const char* format, ...) {
+    char text[256];
+    va_list args;
+    va_start(args, format);
+    std::vsnprintf(text, sizeof text, format, args);
+    va_end(args);
+    return makeError(text);
+}
+
+/// Models are made when first used: most of the 64 classification or user data contexts never are.
+SymbolModel& lazyModel(std::unique_ptr<SymbolModel>& m, uint32_t symbols) {
+    if (!m) m = std::make_unique<SymbolModel>(symbols);
+    return *m;
+}
+
+// ---------------------------------------------------------------------------------------------
+// POINT14
+
+// The context of the x difference's median, [number of returns][return number]: the common
+// combinations (1 <= r <= n) fold into 6 classes, and the invalid ones (r or n of 0, r > n) are
+// spread over the same classes so that files which fill the fields oddly still compress.
+// A format constant (LASzip's number_return_map_6ctx): it must not change.
+constexpr uint8_t kReturnMap[16][16] = {
+    {0, 1, 2, 3, 4, 5, 3, 4, 4, 5, 5, 5, 5, 5, 5, 5},
+    {1, 0, 1, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3},
+    {2, 1, 2, 4, 4, 4, 4, 4, 4, 4, 4, 3, 3, 3, 3, 3},
+    {3, 3, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4},
+    {4, 3, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4},
+    {5, 3, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4},
+    {3, 3, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4},
+    {4, 3, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4},
+    {4, 3, 4, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4},
+    {5, 3, 4, 4, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4},
+    {5, 3, 4, 4, 4, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4},
+    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 4, 4, 4},
+    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5, 4, 4},
+    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5, 4},
+    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5},
+    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5},
+};
+
+/// The context of the last z, by how deep the return lies in its pulse: |n - r|, capped at 7
+/// (LASzip's number_return_level_8ctx is exactly this table).
+constexpr uint32_t returnLevel(uint32_t n, uint32_t r) {
+    const uint32_t d = n > r ? n - r : r - n;
+    return d < 7 ? d : 7;
+}
+
+// GPS time multipliers: a difference is coded as a multiple (-10..500) of the sequence's last
+// difference; the symbols past the multipliers start a new sequence or switch to another one.
+constexpr int32_t kGpsMulti = 500, kGpsMultiMinus = -10;
+constexpr uint32_t kGpsCodeFull = uint32_t(kGpsMulti - kGpsMultiMinus + 1);   // 511: a new sequence
+constexpr uint32_t kGpsMultiSymbols = kGpsCodeFull + 4;                      // and 3 switches
+
+/// A POINT14 record's fields as the coder predicts them.
+struct Point14 {
+    int32_t x = 0, y = 0, z = 0;
+    uint16_t intensity = 0;
+    uint8_t returnNumber = 0, returnCount = 0;
+    uint8_t flags = 0;   // edge of flight line << 5 | scan direction << 4 | classification flags
+    uint8_t channel = 0;
+    uint8_t classification = 0, userData = 0;
+    int16_t scanAngle = 0;
+    uint16_t pointSource = 0;
+    uint64_t gpsTime = 0;          // the double's bits: compared and differenced as an integer
+    bool gpsTimeChanged = false;   // whether this point's time differed from its predecessor's
+};
+
+Point14 unpackPoint14(const uint8_t* p) {
+    Point14 q;
+    q.x = load<int32_t>(p);
+    q.y = load<int32_t>(p + 4);
+    q.z = load<int32_t>(p + 8);
+    q.intensity = load<uint16_t>(p + 12);
+    q.returnNumber = p[14] & 15;
+    q.returnCount = p[14] >> 4;
+    q.flags = uint8_t((p[15] & 15) | ((p[15] >> 2) & 0x30));
+    q.channel = (p[15] >> 4) & 3;
+    q.classification = p[16];
+    q.userData = p[17];
+    q.scanAngle = load<int16_t>(p + 18);
+    q.pointSource = load<uint16_t>(p + 20);
+    q.gpsTime = load<uint64_t>(p + 22);
+    return q;
+}
+
+void packPoint14(const Point14& q, uint8_t* p) {
+    store(p, q.x);
+    store(p + 4, q.y);
+    store(p + 8, q.z);
+    store(p + 12, q.intensity);
+    p[14] = uint8_t(q.returnNumber | (q.returnCount << 4));
+    p[15] = uint8_t((q.flags & 15) | (q.channel << 4) | ((q.flags & 0x30) << 2));
+    p[16] = q.classification;
+    p[17] = q.userData;
+    store(p + 18, q.scanAngle);
+    store(p + 20, q.pointSource);
+    store(p + 22, q.gpsTime);
+}
+
+/// The per-channel state of POINT14: the last point, the predictors and every model.
+struct Point14Context {
+    Point14 last;
+    std::array<uint16_t, 8> lastIntensity{};   // by return kind and GPS time change
+    std::array<int32_t, 8> lastZ{};            // by return level
+    std::array<Median5, 12> dxMedian, dyMedian;
+
+    // channel_returns_XY layer
+    std::vector<SymbolModel> changes = std::vector<SymbolModel>(8, SymbolModel(128));
+    SymbolModel channelStep{3};
+    std::array<std::unique_ptr<SymbolModel>, 16> returnCounts, returnNumbers;
+    SymbolModel returnStepSameTime{13};
+    IntegerCodec dx{32, 2}, dy{32, 22};
+    // the attribute layers
+    IntegerCodec z{32, 20};
+    std::array<std::unique_ptr<SymbolModel>, 64> classifications, flags, userData;
+    IntegerCodec intensity{16, 4}, scanAngle{16, 2}, pointSource{16, 1};
+    SymbolModel gpsMulti{kGpsMultiSymbols}, gpsZeroDiff{5};
+    IntegerCodec gps{32, 9};
+    // GPS time: up to four interleaved sequences, each with its last time and difference
+    uint32_t gpsLast = 0, gpsNext = 0;
+    std::array<uint64_t, 4> gpsTimes{};
+    std::array<int32_t, 4> gpsDiffs{}, gpsExtremes{};
+
+    explicit Point14Context(const Point14& from) : last(from) {
+        last.gpsTimeChanged = false;
+        lastIntensity.fill(from.intensity);
+        lastZ.fill(from.z);
+        gpsTimes[0] = from.gpsTime;
+    }
+
+    uint32_t lastReturnKind() const {
+        return (last.returnNumber == 1 ? 1u : 0u) + (last.returnNumber >= last.returnCount ? 2u : 0u) + (last.gpsTimeChanged ? 4u : 0u);
+    }
+    /// A difference stayed extreme for four points in a row: it becomes the new reference.
+    void countExtreme(int32_t diff) {
+        if (++gpsExtremes[gpsLast] > 3) {
+            gpsDiffs[gpsLast] = diff;
+            gpsExtremes[gpsLast] = 0;
+        }
+    }
+};
+
+/// The layers of POINT14, in the chunk's order.
+enum Point14Layer { kXY, kZ, kClassification, kFlags, kIntensity, kScanAngle, kUserData, kPointSource, kGpsTime, kPoint14Layers };
+constexpr const char* kPoint14LayerNames[kPoint14Layers] = {"channel_returns_XY", "Z", "classification", "flags", "intensity",
+                                                             "scan_angle", "user_data", "point_source", "gps_time"};
+
+/// Return kind of a point: first (2) and/or last (1) of its pulse.
+inline uint32_t returnKind(uint32_t r, uint32_t n) { return (r == 1 ? 2u : 0u) + (r >= n ? 1u : 0u); }
+inline uint32_t xyContext(uint32_t k) { return k < 20 ? (k & ~1u) : 20; }
+inline uint32_t zContext(uint32_t k) { return k < 18 ? (k & ~1u) : 18; }
+
+// ---------------------------------------------------------------------------------------------
+// The streams of one chunk.
+
+struct InLayer {
+    ArithmeticDecoder dec;
+    const uint8_t* bytes = nullptr;
+    uint32_t size = 0;
+    bool active = false;   // asked for and not empty: decoded
+};
+
+struct OutLayer {
+    std::vector<uint8_t> bytes;
+    ArithmeticEncoder enc{bytes};
+    bool changed = false;   // the field changed somewhere in the chunk: the layer is written
+};
+
+class ItemDecoder {
+public:
+    virtual ~ItemDecoder() = default;
+    /// Starts from the chunk's first record; POINT14 sets the channel, the others follow it (see
+    /// ChannelContexts for what POINT14 hands down on later points).
+    virtual void init(const uint8_t* first, uint32_t& channel) = 0;
+    virtual void decode(uint8_t* item, uint32_t& channel) = 0;
+};
+
+class ItemEncoder {
+public:
+    virtual ~ItemEncoder() = default;
+    virtual void init(const uint8_t* first, uint32_t& channel) = 0;
+    virtual void encode(const uint8_t* item, uint32_t& channel) = 0;
+};
+
+// ---------------------------------------------------------------------------------------------
+// POINT14 decoding and encoding
+
+class Point14Decoder final : public ItemDecoder {
+public:
+    explicit Point14Decoder(InLayer* layers) : layers_(layers) {}
+
+    void init(const uint8_t* first, uint32_t& channel) override {
+        const Point14 p = unpackPoint14(first);
+        current_ = p.channel;
+        contexts_[current_] = std::make_unique<Point14Context>(p);
+        channel = current_;
+    }
+
+    void decode(uint8_t* item, uint32_t& channel) override;
+
+private:
+    void readGpsTime(Point14Context& c, ArithmeticDecoder& dec);
+    static void startSequence(Point14Context& c, ArithmeticDecoder& dec) {
+        c.gpsNext = (c.gpsNext + 1) & 3;
+        const uint32_t high = uint32_t(c.gps.decompress(dec, int32_t(c.gpsTimes[c.gpsLast] >> 32), 8));
+        c.gpsTimes[c.gpsNext] = (uint64_t(high) << 32) | dec.readInt();
+        c.gpsLast = c.gpsNext;
+        c.gpsDiffs[c.gpsLast] = 0;
+        c.gpsExtremes[c.gpsLast] = 0;
+    }
+
+    InLayer* layers_;
+    std::array<std::unique_ptr<Point14Context>, 4> contexts_;
+    uint32_t current_ = 0;
+};
+
+void Point14Decoder::decode(uint8_t* item, uint32_t& channel) {
+    ArithmeticDecoder& xy = layers_[kXY].dec;
+    Point14Context* c = contexts_[current_].get();
+    // What changed, in the context of the previous point (whatever its channel).
+    const uint32_t changes = xy.decodeSymbol(c->changes[c->lastReturnKind()]);
+    if (changes & 64) {
+        const uint32_t next = (current_ + xy.decodeSymbol(c->channelStep) + 1) & 3;
+        if (!contexts_[next]) contexts_[next] = std::make_unique<Point14Context>(c->last);
+        current_ = next;
+        c = contexts_[next].get();
+        c->last.channel = uint8_t(next);
+        channel = next;
+    }
+    Point14& p = c->last;
+    const uint32_t gpsChanged = (changes >> 4) & 1;
+
+    if (changes & 4) p.returnCount = uint8_t(xy.decodeSymbol(lazyModel(c->returnCounts[p.returnCount], 16)));
+    switch (changes & 3) {
+    case 0: break;
+    case 1: p.returnNumber = (p.returnNumber + 1) & 15; break;
+    case 2: p.returnNumber = (p.returnNumber + 15) & 15; break;
+    default:
+        if (gpsChanged) p.returnNumber = uint8_t(xy.decodeSymbol(lazyModel(c->returnNumbers[p.returnNumber], 16)));
+        else p.returnNumber = uint8_t((p.returnNumber + xy.decodeSymbol(c->returnStepSameTime) + 2) & 15);
+        break;
+    }
+    const uint32_t n = p.returnCount, r = p.returnNumber;
+    const uint32_t single = n == 1 ? 1 : 0, kind = returnKind(r, n);
+    const uint32_t median = (uint32_t(kReturnMap[n][r]) << 1) | gpsChanged;
+
+    const int32_t dx = c->dx.decompress(xy, c->dxMedian[median].get(), single);
+    p.x = wrapAdd(p.x, dx);
+    c->dxMedian[median].add(dx);
+    const int32_t dy = c->dy.decompress(xy, c->dyMedian[median].get(), single + xyContext(c->dx.k()));
+    p.y = wrapAdd(p.y, dy);
+    c->dyMedian[median].add(dy);
+
+    if (layers_[kZ].active) {
+        const uint32_t level = returnLevel(n, r);
+        p.z = c->z.decompress(layers_[kZ].dec, c->lastZ[level], single + zContext((c->dx.k() + c->dy.k()) / 2));
+        c->lastZ[level] = p.z;
+    }
+    if (layers_[kClassification].active) {
+        const uint32_t ctx = ((p.classification & 0x1Fu) << 1) + (kind == 3 ? 1 : 0);
+        p.classification = uint8_t(layers_[kClassification].dec.decodeSymbol(lazyModel(c->classifications[ctx], 256)));
+    }
+    if (layers_[kFlags].active) p.flags = uint8_t(layers_[kFlags].dec.decodeSymbol(lazyModel(c->flags[p.flags], 64)));
+    if (layers_[kIntensity].active) {
+        const uint32_t slot = (kind << 1) | gpsChanged;
+        p.intensity = uint16_t(c->intensity.decompress(layers_[kIntensity].dec, c->lastIntensity[slot], kind));
+        c->lastIntensity[slot] = p.intensity;
+    }
+    if (layers_[kScanAngle].active && (changes & 8)) p.scanAngle = int16_t(c->scanAngle.decompress(layers_[kScanAngle].dec, p.scanAngle, gpsChanged));
+    if (layers_[kUserData].active) p.userData = uint8_t(layers_[kUserData].dec.decodeSymbol(lazyModel(c->userData[p.userData >> 2], 256)));
+    if (layers_[kPointSource].active && (changes & 32)) p.pointSource = uint16_t(c->pointSource.decompress(layers_[kPointSource].dec, p.pointSource));
+    if (layers_[kGpsTime].active && gpsChanged) {
+        readGpsTime(*c, layers_[kGpsTime].dec);
+        p.gpsTime = c->gpsTimes[c->gpsLast];
+    }
+    packPoint14(p, item);
+    p.gpsTimeChanged = gpsChanged != 0;
+}
+
+void Point14Decoder::readGpsTime(Point14Context& c, ArithmeticDecoder& dec) {
+    // A valid stream switches sequence at most once per point; the cap only stops a corrupt one.
+    for (int hop = 0; hop < 4; ++hop) {
+        const uint32_t s = c.gpsLast;
+        if (c.gpsDiffs[s] == 0) {   // no reference difference yet
+            const uint32_t sym = dec.decodeSymbol(c.gpsZeroDiff);
+            if (sym == 0) {
+                const int32_t diff = c.gps.decompress(dec, 0, 0);
+                c.gpsDiffs[s] = diff;
+                c.gpsTimes[s] += uint64_t(int64_t(diff));
+                c.gpsExtremes[s] = 0;
+            } else if (sym == 1) {
+                startSequence(c, dec);
+            } else {
+                c.gpsLast = (s + sym - 1) & 3;
+                continue;
+            }
+            return;
+        }
+        const uint32_t multi = dec.decodeSymbol(c.gpsMulti);
+        const int32_t ref = c.gpsDiffs[s];
+        if (multi < kGpsCodeFull) {
+            int32_t diff;
+            if (multi == 1) {
+                diff = c.gps.decompress(dec, ref, 1);
+                c.gpsExtremes[s] = 0;
+            } else if (multi == 0) {
+                diff = c.gps.decompress(dec, 0, 7);
+                c.countExtreme(diff);
+            } else if (multi < uint32_t(kGpsMulti)) {
+                diff = c.gps.decompress(dec, wrapMul(int32_t(multi), ref), multi < 10 ? 2 : 3);
+            } else if (multi == uint32_t(kGpsMulti)) {
+                diff = c.gps.decompress(dec, wrapMul(kGpsMulti, ref), 4);
+                c.countExtreme(diff);
+            } else {
+                const int32_t negative = kGpsMulti - int32_t(multi);
+                if (negative > kGpsMultiMinus) {
+                    diff = c.gps.decompress(dec, wrapMul(negative, ref), 5);
+                } else {
+                    diff = c.gps.decompress(dec, wrapMul(kGpsMultiMinus, ref), 6);
+                    c.countExtreme(diff);
+                }
+            }
+            c.gpsTimes[s] += uint64_t(int64_t(diff));
+            return;
+        }
+        if (multi == kGpsCodeFull) {
+            startSequence(c, dec);
+            return;
+        }
+        c.gpsLast = (s + multi - kGpsCodeFull) & 3;
+    }
+}
+
+class Point14Encoder final : public ItemEncoder {
+public:
+    explicit Point14Encoder(OutLayer* layers) : layers_(layers) {}
+
+    void init(const uint8_t* first, uint32_t& channel) override {
+        const Point14 p = unpackPoint14(first);
+        current_ = p.channel;
+        contexts_[current_] = std::make_unique<Point14Context>(p);
+        channel = current_;
+    }
+
+    void encode(const uint8_t* item, uint32_t& channel) override;
+
+private:
+    void writeGpsTime(Point14Context& c, ArithmeticEncoder& enc, uint64_t time);
+    static void startSequence(Point14Context& c, ArithmeticEncoder& enc, uint64_t time) {
+        c.gps.compress(enc, int32_t(c.gpsTimes[c.gpsLast] >> 32), int32_t(time >> 32), 8);
+        enc.writeInt(uint32_t(time));
+        c.gpsNext = (c.gpsNext + 1) & 3;
+        c.gpsLast = c.gpsNext;
+        c.gpsDiffs[c.gpsLast] = 0;
+        c.gpsExtremes[c.gpsLast] = 0;
+    }
+    /// The other sequence (1..3 steps on) whose last time is within 32 bits of `time`, or 0.
+    static uint32_t nearSequence(const Point14Context& c, uint64_t time) {
+        for (uint32_t i = 1; i < 4; ++i) {
+            const int64_t d = int64_t(time - c.gpsTimes[(c.gpsLast + i) & 3]);
+            if (d == int64_t(int32_t(d))) return i;
+        }
+        return 0;
+    }
+
+    OutLayer* layers_;
+    std::array<std::unique_ptr<Point14Context>, 4> contexts_;
+    uint32_t current_ = 0;
+};
+
+void Point14Encoder::encode(const uint8_t* item, uint32_t& channel) {
+    const Point14 p = unpackPoint14(item);
+    ArithmeticEncoder& xy = layers_[kXY].enc;
+    Point14Context* c = contexts_[current_].get();
+    const uint32_t lastKind = c->lastReturnKind();
+    // The point is compared with the last point of its own channel; a channel not seen yet starts
+    // from the previous point.
+    const Point14* ref = &c->last;
+    if (p.channel != current_ && contexts_[p.channel]) ref = &contexts_[p.channel]->last;
+    const bool sourceChanged = p.pointSource != ref->pointSource;
+    const bool gpsChanged = p.gpsTime != ref->gpsTime;
+    const bool angleChanged = p.scanAngle != ref->scanAngle;
+    const uint32_t lastN = ref->returnCount, lastR = ref->returnNumber;
+    const uint32_t n = p.returnCount, r = p.returnNumber;
+    uint32_t changes = (p.channel != current_ ? 64u : 0u) | (sourceChanged ? 32u : 0u) | (gpsChanged ? 16u : 0u) | (angleChanged ? 8u : 0u) |
+                       (n != lastN ? 4u : 0u);
+    if (r != lastR) changes |= r == ((lastR + 1) & 15) ? 1u : (r == ((lastR + 15) & 15) ? 2u : 3u);
+    xy.encodeSymbol(c->changes[lastKind], changes);
+    if (changes & 64) {
+        xy.encodeSymbol(c->channelStep, (p.channel - current_ + 3) & 3);
+        if (!contexts_[p.channel]) contexts_[p.channel] = std::make_unique<Point14Context>(c->last);
+        current_ = p.channel;
+        c = contexts_[current_].get();
+        channel = current_;
+    }
+    Point14& last = c->last;
+
+    if (changes & 4) xy.encodeSymbol(lazyModel(c->returnCounts[lastN], 16), n);
+    if ((changes & 3) == 3) {
+        if (gpsChanged) xy.encodeSymbol(lazyModel(c->returnNumbers[lastR], 16), r);
+        else xy.encodeSymbol(c->returnStepSameTime, (r - lastR + 14) & 15);
+    }
+    const uint32_t single = n == 1 ? 1 : 0, kind = returnKind(r, n);
+    const uint32_t median = (uint32_t(kReturnMap[n][r]) << 1) | (gpsChanged ? 1u : 0u);
+
+    const int32_t dx = int32_t(uint32_t(p.x) - uint32_t(last.x));
+    c->dx.compress(xy, c->dxMedian[median].get(), dx, single);
+    c->dxMedian[median].add(dx);
+    const int32_t dy = int32_t(uint32_t(p.y) - uint32_t(last.y));
+    c->dy.compress(xy, c->dyMedian[median].get(), dy, single + xyContext(c->dx.k()));
+    c->dyMedian[median].add(dy);
+
+    const uint32_t level = returnLevel(n, r);
+    c->z.compress(layers_[kZ].enc, c->lastZ[level], p.z, single + zContext((c->dx.k() + c->dy.k()) / 2));
+    c->lastZ[level] = p.z;
+
+    const uint32_t classContext = ((last.classification & 0x1Fu) << 1) + (kind == 3 ? 1 : 0);
+    layers_[kClassification].enc.encodeSymbol(lazyModel(c->classifications[classContext], 256), p.classification);
+    layers_[kClassification].changed |= p.classification != last.classification;
+
+    layers_[kFlags].enc.encodeSymbol(lazyModel(c->flags[last.flags], 64), p.flags);
+    layers_[kFlags].changed |= p.flags != last.flags;
+
+    const uint32_t slot = (kind << 1) | (gpsChanged ? 1u : 0u);
+    c->intensity.compress(layers_[kIntensity].enc, c->lastIntensity[slot], p.intensity, kind);
+    c->lastIntensity[slot] = p.intensity;
+    layers_[kIntensity].changed |= p.intensity != last.intensity;
+
+    if (angleChanged) {
+        c->scanAngle.compress(layers_[kScanAngle].enc, last.scanAngle, p.scanAngle, gpsChanged ? 1 : 0);
+        layers_[kScanAngle].changed = true;
+    }
+
+    layers_[kUserData].enc.encodeSymbol(lazyModel(c->userData[last.userData >> 2], 256), p.userData);
+    layers_[kUserData].changed |= p.userData != last.userData;
+
+    if (sourceChanged) {
+        c->pointSource.compress(layers_[kPointSource].enc, last.pointSource, p.pointSource);
+        layers_[kPointSource].changed = true;
+    }
+    if (gpsChanged) {
+        writeGpsTime(*c, layers_[kGpsTime].enc, p.gpsTime);
+        layers_[kGpsTime].changed = true;
+    }
+    last = p;
+    last.gpsTimeChanged = gpsChanged;
+}
+
+void Point14Encoder::writeGpsTime(Point14Context& c, ArithmeticEncoder& enc, uint64_t time) {
+    for (;;) {
+        const uint32_t s = c.gpsLast;
+        const int64_t diff64 = int64_t(time - c.gpsTimes[s]);
+        const int32_t diff = int32_t(diff64);
+        const bool fits = diff64 == int64_t(diff);
+        const int32_t ref = c.gpsDiffs[s];
+        if (!fits) {
+            // Maybe the time continues another sequence (interleaved flight lines).
+            if (const uint32_t i = nearSequence(c, time)) {
+                enc.encodeSymbol(ref == 0 ? c.gpsZeroDiff : c.gpsMulti, ref == 0 ? i + 1 : kGpsCodeFull + i);
+                c.gpsLast = (s + i) & 3;
+                continue;
+            }
+            enc.encodeSymbol(ref == 0 ? c.gpsZeroDiff : c.gpsMulti, ref == 0 ? 1 : kGpsCodeFull);
+            startSequence(c, enc, time);
+        } else if (ref == 0) {
+            enc.encodeSymbol(c.gpsZeroDiff, 0);
+            c.gps.compress(enc, 0, diff, 0);
+            c.gpsDiffs[s] = diff;
+            c.gpsExtremes[s] = 0;
+        } else {
+            // The multiplier as LASzip rounds it (in float; out of int32's range reads as INT32_MIN
+            // as x86 converts it).
+            const float q = float(diff) / float(ref);
+            const float rounded = q >= 0 ? q + 0.5f : q - 0.5f;
+            const int32_t multi = (rounded >= 2147483648.0f || rounded < -2147483648.0f) ? INT32_MIN : int32_t(rounded);
+            if (multi == 1) {
+                enc.encodeSymbol(c.gpsMulti, 1);
+                c.gps.compress(enc, ref, diff, 1);
+                c.gpsExtremes[s] = 0;
+            } else if (multi > 0 && multi < kGpsMulti) {
+                enc.encodeSymbol(c.gpsMulti, uint32_t(multi));
+                c.gps.compress(enc, wrapMul(multi, ref), diff, multi < 10 ? 2 : 3);
+            } else if (multi >= kGpsMulti) {
+                enc.encodeSymbol(c.gpsMulti, uint32_t(kGpsMulti));
+                c.gps.compress(enc, wrapMul(kGpsMulti, ref), diff, 4);
+                c.countExtreme(diff);
+            } else if (multi < 0 && multi > kGpsMultiMinus) {
+                enc.encodeSymbol(c.gpsMulti, uint32_t(kGpsMulti - multi));
+                c.gps.compress(enc, wrapMul(multi, ref), diff, 5);
+            } else if (multi < 0) {
+                enc.encodeSymbol(c.gpsMulti, uint32_t(kGpsMulti - kGpsMultiMinus));
+                c.gps.compress(enc, wrapMul(kGpsMultiMinus, ref), diff, 6);
+                c.countExtreme(diff);
+            } else {
+                enc.encodeSymbol(c.gpsMulti, 0);
+                c.gps.compress(enc, 0, diff, 7);
+                c.countExtreme(diff);
+            }
+        }
+        c.gpsTimes[c.gpsLast] = time;
+        return;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// RGB (RGB14, and the colour of RGBNIR14) and NIR: byte-wise differences, the green and blue ones
+// predicted from red's.
+
+// The contexts below copy as a new context does: the last value, with fresh models.
+
+struct RgbContext {
+    std::array<uint16_t, 3> last{};
+    SymbolModel used{128};
+    std::vector<SymbolModel> diffs = std::vector<SymbolModel>(6, SymbolModel(256));
+
+    explicit RgbContext(const uint8_t* first) {
+        for (int i = 0; i < 3; ++i) last[i] = load<uint16_t>(first + 2 * i);
+    }
+    RgbContext(const RgbContext& from) : last(from.last) {}
+};
+
+struct NirContext {
+    uint16_t last = 0;
+    SymbolModel used{4};
+    SymbolModel low{256}, high{256};
+
+    explicit NirContext(uint16_t first) : last(first) {}
+    NirContext(const NirContext& from) : last(from.last) {}
+};
+
+/// The per-channel contexts of an item other than POINT14, switched as LASzip 3 switches them,
+/// quirks included (they are the format now; laz-perf does the same). The channel POINT14 hands
+/// down is its new channel on a point where the channel changed and 0 on every other point. On a
+/// switch to a context used before, only the models switch: the point is still predicted from, and
+/// written to, the previous context's last value. A context used for the first time starts from a
+/// copy of the previous one's last value.
+template <typename Context>
+class ChannelContexts {
+public:
+    struct Pick {
+        Context& models;
+        Context& last;
+    };
+
+    void init(uint32_t channel, const Context& first) {
+        current_ = channel;
+        contexts_[channel] = std::make_unique<Context>(first);
+    }
+
+    Pick select(uint32_t channel) {
+        Context* last = contexts_[current_].get();
+        if (channel != current_) {
+            current_ = channel;
+            if (!contexts_[channel]) {
+                contexts_[channel] = std::make_unique<Context>(*last);
+                last = contexts_[channel].get();
+            }
+        }
+        return {*contexts_[current_], *last};
+    }
+
+private:
+    std::array<std::unique_ptr<Context>, 4> contexts_;
+    uint32_t current_ = 0;
+};
+
+void decodeRgb(ArithmeticDecoder& dec, ChannelContexts<RgbContext>::Pick pick, uint8_t* item) {
+    RgbContext& c = pick.models;
+    std::array<uint16_t, 3>& lastRgb = pick.last.last;
+    const uint16_t* last = lastRgb.data();
+    const uint32_t sym = dec.decodeSymbol(c.used);
+    uint16_t rgb[3];
+    auto byte = [&](uint32_t bit, uint32_t model, int32_t predicted, int32_t lastByte) {
+        return (sym & (1u << bit)) ? int32_t(fold8(int32_t(dec.decodeSymbol(c.diffs[model])) + predicted)) : lastByte;
+    };
+    const int32_t rLow = byte(0, 0, last[0] & 255, last[0] & 255);
+    const int32_t rHigh = byte(1, 1, last[0] >> 8, last[0] >> 8);
+    rgb[0] = uint16_t(rLow | (rHigh << 8));
+    if (sym & 64) {
+        int32_t diff = rLow - (last[0] & 255);
+        const int32_t gLow = byte(2, 2, clamp8(diff + (last[1] & 255)), last[1] & 255);
+        diff = (diff + gLow - (last[1] & 255)) / 2;
+        const int32_t bLow = byte(4, 4, clamp8(diff + (last[2] & 255)), last[2] & 255);
+        diff = rHigh - (last[0] >> 8);
+        const int32_t gHigh = byte(3, 3, clamp8(diff + (last[1] >> 8)), last[1] >> 8);
+        diff = (diff + gHigh - (last[1] >> 8)) / 2;
+        const int32_t bHigh = byte(5, 5, clamp8(diff + (last[2] >> 8)), last[2] >> 8);
+        rgb[1] = uint16_t(gLow | (gHigh << 8));
+        rgb[2] = uint16_t(bLow | (bHigh << 8));
+    } else {
+        rgb[1] = rgb[2] = rgb[0];   // grey
+    }
+    for (int i = 0; i < 3; ++i) {
+        lastRgb[i] = rgb[i];
+        store(item + 2 * i, rgb[i]);
+    }
+}
+
+/// Returns whether the colour differs from the context's last.
+bool encodeRgb(ArithmeticEncoder& enc, ChannelContexts<RgbContext>::Pick pick, const uint8_t* item) {
+    RgbContext& c = pick.models;
+    std::array<uint16_t, 3>& lastRgb = pick.last.last;
+    const uint16_t* last = lastRgb.data();
+    uint16_t rgb[3];
+    for (int i = 0; i < 3; ++i) rgb[i] = load<uint16_t>(item + 2 * i);
+    uint32_t sym = 0;
+    for (int i = 0; i < 3; ++i) {
+        if ((last[i] & 0x00FF) != (rgb[i] & 0x00FF)) sym |= 1u << (2 * i);
+        if ((last[i] & 0xFF00) != (rgb[i] & 0xFF00)) sym |= 1u << (2 * i + 1);
+    }
+    if (rgb[0] != rgb[1] || rgb[0] != rgb[2]) sym |= 64;
+    enc.encodeSymbol(c.used, sym);
+    int32_t diffLow = 0, diffHigh = 0;
+    if (sym & 1) {
+        diffLow = (rgb[0] & 255) - (last[0] & 255);
+        enc.encodeSymbol(c.diffs[0], fold8(diffLow));
+    }
+    if (sym & 2) {
+        diffHigh = (rgb[0] >> 8) - (last[0] >> 8);
+        enc.encodeSymbol(c.diffs[1], fold8(diffHigh));
+    }
+    if (sym & 64) {
+        if (sym & 4) enc.encodeSymbol(c.diffs[2], fold8((rgb[1] & 255) - clamp8(diffLow + (last[1] & 255))));
+        if (sym & 16) {
+            diffLow = (diffLow + (rgb[1] & 255) - (last[1] & 255)) / 2;
+            enc.encodeSymbol(c.diffs[4], fold8((rgb[2] & 255) - clamp8(diffLow + (last[2] & 255))));
+        }
+        if (sym & 8) enc.encodeSymbol(c.diffs[3], fold8((rgb[1] >> 8) - clamp8(diffHigh + (last[1] >> 8))));
+        if (sym & 32) {
+            diffHigh = (diffHigh + (rgb[1] >> 8) - (last[1] >> 8)) / 2;
+            enc.encodeSymbol(c.diffs[5], fold8((rgb[2] >> 8) - clamp8(diffHigh + (last[2] >> 8))));
+        }
+    }
+    for (int i = 0; i < 3; ++i) lastRgb[i] = rgb[i];
+    return sym != 0;
+}
+
+void decodeNir(ArithmeticDecoder& dec, ChannelContexts<NirContext>::Pick pick, uint8_t* item) {
+    NirContext& c = pick.models;
+    uint16_t& last = pick.last.last;
+    const uint32_t sym = dec.decodeSymbol(c.used);
+    int32_t low = last & 255, high = last >> 8;
+    if (sym & 1) low = fold8(int32_t(dec.decodeSymbol(c.low)) + low);
+    if (sym & 2) high = fold8(int32_t(dec.decodeSymbol(c.high)) + high);
+    last = uint16_t(low | (high << 8));
+    store(item, last);
+}
+
+bool encodeNir(ArithmeticEncoder& enc, ChannelContexts<NirContext>::Pick pick, const uint8_t* item) {
+    NirContext& c = pick.models;
+    uint16_t& last = pick.last.last;
+    const uint16_t nir = load<uint16_t>(item);
+    const uint32_t sym = ((last & 0x00FF) != (nir & 0x00FF) ? 1u : 0u) | ((last & 0xFF00) != (nir & 0xFF00) ? 2u : 0u);
+    enc.encodeSymbol(c.used, sym);
+    if (sym & 1) enc.encodeSymbol(c.low, fold8((nir & 255) - (last & 255)));
+    if (sym & 2) enc.encodeSymbol(c.high, fold8((nir >> 8) - (last >> 8)));
+    last = nir;
+    return sym != 0;
+}
+
+/// RGB14 (one layer) and RGBNIR14 (two: colour, then NIR).
+class ColourDecoder final : public ItemDecoder {
+public:
+    ColourDecoder(InLayer* layers, bool nir) : layers_(layers), nir_(nir) {}
+
+    void init(const uint8_t* first, uint32_t& channel) override {
+        std::memcpy(first_, first, nir_ ? 8 : 6);
+        rgb_.init(channel, RgbContext(first));
+        if (nir_) nirContexts_.init(channel, NirContext(load<uint16_t>(first + 6)));
+    }
+
+    void decode(uint8_t* item, uint32_t& channel) override {
+        // A skipped or constant layer keeps the first point's value: every context holds it.
+        if (layers_[0].active) decodeRgb(layers_[0].dec, rgb_.select(channel), item);
+        else std::memcpy(item, first_, 6);
+        if (!nir_) return;
+        if (layers_[1].active) decodeNir(layers_[1].dec, nirContexts_.select(channel), item + 6);
+        else std::memcpy(item + 6, first_ + 6, 2);
+    }
+
+private:
+    InLayer* layers_;
+    bool nir_;
+    uint8_t first_[8] = {};
+    ChannelContexts<RgbContext> rgb_;
+    ChannelContexts<NirContext> nirContexts_;
+};
+
+class ColourEncoder final : public ItemEncoder {
+public:
+    ColourEncoder(OutLayer* layers, bool nir) : layers_(layers), nir_(nir) {}
+
+    void init(const uint8_t* first, uint32_t& channel) override {
+        rgb_.init(channel, RgbContext(first));
+        if (nir_) nirContexts_.init(channel, NirContext(load<uint16_t>(first + 6)));
+    }
+
+    void encode(const uint8_t* item, uint32_t& channel) override {
+        layers_[0].changed |= encodeRgb(layers_[0].enc, rgb_.select(channel), item);
+        if (nir_) layers_[1].changed |= encodeNir(layers_[1].enc, nirContexts_.select(channel), item + 6);
+    }
+
+private:
+    OutLayer* layers_;
+    bool nir_;
+    ChannelContexts<RgbContext> rgb_;
+    ChannelContexts<NirContext> nirContexts_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// BYTE14: every extra byte its own layer, coded as its difference from the last.
+
+struct BytesContext {
+    std::vector<uint8_t> last;
+    std::vector<SymbolModel> models;
+    BytesContext(const uint8_t* first, size_t n) : last(first, first + n), models(n, SymbolModel(256)) {}
+    BytesContext(const BytesContext& from) : last(from.last), models(from.last.size(), SymbolModel(256)) {}
+};
+
+class BytesDecoder final : public ItemDecoder {
+public:
+    BytesDecoder(InLayer* layers, size_t n) : layers_(layers), n_(n) {}
+
+    void init(const uint8_t* first, uint32_t& channel) override {
+        first_.assign(first, first + n_);
+        for (size_t i = 0; i < n_; ++i) any_ |= layers_[i].active;
+        if (any_) contexts_.init(channel, BytesContext(first, n_));
+    }
+
+    void decode(uint8_t* item, uint32_t& channel) override {
+        if (!any_) {
+            std::memcpy(item, first_.data(), n_);
+            return;
+        }
+        const auto [c, owner] = contexts_.select(channel);
+        std::vector<uint8_t>& last = owner.last;
+        for (size_t i = 0; i < n_; ++i) {
+            if (layers_[i].active) last[i] = fold8(last[i] + int32_t(layers_[i].dec.decodeSymbol(c.models[i])));
+            item[i] = last[i];
+        }
+    }
+
+private:
+    InLayer* layers_;
+    size_t n_;
+    bool any_ = false;
+    std::vector<uint8_t> first_;
+    ChannelContexts<BytesContext> contexts_;
+};
+
+class BytesEncoder final : public ItemEncoder {
+public:
+    BytesEncoder(OutLayer* layers, size_t n) : layers_(layers), n_(n) {}
+
+    void init(const uint8_t* first, uint32_t& channel) override { contexts_.init(channel, BytesContext(first, n_)); }
+
+    void encode(const uint8_t* item, uint32_t& channel) override {
+        const auto [c, owner] = contexts_.select(channel);
+        std::vector<uint8_t>& last = owner.last;
+        for (size_t i = 0; i < n_; ++i) {
+            const int32_t diff = int32_t(item[i]) - int32_t(last[i]);
+            layers_[i].enc.encodeSymbol(c.models[i], fold8(diff));
+            if (diff != 0) {
+                layers_[i].changed = true;
+                last[i] = item[i];
+            }
+        }
+    }
+
+private:
+    OutLayer* layers_;
+    size_t n_;
+    ChannelContexts<BytesContext> contexts_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// WAVEPACKET14: descriptor index (byte 0), offset u64 (1), packet size u32 (9), return point and
+// x, y, z (float bits, 13..28).
+
+struct WaveContext {
+    uint8_t last[29] = {};
+    int32_t lastOffsetDiff = 0;
+    uint32_t lastOffsetKind = 0;   // 0 same offset, 1 right after the last packet, 2 a 32-bit difference, 3 raw
+    SymbolModel index{256};
+    std::vector<SymbolModel> offsetKinds = std::vector<SymbolModel>(4, SymbolModel(4));
+    IntegerCodec offsetDiff{32}, packetSize{32}, returnPoint{32}, xyz{32, 3};
+
+    explicit WaveContext(const uint8_t* first) { std::memcpy(last, first, 29); }
+    WaveContext(const WaveContext& from) { std::memcpy(last, from.last, 29); }
+};
+
+class WaveDecoder final : public ItemDecoder {
+public:
+    explicit WaveDecoder(InLayer* layer) : layer_(layer) {}
+
+    void init(const uint8_t* first, uint32_t& channel) override {
+        std::memcpy(first_, first, 29);
+        if (layer_->active) contexts_.init(channel, WaveContext(first));
+    }
+
+    void decode(uint8_t* item, uint32_t& channel) override {
+        if (!layer_->active) {
+            std::memcpy(item, first_, 29);
+            return;
+        }
+        ArithmeticDecoder& dec = layer_->dec;
+        const auto [c, owner] = contexts_.select(channel);
+        uint8_t* last = owner.last;
+        item[0] = uint8_t(dec.decodeSymbol(c.index));
+        const uint64_t lastOffset = load<uint64_t>(last + 1);
+        const uint32_t lastSize = load<uint32_t>(last + 9);
+        c.lastOffsetKind = dec.decodeSymbol(c.offsetKinds[c.lastOffsetKind]);
+        uint64_t offset;
+        switch (c.lastOffsetKind) {
+        case 0: offset = lastOffset; break;
+        case 1: offset = lastOffset + lastSize; break;
+        case 2:
+            c.lastOffsetDiff = c.offsetDiff.decompress(dec, c.lastOffsetDiff);
+            offset = lastOffset + uint64_t(int64_t(c.lastOffsetDiff));
+            break;
+        default: offset = dec.readInt64(); break;
+        }
+        store(item + 1, offset);
+        store(item + 9, c.packetSize.decompress(dec, int32_t(lastSize)));
+        store(item + 13, c.returnPoint.decompress(dec, load<int32_t>(last + 13)));
+        for (uint32_t i = 0; i < 3; ++i) store(item + 17 + 4 * i, c.xyz.decompress(dec, load<int32_t>(last + 17 + 4 * i), i));
+        std::memcpy(last, item, 29);
+    }
+
+private:
+    InLayer* layer_;
+    uint8_t first_[29] = {};
+    ChannelContexts<WaveContext> contexts_;
+};
+
+class WaveEncoder final : public ItemEncoder {
+public:
+    explicit WaveEncoder(OutLayer* layer) : layer_(layer) {}
+
+    void init(const uint8_t* first, uint32_t& channel) override { contexts_.init(channel, WaveContext(first)); }
+
+    void encode(const uint8_t* item, uint32_t& channel) override {
+        ArithmeticEncoder& enc = layer_->enc;
+        const auto [c, owner] = contexts_.select(channel);
+        uint8_t* last = owner.last;
+        layer_->changed |= std::memcmp(item, last, 29) != 0;
+        enc.encodeSymbol(c.index, item[0]);
+        const int64_t diff64 = int64_t(load<uint64_t>(item + 1) - load<uint64_t>(last + 1));
+        const int32_t diff = int32_t(diff64);
+        const uint32_t lastSize = load<uint32_t>(last + 9);
+        uint32_t kind = 3;
+        if (diff64 == int64_t(diff)) kind = diff == 0 ? 0 : (diff == int32_t(lastSize) ? 1 : 2);
+        enc.encodeSymbol(c.offsetKinds[c.lastOffsetKind], kind);
+        c.lastOffsetKind = kind;
+        if (kind == 2) {
+            c.offsetDiff.compress(enc, c.lastOffsetDiff, diff);
+            c.lastOffsetDiff = diff;
+        } else if (kind == 3) {
+            enc.writeInt64(load<uint64_t>(item + 1));
+        }
+        c.packetSize.compress(enc, int32_t(lastSize), load<int32_t>(item + 9));
+        c.returnPoint.compress(enc, load<int32_t>(last + 13), load<int32_t>(item + 13));
+        for (uint32_t i = 0; i < 3; ++i) c.xyz.compress(enc, load<int32_t>(last + 17 + 4 * i), load<int32_t>(item + 17 + 4 * i), i);
+        std::memcpy(last, item, 29);
+    }
+
+private:
+    OutLayer* layer_;
+    ChannelContexts<WaveContext> contexts_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// The chunk
+
+struct ItemPlan {
+    ItemType type;
+    const char* name;
+    uint32_t offset;       // in the record
+    uint32_t size;
+    uint32_t firstLayer;   // index of its first layer among the chunk's
+    uint32_t layers;
+};
+
+const char* itemName(ItemType t) {
+    switch (t) {
+    case ItemType::Point14: return "POINT14";
+    case ItemType::Rgb14: return "RGB14";
+    case ItemType::RgbNir14: return "RGBNIR14";
+    case ItemType::WavePacket14: return "WAVEPACKET14";
+    case ItemType::Byte14: return "BYTE14";
+    default: return "?";
+    }
+}
+
+/// Checks the items for a layered chunk and lays out their layers.
+Result<std::vector<ItemPlan>> planItems(const LaszipVlr& vlr) {
+    std::vector<ItemPlan> plan;
+    uint32_t offset = 0, layers = 0;
+    for (size_t i = 0; i < vlr.items.size(); ++i) {
+        const Item& item = vlr.items[i];
+        ItemPlan p{item.type, itemName(item.type), offset, item.size, layers, 0};
+        uint32_t size = 0;
+        switch (item.type) {
+        case ItemType::Point14: p.layers = kPoint14Layers, size = 30; break;
+        case ItemType::Rgb14: p.layers = 1, size = 6; break;
+        case ItemType::RgbNir14: p.layers = 2, size = 8; break;
+        case ItemType::WavePacket14: p.layers = 1, size = 29; break;
+        case ItemType::Byte14: p.layers = item.size, size = item.size; break;
+        default: return fail("item %zu (type %u) cannot be in a layered chunk", i + 1, unsigned(item.type));
+        }
+        if (item.version != 3) return fail("item %s has version %u, layered chunks need version 3", p.name, unsigned(item.version));
+        if (item.size != size || size == 0) return fail("item %s has %u bytes, not %u", p.name, unsigned(item.size), size);
+        if ((item.type == ItemType::Point14) != (i == 0)) return fail("a layered chunk's first item, and only it, must be POINT14");
+        plan.push_back(p);
+        offset += size;
+        layers += p.layers;
+    }
+    if (plan.empty()) return fail("a layered chunk needs items");
+    return plan;
+}
+
+void layerName(const ItemPlan& item, uint32_t layer, char* text, size_t size) {
+    if (item.type == ItemType::Point14) std::snprintf(text, size, "%s", kPoint14LayerNames[layer]);
+    else if (item.type == ItemType::RgbNir14) std::snprintf(text, size, "%s", layer == 0 ? "RGB" : "NIR");
+    else if (item.type == ItemType::Byte14) std::snprintf(text, size, "byte %u", layer);
+    else std::snprintf(text, size, "%s", item.type == ItemType::Rgb14 ? "RGB" : "wavepacket");
+}
+
+/// Whether `fields` asks for the layer (positions are always decoded).
+bool wanted(const ItemPlan& item, uint32_t layer, uint32_t fields) {
+    switch (item.type) {
+    case ItemType::Point14: return layer == kXY || layer == kZ || (fields & kFieldAttributes);
+    case ItemType::Rgb14: return fields & kFieldRgb;
+    case ItemType::RgbNir14: return fields & (layer == 0 ? kFieldRgb : kFieldNir);
+    case ItemType::Byte14: return fields & kFieldExtraBytes;
+    default: return fields & kFieldWaveform;
+    }
+}
+
+}  // namespace
+
+Result<void> decodeLayeredChunk(const LaszipVlr& vlr, std::span<const uint8_t> data, uint64_t count, uint32_t fields, uint8_t* out) {
+    if (count == 0) return {};
+    auto planned = planItems(vlr);
+    if (!planned) return planned.error();
+    const std::vector<ItemPlan>& items = *planned;
+    const size_t recordLength = items.back().offset + items.back().size;
+
+    if (data.size() < recordLength) return fail("the chunk ends inside its first point (%zu of %zu bytes)", data.size(), recordLength);
+    std::memcpy(out, data.data(), recordLength);
+    size_t at = recordLength;
+    // A one-point chunk needs nothing past its first point (LASzip writes the rest all the same).
+    if (count == 1 && at == data.size()) return {};
+    if (data.size() - at < 4) return fail("the chunk ends before its point count");
+    const uint32_t own = load<uint32_t>(data.data() + at);
+    at += 4;
+    if (own != count) return fail("the chunk says it holds %u points, the chunk table %llu", own, static_cast<unsigned long long>(count));
+
+    const uint32_t totalLayers = items.back().firstLayer + items.back().layers;
+    if ((data.size() - at) / 4 < totalLayers) return fail("the chunk ends inside its table of %u layer sizes", totalLayers);
+    std::vector<InLayer> layers(totalLayers);
+    for (InLayer& layer : layers) {
+        layer.size = load<uint32_t>(data.data() + at);
+        at += 4;
+    }
+    for (const ItemPlan& item : items) {
+        for (uint32_t l = 0; l < item.layers; ++l) {
+            InLayer& layer = layers[item.firstLayer + l];
+            if (layer.size > data.size() - at) {
+                char name[32];
+                layerName(item, l, name, sizeof name);
+                return fail("layer '%s' of item %s (%u bytes) runs past the chunk's end (%zu bytes left)", name, item.name, layer.size, data.size() - at);
+            }
+            layer.bytes = data.data() + at;
+            at += layer.size;
+            layer.active = layer.size > 0 && wanted(item, l, fields);
+            if (layer.active) layer.dec.init(layer.bytes, layer.size);
+        }
+    }
+
+    std::vector<std::unique_ptr<ItemDecoder>> decoders;
+    for (const ItemPlan& item : items) {
+        InLayer* first = layers.data() + item.firstLayer;
+        switch (item.type) {
+        case ItemType::Point14: decoders.push_back(std::make_unique<Point14Decoder>(first)); break;
+        case ItemType::Rgb14: decoders.push_back(std::make_unique<ColourDecoder>(first, false)); break;
+        case ItemType::RgbNir14: decoders.push_back(std::make_unique<ColourDecoder>(first, true)); break;
+        case ItemType::Byte14: decoders.push_back(std::make_unique<BytesDecoder>(first, item.size)); break;
+        default: decoders.push_back(std::make_unique<WaveDecoder>(first)); break;
+        }
+    }
+    uint32_t channel = 0;
+    for (size_t i = 0; i < items.size(); ++i) decoders[i]->init(out + items[i].offset, channel);
+
+    for (uint64_t p = 1; p < count; ++p) {
+        uint8_t* record = out + p * recordLength;
+        channel = 0;   // POINT14 sets it only where the channel changes (see ChannelContexts)
+        for (size_t i = 0; i < items.size(); ++i) decoders[i]->decode(record + items[i].offset, channel);
+    }
+
+    // A layer that needed bytes past its end was cut short (the coder's flush leaves a few to spare).
+    for (const ItemPlan& item : items) {
+        for (uint32_t l = 0; l < item.layers; ++l) {
+            const InLayer& layer = layers[item.firstLayer + l];
+            if (layer.active && layer.dec.overrun() > 4) {
+                char name[32];
+                layerName(item, l, name, sizeof name);
+                return fail("layer '%s' of item %s ends early", name, item.name);
+            }
+        }
+    }
+    return {};
+}
+
+Result<void> encodeLayeredChunk(const LaszipVlr& vlr, const uint8_t* records, uint64_t count, std::vector<uint8_t>& out) {
+    if (count == 0) return {};
+    if (count > UINT32_MAX) return fail("a chunk holds at most 2^32 - 1 points, not %llu", static_cast<unsigned long long>(count));
+    auto planned = planItems(vlr);
+    if (!planned) return planned.error();
+    const std::vector<ItemPlan>& items = *planned;
+    const size_t recordLength = items.back().offset + items.back().size;
+    const uint32_t totalLayers = items.back().firstLayer + items.back().layers;
+
+    std::unique_ptr<OutLayer[]> layers(new OutLayer[totalLayers]);
+    std::vector<std::unique_ptr<ItemEncoder>> encoders;
+    for (const ItemPlan& item : items) {
+        OutLayer* first = layers.get() + item.firstLayer;
+        switch (item.type) {
+        case ItemType::Point14:
+            encoders.push_back(std::make_unique<Point14Encoder>(first));
+            // LASzip always writes these two, changing or not.
+            first[kXY].changed = first[kZ].changed = true;
+            break;
+        case ItemType::Rgb14: encoders.push_back(std::make_unique<ColourEncoder>(first, false)); break;
+        case ItemType::RgbNir14: encoders.push_back(std::make_unique<ColourEncoder>(first, true)); break;
+        case ItemType::Byte14: encoders.push_back(std::make_unique<BytesEncoder>(first, item.size)); break;
+        default: encoders.push_back(std::make_unique<WaveEncoder>(first)); break;
+        }
+    }
+    uint32_t channel = 0;
+    for (size_t i = 0; i < items.size(); ++i) encoders[i]->init(records + items[i].offset, channel);
+    for (uint64_t p = 1; p < count; ++p) {
+        const uint8_t* record = records + p * recordLength;
+        channel = 0;
+        for (size_t i = 0; i < items.size(); ++i) encoders[i]->encode(record + items[i].offset, channel);
+    }
+
+    out.insert(out.end(), records, records + recordLength);
+    uint8_t word[4];
+    store(word, uint32_t(count));
+    out.insert(out.end(), word, word + 4);
+    for (uint32_t l = 0; l < totalLayers; ++l) {
+        layers[l].enc.done();
+        store(word, layers[l].changed ? uint32_t(layers[l].bytes.size()) : 0u);
+        out.insert(out.end(), word, word + 4);
+    }
+    for (uint32_t l = 0; l < totalLayers; ++l) {
+        if (layers[l].changed) out.insert(out.end(), layers[l].bytes.begin(), layers[l].bytes.end());
+    }
+    return {};
+}
+
+}  // namespace orbis::points::laz::detail
