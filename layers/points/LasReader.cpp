@@ -459,6 +459,33 @@ Result<void> LasFile::readLaz(uint64_t first, uint64_t count, std::vector<uint8_
     return {};
 }
 
+Result<void> LasFile::readBytes(uint64_t offset, uint64_t bytes, std::vector<uint8_t>& out) const {
+    out.clear();
+    if (offset > bytes_ || bytes > bytes_ - offset)
+        return fail(path_, std::string("bytes ").append(num(offset)).append(" to ").append(num(offset + bytes)).append(" lie outside the file (")
+                               .append(num(bytes_)).append(" bytes)"));
+    out.resize(bytes);
+    if (!preadAll(fd_, out.data(), bytes, offset)) {
+        out.clear();
+        return fail(path_, std::string("cannot read bytes ").append(num(offset)).append(" to ").append(num(offset + bytes))
+                               .append(": the file is shorter than when it was opened (changed while loading?)"));
+    }
+    return {};
+}
+
+Result<void> LasFile::readChunk(uint64_t offset, uint64_t bytes, uint64_t count, std::vector<LasPoint>& out) const {
+    out.clear();
+    const std::string which = std::string("the LAZ chunk of ").append(num(count)).append(" points at byte ").append(num(offset));
+    if (!laz_) return fail(path_, which.substr(4).append(": the file is not LAZ"));
+    if (count > kMaxChunkPoints)
+        return fail(path_, std::string(which).append(": more than the ").append(num(kMaxChunkPoints)).append(" points Orbis decodes at once"));
+    std::vector<uint8_t> data, raw(count * header_.recordLength);
+    if (auto r = readBytes(offset, bytes, data); !r) return r;
+    if (auto r = laz::decodeChunk(laz_->vlr, data, count, laz::kFieldsAll, raw.data()); !r) return fail(path_, std::string(which).append(": ").append(r.message()));
+    decodeRecords(raw.data(), count, out);
+    return {};
+}
+
 void LasFile::setDecodeThreads(unsigned threads) {
     if (laz_) laz_->threads = std::max(1u, threads);
 }
@@ -537,6 +564,14 @@ Result<std::unique_ptr<LasFile>> LasFile::open(const std::string& path) {
     if (lazVlr) {
         if (auto laz = f->openLaz(d, evlrCount > 0 ? evlrStart : 0, payloads); !laz) return laz.error();
     }
+    // COPC: its info VLR comes first (COPC 1.0 §3.1), in a LAZ 1.4 file of layered chunks.
+    if (!h.vlrs.empty() && h.vlrs[0].userId == "copc" && h.vlrs[0].recordId == 1) {
+        if (!f->laz_ || f->laz_->vlr.compressor != 3 || h.versionMinor != 4)
+            return fail(path, "a COPC info VLR in a file that is not LAZ 1.4 with layered chunks");
+        auto info = copc::parseInfo({d + payloads[0], size_t(h.vlrs[0].length)});
+        if (!info) return fail(path, info.message());
+        f->copc_ = *info;
+    }
 
     // The CRS: WKT VLR, then GeoTIFF keys, then a sidecar (a sidecar also stands in for GeoTIFF
     // keys that name no EPSG code).
@@ -590,11 +625,17 @@ Result<void> LasFile::read(uint64_t first, uint64_t count, std::vector<LasPoint>
         return r;
     }
     count = raw.size() / h.recordLength;   // fewer when damaged LAZ chunks were skipped
+    decodeRecords(raw.data(), count, out);
+    return {};
+}
+
+void LasFile::decodeRecords(const uint8_t* raw, uint64_t count, std::vector<LasPoint>& out) const {
+    const LasHeader& h = header_;
     out.resize(count);
     const bool modern = h.pointFormat >= 6;
     const uint8_t f = h.pointFormat;
     for (uint64_t i = 0; i < count; ++i) {
-        const uint8_t* r = raw.data() + i * h.recordLength;
+        const uint8_t* r = raw + i * h.recordLength;
         LasPoint& p = out[i];
         p.position = glm::dvec3(get<int32_t>(r), get<int32_t>(r + 4), get<int32_t>(r + 8)) * h.scale + h.offset;
         p.intensity = get<uint16_t>(r + 12);
@@ -627,7 +668,6 @@ Result<void> LasFile::read(uint64_t first, uint64_t count, std::vector<LasPoint>
             if (h.hasNir()) p.nir = get<uint16_t>(r + rgbAt + 6);
         }
     }
-    return {};
 }
 
 Result<void> LasFile::readPositions(uint64_t first, uint64_t count, std::vector<glm::dvec3>& out) const {

@@ -20,12 +20,14 @@
 // CRS's units (feet, US survey feet) and datum shifts honoured.
 
 #include "base/Result.h"
+#include "layers/points/Copc.h"
 
 #include <glm/glm.hpp>
 
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -109,6 +111,15 @@ public:
     Result<void> readPositions(uint64_t first, uint64_t count, std::vector<glm::dvec3>& out) const;
 
     bool compressed() const { return laz_ != nullptr; }
+    /// COPC: the info VLR when the file is a COPC file (its octree: copc::readHierarchy).
+    const std::optional<copc::Info>& copc() const { return copc_; }
+    /// The file's size when opened.
+    uint64_t fileBytes() const { return bytes_; }
+    /// `bytes` bytes at `offset` into `out` (hierarchy pages); an error when outside the file.
+    Result<void> readBytes(uint64_t offset, uint64_t bytes, std::vector<uint8_t>& out) const;
+    /// Decodes the LAZ chunk of `count` points at [offset, offset + bytes) (a COPC node's) into
+    /// `out`; `fields` (laz::Fields) as for reads. Errors name the file and the chunk.
+    Result<void> readChunk(uint64_t offset, uint64_t bytes, uint64_t count, std::vector<LasPoint>& out) const;
     /// LAZ: threads decoding the chunks of one read (default: the hardware's cores).
     void setDecodeThreads(unsigned threads);
     /// LAZ: leave out the points of damaged chunks (warned once each) instead of failing the read.
@@ -125,12 +136,15 @@ private:
     Result<void> readRaw(uint64_t first, uint64_t count, std::vector<uint8_t>& raw, uint32_t fields) const;
     Result<void> readLaz(uint64_t first, uint64_t count, std::vector<uint8_t>& raw, uint32_t fields) const;
     Result<void> openLaz(const uint8_t* map, uint64_t evlrStart, const std::vector<uint64_t>& payloads);
+    /// Raw records to points.
+    void decodeRecords(const uint8_t* raw, uint64_t count, std::vector<LasPoint>& out) const;
     std::string path_;
     LasHeader header_;
     LasCrs crs_;
     uint64_t bytes_ = 0;   // the file's size when opened
     int fd_ = -1;
     std::unique_ptr<Laz> laz_;
+    std::optional<copc::Info> copc_;
 };
 
 /// A CRS to ECEF (WGS84, metres) through GDAL/OGR.

@@ -5,8 +5,10 @@
 // is stepped over without decoding, and an empty layer means the field never changes in the
 // chunk. Every item keeps up to four contexts, one per scanner channel: a point is predicted from
 // the last point of its own channel, and a channel seen for the first time starts from the point
-// before it. Written from the format's description and checked against files LASzip and PDAL wrote
-// (the contexts, the models and their order decide every bit, so they follow LASzip 3.4 exactly).
+// before it (the other items follow LASzip's quirks there: see ChannelContexts). Written from the
+// format's description; the contexts, the models and their order decide every bit, so they follow
+// LASzip 3.4 exactly. Checked against COPC files (re-encoding gives their chunks byte for byte) and
+// against laz-perf's decoder on chunks with channel switches, RGB, NIR and extra bytes.
 
 #include "layers/points/LazChunks.h"
 
@@ -748,9 +750,9 @@ private:
 
 struct BytesContext {
     std::vector<uint8_t> last;
-    std::vector<SymbolModel> models;
-    BytesContext(const uint8_t* first, size_t n) : last(first, first + n), models(n, SymbolModel(256)) {}
-    BytesContext(const BytesContext& from) : last(from.last), models(from.last.size(), SymbolModel(256)) {}
+    std::vector<std::unique_ptr<SymbolModel>> models;   // made when first used: a skipped byte needs none
+    BytesContext(const uint8_t* first, size_t n) : last(first, first + n), models(n) {}
+    BytesContext(const BytesContext& from) : last(from.last), models(from.last.size()) {}
 };
 
 class BytesDecoder final : public ItemDecoder {
@@ -771,7 +773,7 @@ public:
         const auto [c, owner] = contexts_.select(channel);
         std::vector<uint8_t>& last = owner.last;
         for (size_t i = 0; i < n_; ++i) {
-            if (layers_[i].active) last[i] = fold8(last[i] + int32_t(layers_[i].dec.decodeSymbol(c.models[i])));
+            if (layers_[i].active) last[i] = fold8(last[i] + int32_t(layers_[i].dec.decodeSymbol(lazyModel(c.models[i], 256))));
             item[i] = last[i];
         }
     }
@@ -795,7 +797,7 @@ public:
         std::vector<uint8_t>& last = owner.last;
         for (size_t i = 0; i < n_; ++i) {
             const int32_t diff = int32_t(item[i]) - int32_t(last[i]);
-            layers_[i].enc.encodeSymbol(c.models[i], fold8(diff));
+            layers_[i].enc.encodeSymbol(lazyModel(c.models[i], 256), fold8(diff));
             if (diff != 0) {
                 layers_[i].changed = true;
                 last[i] = item[i];
@@ -1013,6 +1015,10 @@ Result<void> decodeLayeredChunk(const LaszipVlr& vlr, std::span<const uint8_t> d
             if (layer.active) layer.dec.init(layer.bytes, layer.size);
         }
     }
+
+    // Every point has its channel_returns_XY symbols; no stream to read them from is corrupt (and
+    // would leave the decoder uninitialised).
+    if (count > 1 && layers[kXY].size == 0) return fail("layer 'channel_returns_XY' of item POINT14 is empty");
 
     std::vector<std::unique_ptr<ItemDecoder>> decoders;
     for (const ItemPlan& item : items) {

@@ -1,5 +1,7 @@
 #include "layers/points/NodeResidency.h"
 
+#include "base/Log.h"
+
 #include <algorithm>
 
 namespace orbis::points {
@@ -54,6 +56,7 @@ NodeResidency::NodeResidency(std::shared_ptr<const PointStore> store, uint64_t g
     offset_.assign(nodes.size(), -1);
     lastWanted_.assign(nodes.size(), 0);
     reading_.assign(nodes.size(), 0);
+    failed_.assign(nodes.size(), 0);
 }
 
 NodeResidency::~NodeResidency() {
@@ -103,9 +106,13 @@ void NodeResidency::beginFrame(uint64_t frame) {
         reading_[size_t(r.node)] = 0;
         try {
             auto data = r.job.get();
-            if (data) {
-                readyBytes_ += data->size();
-                ready_[r.node] = std::move(*data);
+            if (data.first) {
+                readyBytes_ += data.second.size();
+                ready_[r.node] = std::move(data.second);
+            } else if (store_->streamed()) {
+                // A damaged node of a COPC file: said once, skipped, the others still load.
+                failed_[size_t(r.node)] = 1;
+                if (failures_++ == 0) log::warn("points: ", std::string(data.second.begin(), data.second.end()), " (the node is skipped)");
             } else if (error_.empty()) {
                 error_ = "point cache " + store_->path() + ": cannot read node " + std::to_string(r.node);
             }
@@ -126,15 +133,17 @@ void NodeResidency::want(std::span<const int32_t> nodes, jobs::ThreadPool* pool)
     });
     if (!store_->onDisk() || !pool || !error_.empty()) return;
     for (int32_t n : wanted_) {
-        if (resident(n) || reading_[size_t(n)] || ready_.count(n)) continue;
+        if (resident(n) || reading_[size_t(n)] || failed_[size_t(n)] || ready_.count(n)) continue;
         const uint64_t bytes = store_->nodes()[size_t(n)].bytes();
         if (!reads_.empty() && readBytes_ + bytes > kReadBytesInFlight) break;
         std::shared_ptr<const PointStore> store = store_;
         auto job = pool->submit(0.0, jobs::CancelToken::create(),
-                                [store, n](const jobs::CancelToken&) -> std::optional<std::vector<uint8_t>> {
+                                [store, n](const jobs::CancelToken&) -> std::pair<bool, std::vector<uint8_t>> {
+                                    // The data, or (false) the message of the failure.
                                     std::vector<uint8_t> data;
-                                    if (!store->read(size_t(n), data)) return std::nullopt;
-                                    return data;
+                                    std::string message;
+                                    if (!store->read(size_t(n), data, &message)) return {false, std::vector<uint8_t>(message.begin(), message.end())};
+                                    return {true, std::move(data)};
                                 });
         reads_.push_back({n, bytes, std::move(job)});
         reading_[size_t(n)] = 1;

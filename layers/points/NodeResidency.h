@@ -88,10 +88,11 @@ private:
     struct Read {
         int32_t node;
         uint64_t bytes;
-        jobs::Job<std::optional<std::vector<uint8_t>>> job;
+        jobs::Job<std::pair<bool, std::vector<uint8_t>>> job;   // the data, or false and the message
     };
     std::vector<Read> reads_;
     std::vector<uint8_t> reading_;   // per node: a read is in flight
+    std::vector<uint8_t> failed_;    // per node: its read failed (a streamed store's: skipped from then on)
     uint64_t readBytes_ = 0;
     std::unordered_map<int32_t, std::vector<uint8_t>> ready_;
     uint64_t readyBytes_ = 0;
@@ -99,6 +100,7 @@ private:
     bool waiting_ = false;   // wanted nodes with data left un-uploaded last call (not for lack of room)
     uint64_t residentNodes_ = 0, residentPoints_ = 0, residentBytes_ = 0, evictions_ = 0;
     std::string error_;
+    uint64_t failures_ = 0;   // failed reads of a streamed store
 };
 
 }  // namespace orbis::points

@@ -103,8 +103,25 @@ Result<std::shared_ptr<PointStore>> PointStore::open(const std::string& path, co
     return s;
 }
 
+std::shared_ptr<PointStore> PointStore::streamed(std::vector<StoredNode> nodes, const CloudInfo& info, NodeSource source) {
+    std::shared_ptr<PointStore> s(new PointStore());
+    s->nodes_ = std::move(nodes);
+    s->info_ = info;
+    s->source_ = std::move(source);
+    return s;
+}
+
 bool PointStore::read(size_t node, std::vector<uint8_t>& out, std::string* error) const {
     const StoredNode& n = nodes_[node];
+    if (source_) {
+        auto made = source_(node);
+        if (made && made->size() == n.bytes()) {
+            out = std::move(made).value();
+            return true;
+        }
+        if (error) *error = made ? std::string("node ").append(std::to_string(node)).append(": its data is not the size its table says") : made.message();
+        return false;
+    }
     out.resize(n.bytes());
     if (fd_ < 0) {
         std::memcpy(out.data(), data_.data() + n.offset, out.size());
@@ -127,7 +144,7 @@ bool PointStore::read(size_t node, std::vector<uint8_t>& out, std::string* error
 }
 
 std::span<const uint8_t> PointStore::view(size_t node) const {
-    if (fd_ >= 0) return {};
+    if (fd_ >= 0 || source_) return {};
     const StoredNode& n = nodes_[node];
     return {data_.data() + n.offset, n.bytes()};
 }

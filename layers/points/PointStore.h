@@ -64,6 +64,10 @@ struct CloudInfo {
 
 class PointStore {
 public:
+    /// Makes a node's data on demand (a COPC node decoded): any thread; an error names the node.
+    using NodeSource = std::function<Result<std::vector<uint8_t>>(size_t node)>;
+    /// A cloud whose nodes come from `source` (a COPC file's own octree): nothing is built.
+    static std::shared_ptr<PointStore> streamed(std::vector<StoredNode> nodes, const CloudInfo& info, NodeSource source);
     /// Small clouds: everything in memory.
     static std::shared_ptr<PointStore> inMemory(std::vector<StoredNode> nodes, std::vector<uint8_t> data,
                                                 const CloudInfo& info);
@@ -79,7 +83,10 @@ public:
     const CloudInfo& info() const { return info_; }
     /// The cache file, or empty for a store in memory.
     const std::string& path() const { return path_; }
-    bool onDisk() const { return fd_ >= 0; }
+    /// Nodes are read (from the cache file or the source), not viewed in memory.
+    bool onDisk() const { return fd_ >= 0 || source_ != nullptr; }
+    /// Nodes come from a source (COPC): one that fails is skipped, the others still load.
+    bool streamed() const { return source_ != nullptr; }
     /// Node i's data into `out` (resized). Any thread; false (and a message) on a read error or
     /// when the data fails its checksum: then the corrupted file is removed (once, logged), so
     /// that the next load builds it again.
@@ -99,6 +106,7 @@ private:
     int fd_ = -1;                 // on disk
     uint64_t dataOffset_ = 0;     // where the nodes' data start in the file
     std::string path_;
+    NodeSource source_;
     CloudInfo info_;
     mutable std::once_flag corruptOnce_;
 };
@@ -129,5 +137,10 @@ std::string defaultPointCacheDir();
 /// valid cache file, or building one chunk by chunk in bounded memory). Any thread.
 Result<std::shared_ptr<PointStore>> loadPointStore(const LasFile& file, const PointGeoreference& georef,
                                                    const PointLoadOptions& options);
+/// A COPC file's own octree as a store (CopcStore.cpp): the hierarchy is read, the root node
+/// decoded (for the colours' depth and the intensities' range), and every other node is decoded
+/// when the renderer wants it. Nothing is built or cached. Any thread.
+Result<std::shared_ptr<PointStore>> loadCopcStore(std::shared_ptr<const LasFile> file, const PointGeoreference& georef,
+                                                  const PointLoadOptions& options);
 
 }  // namespace orbis::points

@@ -73,6 +73,8 @@ void PointsLayer::startLoading() {
                                        [file, georef, progress, cancel, o](const jobs::CancelToken&) mutable {
                                            o.cancel = cancel.get();
                                            o.progress = [progress](double f) { progress->store(f); };
+                                           // A COPC file is its own octree: nothing to build.
+                                           if (file->copc()) return points::loadCopcStore(file, georef, o);
                                            return points::loadPointStore(*file, georef, o);
                                        });
 }

@@ -315,6 +315,72 @@ TEST_F(PointsRender, TheOpaqueSceneHidesPointsBehindIt) {
     EXPECT_GT(lit, size_t(bare.width * bare.height / 20));
 }
 
+// The survey written as LAZ (format 7, layered chunks) draws exactly as its LAS twin: the same
+// points, decoded by Orbis's LAZ reader, through the same octree.
+TEST_F(PointsRender, LazCloudDrawsExactlyAsItsLasTwin) {
+    const std::string laz = (outDir() / "mountain-survey.laz").string();
+    ASSERT_TRUE(makeFixture(laz, [&](const std::string& tmp) {
+        auto las = points::LasFile::open(mountainCloud());
+        std::vector<points::LasPoint> pts;
+        if (!las || !(*las)->read(0, UINT64_MAX, pts)) return false;
+        points::LasWriteOptions o;
+        o.versionMinor = 4;
+        o.pointFormat = 7;
+        o.scale = glm::dvec3(1e-7, 1e-7, 1e-3);
+        o.laz = true;
+        writeLas(tmp, pts, o);
+        return !::testing::Test::HasFailure();
+    }));
+    const auto plain = render(scene(surveyView(), mountainLayer() + ", " + pointsLayer(mountainCloud(), R"(, "crs": "EPSG:4979")")));
+    auto s = load(scene(surveyView(), mountainLayer() + ", " + pointsLayer(laz, R"(, "crs": "EPSG:4979")")));
+    ASSERT_TRUE(s);
+    const auto compressed = render(*s);
+    EXPECT_EQ(points(*s).pointsDrawn(), points(*s).store()->info().points);
+    EXPECT_EQ(differing(compressed, plain, 0), 0u);
+    EXPECT_TRUE(matchesGolden(compressed, "points_survey"));   // the LAS cloud's golden
+}
+
+// A COPC file is drawn from its own octree (15 nodes read from the file, nothing built): the
+// picture equals the same points loaded from a LAS file through Orbis's octree build, to within
+// the quantisation of node positions.
+TEST_F(PointsRender, CopcCloudFromItsOwnOctreeDrawsAsTheBuiltOne) {
+    const std::string copc = std::string(ORBIS_SHARED_DATA_DIR) + "/lidar/lone-star.copc.laz";
+    if (!std::filesystem::exists(copc)) GTEST_SKIP() << "../shared/data is absent";
+    const std::string las = (outDir() / "lone-star.las").string();
+    ASSERT_TRUE(makeFixture(las, [&](const std::string& tmp) {
+        auto f = points::LasFile::open(copc);
+        std::vector<points::LasPoint> pts;
+        if (!f || !(*f)->read(0, UINT64_MAX, pts)) return false;
+        points::LasWriteOptions o;
+        o.versionMinor = 4;
+        o.pointFormat = 6;
+        o.scale = (*f)->header().scale;
+        o.offset = (*f)->header().offset;
+        writeLas(tmp, pts, o);
+        return !::testing::Test::HasFailure();
+    }));
+    // Lone Star Geyser, Yellowstone: the file's WKT names a geocentric CRS its coordinates are
+    // not in; they are UTM 12N (NAD83).
+    const char* view = R"({"lon": -110.806744, "lat": 44.418375, "height": 2330, "heading": 30, "pitch": -45, "range": 80})";
+    // Classes (a fixed palette): the colour ramps of intensity and height depend on the ranges
+    // each store measures (the COPC store from its root node, the build from every point).
+    const std::string extra = R"(, "crs": "EPSG:26912", "color": "classification", "edl": true)";
+    auto s = load(scene(view, pointsLayer(copc, extra)));
+    ASSERT_TRUE(s);
+    const auto streamed = render(*s);
+    const auto& store = *points(*s).store();
+    EXPECT_TRUE(store.streamed());
+    EXPECT_EQ(store.nodes().size(), 15u);
+    EXPECT_EQ(store.info().depth, 2u);
+    EXPECT_EQ(points(*s).pointsDrawn(), 518862u);
+    EXPECT_TRUE(matchesGolden(streamed, "points_copc_lone_star"));
+    const auto built = render(scene(view, pointsLayer(las, extra)));
+    EXPECT_LT(differing(streamed, built, 8), size_t(streamed.width * streamed.height / 200));
+    size_t lit = 0;
+    for (size_t i = 0; i < streamed.pixels.size(); i += 4) lit += streamed.pixels[i] > 0 ? 1 : 0;
+    EXPECT_GT(lit, size_t(streamed.width * streamed.height / 20));
+}
+
 TEST_F(PointsRender, BudgetDrawsTheNearestNodesFirst) {
     const std::string layers = pointsLayer(mountainCloud(), R"(, "crs": "EPSG:4979", "pointBudget": 20000)");
     auto s = load(scene(surveyView(), layers));
