@@ -13,6 +13,7 @@ namespace orbis::points {
 bool looksLikeLas(const std::string& path) {
     const std::string ext = std::filesystem::path(path).extension().string();
     if (ext == ".las" || ext == ".laz" || ext == ".LAS" || ext == ".LAZ") return true;
+    if (path.rfind("http://", 0) == 0 || path.rfind("https://", 0) == 0) return false;   // named .las/.laz or not at all
     char magic[4] = {};
     std::ifstream in(path, std::ios::binary);
     return in.read(magic, 4) && std::equal(magic, magic + 4, "LASF");

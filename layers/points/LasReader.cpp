@@ -5,6 +5,7 @@
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
+#include <cpl_vsi.h>
 #include <ogr_spatialref.h>
 
 #include <fcntl.h>
@@ -294,6 +295,23 @@ LasCrs sidecarCrs(const std::string& path) {
     return {};
 }
 
+/// The sidecar of a file on a server: `URL.wkt` or `URL.prj` next to it, when the server has one.
+LasCrs remoteSidecarCrs(const std::string& url) {
+    for (const char* ext : {".wkt", ".prj"}) {
+        const std::string vsi = std::string("/vsicurl/").append(url).append(ext);
+        CPLPushErrorHandler(CPLQuietErrorHandler);
+        VSILFILE* f = VSIFOpenL(vsi.c_str(), "rb");
+        std::string text(kMaxSidecarBytes, '\0');
+        const size_t n = f ? VSIFReadL(text.data(), 1, text.size(), f) : 0;
+        if (f) VSIFCloseL(f);
+        CPLPopErrorHandler();
+        text.resize(n);
+        while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
+        if (!text.empty() && n < kMaxSidecarBytes) return {text, std::string("sidecar ").append(url).append(ext)};
+    }
+    return {};
+}
+
 }  // namespace
 
 bool LasHeader::hasGpsTime() const { return pointFormat == 1 || pointFormat >= 3; }
@@ -404,8 +422,8 @@ Result<void> LasFile::readLaz(uint64_t first, uint64_t count, std::vector<uint8_
         const laz::Chunk& c = z.chunks[lo + i];
         std::vector<uint8_t> bytes(c.bytes);
         auto out = std::make_shared<std::vector<uint8_t>>(c.points * record);
-        if (!preadAll(fd_, bytes.data(), c.bytes, c.offset)) {
-            errors[i] = "cannot be read: the file is shorter than when it was opened (changed while loading?)";
+        if (std::string why; !readAt(bytes.data(), c.bytes, c.offset, why)) {
+            errors[i] = std::string("cannot be read: ").append(why);
             return;
         }
         if (auto r = laz::decodeChunk(z.vlr, bytes, c.points, fields, out->data()); !r) {
@@ -465,10 +483,9 @@ Result<void> LasFile::readBytes(uint64_t offset, uint64_t bytes, std::vector<uin
         return fail(path_, std::string("bytes ").append(num(offset)).append(" to ").append(num(offset + bytes)).append(" lie outside the file (")
                                .append(num(bytes_)).append(" bytes)"));
     out.resize(bytes);
-    if (!preadAll(fd_, out.data(), bytes, offset)) {
+    if (std::string why; !readAt(out.data(), bytes, offset, why)) {
         out.clear();
-        return fail(path_, std::string("cannot read bytes ").append(num(offset)).append(" to ").append(num(offset + bytes))
-                               .append(": the file is shorter than when it was opened (changed while loading?)"));
+        return fail(path_, std::string("cannot read bytes ").append(num(offset)).append(" to ").append(num(offset + bytes)).append(": ").append(why));
     }
     return {};
 }
@@ -503,6 +520,44 @@ std::vector<std::string> LasFile::damagedChunks() const {
     return laz_->damageMessages;
 }
 
+/// A file on a server, through GDAL's /vsicurl/ (range requests, its block cache). GDAL's file
+/// handles are not thread-safe: reads take turns.
+struct LasFile::Remote {
+    std::mutex mutex;
+    VSILFILE* file = nullptr;
+    std::atomic<uint64_t> fetched{0};
+    ~Remote() {
+        if (file) VSIFCloseL(file);
+    }
+};
+
+bool LasFile::readAt(uint8_t* out, uint64_t n, uint64_t offset, std::string& why) const {
+    if (!remote_) {
+        if (preadAll(fd_, out, n, offset)) return true;
+        why = "the file is shorter than when it was opened (changed while loading?)";
+        return false;
+    }
+    std::lock_guard lock(remote_->mutex);
+    CPLErrorReset();
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    const bool ok = VSIFSeekL(remote_->file, offset, SEEK_SET) == 0 && VSIFReadL(out, 1, size_t(n), remote_->file) == n;
+    CPLPopErrorHandler();
+    if (ok) {
+        remote_->fetched += n;
+        return true;
+    }
+    const std::string gdal = CPLGetLastErrorMsg();
+    if (gdal.find("Range downloading not supported") != std::string::npos) {
+        why = "the server does not honour range requests (HTTP Range): Orbis streams clouds from servers that do";
+        return false;
+    }
+    why = std::string("the server did not send bytes ").append(num(offset)).append(" to ").append(num(offset + n))
+              .append(gdal.empty() ? std::string() : std::string(": ").append(gdal));
+    return false;
+}
+
+uint64_t LasFile::bytesFetched() const { return remote_ ? remote_->fetched.load() : 0; }
+
 LasFile::~LasFile() {
     if (fd_ >= 0) close(fd_);
 }
@@ -521,6 +576,7 @@ struct Mapping {
 }  // namespace
 
 Result<std::unique_ptr<LasFile>> LasFile::open(const std::string& path) {
+    if (path.rfind("http://", 0) == 0 || path.rfind("https://", 0) == 0) return openRemote(path);
     std::unique_ptr<LasFile> f(new LasFile());
     f->path_ = path;
     f->fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
@@ -532,7 +588,71 @@ Result<std::unique_ptr<LasFile>> LasFile::open(const std::string& path) {
     void* map = mmap(nullptr, f->bytes_, PROT_READ, MAP_PRIVATE, f->fd_, 0);
     if (map == MAP_FAILED) return fail(path, std::string("cannot map: ").append(std::strerror(errno)));
     const Mapping mapping{static_cast<const uint8_t*>(map), f->bytes_};
-    const uint8_t* d = mapping.data;
+    if (auto parsed = parse(*f, mapping.data); !parsed) return parsed.error();
+    return f;
+}
+
+/// The bytes at a remote file's end that opening may need (the LAZ chunk table, the EVLRs: a
+/// COPC file's hierarchy) are fetched whole; more than this is refused rather than downloaded.
+constexpr uint64_t kMaxRemoteTailBytes = uint64_t(256) << 20;
+
+Result<std::unique_ptr<LasFile>> LasFile::openRemote(const std::string& url) {
+    std::unique_ptr<LasFile> f(new LasFile());
+    f->path_ = url;
+    f->remote_ = std::make_shared<Remote>();
+    // The same bounds the rest of Orbis gives GDAL's HTTP (globe/GdalSetup), where not set.
+    for (const auto& [key, value] : {std::pair{"GDAL_HTTP_TIMEOUT", "30"}, {"GDAL_HTTP_CONNECTTIMEOUT", "10"},
+                                     {"GDAL_HTTP_LOW_SPEED_TIME", "30"}, {"GDAL_HTTP_LOW_SPEED_LIMIT", "1"}})
+        if (!CPLGetConfigOption(key, nullptr)) CPLSetConfigOption(key, value);
+    const std::string vsi = std::string("/vsicurl/").append(url);
+    CPLErrorReset();
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    VSIStatBufL st{};
+    const bool found = VSIStatExL(vsi.c_str(), &st, VSI_STAT_EXISTS_FLAG | VSI_STAT_SIZE_FLAG) == 0;
+    if (found) f->remote_->file = VSIFOpenExL(vsi.c_str(), "rb", TRUE);
+    CPLPopErrorHandler();
+    if (!found || !f->remote_->file)
+        return fail(url, std::string("cannot open: the server has no such file or cannot be reached")
+                             .append(*CPLGetLastErrorMsg() ? std::string(" (").append(CPLGetLastErrorMsg()).append(")") : std::string()));
+    f->bytes_ = uint64_t(st.st_size);
+    if (f->bytes_ < 227) return fail(url, std::string("not a LAS file (").append(num(f->bytes_)).append(" bytes, shorter than a LAS header)"));
+    // A view of the whole file in which only the head and the tail are fetched: the parsing reads
+    // nothing else (untouched pages of the anonymous mapping cost nothing).
+    void* map = mmap(nullptr, f->bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    if (map == MAP_FAILED) return fail(url, std::string("cannot reserve a view of ").append(num(f->bytes_)).append(" bytes: ").append(std::strerror(errno)));
+    const Mapping mapping{static_cast<const uint8_t*>(map), f->bytes_};
+    uint8_t* d = static_cast<uint8_t*>(map);
+    const auto fetch = [&](uint64_t from, uint64_t to) -> Result<void> {
+        to = std::min(to, f->bytes_);
+        if (from >= to) return {};
+        if (std::string why; !f->readAt(d + from, to - from, from, why)) return fail(url, why);
+        return {};
+    };
+    if (auto r = fetch(0, 375); !r) return r.error();
+    const uint64_t pointOffset = get<uint32_t>(d + 96);
+    if (auto r = fetch(375, pointOffset + 8); !r) return r.error();
+    uint64_t tail = f->bytes_;
+    if (d[25] >= 4 && get<uint32_t>(d + 243) > 0) tail = std::min<uint64_t>(tail, get<uint64_t>(d + 235));   // EVLRs
+    if (d[104] & 0xC0) {   // LAZ: the chunk table (or, when written last, the offset of it)
+        const int64_t table = pointOffset + 8 <= f->bytes_ ? get<int64_t>(d + pointOffset) : 0;
+        if (table == -1) tail = std::min(tail, f->bytes_ - 8);
+        else if (table > int64_t(pointOffset) && uint64_t(table) < tail) tail = uint64_t(table);
+    }
+    if (f->bytes_ - tail > kMaxRemoteTailBytes)
+        return fail(url, std::string("the tables at the file's end are ").append(num((f->bytes_ - tail) >> 20)).append(" MB, more than Orbis fetches to open a file"));
+    if (auto r = fetch(tail, f->bytes_); !r) return r.error();
+    if (d[104] & 0xC0 && pointOffset + 8 <= f->bytes_ && get<int64_t>(d + pointOffset) == -1) {
+        const int64_t table = get<int64_t>(d + f->bytes_ - 8);
+        if (table > int64_t(pointOffset) && uint64_t(table) < tail && tail - uint64_t(table) <= kMaxRemoteTailBytes)
+            if (auto r = fetch(uint64_t(table), tail); !r) return r.error();
+    }
+    if (auto parsed = parse(*f, d); !parsed) return parsed.error();
+    return f;
+}
+
+Result<void> LasFile::parse(LasFile& file, const uint8_t* d) {
+    LasFile* f = &file;
+    const std::string& path = f->path_;
     if (std::memcmp(d, "LASF", 4) != 0) return fail(path, "not a LAS file (no \"LASF\" signature)");
 
     LasHeader& h = f->header_;
@@ -588,9 +708,9 @@ Result<std::unique_ptr<LasFile>> LasFile::open(const std::string& path) {
                                          text ? h.vlrs[t].length : 0));
     }
     if (f->crs_.wkt.empty())
-        if (LasCrs side = sidecarCrs(path); !side.wkt.empty()) f->crs_ = std::move(side);
+        if (LasCrs side = f->remote_ ? remoteSidecarCrs(path) : sidecarCrs(path); !side.wkt.empty()) f->crs_ = std::move(side);
     if (f->crs_.wkt.empty() && f->crs_.source.empty()) f->crs_.source = "none";
-    return f;
+    return {};
 }
 
 Result<void> LasFile::readRaw(uint64_t first, uint64_t count, std::vector<uint8_t>& raw, uint32_t fields) const {
@@ -598,6 +718,12 @@ Result<void> LasFile::readRaw(uint64_t first, uint64_t count, std::vector<uint8_
     const LasHeader& h = header_;
     raw.resize(count * h.recordLength);
     uint64_t offset = h.pointOffset + first * h.recordLength, left = raw.size();
+    if (remote_) {
+        std::string why;
+        if (readAt(raw.data(), left, offset, why)) return {};
+        raw.clear();
+        return fail(path_, std::string("cannot read points ").append(num(first)).append(" to ").append(num(first + count)).append(": ").append(why));
+    }
     uint8_t* p = raw.data();
     while (left > 0) {
         const ssize_t r = ::pread(fd_, p, left, off_t(offset));

@@ -87,9 +87,11 @@ struct LasCrs {
 
 class LasFile {
 public:
-    /// Opens and validates `path`. Errors name the file and the problem (not a LAS file,
-    /// LAZ not supported yet, unknown point format, record length too short for the format,
-    /// point count or offsets past the end of the file, ...).
+    /// Opens and validates `path`: a file, or an http(s):// URL read with range requests (through
+    /// GDAL's /vsicurl/: the header, VLRs and the tables at the file's end when it opens, then
+    /// the points or nodes asked for). Errors name the file and the problem (not a LAS file,
+    /// unknown point format, record length too short for the format, point count or offsets past
+    /// the end of the file, a server that answers 404 or does not honour ranges, ...).
     static Result<std::unique_ptr<LasFile>> open(const std::string& path);
     ~LasFile();
     LasFile(const LasFile&) = delete;
@@ -115,6 +117,9 @@ public:
     const std::optional<copc::Info>& copc() const { return copc_; }
     /// The file's size when opened.
     uint64_t fileBytes() const { return bytes_; }
+    /// Read from a server (an http(s):// URL), and the bytes asked of it so far.
+    bool remote() const { return remote_ != nullptr; }
+    uint64_t bytesFetched() const;
     /// `bytes` bytes at `offset` into `out` (hierarchy pages); an error when outside the file.
     Result<void> readBytes(uint64_t offset, uint64_t bytes, std::vector<uint8_t>& out) const;
     /// Decodes the LAZ chunk of `count` points at [offset, offset + bytes) (a COPC node's) into
@@ -131,6 +136,12 @@ public:
 private:
     LasFile() = default;
     struct Laz;
+    struct Remote;
+    /// Exactly `n` bytes at `offset` from the file or the server; false with the reason.
+    bool readAt(uint8_t* out, uint64_t n, uint64_t offset, std::string& why) const;
+    static Result<std::unique_ptr<LasFile>> openRemote(const std::string& url);
+    /// Parses the header and VLRs from `d` (the whole file, or a view with its head and tail).
+    static Result<void> parse(LasFile& f, const uint8_t* d);
     /// The raw records of points [first, first + count) into `raw`; `fields` (laz::Fields) says
     /// which a LAZ read must decode.
     Result<void> readRaw(uint64_t first, uint64_t count, std::vector<uint8_t>& raw, uint32_t fields) const;
@@ -144,6 +155,7 @@ private:
     uint64_t bytes_ = 0;   // the file's size when opened
     int fd_ = -1;
     std::unique_ptr<Laz> laz_;
+    std::shared_ptr<Remote> remote_;
     std::optional<copc::Info> copc_;
 };
 

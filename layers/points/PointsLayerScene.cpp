@@ -52,7 +52,8 @@ Result<std::unique_ptr<scene::Layer>> PointsLayer::create(const scene::LayerDesc
     if (auto done = r.finish(); !done) return done.error();
 
     const std::string where = scene.file.string() + ": " + desc.jsonPath;
-    auto file = points::LasFile::open(scene.resolve(*path).string());
+    const bool url = path->rfind("http://", 0) == 0 || path->rfind("https://", 0) == 0;
+    auto file = points::LasFile::open(url ? *path : scene.resolve(*path).string());
     if (!file) return makeError(where + ": " + file.message());
     // A LAZ chunk that is damaged costs its points, not the cloud (named in the log and the status).
     (*file)->setSkipDamagedChunks(true);

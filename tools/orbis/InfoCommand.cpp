@@ -35,7 +35,8 @@ const char* kHelp =
     "raw MISB ST 0601 KLV streams (.bin, .klv, or a file that starts with the ST 0601 key) and pose\n"
     "CSV sidecars (.csv), printed as JSON lines, one per packet or row; videos (.ts, .mpg, .mp4, ...):\n"
     "a line on the video stream, then one per ST 0601 packet of its KLV stream with its time.\n"
-    "With an http(s):// URL (or WMS:/WMTS:/WFS: before it): what the OGC server's WMS, WMTS and WFS\n"
+    "With an http(s):// URL of a .las/.laz file: the point cloud, read with range requests. With any\n"
+    "other http(s):// URL (or WMS:/WMTS:/WFS: before it): what the OGC server's WMS, WMTS and WFS\n"
     "offer, from their GetCapabilities: layers and feature types with titles, styles, CRSs, WGS84\n"
     "extents, time; WMTS layers also their formats and tile matrix sets.\n";
 
@@ -214,6 +215,9 @@ int infoCommand(const std::vector<std::string>& argv) {
     if (args.positional().size() > 1) throw UsageError{"info expects at most one FILE"};
     if (args.positional().empty()) return deviceInfo(args);
     const std::string file = args.positional()[0];
+    // A point cloud on a web server (read with range requests).
+    if ((file.rfind("http://", 0) == 0 || file.rfind("https://", 0) == 0) && points::looksLikeLas(file.substr(0, file.find('?'))))
+        return printDescription(points::describeLasJson(file));
     // An OGC server: what its WMS, WMTS and WFS offer (GetCapabilities).
     for (const char* prefix : {"http://", "https://", "WMS:http", "WMTS:http", "WFS:http"})
         if (file.rfind(prefix, 0) == 0) return printDescription(globe::describeOgcServices(file));
