@@ -15,13 +15,13 @@ sizes="${SIZES:-1 5 20}" frames="${FRAMES:-10}" size="${SIZE:-1920x1080}" big="$
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp/orbis-xdg}"
 dev=(); [ -n "${DEVICE:-}" ] && dev=(--device "$DEVICE")
 mkdir -p "$data" "$XDG_RUNTIME_DIR"
-scene() {   # scene FILE.las BUDGET -> a scene file next to it
-    local las="$1" budget="$2" out="${1%.las}-$2.json"
+scene() {   # scene FILE.las BUDGET [ORDER] -> a scene file next to it
+    local las="$1" budget="$2" order="${3:-morton}" out="${1%.las}-$2-${3:-morton}.json"
     cat > "$out" <<JSON
 {"name": "Synthetic survey ($(basename "$las"))",
  "viewpoint": {"lon": 9.0, "lat": 46.0087, "height": 820, "heading": 20, "pitch": -55, "range": 1900},
  "fovDeg": 45, "time": {"start": "2026-06-21T09:00:00Z", "end": "2026-06-21T09:00:00Z"}, "background": [0, 0, 0],
- "layers": [{"type": "points", "name": "Survey", "path": "$las", "pointBudget": $budget, "gpuMemoryMB": 1536}]}
+ "layers": [{"type": "points", "name": "Survey", "path": "$las", "pointBudget": $budget, "gpuMemoryMB": 1536, "pointOrder": "$order"}]}
 JSON
     echo "$out"
 }
@@ -31,6 +31,18 @@ for m in $sizes; do
     echo "== $m M points, compute (0) vs point list (1), $size"
     "$build/bin/orbis" bench "${dev[@]}" "$(scene "$las" 0)" --size "$size" --frames "$frames" --warmup 2 --sweep renderer=0,1
 done
+# Points in a node in Z order against the octree's random key order (issue 26), every point
+# drawn, runs alternating so that the machine's drift hits both alike.
+for m in $sizes; do
+    las="$data/survey-${m}m.las"
+    for run in 1 2; do
+        for order in random morton; do
+            echo "== $m M points, $order order, run $run, $size"
+            "$build/bin/orbis" bench "${dev[@]}" "$(scene "$las" 0 "$order")" --size "$size" --frames "$frames" --warmup 2 | grep -E "frame|gpu|points" | head -4
+        done
+    done
+done
+[ "${ORDER_ONLY:-0}" = 1 ] && exit 0
 las="$data/survey-5m.las"
 [ -f "$las" ] || "$build/bin/orbis-make-las" --points 5000000 --out "$las"
 echo "== point budget on 5 M points (reference: all), $size"

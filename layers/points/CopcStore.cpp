@@ -144,6 +144,7 @@ Result<std::shared_ptr<PointStore>> loadCopcStore(std::shared_ptr<const LasFile>
     packing.heightMin = cloud.heightMin;
     packing.heightSpan = cloud.heightMax > cloud.heightMin ? cloud.heightMax - cloud.heightMin : 1.0;
     packing.tolerance = tolerance;
+    packing.morton = options.mortonOrder;
 
     // A node's data: its chunk decoded, placed, and encoded as the cache would hold it.
     const bool rgb = cloud.rgb != 0, rgb16 = cloud.rgb16 != 0;

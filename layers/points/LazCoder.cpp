@@ -1,5 +1,6 @@
 #include "layers/points/LazCoder.h"
 
+#include <algorithm>
 #include <cassert>
 
 namespace orbis::points::laz {
@@ -118,7 +119,8 @@ uint32_t ArithmeticDecoder::decodeSymbol(SymbolModel& m) {
     uint32_t symbol, x, y = length_;
     if (!m.decoderTable_.empty()) {
         const uint32_t dv = value_ / (length_ >>= kSymbolLengthShift);
-        const uint32_t t = dv >> m.tableShift_;
+        // A corrupt stream can leave value_ past length_: keep the lookup inside the table.
+        const uint32_t t = std::min(dv >> m.tableShift_, m.tableSize_);
         symbol = m.decoderTable_[t];
         uint32_t n = m.decoderTable_[t + 1] + 1;
         while (n > symbol + 1) {   // bisection inside the table's bracket
@@ -324,8 +326,8 @@ int32_t IntegerCodec::decompress(ArithmeticDecoder& dec, int32_t prediction, uin
     if (context >= contexts_) context = contexts_ - 1;
     int32_t real = wrapAdd(prediction, readCorrector(dec, bitsModels_[context]));
     if (corrRange_ != 0) {
-        if (real < 0) real = wrapAdd(real, int32_t(corrRange_));
-        else if (uint32_t(real) >= corrRange_) real = wrapAdd(real, -int32_t(corrRange_));
+        if (real < 0) real = int32_t(uint32_t(real) + corrRange_);
+        else if (uint32_t(real) >= corrRange_) real = int32_t(uint32_t(real) - corrRange_);
     }
     return real;
 }
@@ -358,10 +360,10 @@ void IntegerCodec::writeCorrector(ArithmeticEncoder& enc, int32_t c, SymbolModel
 
 void IntegerCodec::compress(ArithmeticEncoder& enc, int32_t prediction, int32_t real, uint32_t context) {
     if (context >= contexts_) context = contexts_ - 1;
-    int32_t corr = wrapAdd(real, -prediction);
+    int32_t corr = int32_t(uint32_t(real) - uint32_t(prediction));
     if (corrRange_ != 0) {
-        if (corr < corrMin_) corr = wrapAdd(corr, int32_t(corrRange_));
-        else if (corr > corrMax_) corr = wrapAdd(corr, -int32_t(corrRange_));
+        if (corr < corrMin_) corr = int32_t(uint32_t(corr) + corrRange_);
+        else if (corr > corrMax_) corr = int32_t(uint32_t(corr) - corrRange_);
     }
     writeCorrector(enc, corr, bitsModels_[context]);
 }

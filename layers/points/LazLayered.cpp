@@ -166,6 +166,8 @@ struct Point14Context {
         gpsTimes[0] = from.gpsTime;
     }
 
+    /// The context of the change mask: the last point first (1) and/or last (2) of its pulse (the
+    /// reverse of returnKind's numbering, as LASzip has it), + 4 if its GPS time changed.
     uint32_t lastReturnKind() const {
         return (last.returnNumber == 1 ? 1u : 0u) + (last.returnNumber >= last.returnCount ? 2u : 0u) + (last.gpsTimeChanged ? 4u : 0u);
     }
@@ -416,6 +418,8 @@ void Point14Encoder::encode(const uint8_t* item, uint32_t& channel) {
     const Point14* ref = &c->last;
     if (p.channel != current_ && contexts_[p.channel]) ref = &contexts_[p.channel]->last;
     const bool sourceChanged = p.pointSource != ref->pointSource;
+    // Bitwise: LASzip compares the doubles, which drops a -0.0 after a 0.0 (and codes a repeated NaN
+    // as a change); this differs from it only there, and any decoder reads both.
     const bool gpsChanged = p.gpsTime != ref->gpsTime;
     const bool angleChanged = p.scanAngle != ref->scanAngle;
     const uint32_t lastN = ref->returnCount, lastR = ref->returnNumber;

@@ -297,7 +297,7 @@ private:
         if (!stats) return stats.error();
         if (auto r = spillWriter.flush(); !r) return r;
         stats_ = std::move(stats).value();
-        packing_ = packingFor(stats_, tolerance_);
+        packing_ = packingFor(stats_, tolerance_, ctx_.options.mortonOrder);
         n_ = stats_.kept;
         root_ = n_ ? Cube::around(stats_.lo, stats_.hi) : Cube{};
         levels_ = std::min(kGridLevels, tree_.maxLevel);

@@ -113,6 +113,9 @@ private:
 
 struct PointLoadOptions {
     PointOctree::Options octree;
+    /// A node's points in Z order of their positions (neighbours in memory are neighbours on
+    /// screen: the splat's writes stay together); else in the octree's random key order.
+    bool mortonOrder = true;
     uint64_t pointsPerRead = 1u << 20;   ///< points decoded at a time
     /// Clouds up to this many points are built in memory (about 70 bytes a point while building,
     /// 16-20 bytes kept); larger ones go through the cache file.

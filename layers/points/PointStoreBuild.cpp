@@ -20,11 +20,43 @@ namespace fs = std::filesystem;
 
 namespace store {
 
+namespace {
+
+/// Spreads the 21 low bits of v to every third bit.
+uint64_t spread3(uint64_t v) {
+    v &= 0x1FFFFF;
+    v = (v | v << 32) & 0x1F00000000FFFFull;
+    v = (v | v << 16) & 0x1F0000FF0000FFull;
+    v = (v | v << 8) & 0x100F00F00F00F00Full;
+    v = (v | v << 4) & 0x10C30C30C30C30C3ull;
+    v = (v | v << 2) & 0x1249249249249249ull;
+    return v;
+}
+
+}  // namespace
+
+uint64_t mortonCode(glm::uvec3 q) { return spread3(q.x) | spread3(q.y) << 1 | spread3(q.z) << 2; }
+
 double encodeNode(std::span<const PointRecord> points, std::span<const uint32_t> indices, const Cube& cube,
                   const Packing& packing, std::vector<uint8_t>& out) {
     const size_t n = indices.size();
     const double step = quantisationStep(cube.halfSize);
     const bool quantised = step <= packing.tolerance;
+    // Z order: the points of one workgroup land in one small part of the screen, so the splat's
+    // 64-bit atomics hit the same cache lines instead of scattering over the frame.
+    std::vector<uint32_t> sorted;
+    if (packing.morton && n > 1) {
+        std::vector<std::pair<uint64_t, uint32_t>> keyed(n);
+        for (size_t k = 0; k < n; ++k) {
+            const glm::dvec3 q = glm::clamp(glm::round((points[indices[k]].ecef - cube.centre) / step) + double(kQuantisedCentre), 0.0,
+                                            double((1u << kQuantisedBits) - 1));
+            keyed[k] = {mortonCode(glm::uvec3(q)), indices[k]};
+        }
+        std::sort(keyed.begin(), keyed.end());
+        sorted.resize(n);
+        for (size_t k = 0; k < n; ++k) sorted[k] = keyed[k].second;
+        indices = sorted;
+    }
     const size_t at = out.size();
     out.resize(at + n * (quantised ? 16 : 20));
     uint8_t* attrs = out.data() + at;
@@ -114,11 +146,12 @@ Result<Statistics> readRecords(const LasFile& file, const PointGeoreference& geo
     return s;
 }
 
-store::Packing packingFor(const Statistics& s, double tolerance) {
+store::Packing packingFor(const Statistics& s, double tolerance, bool morton) {
     store::Packing p;
     p.heightMin = s.info.heightMin;
     p.heightSpan = s.info.heightMax > s.info.heightMin ? s.info.heightMax - s.info.heightMin : 1.0;
     p.tolerance = tolerance;
+    p.morton = morton;
     return p;
 }
 
@@ -163,7 +196,7 @@ Result<std::shared_ptr<PointStore>> buildInMemory(const LasFile& file, const Poi
     const PointOctree tree = PointOctree::build(records, options.octree);
     std::vector<StoredNode> nodes;
     std::vector<uint8_t> data;
-    appendTree(tree, records, packingFor(*stats, tolerance), -1, 0, nodes, data);
+    appendTree(tree, records, packingFor(*stats, tolerance, options.mortonOrder), -1, 0, nodes, data);
     stats->info.depth = tree.depth();
     stats->info.tolerance = float(tolerance);
     if (options.progress) options.progress(1.0);
@@ -202,8 +235,9 @@ Result<std::shared_ptr<PointStore>> loadPointStore(const LasFile& file, const Po
     const auto size = fs::file_size(las, ec);
     const auto modified = fs::last_write_time(las, ec).time_since_epoch().count();
     char opts[160];
-    std::snprintf(opts, sizeof opts, "capacity %u, maxLevel %u, seed %llu, tolerance %.9g m", options.octree.capacity,
-                  options.octree.maxLevel, static_cast<unsigned long long>(options.octree.seed), tolerance);
+    std::snprintf(opts, sizeof opts, "capacity %u, maxLevel %u, seed %llu, tolerance %.9g m, order %s", options.octree.capacity,
+                  options.octree.maxLevel, static_cast<unsigned long long>(options.octree.seed), tolerance,
+                  options.mortonOrder ? "morton" : "key");
     const std::string key = std::string("Orbis point cache\nfile: ")
                                 .append(las.string())
                                 .append("\nsize: ")

@@ -39,7 +39,7 @@ Result<Statistics> readRecords(const LasFile& file, const PointGeoreference& geo
                                double progressTo, const RecordSink& sink);
 
 /// How node data is packed for this cloud: its height ramp and quantisation tolerance.
-store::Packing packingFor(const Statistics& s, double tolerance);
+store::Packing packingFor(const Statistics& s, double tolerance, bool morton);
 
 /// Appends the nodes of `tree` (built over `points`) to `nodes`, their data to `data` (its
 /// size so far is where they start); the subtree's root gets `parent`. Returns the root's index.

@@ -58,10 +58,13 @@ bool preadAll(int fd, void* out, uint64_t bytes, uint64_t offset);
 struct Packing {
     double heightMin = 0.0, heightSpan = 1.0;
     double tolerance = 0.001;   // a node is quantised when its step is at most this (m)
+    bool morton = true;         // points in Z order of their grid cells (else as given)
 };
 
 /// Appends the data of a node with the given cube, holding points[indices[k]], to `out`, and
 /// returns the node's step (0: floats).
+/// The Z-order (Morton) code of a 21-bit grid cell: x, y, z bits interleaved, x lowest.
+uint64_t mortonCode(glm::uvec3 q);
 double encodeNode(std::span<const PointRecord> points, std::span<const uint32_t> indices, const Cube& cube,
                   const Packing& packing, std::vector<uint8_t>& out);
 

@@ -69,6 +69,7 @@ void PointsLayer::startLoading() {
     // About 90 bytes a point while a chunk (or a whole small cloud) is built.
     o.inMemoryPoints = o.chunkPoints = std::max<uint64_t>(settings_.cpuMemoryBytes / 96, 1);
     o.cacheFolder = settings_.cacheFolder;
+    o.mortonOrder = settings_.mortonOrder;
     loadJob_ = services_.jobs().submit(0.0, jobs::CancelToken::create(),
                                        [file, georef, progress, cancel, o](const jobs::CancelToken&) mutable {
                                            o.cancel = cancel.get();

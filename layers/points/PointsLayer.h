@@ -65,6 +65,7 @@ struct PointsSettings {
     uint64_t gpuPageBytes = 0;   ///< what a shader sees at once; 0: the device's maxStorageBufferRange
     uint64_t cpuMemoryBytes = uint64_t(512) << 20;   ///< the octree build's working memory
     std::string cacheFolder;                         ///< empty: next to the file, else the user's cache
+    bool mortonOrder = true;                         ///< points in a node along a Z-order curve (else in key order)
     enum class Renderer { Compute, PointList } renderer = Renderer::Compute;
 };
 

@@ -42,6 +42,11 @@ Result<std::unique_ptr<scene::Layer>> PointsLayer::create(const scene::LayerDesc
     s.gpuPageBytes = uint64_t(r.number("gpuPageMB", 0.0, 0.0, 65536.0).value_or(0.0) * 1048576.0);
     if (s.gpuPageBytes > 0 && s.gpuPageBytes < 65536) r.fail("gpuPageMB", "must be 0 (the device's limit) or at least 0.0625 (64 KB)");
     s.cpuMemoryBytes = uint64_t(r.number("cpuMemoryMB", 512.0, 1.0, 1048576.0).value_or(512.0) * 1048576.0);
+    if (auto order = r.string("pointOrder", std::string("morton"))) {
+        if (*order == "morton") s.mortonOrder = true;
+        else if (*order == "random") s.mortonOrder = false;
+        else r.fail("pointOrder", "expected \"morton\" or \"random\"");
+    }
     if (auto folder = r.string("cacheFolder", std::string()); folder && !folder->empty())
         s.cacheFolder = scene.resolve(*folder).string();
     if (auto renderer = r.string("renderer", std::string("compute"))) {

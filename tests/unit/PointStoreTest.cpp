@@ -188,6 +188,7 @@ TEST(PointStore, LargeNodesKeepFloatPositions) {
     const uint32_t idx[3] = {0, 1, 2};
     store::Packing packing;
     packing.tolerance = 0.0005;
+    packing.morton = false;   // the points in the order given (Z order: the next test)
     for (double half : {50000.0, 5.0}) {
         Cube cube{pts[0].ecef, half, 0};
         std::vector<uint8_t> data;
@@ -199,6 +200,54 @@ TEST(PointStore, LargeNodesKeepFloatPositions) {
         for (uint32_t k = 0; k < n.count; ++k)
             EXPECT_LT(glm::length(PointStore::position(n, data, k) - pts[k].ecef), half < 10.0 ? 1e-5 : 1e-3);
     }
+}
+
+// In Z order a node holds the same points, sorted by the Morton code of their grid cells: points
+// next to each other in memory are next to each other in space.
+TEST(PointStore, MortonOrderKeepsEveryPointAndSortsThem) {
+    std::vector<PointRecord> pts(2000);
+    uint32_t seed = 3;
+    const auto next = [&] { return double((seed = seed * 1664525u + 1013904223u) >> 8) / double(1u << 24); };
+    const Cube cube{{6378137.0, 0.0, 0.0}, 8.0, 0};
+    std::vector<uint32_t> idx(pts.size());
+    for (size_t k = 0; k < pts.size(); ++k) {
+        pts[k].ecef = cube.centre + (glm::dvec3(next(), next(), next()) * 2.0 - 1.0) * 7.9;
+        pts[k].intensity = uint32_t(k);
+        idx[k] = uint32_t(k);
+    }
+    store::Packing packing;
+    packing.tolerance = 0.001;
+    std::vector<uint8_t> data;
+    StoredNode n;
+    n.centre = cube.centre, n.halfSize = cube.halfSize, n.count = uint32_t(pts.size());
+    n.step = store::encodeNode(pts, idx, cube, packing, data);
+    ASSERT_GT(n.step, 0.0);
+    std::vector<bool> seen(pts.size(), false);
+    uint64_t last = 0;
+    double travelled = 0.0, randomTravel = 0.0;
+    for (uint32_t k = 0; k < n.count; ++k) {
+        uint32_t a[2];
+        std::memcpy(a, data.data() + 8 * size_t(k), sizeof a);
+        const uint32_t i = a[1] & 0xFFFFu;   // the intensity says which point it is
+        ASSERT_LT(i, pts.size());
+        EXPECT_FALSE(seen[i]);
+        seen[i] = true;
+        const glm::dvec3 p = PointStore::position(n, data, k);
+        EXPECT_LT(glm::length(p - pts[i].ecef), 1e-3);
+        const uint64_t code = store::mortonCode(glm::uvec3(glm::round((p - cube.centre) / n.step) + double(store::kQuantisedCentre)));
+        EXPECT_GE(code, last);
+        last = code;
+        if (k > 0) {
+            travelled += glm::length(p - PointStore::position(n, data, k - 1));
+            randomTravel += glm::length(pts[k].ecef - pts[k - 1].ecef);
+        }
+    }
+    // Walking the node in memory order stays local: far less distance than the random order.
+    EXPECT_LT(travelled, randomTravel / 5.0);
+    EXPECT_EQ(store::mortonCode({1, 0, 0}), 1u);
+    EXPECT_EQ(store::mortonCode({0, 1, 0}), 2u);
+    EXPECT_EQ(store::mortonCode({0, 0, 1}), 4u);
+    EXPECT_EQ(store::mortonCode({0x1FFFFF, 0x1FFFFF, 0x1FFFFF}), (uint64_t(1) << 63) - 1);
 }
 
 TEST(PointStore, CacheIsReusedAndRebuiltWhenStale) {

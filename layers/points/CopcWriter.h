@@ -1,0 +1,55 @@
+#pragma once
+// Writes a LAS or LAZ cloud as COPC 1.0 (Cloud Optimized Point Cloud, https://copc.io): a LAZ
+// 1.4 file (point format 6, 7 with colours, 8 with near-infrared) whose layered chunks are the
+// nodes of an octree, described by the `copc` info VLR (the first VLR) and one hierarchy page
+// (the "EPT hierarchy" EVLR). CPU only. The output reads back through LasFile and copc::.
+//
+// The octree: the root is the cube around the points' bounds (centred on them, its edge the
+// largest extent). Every point gets a pseudo-random key from its index in the input (pointKey,
+// as PointOctree); in key order each point goes to the first node on its path with room for it
+// (`maxNodePoints`), so every node holds a uniform random sample of what reaches its cube, and a
+// node of `maxLevel` keeps everything that reaches it. Each node is one LAZ chunk; inside it the
+// points keep the input's order (acquisition order usually, which LAZ compresses best).
+//
+// Points keep every attribute LasPoint carries: the positions as the same integers (the input's
+// scale and offset are kept), intensity, returns, classification, the four flags, user data, scan
+// angle (a LAS 1.0-1.3 angle in degrees becomes 0.006 degree steps), point source, GPS time, RGB
+// and NIR. What LasPoint does not carry is not written: extra bytes, waveform packets, and the
+// scan direction, edge of flight line and scanner channel bits.
+//
+// Memory: the whole cloud is held, packed as the output's records, while the octree is built:
+// about 42-50 bytes a point (the 30-38 byte record and 12 bytes of ordering), plus the chunks
+// being encoded. Clouds larger than memory would need an out-of-core build (points spilled to
+// files by cube, as PointStoreBuild does), which is not written: inputs of 2^32 points or more
+// are refused.
+
+#include "base/Result.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace orbis::points {
+
+class LasFile;
+
+struct CopcWriteOptions {
+    uint32_t maxNodePoints = 100000;   ///< a node keeps at most this many points, the rest go to its children
+    uint32_t maxLevel = 16;            ///< the deepest level keeps every point that reaches it (at most 30)
+    std::function<void(double)> progress;   ///< 0..1, called on the calling thread
+};
+
+struct CopcWriteStats {
+    uint64_t points = 0;
+    uint32_t nodes = 0, depth = 0;   ///< nodes with points; the deepest level (the root's is 0)
+    uint64_t bytes = 0;              ///< the file's size
+};
+
+/// Writes every point of `in` (LAS or LAZ, any format) as a COPC 1.0 file at `path`: LAS 1.4,
+/// point format 6, 7 (colours) or 8 (near-infrared), the input's scale, offset and CRS (as a WKT
+/// VLR, WKT1 where it can be expressed so; COPC requires WKT), layered LAZ chunks, one per octree
+/// node. A cloud without a CRS is refused. Errors name the file; a file left half written is
+/// removed.
+Result<CopcWriteStats> writeCopc(const LasFile& in, const std::string& path, const CopcWriteOptions& options);
+
+}  // namespace orbis::points
