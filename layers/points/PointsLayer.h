@@ -59,6 +59,9 @@ struct PointsSettings {
     /// keeps; the point list blends every point that passes the depth test (overlaps compound).
     double opacity = 1.0;
     bool edl = false;
+    /// Level-aware sizes: each point as large as the spacing of the deepest level drawn at its
+    /// place (at least pointSize), so that a point budget thins the cloud without holes.
+    bool adaptiveSize = false;
     double edlStrength = 1.0, edlRadius = 1.4;   ///< radius in pixels
     uint64_t pointBudget = 3'000'000;            ///< points drawn per frame at most; 0: all
     uint64_t gpuMemoryBytes = uint64_t(1024) << 20;
@@ -156,6 +159,7 @@ private:
     // This frame's selection: the nodes wanted (most important first) and those drawn.
     std::vector<int32_t> wanted_, drawList_;
     std::vector<uint64_t> drawnFrame_;   // per node: the last frame that drew it
+    std::vector<uint8_t> levelsBelow_;   // per drawn node: the fewest levels drawn below it in any octant
     std::vector<shader::PointNode> nodeData_;   // the frame's drawn nodes and batches, as uploaded
     std::vector<shader::PointBatch> batchData_;
     std::vector<uint32_t> nodePage_;   // per drawn node: its page of data_

@@ -35,6 +35,7 @@ Result<std::unique_ptr<scene::Layer>> PointsLayer::create(const scene::LayerDesc
     s.pointSize = int(r.number("pointSize", 1.0, kPointSizeRange.min, kPointSizeRange.max).value_or(1.0));
     s.opacity = r.number("opacity", 1.0, kOpacityRange.min, kOpacityRange.max).value_or(1.0);
     s.edl = r.boolean("edl", false).value_or(false);
+    s.adaptiveSize = r.boolean("adaptiveSize", false).value_or(false);
     s.edlStrength = r.number("edlStrength", 1.0, kEdlStrengthRange.min, kEdlStrengthRange.max).value_or(1.0);
     s.edlRadius = r.number("edlRadius", 1.4, kEdlRadiusRange.min, kEdlRadiusRange.max).value_or(1.4);
     s.pointBudget = uint64_t(r.number("pointBudget", 3e6, kPointBudgetRange.min, kPointBudgetRange.max).value_or(3e6));

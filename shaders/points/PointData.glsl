@@ -20,3 +20,15 @@ vec3 pointPosition(PointNode node, uint local) {
     }
     return node.centre + offset;
 }
+
+// Level-aware size: the radius (pixels) of a point of `node` at `p` (relative to the eye), from
+// the spacing of the deepest level drawn at its place: the node's own where no child is drawn in
+// its octant, halved for each level drawn below it there (layers/points/PointsLayer.cpp). So a
+// budget that leaves out the finer nodes of a place draws that place's points larger, and holes
+// do not open.
+float adaptiveRadius(PointNode node, vec3 p) {
+    uint octant = (p.x >= node.centre.x ? 1u : 0u) | (p.y >= node.centre.y ? 2u : 0u) | (p.z >= node.centre.z ? 4u : 0u);
+    uint below = (node.octants >> (4u * octant)) & 15u;
+    float spacing = node.spacing * exp2(-float(below));
+    return 0.5 * spacing * pu.adaptivePixels / max(length(p), 1e-3);
+}

@@ -19,7 +19,9 @@ layout(location = 0) out vec4 color;   // premultiplied by the cloud's opacity
 void main() {
     PointNode node = nodes[push.node];
     uint local = uint(gl_VertexIndex);   // drawn from 0: the point within its node
-    gl_Position = pu.viewProj * vec4(pointPosition(node, local), 1.0);
-    gl_PointSize = pu.pointSizePx;
+    vec3 p = pointPosition(node, local);
+    gl_Position = pu.viewProj * vec4(p, 1.0);
+    gl_PointSize = pu.adaptivePixels > 0.0 ? clamp(2.0 * floor(adaptiveRadius(node, p)) + 1.0, pu.pointSizePx, float(2 * kPointMaxAdaptiveRadius + 1))
+                                           : pu.pointSizePx;
     color = vec4(pointColor(attributes[node.firstAttribute + local]), 1.0) * pu.opacity;
 }

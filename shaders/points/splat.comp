@@ -18,6 +18,9 @@ layout(local_size_x = kPointGroupSize) in;
 
 // Splat radius in pixels: 0 writes one pixel; r covers the disc of radius r + 0.5.
 layout(constant_id = kPointSpecRadius) const int kRadius = 0;
+// Level-aware sizes: each point's radius from the level drawn at its place (at least kRadius, at
+// most kPointMaxAdaptiveRadius).
+layout(constant_id = kPointSpecAdaptive) const bool kAdaptive = false;
 
 // The batches of one position format: [first, first + dispatched groups).
 layout(push_constant) uniform PushBlock { PointPush push; };
@@ -48,7 +51,22 @@ void main() {
         if (depth > 1.0) continue;     // nearer than the near plane
         vec2 pixel = (clip.xy / clip.w * 0.5 + 0.5) * pu.screenSize;
         ivec2 px = ivec2(floor(pixel));
-        if (px.x < -kRadius || px.y < -kRadius || px.x >= size.x + kRadius || px.y >= size.y + kRadius) continue;
+        const int reach = kAdaptive ? kPointMaxAdaptiveRadius : kRadius;
+        if (px.x < -reach || px.y < -reach || px.x >= size.x + reach || px.y >= size.y + reach) continue;
+        int radius = kRadius;
+        if (kAdaptive) radius = clamp(int(adaptiveRadius(node, p)), kRadius, kPointMaxAdaptiveRadius);
+        if (kAdaptive && radius > kRadius) {
+            uint64_t packed = (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(pointColorPacked(attributes[node.firstAttribute + local]));
+            for (int dy = -radius; dy <= radius; ++dy)
+                for (int dx = -radius; dx <= radius; ++dx) {
+                    if (dx * dx + dy * dy > radius * radius + radius) continue;   // a disc
+                    ivec2 q = px + ivec2(dx, dy);
+                    if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
+                    if (depth < texelFetch(sceneDepth, q, 0).r) continue;
+                    atomicMax(screen[q.y * size.x + q.x], packed);
+                }
+            continue;
+        }
         if (kRadius == 0) {
             if (depth < texelFetch(sceneDepth, px, 0).r) continue;   // behind the opaque scene
             uint color = pointColorPacked(attributes[node.firstAttribute + local]);

@@ -26,6 +26,10 @@ ORBIS_CONST(uint, kPointSpecRadius, 0)      // int: splat radius in pixels (spla
 ORBIS_CONST(uint, kPointSpecColorMode, 1)   // uint: kPointColor*
 ORBIS_CONST(uint, kPointSpecEdl, 2)         // bool: eye-dome lighting (resolve.frag)
 ORBIS_CONST(uint, kPointSpecQuantised, 3)   // bool: quantised positions, else floats
+ORBIS_CONST(uint, kPointSpecAdaptive, 4)    // bool: each point's size from the level drawn at its place (splat.comp)
+
+// Level-aware sizes: a splat's radius at most (pixels).
+ORBIS_CONST(int, kPointMaxAdaptiveRadius, 6)
 
 ORBIS_CONST(uint, kPointGroupSize, 256)      // compute workgroup: 256 invocations
 ORBIS_CONST(uint, kPointsPerInvocation, 8)   // each invocation splats up to 8 points of a batch
@@ -45,7 +49,9 @@ struct PointNode {
     uint firstAttribute;    // its first point's attribute (uvec2 units), within its page
     uint firstWord;         // its positions' first word, within its page
     uint count;             // its points
-    uint pad0;
+    uint octants;           // per octant (4 bits each, octant 0 lowest): the levels drawn below it there
+    float spacing;          // the node's point spacing (m): its points' size where nothing finer is drawn
+    uint pad0, pad1, pad2;
 };
 
 // A workgroup's work (std430): up to kPointBatch points of one drawn node.
@@ -66,8 +72,8 @@ struct PointUniforms {
     vec4 constantColor;    // rgb: sRGB colour for kPointColorConstant; a: 1
     float edlStrength;     // eye-dome lighting (on or off: kPointSpecEdl)
     float edlRadiusPx;
-    float pointSizePx;     // the point list's gl_PointSize
-    float pad0;
+    float pointSizePx;     // the point list's gl_PointSize; the smallest size with level-aware sizes
+    float adaptivePixels;  // level-aware sizes: pixels a metre at 1 m (0: every point pointSizePx)
     vec2 screenSize;       // pixels
     vec2 pad1;
 };
@@ -98,6 +104,7 @@ inline constexpr SpecConstant kPointSpecConstants[] = {
     {kPointSpecColorMode, SpecType::Uint},
     {kPointSpecEdl, SpecType::Bool},
     {kPointSpecQuantised, SpecType::Bool},
+    {kPointSpecAdaptive, SpecType::Bool},
 };
 }  // namespace orbis::shader
 static_assert(sizeof(orbis::shader::PointUniforms) == 128, "PointUniforms layout changed");
@@ -106,7 +113,7 @@ static_assert(offsetof(orbis::shader::PointUniforms, constantColor) == 80, "std1
 static_assert(offsetof(orbis::shader::PointUniforms, edlStrength) == 96, "std140 offset");
 static_assert(offsetof(orbis::shader::PointUniforms, screenSize) == 112, "std140 offset: vec2 aligned to 8");
 static_assert(sizeof(orbis::shader::PointPush) == 8, "PointPush layout changed");
-static_assert(sizeof(orbis::shader::PointNode) == 32, "PointNode layout changed");
+static_assert(sizeof(orbis::shader::PointNode) == 48, "PointNode layout changed");
 static_assert(offsetof(orbis::shader::PointNode, step) == 12 && offsetof(orbis::shader::PointNode, firstAttribute) == 16,
               "std430 offset: a float after a vec3");
 static_assert(sizeof(orbis::shader::PointBatch) == 16, "PointBatch layout changed");

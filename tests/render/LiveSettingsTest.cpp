@@ -302,7 +302,7 @@ TEST_F(LiveSettings, PointsListColourRendererAndLighting) {
     ASSERT_FALSE(las.empty());
     auto& layer = load(R"({"type": "points", "path": )" + jsonString(las) +
                        R"(, "crs": "EPSG:4979", "color": "classification", "pointSize": 3, "edl": true})");
-    EXPECT_EQ(names(layer), (std::vector<std::string>{"color", "pointBudget", "pointSize", "opacity", "edl", "edlStrength",
+    EXPECT_EQ(names(layer), (std::vector<std::string>{"color", "pointBudget", "pointSize", "adaptiveSize", "opacity", "edl", "edlStrength",
                                                       "edlRadius", "renderer"}));
     const auto color = current(layer, "color");
     EXPECT_EQ(color->choice, "classification");

@@ -403,6 +403,39 @@ TEST_F(PointsRender, BudgetDrawsTheNearestNodesFirst) {
     EXPECT_GT(litFull, litLimited);
 }
 
+// Level-aware sizes: under a budget that leaves out the finer nodes, the points of the coarser
+// ones grow to the spacing of what is drawn at their place, so the survey's footprint (where the
+// full cloud covers the ground) keeps few background pixels; with fixed one-pixel points it is
+// full of holes. With no budget the full cloud looks as it does with fixed sizes, give or take
+// the leaves' larger points.
+TEST_F(PointsRender, AdaptiveSizesFillTheHolesABudgetLeaves) {
+    const std::string base = R"(, "crs": "EPSG:4979", "color": "classification")";
+    const auto full = render(scene(surveyView(), pointsLayer(mountainCloud(), base + R"(, "pointBudget": 0)")));
+    const auto fixed = render(scene(surveyView(), pointsLayer(mountainCloud(), base + R"(, "pointBudget": 17000)")));
+    auto s = load(scene(surveyView(), pointsLayer(mountainCloud(), base + R"(, "pointBudget": 17000, "adaptiveSize": true)")));
+    ASSERT_TRUE(s);
+    const auto adaptive = render(*s);
+    EXPECT_LE(points(*s).pointsDrawn(), 17000u);
+    size_t footprint = 0, holesFixed = 0, holesAdaptive = 0;
+    const auto lit = [](const ImageRgba8& img, size_t i) { return img.pixels[i] + img.pixels[i + 1] + img.pixels[i + 2] > 0; };
+    for (size_t i = 0; i < full.pixels.size(); i += 4) {
+        if (!lit(full, i)) continue;
+        ++footprint;
+        holesFixed += lit(fixed, i) ? 0 : 1;
+        holesAdaptive += lit(adaptive, i) ? 0 : 1;
+    }
+    ASSERT_GT(footprint, full.pixels.size() / 4 / 8);
+    EXPECT_GT(holesFixed, footprint / 5) << holesFixed << " of " << footprint;
+    EXPECT_LT(holesAdaptive, footprint / 50) << holesAdaptive << " of " << footprint;
+    EXPECT_TRUE(matchesGolden(adaptive, "points_adaptive_budget"));
+    // The point-list fallback sizes its points the same way.
+    ASSERT_TRUE(points(*s).setOption("renderer", "pointList"));
+    const auto list = render(*s);
+    size_t holesList = 0;
+    for (size_t i = 0; i < full.pixels.size(); i += 4) holesList += lit(full, i) && !lit(list, i) ? 1 : 0;
+    EXPECT_LT(holesList, footprint / 20) << holesList << " of " << footprint;
+}
+
 TEST_F(PointsRender, MetreCloudAtTheAntimeridianHasNoJitter) {
     // 64 points on an 8 x 8 grid 1 m across at lon 179.9999, lat 0, 8000 m, seen from 2 m: each
     // point's pixel must be where the double-precision projection puts it, and stay so when the
