@@ -12,6 +12,7 @@
 #include <ogr_spatialref.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cerrno>
 #include <cmath>
@@ -19,11 +20,14 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <limits>
 #include <mutex>
 #include <new>
+#include <string>
 #include <thread>
 #include <tuple>
+#include <vector>
 
 namespace orbis::points {
 namespace {
@@ -66,7 +70,7 @@ void packRecord(const LasPoint& p, const int32_t q[3], uint8_t format, uint8_t* 
     put<int32_t>(r, 8, q[2]);
     put<uint16_t>(r, 12, p.intensity);
     r[14] = uint8_t((p.returnNumber & 15) | (p.numberOfReturns & 15) << 4);
-    r[15] = uint8_t(p.flags & 15);
+    r[15] = uint8_t((p.flags & 15) | (p.scannerChannel & 3) << 4 | ((p.flags >> 4) & 3) << 6);
     r[16] = p.classification;
     r[17] = p.userData;
     put<int16_t>(r, 18, int16_t(std::clamp(std::lround(p.scanAngleDeg / 0.006f), -32768l, 32767l)));   // 0.006 degree steps
@@ -110,7 +114,7 @@ struct Node {
     uint64_t first = 0;   // its points in the permutation
 };
 
-/// A file being written; removed unless committed.
+/// A file being written; removed unless committed (when it is a file: never a device or a pipe).
 struct Output {
     std::string path;
     std::FILE* file = nullptr;
@@ -118,7 +122,8 @@ struct Output {
     bool committed = false;
     ~Output() {
         if (file) std::fclose(file);
-        if (!committed) std::remove(path.c_str());
+        std::error_code ec;
+        if (!committed && std::filesystem::is_regular_file(path, ec)) std::filesystem::remove(path, ec);
     }
     void write(const void* data, size_t n) {
         if (n > 0 && std::fwrite(data, 1, n, file) != n) failed = true;
@@ -165,8 +170,8 @@ Result<CopcWriteStats> writeCopc(const LasFile& in, const std::string& path, con
             const uint64_t count = std::min(kBatch, n - first);
             if (auto r = in.read(first, count, batch); !r) return makeError(path + ": " + r.message());
             if (batch.size() != count)
-                return makeError(path + ": " + in.path() + " gave " + std::to_string(batch.size()) + " of points " + std::to_string(first) +
-                                 " to " + std::to_string(first + count) + " (damaged chunks skipped?)");
+                return makeError(path + ": " + in.path() + " gave " + std::to_string(batch.size()) + " points where " + std::to_string(count) +
+                                 " were asked (points " + std::to_string(first) + " on; damaged chunks skipped?)");
             for (uint64_t i = 0; i < count; ++i) {
                 const LasPoint& p = batch[i];
                 const glm::dvec3 q = glm::round((p.position - offset) / scale);
@@ -192,60 +197,69 @@ Result<CopcWriteStats> writeCopc(const LasFile& in, const std::string& path, con
         return glm::dvec3(get<int32_t>(r, 0), get<int32_t>(r, 4), get<int32_t>(r, 8)) * scale + offset;
     };
 
-    // 2. The octree. The root cube: centred on the bounds, half the largest extent (a hair more, so
-    // that the points on the bounds stay inside it whatever the rounding; one unit of the scale at
-    // least, for a cloud of one point).
+    // 2. The octree. The root cube: centred on the bounds, its half size half the largest extent,
+    // snapped so that a reader's arithmetic is exact: the half size rounded up to 11 significant
+    // bits (0.1 % more at most), the centre to a multiple of the deepest cells' half size. Every
+    // cube's bounds, as copc::cube computes them, are then exact doubles, and the cube a point is
+    // sent to (by comparing it with its parent's centre) contains it exactly. That needs the
+    // centre's coordinates below 2^(41 - maxLevel) times the half size, so a cloud smaller than
+    // that (about 25 cm across at 4000 km from the origin, for maxLevel 16; one point, or all
+    // in one place) gets a root of that size.
     copc::Info info;
-    info.centre = 0.5 * (lo + hi);
-    const glm::dvec3 extent = hi - lo;
-    info.halfSize = std::max(0.5 * std::max({extent.x, extent.y, extent.z}) * (1.0 + 1e-9), std::max({scale.x, scale.y, scale.z}));
+    {
+        const glm::dvec3 extent = hi - lo, middle = 0.5 * (lo + hi);
+        const double far = std::max({std::abs(middle.x), std::abs(middle.y), std::abs(middle.z)});
+        const double half = std::max({0.5 * std::max({extent.x, extent.y, extent.z}) * (1.0 + 1e-9), std::max({scale.x, scale.y, scale.z}),
+                                      std::ldexp(far, int(maxLevel) - 41)});
+        const int s = std::ilogb(half) - 10;                    // the half size's last significant bit
+        const double q = std::ldexp(1.0, s - int(maxLevel));   // the deepest cells' half size is a multiple of it
+        info.centre = glm::round(middle / q) * q;
+        info.halfSize = std::ceil((half + q) / std::ldexp(1.0, s)) * std::ldexp(1.0, s);
+    }
     info.spacing = 2.0 * info.halfSize / std::sqrt(double(options.maxNodePoints));
     info.gpsTimeMin = gpsMin;
     info.gpsTimeMax = gpsMax;
 
     std::vector<Node> nodes(1);
-    std::vector<uint32_t> permutation;   // node by node, the points' indices
-    {
-        // Each entry: the key's high bits and the index (the low bits, so every entry differs),
-        // then, once placed, the node (high 32 bits) and the index.
+    std::vector<uint32_t> permutation;   // node by node, the points' indices (in the input's order in each)
+    try {
+        // The points in key order: each entry the key's high bits and the index (the low bits, so
+        // every entry differs).
         const int indexBits = std::max(1, int(std::bit_width(n > 0 ? n - 1 : 0)));
         const uint64_t indexMask = (uint64_t(1) << indexBits) - 1;
-        std::vector<uint64_t> order;
-        try {
-            order.resize(size_t(n));
-            permutation.resize(size_t(n));
-        } catch (const std::bad_alloc&) {
-            return makeError(path + ": not enough memory to order the " + std::to_string(n) + " points of " + in.path());
-        }
-        for (uint64_t i = 0; i < n; ++i) order[i] = (pointKey(i, kSeed) & ~indexMask) | i;
-        std::sort(order.begin(), order.end());
-        progress(0.35);
-        double rootHalf = 0.0;
-        copc::cube(info, nodes[0].key, nodes[0].centre, rootHalf);
-        for (uint64_t k = 0; k < n; ++k) {
-            const uint32_t index = uint32_t(order[k] & indexMask);
-            const glm::dvec3 p = position(index);
-            uint32_t node = 0;
-            for (;;) {
-                Node& nd = nodes[node];
-                if (nd.count < options.maxNodePoints || uint32_t(nd.key.d) >= maxLevel) {
-                    ++nd.count;
-                    break;
+        std::vector<uint32_t> nodeOf(static_cast<size_t>(n));   // by index
+        {
+            std::vector<uint64_t> order(static_cast<size_t>(n));
+            for (uint64_t i = 0; i < n; ++i) order[i] = (pointKey(i, kSeed) & ~indexMask) | i;
+            std::sort(order.begin(), order.end());
+            progress(0.35);
+            double rootHalf = 0.0;
+            copc::cube(info, nodes[0].key, nodes[0].centre, rootHalf);
+            for (uint64_t k = 0; k < n; ++k) {
+                const uint32_t index = uint32_t(order[k] & indexMask);
+                const glm::dvec3 p = position(index);
+                uint32_t node = 0;
+                for (;;) {
+                    Node& nd = nodes[node];
+                    if (nd.count < options.maxNodePoints || uint32_t(nd.key.d) >= maxLevel) {
+                        ++nd.count;
+                        break;
+                    }
+                    const int octant = (p.x >= nd.centre.x ? 1 : 0) | (p.y >= nd.centre.y ? 2 : 0) | (p.z >= nd.centre.z ? 4 : 0);
+                    uint32_t child = nd.children[octant];
+                    if (child == 0) {
+                        Node c;
+                        c.key = nd.key.child(octant);
+                        double half = 0.0;
+                        copc::cube(info, c.key, c.centre, half);
+                        child = uint32_t(nodes.size());
+                        nd.children[octant] = child;
+                        nodes.push_back(c);   // (nd is not used after this)
+                    }
+                    node = child;
                 }
-                const int octant = (p.x >= nd.centre.x ? 1 : 0) | (p.y >= nd.centre.y ? 2 : 0) | (p.z >= nd.centre.z ? 4 : 0);
-                uint32_t child = nd.children[octant];
-                if (child == 0) {
-                    Node c;
-                    c.key = nd.key.child(octant);
-                    double half = 0.0;
-                    copc::cube(info, c.key, c.centre, half);
-                    child = uint32_t(nodes.size());
-                    nd.children[octant] = child;
-                    nodes.push_back(c);   // (nd is not used after this)
-                }
-                node = child;
+                nodeOf[index] = node;
             }
-            order[k] = uint64_t(node) << 32 | index;
         }
         uint64_t at = 0;
         for (Node& nd : nodes) {
@@ -254,9 +268,11 @@ Result<CopcWriteStats> writeCopc(const LasFile& in, const std::string& path, con
         }
         std::vector<uint64_t> cursor(nodes.size());
         for (size_t i = 0; i < nodes.size(); ++i) cursor[i] = nodes[i].first;
-        for (uint64_t k = 0; k < n; ++k) permutation[cursor[order[k] >> 32]++] = uint32_t(order[k]);
         // Inside a node, the input's order (LAZ predicts each point from the one before).
-        for (const Node& nd : nodes) std::sort(permutation.begin() + ptrdiff_t(nd.first), permutation.begin() + ptrdiff_t(nd.first + nd.count));
+        permutation.resize(size_t(n));
+        for (uint64_t i = 0; i < n; ++i) permutation[cursor[nodeOf[i]]++] = uint32_t(i);
+    } catch (const std::bad_alloc&) {
+        return makeError(path + ": not enough memory to order the " + std::to_string(n) + " points of " + in.path());
     }
     for (const Node& nd : nodes)
         if (nd.count > uint32_t(std::numeric_limits<int32_t>::max()))
@@ -334,12 +350,17 @@ Result<CopcWriteStats> writeCopc(const LasFile& in, const std::string& path, con
                     i = next++;
                 }
                 const Node& nd = nodes[written[i]];
-                gathered.resize(size_t(nd.count) * recordLength);
-                for (uint32_t k = 0; k < nd.count; ++k)
-                    std::memcpy(gathered.data() + size_t(k) * recordLength, records.data() + size_t(permutation[nd.first + k]) * recordLength,
-                                recordLength);
-                bytes.clear();
-                auto r = laz::encodeChunk(z, gathered.data(), nd.count, bytes);
+                Result<void> r;
+                try {
+                    gathered.resize(size_t(nd.count) * recordLength);
+                    for (uint32_t k = 0; k < nd.count; ++k)
+                        std::memcpy(gathered.data() + size_t(k) * recordLength,
+                                    records.data() + size_t(permutation[nd.first + k]) * recordLength, recordLength);
+                    bytes.clear();
+                    r = laz::encodeChunk(z, gathered.data(), nd.count, bytes);
+                } catch (const std::bad_alloc&) {
+                    r = makeError("not enough memory to encode the " + std::to_string(nd.count) + " points of a node");
+                }
                 std::lock_guard lock(mutex);
                 if (!r) {
                     if (error.empty()) error = r.message();

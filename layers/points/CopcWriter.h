@@ -12,14 +12,14 @@
 // points keep the input's order (acquisition order usually, which LAZ compresses best).
 //
 // Points keep every attribute LasPoint carries: the positions as the same integers (the input's
-// scale and offset are kept), intensity, returns, classification, the four flags, user data, scan
-// angle (a LAS 1.0-1.3 angle in degrees becomes 0.006 degree steps), point source, GPS time, RGB
-// and NIR. What LasPoint does not carry is not written: extra bytes, waveform packets, and the
-// scan direction, edge of flight line and scanner channel bits.
+// scale and offset are kept), intensity, returns, classification, the flags, user data, scan
+// angle (a LAS 1.0-1.3 angle in degrees becomes 0.006 degree steps), point source, GPS time, RGB,
+// NIR, scan direction, edge of flight line and scanner channel. What LasPoint does not carry is
+// not written: extra bytes and waveform packets.
 //
 // Memory: the whole cloud is held, packed as the output's records, while the octree is built:
-// about 42-50 bytes a point (the 30-38 byte record and 12 bytes of ordering), plus the chunks
-// being encoded. Clouds larger than memory would need an out-of-core build (points spilled to
+// about 42-50 bytes a point (the 30-38 byte record and 12 bytes of ordering), plus a read buffer
+// of half a million points (about 35 MB) and the chunks being encoded. Clouds larger than memory would need an out-of-core build (points spilled to
 // files by cube, as PointStoreBuild does), which is not written: inputs of 2^32 points or more
 // are refused.
 

@@ -769,7 +769,8 @@ void LasFile::decodeRecords(const uint8_t* raw, uint64_t count, std::vector<LasP
         if (modern) {
             p.returnNumber = r[14] & 15;
             p.numberOfReturns = r[14] >> 4;
-            p.flags = r[15] & 15;
+            p.flags = uint8_t((r[15] & 15) | ((r[15] >> 6) & 3) << 4);
+            p.scannerChannel = (r[15] >> 4) & 3;
             p.classification = r[16];
             p.userData = r[17];
             p.scanAngleDeg = float(get<int16_t>(r + 18)) * 0.006f;
@@ -780,7 +781,7 @@ void LasFile::decodeRecords(const uint8_t* raw, uint64_t count, std::vector<LasP
             p.returnNumber = r[14] & 7;
             p.numberOfReturns = (r[14] >> 3) & 7;
             p.classification = r[15] & 31;
-            p.flags = (r[15] >> 5) & 7;
+            p.flags = uint8_t(((r[15] >> 5) & 7) | ((r[14] >> 6) & 3) << 4);
             p.scanAngleDeg = float(get<int8_t>(r + 16));
             p.userData = r[17];
             p.pointSourceId = get<uint16_t>(r + 18);

@@ -74,7 +74,10 @@ struct LasPoint {
     uint16_t pointSourceId = 0;
     uint8_t returnNumber = 0, numberOfReturns = 0;   ///< 1..15 (formats 6..10), 1..7 before
     uint8_t classification = 0;   ///< ASPRS class (0..255 in formats 6..10, 0..31 before)
-    uint8_t flags = 0;            ///< bit 0 synthetic, 1 key-point, 2 withheld, 3 overlap
+    /// bit 0 synthetic, 1 key-point, 2 withheld, 3 overlap (formats 6..10), 4 scan direction,
+    /// 5 edge of flight line
+    uint8_t flags = 0;
+    uint8_t scannerChannel = 0;   ///< 0..3 (formats 6..10)
     uint8_t userData = 0;
     float scanAngleDeg = 0.0f;
 };

@@ -199,7 +199,7 @@ void LasWriter::write(std::span<const LasPoint> points) {
         size_t rgbAt;
         if (modern) {
             r[14] = uint8_t((p.returnNumber & 15) | (p.numberOfReturns & 15) << 4);
-            r[15] = uint8_t(p.flags & 15);
+            r[15] = uint8_t((p.flags & 15) | (p.scannerChannel & 3) << 4 | ((p.flags >> 4) & 3) << 6);
             r[16] = p.classification;
             r[17] = p.userData;
             put<int16_t>(r, 18, int16_t(std::clamp(std::lround(p.scanAngleDeg / 0.006f), -32768l, 32767l)));   // 0.006 deg steps
@@ -207,7 +207,7 @@ void LasWriter::write(std::span<const LasPoint> points) {
             put<double>(r, 22, p.gpsTime);
             rgbAt = 30;
         } else {
-            r[14] = uint8_t((p.returnNumber & 7) | (p.numberOfReturns & 7) << 3);
+            r[14] = uint8_t((p.returnNumber & 7) | (p.numberOfReturns & 7) << 3 | ((p.flags >> 4) & 3) << 6);
             r[15] = uint8_t((p.classification & 31) | (p.flags & 7) << 5);
             r[16] = uint8_t(int8_t(std::clamp(std::lround(p.scanAngleDeg), -128l, 127l)));   // whole degrees
             r[17] = p.userData;

@@ -3,6 +3,7 @@
 // the opaque scene, the point budget, and precision at lon 179.9999 from 2 m away.
 #include "engine/gpu/Device.h"
 #include "globe/Ellipsoid.h"
+#include "layers/points/CopcWriter.h"
 #include "layers/points/LasReader.h"
 #include "layers/points/PointsLayer.h"
 #include "tests/render/RenderHelpers.h"
@@ -401,6 +402,42 @@ TEST_F(PointsRender, BudgetDrawsTheNearestNodesFirst) {
     }
     EXPECT_GT(litLimited, litFull / 4);
     EXPECT_GT(litFull, litLimited);
+}
+
+// The survey written by Orbis as COPC (its own octree, LAZ nodes) and drawn from that octree over
+// the terrain: the picture of the LAS file through the octree build, to within the quantisation
+// of the two trees' node positions.
+TEST_F(PointsRender, OrbisWrittenCopcOverTerrainDrawsAsTheLas) {
+    const std::string copc = (outDir() / "mountain-survey.copc.laz").string();
+    ASSERT_TRUE(makeFixture(copc, [&](const std::string& tmp) {
+        // The survey with its CRS in the file (COPC requires one; the LAS fixture has it from the scene).
+        auto plain = points::LasFile::open(mountainCloud());
+        std::vector<points::LasPoint> pts;
+        if (!plain || !(*plain)->read(0, UINT64_MAX, pts)) return false;
+        points::LasWriteOptions w;
+        w.versionMinor = 4;
+        w.pointFormat = 7;
+        w.scale = glm::dvec3(1e-7, 1e-7, 1e-3);
+        w.wkt = "EPSG:4979";
+        writeLas(tmp + ".las", pts, w);
+        auto las = points::LasFile::open(tmp + ".las");
+        if (!las) return false;
+        points::CopcWriteOptions o;
+        o.maxNodePoints = 20000;
+        auto written = points::writeCopc(**las, tmp, o);
+        EXPECT_TRUE(written.ok()) << (written.ok() ? "" : written.message());
+        std::filesystem::remove(tmp + ".las");
+        return written.ok();
+    }));
+    const std::string extra = R"(, "crs": "EPSG:4979", "pointBudget": 0)";
+    auto s = load(scene(surveyView(), mountainLayer() + ", " + pointsLayer(copc, extra)));
+    ASSERT_TRUE(s);
+    const auto streamed = render(*s);
+    EXPECT_TRUE(points(*s).store()->streamed());
+    EXPECT_EQ(points(*s).pointsDrawn(), points(*s).store()->info().points);
+    EXPECT_TRUE(matchesGolden(streamed, "points_copc_survey"));
+    const auto built = render(scene(surveyView(), mountainLayer() + ", " + pointsLayer(mountainCloud(), extra)));
+    EXPECT_LT(differing(streamed, built, 8), size_t(streamed.width * streamed.height / 200));
 }
 
 // Level-aware sizes: under a budget that leaves out the finer nodes, the points of the coarser

@@ -2,6 +2,7 @@
 // every node's points lie in its cube, keys and levels as the writers made them) and hostile
 // hierarchies (a page that loops, entries outside the file or their level): clear errors.
 #include "layers/points/Copc.h"
+#include "layers/points/CopcWriter.h"
 #include "layers/points/LasReader.h"
 #include "tests/support/ProcessTempDir.h"
 
@@ -10,7 +11,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
 #include <functional>
+#include <tuple>
 
 namespace orbis::points {
 namespace {
@@ -111,6 +114,120 @@ TEST(Copc, HostileHierarchiesGiveClearErrors) {
         ASSERT_FALSE(nodes.ok());
         EXPECT_NE(nodes.message().find(c.says), std::string::npos) << nodes.message();
     }
+}
+
+}  // namespace
+}  // namespace orbis::points
+
+namespace orbis::points {
+namespace {
+
+// What Orbis writes as COPC passes the specification's structural checks and holds exactly the
+// input's points: the info VLR first (at byte 375), hierarchy entries inside the file and equal to
+// the chunk table's chunks, every node's points inside its cube, the points as a set.
+TEST(Copc, OrbisWrittenCopcIsValidAndHoldsTheInputsPoints) {
+    // A generated cloud in UTM with colours and every flag, several levels of nodes.
+    std::vector<LasPoint> pts(30000);
+    uint32_t seed = 11;
+    const auto next = [&] { return seed = seed * 1664525u + 1013904223u; };
+    for (size_t i = 0; i < pts.size(); ++i) {
+        LasPoint& p = pts[i];
+        p.position = {500000.0 + 0.01 * double(next() % 100000), 5100000.0 + 0.01 * double(next() % 50000), 200.0 + 0.01 * double(next() % 3000)};
+        p.intensity = uint16_t(next());
+        p.returnNumber = 1, p.numberOfReturns = uint8_t(1 + next() % 3);
+        p.classification = uint8_t(next() % 200);
+        p.flags = uint8_t(next() % 64);
+        p.scannerChannel = uint8_t(next() % 4);
+        p.gpsTime = 1e5 + double(i) * 1e-4;
+        p.red = uint16_t(next()), p.green = uint16_t(next()), p.blue = uint16_t(next());
+    }
+    const fs::path dir = test::processTempDir("orbis-copc-write");
+    LasWriteOptions o;
+    o.versionMinor = 4;
+    o.pointFormat = 7;
+    o.scale = glm::dvec3(0.01);
+    o.offset = {500000.0, 5100000.0, 0.0};
+    o.epsg = 32632;
+    {
+        auto w = LasWriter::create((dir / "input.las").string(), o);
+        ASSERT_TRUE(w.ok()) << w.message();
+        (*w)->write(pts);
+        ASSERT_TRUE((*w)->close().ok());
+    }
+    std::vector<std::pair<fs::path, fs::path>> cases{{dir / "input.las", dir / "generated.copc.laz"}};
+    if (fs::exists(lidar("1.2-with-color.las"))) cases.push_back({lidar("1.2-with-color.las"), dir / "oregon.copc.laz"});
+    for (const auto& [input, output] : cases) {
+        SCOPED_TRACE(input.string());
+        auto in = LasFile::open(input.string());
+        ASSERT_TRUE(in.ok()) << in.message();
+        CopcWriteOptions options;
+        options.maxNodePoints = 1000;   // several levels
+        auto stats = writeCopc(**in, output.string(), options);
+        ASSERT_TRUE(stats.ok()) << stats.message();
+        EXPECT_EQ(stats->points, (*in)->points());
+        EXPECT_GE(stats->depth, 1u);
+        auto out = LasFile::open(output.string());
+        ASSERT_TRUE(out.ok()) << out.message();
+        const LasHeader& h = (*out)->header();
+        ASSERT_TRUE((*out)->copc().has_value());
+        ASSERT_FALSE(h.vlrs.empty());
+        EXPECT_EQ(h.vlrs[0].userId, "copc");   // the info VLR first, right after the 375-byte header
+        std::vector<uint8_t> at375;
+        ASSERT_TRUE((*out)->readBytes(375 + 2, 4, at375).ok());
+        EXPECT_EQ(std::string(at375.begin(), at375.end()), "copc");
+        EXPECT_EQ(h.versionMinor, 4);
+        EXPECT_FALSE((*out)->crs().wkt.empty());
+        auto nodes = copc::readHierarchy(**out, *(*out)->copc());
+        ASSERT_TRUE(nodes.ok()) << nodes.message();
+        EXPECT_EQ(nodes->size(), stats->nodes);
+        std::vector<LasPoint> all, node;
+        for (const copc::Node& n : *nodes) {
+            ASSERT_TRUE((*out)->readChunk(n.offset, n.bytes, n.points, node).ok());
+            ASSERT_EQ(node.size(), n.points);
+            glm::dvec3 centre;
+            double half;
+            copc::cube(*(*out)->copc(), n.key, centre, half);
+            for (const LasPoint& p : node) ASSERT_TRUE(glm::all(glm::lessThanEqual(glm::abs(p.position - centre), glm::dvec3(half))));
+            all.insert(all.end(), node.begin(), node.end());
+        }
+        // The same points, also through the plain reader (the chunk table).
+        std::vector<LasPoint> original, viaTable;
+        ASSERT_TRUE((*in)->read(0, UINT64_MAX, original).ok());
+        ASSERT_TRUE((*out)->read(0, UINT64_MAX, viaTable).ok());
+        ASSERT_EQ(all.size(), original.size());
+        ASSERT_EQ(viaTable.size(), original.size());
+        const auto order = [](const LasPoint& a, const LasPoint& b) {
+            return std::tie(a.position.x, a.position.y, a.position.z, a.gpsTime) < std::tie(b.position.x, b.position.y, b.position.z, b.gpsTime);
+        };
+        for (auto* v : {&all, &original, &viaTable}) std::sort(v->begin(), v->end(), order);
+        for (size_t i = 0; i < all.size(); ++i) {
+            const LasPoint &a = all[i], &b = original[i];
+            ASSERT_EQ(a.position, b.position) << i;
+            ASSERT_EQ(viaTable[i].position, b.position) << i;
+            ASSERT_EQ(a.intensity, b.intensity) << i;
+            ASSERT_EQ(a.classification, b.classification) << i;
+            ASSERT_EQ(a.flags, b.flags) << i;
+            ASSERT_EQ(a.scannerChannel, b.scannerChannel) << i;
+            ASSERT_EQ(a.gpsTime, b.gpsTime) << i;
+            ASSERT_EQ(a.red, b.red) << i;
+            ASSERT_EQ(a.blue, b.blue) << i;
+        }
+    }
+    // No CRS: refused by name.
+    LasWriteOptions bare = o;
+    bare.epsg = 0;
+    {
+        auto w = LasWriter::create((dir / "bare.las").string(), bare);
+        ASSERT_TRUE(w.ok());
+        (*w)->write(std::span<const LasPoint>(pts).first(10));
+        ASSERT_TRUE((*w)->close().ok());
+    }
+    auto in = LasFile::open((dir / "bare.las").string());
+    ASSERT_TRUE(in.ok());
+    auto refused = writeCopc(**in, (dir / "bare.copc.laz").string(), {});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.message().find("bare.las"), std::string::npos) << refused.message();
+    EXPECT_FALSE(fs::exists(dir / "bare.copc.laz"));
 }
 
 }  // namespace

@@ -65,6 +65,7 @@ void expectSamePoint(const LasPoint& a, const LasPoint& b, const std::string& wh
     EXPECT_EQ(a.numberOfReturns, b.numberOfReturns) << where;
     EXPECT_EQ(a.classification, b.classification) << where;
     EXPECT_EQ(a.flags, b.flags) << where;
+    EXPECT_EQ(a.scannerChannel, b.scannerChannel) << where;
     EXPECT_EQ(a.userData, b.userData) << where;
     EXPECT_NEAR(a.scanAngleDeg, b.scanAngleDeg, 0.01) << where;
     EXPECT_EQ(a.pointSourceId, b.pointSourceId) << where;
@@ -281,7 +282,8 @@ std::vector<LasPoint> variedPoints(size_t n) {
         p.numberOfReturns = uint8_t(1 + next() % 5);
         p.returnNumber = uint8_t(1 + next() % p.numberOfReturns);
         p.classification = uint8_t(next() % 8 == 0 ? 40 + next() % 100 : 2);
-        p.flags = uint8_t(next() % 16);
+        p.flags = uint8_t(next() % 64);
+        p.scannerChannel = uint8_t(next() % 4);
         p.userData = uint8_t(next() % 3);
         p.scanAngleDeg = float(int(next() % 200) - 100) * 0.006f * 50.0f;
         p.pointSourceId = uint16_t(next() % 50 == 0 ? next() : 7);
