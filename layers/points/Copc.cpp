@@ -1,4 +1,5 @@
 #include "layers/points/Copc.h"
+#include "layers/points/LasBytes.h"
 
 #include "layers/points/LasReader.h"
 
@@ -9,13 +10,6 @@
 
 namespace orbis::points::copc {
 namespace {
-
-template <typename T>
-T get(const uint8_t* p) {
-    T v;
-    std::memcpy(&v, p, sizeof(T));
-    return v;
-}
 
 std::string num(uint64_t v) { return std::to_string(v); }
 
@@ -28,13 +22,13 @@ Result<Info> parseInfo(std::span<const uint8_t> payload) {
     if (payload.size() < 160) return makeError(std::string("the copc info VLR is ").append(num(payload.size())).append(" bytes, not 160"));
     const uint8_t* d = payload.data();
     Info i;
-    i.centre = {get<double>(d), get<double>(d + 8), get<double>(d + 16)};
-    i.halfSize = get<double>(d + 24);
-    i.spacing = get<double>(d + 32);
-    i.rootPageOffset = get<uint64_t>(d + 40);
-    i.rootPageBytes = get<uint64_t>(d + 48);
-    i.gpsTimeMin = get<double>(d + 56);
-    i.gpsTimeMax = get<double>(d + 64);
+    i.centre = {bytes::get<double>(d), bytes::get<double>(d + 8), bytes::get<double>(d + 16)};
+    i.halfSize = bytes::get<double>(d + 24);
+    i.spacing = bytes::get<double>(d + 32);
+    i.rootPageOffset = bytes::get<uint64_t>(d + 40);
+    i.rootPageBytes = bytes::get<uint64_t>(d + 48);
+    i.gpsTimeMin = bytes::get<double>(d + 56);
+    i.gpsTimeMax = bytes::get<double>(d + 64);
     if (!std::isfinite(i.centre.x) || !std::isfinite(i.centre.y) || !std::isfinite(i.centre.z) || !(i.halfSize > 0.0) ||
         !std::isfinite(i.halfSize))
         return makeError("the copc info VLR's root cube is not finite or has no size");
@@ -62,9 +56,9 @@ Result<std::vector<Node>> readHierarchy(const LasFile& file, const Info& info) {
         if (auto r = file.readBytes(offset, bytes, page); !r) return r.error();
         for (uint64_t e = 0; e < bytes / 32; ++e) {
             const uint8_t* p = page.data() + 32 * e;
-            const Key k{get<int32_t>(p), get<int32_t>(p + 4), get<int32_t>(p + 8), get<int32_t>(p + 12)};
-            const uint64_t at = get<uint64_t>(p + 16);
-            const int32_t byteSize = get<int32_t>(p + 24), count = get<int32_t>(p + 28);
+            const Key k{bytes::get<int32_t>(p), bytes::get<int32_t>(p + 4), bytes::get<int32_t>(p + 8), bytes::get<int32_t>(p + 12)};
+            const uint64_t at = bytes::get<uint64_t>(p + 16);
+            const int32_t byteSize = bytes::get<int32_t>(p + 24), count = bytes::get<int32_t>(p + 28);
             const std::string entry = std::string(which).append(", entry ").append(num(e)).append(" (node ").append(std::to_string(k.d)).append("-")
                                           .append(std::to_string(k.x)).append("-").append(std::to_string(k.y)).append("-").append(std::to_string(k.z)).append(")");
             if (++entries > maxEntries) return makeError(std::string(entry).append(": more entries than the file can hold"));

@@ -3,6 +3,8 @@
 // order), then the chunk table, the hierarchy EVLR and finally the header and VLRs.
 #include "layers/points/CopcWriter.h"
 
+#include "layers/points/LasBytes.h"
+
 #include "layers/points/Copc.h"
 #include "layers/points/LasReader.h"
 #include "layers/points/LazChunks.h"
@@ -60,28 +62,6 @@ void vlr(std::vector<uint8_t>& out, const std::string& user, uint16_t id, const 
     putString(h, 22, description, 32);
     out.insert(out.end(), h, h + 54);
     out.insert(out.end(), payload.begin(), payload.end());
-}
-
-/// A point format 6, 7 or 8 record (LAS 1.4 R15 Tables 21-23) of `p` at the integer position `q`
-/// (LasWriter's packing, for those formats).
-void packRecord(const LasPoint& p, const int32_t q[3], uint8_t format, uint8_t* r) {
-    put<int32_t>(r, 0, q[0]);
-    put<int32_t>(r, 4, q[1]);
-    put<int32_t>(r, 8, q[2]);
-    put<uint16_t>(r, 12, p.intensity);
-    r[14] = uint8_t((p.returnNumber & 15) | (p.numberOfReturns & 15) << 4);
-    r[15] = uint8_t((p.flags & 15) | (p.scannerChannel & 3) << 4 | ((p.flags >> 4) & 3) << 6);
-    r[16] = p.classification;
-    r[17] = p.userData;
-    put<int16_t>(r, 18, int16_t(std::clamp(std::lround(p.scanAngleDeg / 0.006f), -32768l, 32767l)));   // 0.006 degree steps
-    put<uint16_t>(r, 20, p.pointSourceId);
-    put<double>(r, 22, p.gpsTime);
-    if (format >= 7) {
-        put<uint16_t>(r, 30, p.red);
-        put<uint16_t>(r, 32, p.green);
-        put<uint16_t>(r, 34, p.blue);
-        if (format == 8) put<uint16_t>(r, 36, p.nir);
-    }
 }
 
 /// The CRS as WKT1 (OGC 01-009, what LAS 1.4 and COPC readers parse): kept as it is when it is
@@ -179,7 +159,7 @@ Result<CopcWriteStats> writeCopc(const LasFile& in, const std::string& path, con
                     return makeError(path + ": point " + std::to_string(first + i) + " of " + in.path() +
                                      " does not fit in 32 bits with the file's scale and offset");
                 const int32_t xyz[3] = {int32_t(q.x), int32_t(q.y), int32_t(q.z)};
-                packRecord(p, xyz, format, records.data() + (first + i) * recordLength);
+                packLasRecord(p, xyz, format, records.data() + (first + i) * recordLength);
                 // As a reader computes it (LasFile::decodeRecords): the bounds are the written points'.
                 const glm::dvec3 at = glm::dvec3(xyz[0], xyz[1], xyz[2]) * scale + offset;
                 lo = glm::min(lo, at);

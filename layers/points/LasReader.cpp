@@ -1,4 +1,5 @@
 #include "layers/points/LasReader.h"
+#include "layers/points/LasBytes.h"
 
 #include "base/FileText.h"
 #include "layers/points/LazChunks.h"
@@ -28,13 +29,6 @@ namespace {
 
 // Standard record sizes of point data formats 0..10 (LAS 1.4 R15).
 constexpr uint16_t kRecordSize[11] = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
-
-template <typename T>
-T get(const uint8_t* p) {
-    T v;
-    std::memcpy(&v, p, sizeof(T));
-    return v;
-}
 
 std::string fixedString(const uint8_t* p, size_t n) {
     size_t len = 0;
@@ -73,11 +67,11 @@ struct GeoKeys {
 
     GeoKeys(const uint8_t* dir, uint64_t length, const uint8_t* text, uint64_t textLength) {
         if (!dir || length < 8) return;
-        const uint16_t count = get<uint16_t>(dir + 6);
+        const uint16_t count = bytes::get<uint16_t>(dir + 6);
         for (uint64_t k = 0; k < count && 8 + 8 * (k + 1) <= length; ++k) {
             const uint8_t* e = dir + 8 + 8 * k;
-            const uint16_t id = get<uint16_t>(e), location = get<uint16_t>(e + 2);
-            const uint16_t n = get<uint16_t>(e + 4), value = get<uint16_t>(e + 6);
+            const uint16_t id = bytes::get<uint16_t>(e), location = bytes::get<uint16_t>(e + 2);
+            const uint16_t n = bytes::get<uint16_t>(e + 4), value = bytes::get<uint16_t>(e + 6);
             if (location == 0) shorts[id] = value;
             else if (location == 34737 && text && uint64_t(value) + n <= textLength) {
                 std::string s(reinterpret_cast<const char*>(text) + value, n);
@@ -181,50 +175,50 @@ std::string num(uint64_t v) { return std::to_string(v); }
 /// `evlrStart`/`evlrCount` come from the 1.4 part.
 Result<uint16_t> parseHeader(const std::string& path, const uint8_t* d, uint64_t bytes, LasHeader& h,
                              uint64_t& evlrStart, uint32_t& evlrCount, bool& compressedFlag) {
-    h.globalEncoding = get<uint16_t>(d + 6);
+    h.globalEncoding = bytes::get<uint16_t>(d + 6);
     h.versionMajor = d[24];
     h.versionMinor = d[25];
     if (h.versionMajor != 1 || h.versionMinor > 4)
         return fail(path, std::string("LAS version ").append(num(h.versionMajor)).append(".").append(num(h.versionMinor)).append(" is not supported (1.0 to 1.4)"));
     h.systemId = fixedString(d + 26, 32);
     h.software = fixedString(d + 58, 32);
-    h.creationDay = get<uint16_t>(d + 90);
-    h.creationYear = get<uint16_t>(d + 92);
-    const uint16_t headerSize = get<uint16_t>(d + 94);
+    h.creationDay = bytes::get<uint16_t>(d + 90);
+    h.creationYear = bytes::get<uint16_t>(d + 92);
+    const uint16_t headerSize = bytes::get<uint16_t>(d + 94);
     const uint16_t minHeader = h.versionMinor >= 4 ? 375 : h.versionMinor == 3 ? 235 : 227;
     if (headerSize < minHeader || headerSize > bytes)
         return fail(path, std::string("header size ").append(num(headerSize)).append(" is wrong for LAS 1.")
                               .append(num(h.versionMinor)).append(" (at least ").append(num(minHeader))
                               .append(" bytes, within the file's ").append(num(bytes)).append(")"));
-    h.pointOffset = get<uint32_t>(d + 96);
+    h.pointOffset = bytes::get<uint32_t>(d + 96);
     // LASzip sets bit 7 (and older writers bit 6) of the format byte in compressed files, so that
     // readers that do not know LAZ refuse them.
     compressedFlag = (d[104] & 0xC0) != 0;
     const uint8_t format = d[104] & 0x3F;
     if (format > 10) return fail(path, std::string("unknown point data format ").append(num(format)).append(" (0 to 10)"));
     h.pointFormat = format;
-    h.recordLength = get<uint16_t>(d + 105);
+    h.recordLength = bytes::get<uint16_t>(d + 105);
     if (h.recordLength < kRecordSize[format])
         return fail(path, std::string("point record length ").append(num(h.recordLength)).append(" is shorter than format ")
                               .append(num(format)).append("'s ").append(num(kRecordSize[format])).append(" bytes"));
     h.extraBytes = uint16_t(h.recordLength - kRecordSize[format]);
-    h.pointCount = get<uint32_t>(d + 107);
-    for (int i = 0; i < 5; ++i) h.pointsByReturn[size_t(i)] = get<uint32_t>(d + 111 + 4 * i);
-    h.scale = {get<double>(d + 131), get<double>(d + 139), get<double>(d + 147)};
-    h.offset = {get<double>(d + 155), get<double>(d + 163), get<double>(d + 171)};
-    h.max = {get<double>(d + 179), get<double>(d + 195), get<double>(d + 211)};
-    h.min = {get<double>(d + 187), get<double>(d + 203), get<double>(d + 219)};
+    h.pointCount = bytes::get<uint32_t>(d + 107);
+    for (int i = 0; i < 5; ++i) h.pointsByReturn[size_t(i)] = bytes::get<uint32_t>(d + 111 + 4 * i);
+    h.scale = {bytes::get<double>(d + 131), bytes::get<double>(d + 139), bytes::get<double>(d + 147)};
+    h.offset = {bytes::get<double>(d + 155), bytes::get<double>(d + 163), bytes::get<double>(d + 171)};
+    h.max = {bytes::get<double>(d + 179), bytes::get<double>(d + 195), bytes::get<double>(d + 211)};
+    h.min = {bytes::get<double>(d + 187), bytes::get<double>(d + 203), bytes::get<double>(d + 219)};
     for (int a = 0; a < 3; ++a)
         if (!(std::abs(h.scale[a]) > 0.0) || !std::isfinite(h.scale[a]) || !std::isfinite(h.offset[a]))
             return fail(path, std::string("the scale factor or offset of axis ").append(1, "xyz"[a]).append(" is zero or not finite"));
     if (h.versionMinor >= 4) {
         // 1.4: 64-bit counts; the legacy 32-bit ones are 0 for formats 6..10 or above 2^32 points.
-        evlrStart = get<uint64_t>(d + 235);
-        evlrCount = get<uint32_t>(d + 243);
-        const uint64_t count64 = get<uint64_t>(d + 247);
+        evlrStart = bytes::get<uint64_t>(d + 235);
+        evlrCount = bytes::get<uint32_t>(d + 243);
+        const uint64_t count64 = bytes::get<uint64_t>(d + 247);
         if (h.pointCount == 0 || format >= 6) h.pointCount = count64;
         for (int i = 0; i < 15; ++i) {
-            const uint64_t v = get<uint64_t>(d + 255 + 8 * i);
+            const uint64_t v = bytes::get<uint64_t>(d + 255 + 8 * i);
             if (format >= 6 || i >= 5 || h.pointsByReturn[size_t(i)] == 0) h.pointsByReturn[size_t(i)] = v;
         }
     }
@@ -242,8 +236,8 @@ Result<void> readVlrs(const std::string& path, const uint8_t* d, uint64_t bytes,
                                   .append(" runs past the start of the point data (byte ").append(num(h.pointOffset)).append(")"));
         LasVlr v;
         v.userId = fixedString(d + at + 2, 16);
-        v.recordId = get<uint16_t>(d + at + 18);
-        v.length = get<uint16_t>(d + at + 20);
+        v.recordId = bytes::get<uint16_t>(d + at + 18);
+        v.length = bytes::get<uint16_t>(d + at + 20);
         v.description = fixedString(d + at + 22, 32);
         if (at + 54 + v.length > h.pointOffset)
             return fail(path, std::string("variable-length record ").append(num(i)).append(" (").append(v.userId).append(" ")
@@ -260,8 +254,8 @@ Result<void> readVlrs(const std::string& path, const uint8_t* d, uint64_t bytes,
                                   .append(" lies outside the file or inside the point data"));
         LasVlr v;
         v.userId = fixedString(d + at + 2, 16);
-        v.recordId = get<uint16_t>(d + at + 18);
-        v.length = get<uint64_t>(d + at + 20);
+        v.recordId = bytes::get<uint16_t>(d + at + 18);
+        v.length = bytes::get<uint64_t>(d + at + 20);
         v.description = fixedString(d + at + 28, 32);
         v.extended = true;
         if (v.length > bytes - (at + 60))
@@ -378,8 +372,8 @@ Result<void> LasFile::openLaz(const uint8_t* d, uint64_t evlrStart, const std::v
         if (h.pointCount > 0) state->chunks.push_back({h.pointOffset, end - h.pointOffset, h.pointCount, 0});
     } else {
         if (h.pointOffset + 8 > end) return fail(path_, "the LAZ point data is cut short before its chunk table offset");
-        int64_t tableAt = get<int64_t>(d + h.pointOffset);
-        if (tableAt == -1 && bytes_ >= 8) tableAt = get<int64_t>(d + bytes_ - 8);   // written last by a streaming writer
+        int64_t tableAt = bytes::get<int64_t>(d + h.pointOffset);
+        if (tableAt == -1 && bytes_ >= 8) tableAt = bytes::get<int64_t>(d + bytes_ - 8);   // written last by a streaming writer
         if (tableAt < int64_t(h.pointOffset + 8) || uint64_t(tableAt) > end - 8)
             return fail(path_, std::string("the LAZ chunk table offset ").append(std::to_string(tableAt)).append(" lies outside the point data (bytes ")
                                    .append(num(h.pointOffset + 8)).append(" to ").append(num(end)).append(")"));
@@ -629,20 +623,20 @@ Result<std::unique_ptr<LasFile>> LasFile::openRemote(const std::string& url) {
         return {};
     };
     if (auto r = fetch(0, 375); !r) return r.error();
-    const uint64_t pointOffset = get<uint32_t>(d + 96);
+    const uint64_t pointOffset = bytes::get<uint32_t>(d + 96);
     if (auto r = fetch(375, pointOffset + 8); !r) return r.error();
     uint64_t tail = f->bytes_;
-    if (d[25] >= 4 && get<uint32_t>(d + 243) > 0) tail = std::min<uint64_t>(tail, get<uint64_t>(d + 235));   // EVLRs
+    if (d[25] >= 4 && bytes::get<uint32_t>(d + 243) > 0) tail = std::min<uint64_t>(tail, bytes::get<uint64_t>(d + 235));   // EVLRs
     if (d[104] & 0xC0) {   // LAZ: the chunk table (or, when written last, the offset of it)
-        const int64_t table = pointOffset + 8 <= f->bytes_ ? get<int64_t>(d + pointOffset) : 0;
+        const int64_t table = pointOffset + 8 <= f->bytes_ ? bytes::get<int64_t>(d + pointOffset) : 0;
         if (table == -1) tail = std::min(tail, f->bytes_ - 8);
         else if (table > int64_t(pointOffset) && uint64_t(table) < tail) tail = uint64_t(table);
     }
     if (f->bytes_ - tail > kMaxRemoteTailBytes)
         return fail(url, std::string("the tables at the file's end are ").append(num((f->bytes_ - tail) >> 20)).append(" MB, more than Orbis fetches to open a file"));
     if (auto r = fetch(tail, f->bytes_); !r) return r.error();
-    if (d[104] & 0xC0 && pointOffset + 8 <= f->bytes_ && get<int64_t>(d + pointOffset) == -1) {
-        const int64_t table = get<int64_t>(d + f->bytes_ - 8);
+    if (d[104] & 0xC0 && pointOffset + 8 <= f->bytes_ && bytes::get<int64_t>(d + pointOffset) == -1) {
+        const int64_t table = bytes::get<int64_t>(d + f->bytes_ - 8);
         if (table > int64_t(pointOffset) && uint64_t(table) < tail && tail - uint64_t(table) <= kMaxRemoteTailBytes)
             if (auto r = fetch(uint64_t(table), tail); !r) return r.error();
     }
@@ -676,7 +670,7 @@ Result<void> LasFile::parse(LasFile& file, const uint8_t* d) {
                               .append(num(room / h.recordLength)).append(" (truncated or a corrupt header)"));
     const uint64_t pointsEnd = compressedFlag ? h.pointOffset : h.pointOffset + h.pointCount * h.recordLength;
     std::vector<uint64_t> payloads;
-    if (auto vlrs = readVlrs(path, d, f->bytes_, *headerSize, get<uint32_t>(d + 100), evlrStart, evlrCount, pointsEnd, h, payloads); !vlrs)
+    if (auto vlrs = readVlrs(path, d, f->bytes_, *headerSize, bytes::get<uint32_t>(d + 100), evlrStart, evlrCount, pointsEnd, h, payloads); !vlrs)
         return vlrs.error();
     const bool lazVlr = std::any_of(h.vlrs.begin(), h.vlrs.end(), [](const LasVlr& v) { return v.userId == "laszip encoded" && v.recordId == 22204; });
     if (compressedFlag && !lazVlr)
@@ -763,8 +757,8 @@ void LasFile::decodeRecords(const uint8_t* raw, uint64_t count, std::vector<LasP
     for (uint64_t i = 0; i < count; ++i) {
         const uint8_t* r = raw + i * h.recordLength;
         LasPoint& p = out[i];
-        p.position = glm::dvec3(get<int32_t>(r), get<int32_t>(r + 4), get<int32_t>(r + 8)) * h.scale + h.offset;
-        p.intensity = get<uint16_t>(r + 12);
+        p.position = glm::dvec3(bytes::get<int32_t>(r), bytes::get<int32_t>(r + 4), bytes::get<int32_t>(r + 8)) * h.scale + h.offset;
+        p.intensity = bytes::get<uint16_t>(r + 12);
         size_t rgbAt = 0;
         if (modern) {
             p.returnNumber = r[14] & 15;
@@ -773,26 +767,26 @@ void LasFile::decodeRecords(const uint8_t* raw, uint64_t count, std::vector<LasP
             p.scannerChannel = (r[15] >> 4) & 3;
             p.classification = r[16];
             p.userData = r[17];
-            p.scanAngleDeg = float(get<int16_t>(r + 18)) * 0.006f;
-            p.pointSourceId = get<uint16_t>(r + 20);
-            p.gpsTime = get<double>(r + 22);
+            p.scanAngleDeg = float(bytes::get<int16_t>(r + 18)) * 0.006f;
+            p.pointSourceId = bytes::get<uint16_t>(r + 20);
+            p.gpsTime = bytes::get<double>(r + 22);
             rgbAt = 30;
         } else {
             p.returnNumber = r[14] & 7;
             p.numberOfReturns = (r[14] >> 3) & 7;
             p.classification = r[15] & 31;
             p.flags = uint8_t(((r[15] >> 5) & 7) | ((r[14] >> 6) & 3) << 4);
-            p.scanAngleDeg = float(get<int8_t>(r + 16));
+            p.scanAngleDeg = float(bytes::get<int8_t>(r + 16));
             p.userData = r[17];
-            p.pointSourceId = get<uint16_t>(r + 18);
-            if (f == 1 || f >= 3) p.gpsTime = get<double>(r + 20);
+            p.pointSourceId = bytes::get<uint16_t>(r + 18);
+            if (f == 1 || f >= 3) p.gpsTime = bytes::get<double>(r + 20);
             rgbAt = f == 2 ? 20 : 28;
         }
         if (h.hasRgb()) {
-            p.red = get<uint16_t>(r + rgbAt);
-            p.green = get<uint16_t>(r + rgbAt + 2);
-            p.blue = get<uint16_t>(r + rgbAt + 4);
-            if (h.hasNir()) p.nir = get<uint16_t>(r + rgbAt + 6);
+            p.red = bytes::get<uint16_t>(r + rgbAt);
+            p.green = bytes::get<uint16_t>(r + rgbAt + 2);
+            p.blue = bytes::get<uint16_t>(r + rgbAt + 4);
+            if (h.hasNir()) p.nir = bytes::get<uint16_t>(r + rgbAt + 6);
         }
     }
 }
@@ -810,7 +804,7 @@ Result<void> LasFile::readPositions(uint64_t first, uint64_t count, std::vector<
     out.resize(count);
     for (uint64_t i = 0; i < count; ++i) {
         const uint8_t* r = raw.data() + i * h.recordLength;
-        out[i] = glm::dvec3(get<int32_t>(r), get<int32_t>(r + 4), get<int32_t>(r + 8)) * h.scale + h.offset;
+        out[i] = glm::dvec3(bytes::get<int32_t>(r), bytes::get<int32_t>(r + 4), bytes::get<int32_t>(r + 8)) * h.scale + h.offset;
     }
     return {};
 }

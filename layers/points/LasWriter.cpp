@@ -1,6 +1,7 @@
 // LAS writing for tests, the synthetic generator and `orbis convert`: any version 1.0-1.4, point
 // formats 0-10, an optional WKT VLR or GeoTIFF EPSG keys, extra bytes, and LAZ (layered chunks);
 // counts and bounds written on close.
+#include "layers/points/LasBytes.h"
 #include "layers/points/LasReader.h"
 #include "layers/points/LazChunks.h"
 
@@ -74,6 +75,38 @@ std::vector<uint8_t> geoKeys(const LasWriteOptions& o) {
 }
 
 }  // namespace
+
+void packLasRecord(const LasPoint& p, const int32_t q[3], uint8_t f, uint8_t* r) {
+    put<int32_t>(r, 0, q[0]);
+    put<int32_t>(r, 4, q[1]);
+    put<int32_t>(r, 8, q[2]);
+    put<uint16_t>(r, 12, p.intensity);
+    size_t rgbAt;
+    if (f >= 6) {
+        r[14] = uint8_t((p.returnNumber & 15) | (p.numberOfReturns & 15) << 4);
+        r[15] = uint8_t((p.flags & 15) | (p.scannerChannel & 3) << 4 | ((p.flags >> 4) & 3) << 6);
+        r[16] = p.classification;
+        r[17] = p.userData;
+        put<int16_t>(r, 18, int16_t(std::clamp(std::lround(p.scanAngleDeg / 0.006f), -32768l, 32767l)));   // 0.006 deg steps
+        put<uint16_t>(r, 20, p.pointSourceId);
+        put<double>(r, 22, p.gpsTime);
+        rgbAt = 30;
+    } else {
+        r[14] = uint8_t((p.returnNumber & 7) | (p.numberOfReturns & 7) << 3 | ((p.flags >> 4) & 3) << 6);
+        r[15] = uint8_t((p.classification & 31) | (p.flags & 7) << 5);
+        r[16] = uint8_t(int8_t(std::clamp(std::lround(p.scanAngleDeg), -128l, 127l)));   // whole degrees
+        r[17] = p.userData;
+        put<uint16_t>(r, 18, p.pointSourceId);
+        if (f == 1 || f >= 3) put<double>(r, 20, p.gpsTime);
+        rgbAt = f == 2 ? 20 : 28;
+    }
+    if (f == 2 || f == 3 || f == 5 || f == 7 || f == 8 || f == 10) {
+        put<uint16_t>(r, rgbAt, p.red);
+        put<uint16_t>(r, rgbAt + 2, p.green);
+        put<uint16_t>(r, rgbAt + 4, p.blue);
+        if (f == 8 || f == 10) put<uint16_t>(r, rgbAt + 6, p.nir);
+    }
+}
 
 struct LasWriter::Impl {
     std::FILE* file = nullptr;
@@ -184,7 +217,6 @@ void LasWriter::write(std::span<const LasPoint> points) {
     }
     if (points.empty()) return;   // (fwrite of an empty buffer would pass it a null pointer)
     const uint8_t f = m.o.pointFormat;
-    const bool modern = f >= 6;
     m.buffer.assign(points.size() * m.recordLength, 0);
     for (size_t i = 0; i < points.size(); ++i) {
         const LasPoint& p = points[i];
@@ -192,35 +224,8 @@ void LasWriter::write(std::span<const LasPoint> points) {
         const glm::dvec3 q = glm::round((p.position - m.o.offset) / m.o.scale);
         if (!(glm::all(glm::lessThanEqual(glm::abs(q), glm::dvec3(2147483647.0)))))
             m.outOfRange = true;   // the scale and offset cannot hold the point: close() reports it
-        put<int32_t>(r, 0, int32_t(q.x));
-        put<int32_t>(r, 4, int32_t(q.y));
-        put<int32_t>(r, 8, int32_t(q.z));
-        put<uint16_t>(r, 12, p.intensity);
-        size_t rgbAt;
-        if (modern) {
-            r[14] = uint8_t((p.returnNumber & 15) | (p.numberOfReturns & 15) << 4);
-            r[15] = uint8_t((p.flags & 15) | (p.scannerChannel & 3) << 4 | ((p.flags >> 4) & 3) << 6);
-            r[16] = p.classification;
-            r[17] = p.userData;
-            put<int16_t>(r, 18, int16_t(std::clamp(std::lround(p.scanAngleDeg / 0.006f), -32768l, 32767l)));   // 0.006 deg steps
-            put<uint16_t>(r, 20, p.pointSourceId);
-            put<double>(r, 22, p.gpsTime);
-            rgbAt = 30;
-        } else {
-            r[14] = uint8_t((p.returnNumber & 7) | (p.numberOfReturns & 7) << 3 | ((p.flags >> 4) & 3) << 6);
-            r[15] = uint8_t((p.classification & 31) | (p.flags & 7) << 5);
-            r[16] = uint8_t(int8_t(std::clamp(std::lround(p.scanAngleDeg), -128l, 127l)));   // whole degrees
-            r[17] = p.userData;
-            put<uint16_t>(r, 18, p.pointSourceId);
-            if (f == 1 || f >= 3) put<double>(r, 20, p.gpsTime);
-            rgbAt = f == 2 ? 20 : 28;
-        }
-        if (f == 2 || f == 3 || f == 5 || f == 7 || f == 8 || f == 10) {
-            put<uint16_t>(r, rgbAt, p.red);
-            put<uint16_t>(r, rgbAt + 2, p.green);
-            put<uint16_t>(r, rgbAt + 4, p.blue);
-            if (f == 8 || f == 10) put<uint16_t>(r, rgbAt + 6, p.nir);
-        }
+        const int32_t xyz[3] = {int32_t(q.x), int32_t(q.y), int32_t(q.z)};
+        packLasRecord(p, xyz, f, r);
         for (size_t k = kRecordSize[f]; k < m.recordLength; ++k) r[k] = uint8_t(0xA5 ^ k);   // extra bytes
         const glm::dvec3 stored = q * m.o.scale + m.o.offset;
         m.lo = glm::min(m.lo, stored);

@@ -1,4 +1,5 @@
 #include "layers/points/LazChunks.h"
+#include "layers/points/LasBytes.h"
 
 #include "layers/points/LazCoder.h"
 
@@ -6,13 +7,6 @@
 
 namespace orbis::points::laz {
 namespace {
-
-template <typename T>
-T get(const uint8_t* p) {
-    T v;
-    std::memcpy(&v, p, sizeof(T));
-    return v;
-}
 
 std::string num(uint64_t v) { return std::to_string(v); }
 
@@ -79,20 +73,20 @@ Result<LaszipVlr> parseLaszipVlr(std::span<const uint8_t> payload) {
         return makeError(std::string("the laszip VLR is ").append(num(payload.size())).append(" bytes, shorter than its 34-byte header"));
     const uint8_t* d = payload.data();
     LaszipVlr v;
-    v.compressor = get<uint16_t>(d);
-    v.coder = get<uint16_t>(d + 2);
+    v.compressor = bytes::get<uint16_t>(d);
+    v.coder = bytes::get<uint16_t>(d + 2);
     v.versionMajor = d[4];
     v.versionMinor = d[5];
-    v.versionRevision = get<uint16_t>(d + 6);
-    v.options = get<uint32_t>(d + 8);
-    v.chunkSize = get<uint32_t>(d + 12);
-    const uint16_t n = get<uint16_t>(d + 32);
+    v.versionRevision = bytes::get<uint16_t>(d + 6);
+    v.options = bytes::get<uint32_t>(d + 8);
+    v.chunkSize = bytes::get<uint32_t>(d + 12);
+    const uint16_t n = bytes::get<uint16_t>(d + 32);
     if (payload.size() < 34 + 6 * size_t(n))
         return makeError(std::string("the laszip VLR lists ").append(num(n)).append(" items but holds ")
                              .append(num((payload.size() - 34) / 6)));
     for (uint16_t i = 0; i < n; ++i) {
         const uint8_t* e = d + 34 + 6 * size_t(i);
-        v.items.push_back({ItemType(get<uint16_t>(e)), get<uint16_t>(e + 2), get<uint16_t>(e + 4)});
+        v.items.push_back({ItemType(bytes::get<uint16_t>(e)), bytes::get<uint16_t>(e + 2), bytes::get<uint16_t>(e + 4)});
     }
     if (v.compressor < 1 || v.compressor > 3)
         return makeError(std::string("unknown LAZ compressor ").append(num(v.compressor)).append(" (1 point-wise, 2 point-wise chunked, 3 layered chunked)"));
@@ -133,8 +127,8 @@ Result<void> checkItems(const LaszipVlr& vlr, uint8_t pointFormat, uint16_t reco
 Result<std::vector<Chunk>> decodeChunkTable(const LaszipVlr& vlr, std::span<const uint8_t> table, uint64_t firstChunk,
                                             uint64_t pointDataEnd, uint64_t totalPoints) {
     if (table.size() < 8) return makeError("the chunk table is cut short (fewer than 8 bytes)");
-    const uint32_t version = get<uint32_t>(table.data());
-    const uint32_t n = get<uint32_t>(table.data() + 4);
+    const uint32_t version = bytes::get<uint32_t>(table.data());
+    const uint32_t n = bytes::get<uint32_t>(table.data() + 4);
     if (version != 0) return makeError(std::string("unknown chunk table version ").append(num(version)));
     if (pointDataEnd < firstChunk) return makeError("the chunk table lies before the first chunk");
     // Every chunk holds at least one point and one byte: a count above either is corrupt (and

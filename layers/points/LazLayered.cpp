@@ -11,6 +11,7 @@
 // against laz-perf's decoder on chunks with channel switches, RGB, NIR and extra bytes.
 
 #include "layers/points/LazChunks.h"
+#include "layers/points/LasBytes.h"
 
 #include "layers/points/LazCoder.h"
 
@@ -22,18 +23,6 @@
 
 namespace orbis::points::laz::detail {
 namespace {
-
-template <typename T>
-T load(const uint8_t* p) {
-    T v;
-    std::memcpy(&v, p, sizeof(T));
-    return v;
-}
-
-template <typename T>
-void store(uint8_t* p, T v) {
-    std::memcpy(p, &v, sizeof(T));
-}
 
 [[gnu::format(printf, 1, 2)]] Error fail(const char* format, ...) {
     char text[256];
@@ -105,34 +94,34 @@ struct Point14 {
 
 Point14 unpackPoint14(const uint8_t* p) {
     Point14 q;
-    q.x = load<int32_t>(p);
-    q.y = load<int32_t>(p + 4);
-    q.z = load<int32_t>(p + 8);
-    q.intensity = load<uint16_t>(p + 12);
+    q.x = bytes::get<int32_t>(p);
+    q.y = bytes::get<int32_t>(p + 4);
+    q.z = bytes::get<int32_t>(p + 8);
+    q.intensity = bytes::get<uint16_t>(p + 12);
     q.returnNumber = p[14] & 15;
     q.returnCount = p[14] >> 4;
     q.flags = uint8_t((p[15] & 15) | ((p[15] >> 2) & 0x30));
     q.channel = (p[15] >> 4) & 3;
     q.classification = p[16];
     q.userData = p[17];
-    q.scanAngle = load<int16_t>(p + 18);
-    q.pointSource = load<uint16_t>(p + 20);
-    q.gpsTime = load<uint64_t>(p + 22);
+    q.scanAngle = bytes::get<int16_t>(p + 18);
+    q.pointSource = bytes::get<uint16_t>(p + 20);
+    q.gpsTime = bytes::get<uint64_t>(p + 22);
     return q;
 }
 
 void packPoint14(const Point14& q, uint8_t* p) {
-    store(p, q.x);
-    store(p + 4, q.y);
-    store(p + 8, q.z);
-    store(p + 12, q.intensity);
+    bytes::put(p, q.x);
+    bytes::put(p + 4, q.y);
+    bytes::put(p + 8, q.z);
+    bytes::put(p + 12, q.intensity);
     p[14] = uint8_t(q.returnNumber | (q.returnCount << 4));
     p[15] = uint8_t((q.flags & 15) | (q.channel << 4) | ((q.flags & 0x30) << 2));
     p[16] = q.classification;
     p[17] = q.userData;
-    store(p + 18, q.scanAngle);
-    store(p + 20, q.pointSource);
-    store(p + 22, q.gpsTime);
+    bytes::put(p + 18, q.scanAngle);
+    bytes::put(p + 20, q.pointSource);
+    bytes::put(p + 22, q.gpsTime);
 }
 
 /// The per-channel state of POINT14: the last point, the predictors and every model.
@@ -556,7 +545,7 @@ struct RgbContext {
     std::vector<SymbolModel> diffs = std::vector<SymbolModel>(6, SymbolModel(256));
 
     explicit RgbContext(const uint8_t* first) {
-        for (int i = 0; i < 3; ++i) last[i] = load<uint16_t>(first + 2 * i);
+        for (int i = 0; i < 3; ++i) last[i] = bytes::get<uint16_t>(first + 2 * i);
     }
     RgbContext(const RgbContext& from) : last(from.last) {}
 };
@@ -634,7 +623,7 @@ void decodeRgb(ArithmeticDecoder& dec, ChannelContexts<RgbContext>::Pick pick, u
     }
     for (int i = 0; i < 3; ++i) {
         lastRgb[i] = rgb[i];
-        store(item + 2 * i, rgb[i]);
+        bytes::put(item + 2 * i, rgb[i]);
     }
 }
 
@@ -644,7 +633,7 @@ bool encodeRgb(ArithmeticEncoder& enc, ChannelContexts<RgbContext>::Pick pick, c
     std::array<uint16_t, 3>& lastRgb = pick.last.last;
     const uint16_t* last = lastRgb.data();
     uint16_t rgb[3];
-    for (int i = 0; i < 3; ++i) rgb[i] = load<uint16_t>(item + 2 * i);
+    for (int i = 0; i < 3; ++i) rgb[i] = bytes::get<uint16_t>(item + 2 * i);
     uint32_t sym = 0;
     for (int i = 0; i < 3; ++i) {
         if ((last[i] & 0x00FF) != (rgb[i] & 0x00FF)) sym |= 1u << (2 * i);
@@ -685,13 +674,13 @@ void decodeNir(ArithmeticDecoder& dec, ChannelContexts<NirContext>::Pick pick, u
     if (sym & 1) low = fold8(int32_t(dec.decodeSymbol(c.low)) + low);
     if (sym & 2) high = fold8(int32_t(dec.decodeSymbol(c.high)) + high);
     last = uint16_t(low | (high << 8));
-    store(item, last);
+    bytes::put(item, last);
 }
 
 bool encodeNir(ArithmeticEncoder& enc, ChannelContexts<NirContext>::Pick pick, const uint8_t* item) {
     NirContext& c = pick.models;
     uint16_t& last = pick.last.last;
-    const uint16_t nir = load<uint16_t>(item);
+    const uint16_t nir = bytes::get<uint16_t>(item);
     const uint32_t sym = ((last & 0x00FF) != (nir & 0x00FF) ? 1u : 0u) | ((last & 0xFF00) != (nir & 0xFF00) ? 2u : 0u);
     enc.encodeSymbol(c.used, sym);
     if (sym & 1) enc.encodeSymbol(c.low, fold8((nir & 255) - (last & 255)));
@@ -708,7 +697,7 @@ public:
     void init(const uint8_t* first, uint32_t& channel) override {
         std::memcpy(first_, first, nir_ ? 8 : 6);
         rgb_.init(channel, RgbContext(first));
-        if (nir_) nirContexts_.init(channel, NirContext(load<uint16_t>(first + 6)));
+        if (nir_) nirContexts_.init(channel, NirContext(bytes::get<uint16_t>(first + 6)));
     }
 
     void decode(uint8_t* item, uint32_t& channel) override {
@@ -734,7 +723,7 @@ public:
 
     void init(const uint8_t* first, uint32_t& channel) override {
         rgb_.init(channel, RgbContext(first));
-        if (nir_) nirContexts_.init(channel, NirContext(load<uint16_t>(first + 6)));
+        if (nir_) nirContexts_.init(channel, NirContext(bytes::get<uint16_t>(first + 6)));
     }
 
     void encode(const uint8_t* item, uint32_t& channel) override {
@@ -849,8 +838,8 @@ public:
         const auto [c, owner] = contexts_.select(channel);
         uint8_t* last = owner.last;
         item[0] = uint8_t(dec.decodeSymbol(c.index));
-        const uint64_t lastOffset = load<uint64_t>(last + 1);
-        const uint32_t lastSize = load<uint32_t>(last + 9);
+        const uint64_t lastOffset = bytes::get<uint64_t>(last + 1);
+        const uint32_t lastSize = bytes::get<uint32_t>(last + 9);
         c.lastOffsetKind = dec.decodeSymbol(c.offsetKinds[c.lastOffsetKind]);
         uint64_t offset;
         switch (c.lastOffsetKind) {
@@ -862,10 +851,10 @@ public:
             break;
         default: offset = dec.readInt64(); break;
         }
-        store(item + 1, offset);
-        store(item + 9, c.packetSize.decompress(dec, int32_t(lastSize)));
-        store(item + 13, c.returnPoint.decompress(dec, load<int32_t>(last + 13)));
-        for (uint32_t i = 0; i < 3; ++i) store(item + 17 + 4 * i, c.xyz.decompress(dec, load<int32_t>(last + 17 + 4 * i), i));
+        bytes::put(item + 1, offset);
+        bytes::put(item + 9, c.packetSize.decompress(dec, int32_t(lastSize)));
+        bytes::put(item + 13, c.returnPoint.decompress(dec, bytes::get<int32_t>(last + 13)));
+        for (uint32_t i = 0; i < 3; ++i) bytes::put(item + 17 + 4 * i, c.xyz.decompress(dec, bytes::get<int32_t>(last + 17 + 4 * i), i));
         std::memcpy(last, item, 29);
     }
 
@@ -887,9 +876,9 @@ public:
         uint8_t* last = owner.last;
         layer_->changed |= std::memcmp(item, last, 29) != 0;
         enc.encodeSymbol(c.index, item[0]);
-        const int64_t diff64 = int64_t(load<uint64_t>(item + 1) - load<uint64_t>(last + 1));
+        const int64_t diff64 = int64_t(bytes::get<uint64_t>(item + 1) - bytes::get<uint64_t>(last + 1));
         const int32_t diff = int32_t(diff64);
-        const uint32_t lastSize = load<uint32_t>(last + 9);
+        const uint32_t lastSize = bytes::get<uint32_t>(last + 9);
         uint32_t kind = 3;
         if (diff64 == int64_t(diff)) kind = diff == 0 ? 0 : (diff == int32_t(lastSize) ? 1 : 2);
         enc.encodeSymbol(c.offsetKinds[c.lastOffsetKind], kind);
@@ -898,11 +887,11 @@ public:
             c.offsetDiff.compress(enc, c.lastOffsetDiff, diff);
             c.lastOffsetDiff = diff;
         } else if (kind == 3) {
-            enc.writeInt64(load<uint64_t>(item + 1));
+            enc.writeInt64(bytes::get<uint64_t>(item + 1));
         }
-        c.packetSize.compress(enc, int32_t(lastSize), load<int32_t>(item + 9));
-        c.returnPoint.compress(enc, load<int32_t>(last + 13), load<int32_t>(item + 13));
-        for (uint32_t i = 0; i < 3; ++i) c.xyz.compress(enc, load<int32_t>(last + 17 + 4 * i), load<int32_t>(item + 17 + 4 * i), i);
+        c.packetSize.compress(enc, int32_t(lastSize), bytes::get<int32_t>(item + 9));
+        c.returnPoint.compress(enc, bytes::get<int32_t>(last + 13), bytes::get<int32_t>(item + 13));
+        for (uint32_t i = 0; i < 3; ++i) c.xyz.compress(enc, bytes::get<int32_t>(last + 17 + 4 * i), bytes::get<int32_t>(item + 17 + 4 * i), i);
         std::memcpy(last, item, 29);
     }
 
@@ -994,7 +983,7 @@ Result<void> decodeLayeredChunk(const LaszipVlr& vlr, std::span<const uint8_t> d
     // A one-point chunk needs nothing past its first point (LASzip writes the rest all the same).
     if (count == 1 && at == data.size()) return {};
     if (data.size() - at < 4) return fail("the chunk ends before its point count");
-    const uint32_t own = load<uint32_t>(data.data() + at);
+    const uint32_t own = bytes::get<uint32_t>(data.data() + at);
     at += 4;
     if (own != count) return fail("the chunk says it holds %u points, the chunk table %llu", own, static_cast<unsigned long long>(count));
 
@@ -1002,7 +991,7 @@ Result<void> decodeLayeredChunk(const LaszipVlr& vlr, std::span<const uint8_t> d
     if ((data.size() - at) / 4 < totalLayers) return fail("the chunk ends inside its table of %u layer sizes", totalLayers);
     std::vector<InLayer> layers(totalLayers);
     for (InLayer& layer : layers) {
-        layer.size = load<uint32_t>(data.data() + at);
+        layer.size = bytes::get<uint32_t>(data.data() + at);
         at += 4;
     }
     for (const ItemPlan& item : items) {
@@ -1093,11 +1082,11 @@ Result<void> encodeLayeredChunk(const LaszipVlr& vlr, const uint8_t* records, ui
 
     out.insert(out.end(), records, records + recordLength);
     uint8_t word[4];
-    store(word, uint32_t(count));
+    bytes::put(word, uint32_t(count));
     out.insert(out.end(), word, word + 4);
     for (uint32_t l = 0; l < totalLayers; ++l) {
         layers[l].enc.done();
-        store(word, layers[l].changed ? uint32_t(layers[l].bytes.size()) : 0u);
+        bytes::put(word, layers[l].changed ? uint32_t(layers[l].bytes.size()) : 0u);
         out.insert(out.end(), word, word + 4);
     }
     for (uint32_t l = 0; l < totalLayers; ++l) {

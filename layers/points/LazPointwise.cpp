@@ -3,6 +3,7 @@
 // stored raw; each item predicts its next value from the previous point.
 
 #include "layers/points/LazChunks.h"
+#include "layers/points/LasBytes.h"
 #include "layers/points/LazCoder.h"
 
 #include <array>
@@ -12,17 +13,6 @@
 
 namespace orbis::points::laz::detail {
 namespace {
-
-template <typename T>
-T get(const uint8_t* p) {
-    T v;
-    std::memcpy(&v, p, sizeof(T));
-    return v;
-}
-template <typename T>
-void put(uint8_t* p, T v) {
-    std::memcpy(p, &v, sizeof(T));
-}
 
 class ItemDecoder {
 public:
@@ -94,9 +84,9 @@ public:
             if (changed & 16) {
                 const auto intensity = uint16_t(intensity_.decompress(dec, lastIntensity_[m], m < 3 ? m : 3));
                 lastIntensity_[m] = intensity;
-                put<uint16_t>(last_ + 12, intensity);
+                bytes::put<uint16_t>(last_ + 12, intensity);
             } else {
-                put<uint16_t>(last_ + 12, lastIntensity_[m]);
+                bytes::put<uint16_t>(last_ + 12, lastIntensity_[m]);
             }
             if (changed & 8) last_[15] = uint8_t(dec.decodeSymbol(classification_[last_[15]]));
             if (changed & 4) {
@@ -104,18 +94,18 @@ public:
                 last_[16] = fold8(int32_t(dec.decodeSymbol(scanAngle_[direction])) + last_[16]);
             }
             if (changed & 2) last_[17] = uint8_t(dec.decodeSymbol(userData_[last_[17]]));
-            if (changed & 1) put<uint16_t>(last_ + 18, uint16_t(source_.decompress(dec, get<uint16_t>(last_ + 18))));
+            if (changed & 1) bytes::put<uint16_t>(last_ + 18, uint16_t(source_.decompress(dec, bytes::get<uint16_t>(last_ + 18))));
         }
         const int32_t dx = dx_.decompress(dec, medianX_[m].get(), n == 1);
-        put<int32_t>(last_, wrapAdd(get<int32_t>(last_), dx));
+        bytes::put<int32_t>(last_, wrapAdd(bytes::get<int32_t>(last_), dx));
         medianX_[m].add(dx);
         uint32_t k = dx_.k();
         const int32_t dy = dy_.decompress(dec, medianY_[m].get(), (n == 1) + (k < 20 ? (k & ~1u) : 20));
-        put<int32_t>(last_ + 4, wrapAdd(get<int32_t>(last_ + 4), dy));
+        bytes::put<int32_t>(last_ + 4, wrapAdd(bytes::get<int32_t>(last_ + 4), dy));
         medianY_[m].add(dy);
         k = (dx_.k() + dy_.k()) / 2;
         const int32_t z = z_.decompress(dec, lastHeight_[l], (n == 1) + (k < 18 ? (k & ~1u) : 18));
-        put<int32_t>(last_ + 8, z);
+        bytes::put<int32_t>(last_ + 8, z);
         lastHeight_[l] = z;
         std::memcpy(item, last_, 20);
     }
@@ -153,20 +143,20 @@ public:
     }
     void read(ArithmeticDecoder& dec, uint8_t* item) override {
         const int32_t dx = dx_.decompress(dec, median3(lastDx_));
-        put<int32_t>(last_, wrapAdd(get<int32_t>(last_), dx));
+        bytes::put<int32_t>(last_, wrapAdd(bytes::get<int32_t>(last_), dx));
         uint32_t k = dx_.k();
         const int32_t dy = dy_.decompress(dec, median3(lastDy_), k < 19 ? k : 19);
-        put<int32_t>(last_ + 4, wrapAdd(get<int32_t>(last_ + 4), dy));
+        bytes::put<int32_t>(last_ + 4, wrapAdd(bytes::get<int32_t>(last_ + 4), dy));
         k = (k + dy_.k()) / 2;
-        put<int32_t>(last_ + 8, z_.decompress(dec, get<int32_t>(last_ + 8), k < 19 ? k : 19));
+        bytes::put<int32_t>(last_ + 8, z_.decompress(dec, bytes::get<int32_t>(last_ + 8), k < 19 ? k : 19));
         const uint32_t changed = dec.decodeSymbol(changed_);
         if (changed) {
-            if (changed & 32) put<uint16_t>(last_ + 12, uint16_t(intensity_.decompress(dec, get<uint16_t>(last_ + 12))));
+            if (changed & 32) bytes::put<uint16_t>(last_ + 12, uint16_t(intensity_.decompress(dec, bytes::get<uint16_t>(last_ + 12))));
             if (changed & 16) last_[14] = uint8_t(dec.decodeSymbol(bitByte_[last_[14]]));
             if (changed & 8) last_[15] = uint8_t(dec.decodeSymbol(classification_[last_[15]]));
             if (changed & 4) last_[16] = uint8_t(scanAngle_.decompress(dec, last_[16], k < 3));
             if (changed & 2) last_[17] = uint8_t(dec.decodeSymbol(userData_[last_[17]]));
-            if (changed & 1) put<uint16_t>(last_ + 18, uint16_t(source_.decompress(dec, get<uint16_t>(last_ + 18))));
+            if (changed & 1) bytes::put<uint16_t>(last_ + 18, uint16_t(source_.decompress(dec, bytes::get<uint16_t>(last_ + 18))));
         }
         lastDx_[lastIncrement_] = dx;
         lastDy_[lastIncrement_] = dy;
@@ -203,7 +193,7 @@ public:
         multi_.reset();
         zeroDiff_.reset();
         ic_.reset();
-        time_[0] = get<uint64_t>(first);
+        time_[0] = bytes::get<uint64_t>(first);
         time_[1] = time_[2] = time_[3] = 0;
     }
     void read(ArithmeticDecoder& dec, uint8_t* item) override {
@@ -211,7 +201,7 @@ public:
         // symbols (each switch consumes one symbol), in place of LASzip's recursion.
         for (int guard = 0; guard < 8; ++guard)
             if (step(dec)) break;
-        put<uint64_t>(item, time_[last_]);
+        bytes::put<uint64_t>(item, time_[last_]);
     }
 
 private:
@@ -293,7 +283,7 @@ public:
         multi_.reset();
         zeroDiff_.reset();
         ic_.reset();
-        time_ = get<uint64_t>(first);
+        time_ = bytes::get<uint64_t>(first);
     }
     void read(ArithmeticDecoder& dec, uint8_t* item) override {
         constexpr uint32_t kMultiMax = 512;
@@ -335,7 +325,7 @@ public:
                 time_ = dec.readInt64();
             }
         }
-        put<uint64_t>(item, time_);
+        bytes::put<uint64_t>(item, time_);
     }
 
 private:
@@ -352,7 +342,7 @@ public:
     void init(const uint8_t* first) override {
         used_.reset();
         for (SymbolModel& m : diff_) m.reset();
-        for (int i = 0; i < 3; ++i) last_[i] = get<uint16_t>(first + 2 * i);
+        for (int i = 0; i < 3; ++i) last_[i] = bytes::get<uint16_t>(first + 2 * i);
     }
     void read(ArithmeticDecoder& dec, uint8_t* item) override {
         const uint32_t sym = dec.decodeSymbol(used_);
@@ -383,7 +373,7 @@ public:
         }
         for (int i = 0; i < 3; ++i) {
             last_[i] = c[i];
-            put<uint16_t>(item + 2 * i, c[i]);
+            bytes::put<uint16_t>(item + 2 * i, c[i]);
         }
     }
 
@@ -398,7 +388,7 @@ public:
     void init(const uint8_t* first) override {
         used_.reset();
         ic_.reset();
-        for (int i = 0; i < 3; ++i) last_[i] = get<uint16_t>(first + 2 * i);
+        for (int i = 0; i < 3; ++i) last_[i] = bytes::get<uint16_t>(first + 2 * i);
     }
     void read(ArithmeticDecoder& dec, uint8_t* item) override {
         const uint32_t sym = dec.decodeSymbol(used_);
@@ -407,7 +397,7 @@ public:
             uint16_t v = (sym & lowBit) ? uint16_t(uint8_t(ic_.decompress(dec, last_[i] & 0xFF, 2 * i))) : uint16_t(last_[i] & 0xFF);
             v |= (sym & highBit) ? uint16_t(uint8_t(ic_.decompress(dec, last_[i] >> 8, 2 * i + 1)) << 8) : uint16_t(last_[i] & 0xFF00);
             last_[i] = v;
-            put<uint16_t>(item + 2 * i, v);
+            bytes::put<uint16_t>(item + 2 * i, v);
         }
     }
 
@@ -473,8 +463,8 @@ public:
         const uint8_t* l = last_ + 1;
         uint8_t* p = item + 1;
         lastOffsetSymbol_ = dec.decodeSymbol(offsetDiff_[lastOffsetSymbol_]);
-        const uint64_t lastOffset = get<uint64_t>(l);
-        const uint32_t lastSize = get<uint32_t>(l + 8);
+        const uint64_t lastOffset = bytes::get<uint64_t>(l);
+        const uint32_t lastSize = bytes::get<uint32_t>(l + 8);
         uint64_t offset;
         if (lastOffsetSymbol_ == 0) offset = lastOffset;
         else if (lastOffsetSymbol_ == 1) offset = lastOffset + lastSize;
@@ -482,10 +472,10 @@ public:
             lastDiff32_ = offset_.decompress(dec, lastDiff32_);
             offset = lastOffset + uint64_t(int64_t(lastDiff32_));
         } else offset = dec.readInt64();
-        put<uint64_t>(p, offset);
-        put<int32_t>(p + 8, size_.decompress(dec, int32_t(lastSize)));
-        put<int32_t>(p + 12, returnPoint_.decompress(dec, get<int32_t>(l + 12)));
-        for (uint32_t a = 0; a < 3; ++a) put<int32_t>(p + 16 + 4 * a, xyz_.decompress(dec, get<int32_t>(l + 16 + 4 * a), a));
+        bytes::put<uint64_t>(p, offset);
+        bytes::put<int32_t>(p + 8, size_.decompress(dec, int32_t(lastSize)));
+        bytes::put<int32_t>(p + 12, returnPoint_.decompress(dec, bytes::get<int32_t>(l + 12)));
+        for (uint32_t a = 0; a < 3; ++a) bytes::put<int32_t>(p + 16 + 4 * a, xyz_.decompress(dec, bytes::get<int32_t>(l + 16 + 4 * a), a));
         std::memcpy(last_, item, 29);
     }
 
