@@ -15,13 +15,13 @@ sizes="${SIZES:-1 5 20}" frames="${FRAMES:-10}" size="${SIZE:-1920x1080}" big="$
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp/orbis-xdg}"
 dev=(); [ -n "${DEVICE:-}" ] && dev=(--device "$DEVICE")
 mkdir -p "$data" "$XDG_RUNTIME_DIR"
-scene() {   # scene FILE.las BUDGET [ORDER] -> a scene file next to it
-    local las="$1" budget="$2" order="${3:-morton}" out="${1%.las}-$2-${3:-morton}.json"
+scene() {   # scene FILE.las BUDGET [ORDER] [ADAPTIVE] -> a scene file next to it
+    local las="$1" budget="$2" order="${3:-morton}" adaptive="${4:-false}" out="${1%.las}-$2-${3:-morton}-${4:-false}.json"
     cat > "$out" <<JSON
 {"name": "Synthetic survey ($(basename "$las"))",
  "viewpoint": {"lon": 9.0, "lat": 46.0087, "height": 820, "heading": 20, "pitch": -55, "range": 1900},
  "fovDeg": 45, "time": {"start": "2026-06-21T09:00:00Z", "end": "2026-06-21T09:00:00Z"}, "background": [0, 0, 0],
- "layers": [{"type": "points", "name": "Survey", "path": "$las", "pointBudget": $budget, "gpuMemoryMB": 1536, "pointOrder": "$order"}]}
+ "layers": [{"type": "points", "name": "Survey", "path": "$las", "pointBudget": $budget, "gpuMemoryMB": 1536, "pointOrder": "$order", "adaptiveSize": $adaptive}]}
 JSON
     echo "$out"
 }
@@ -45,9 +45,11 @@ done
 [ "${ORDER_ONLY:-0}" = 1 ] && exit 0
 las="$data/survey-5m.las"
 [ -f "$las" ] || "$build/bin/orbis-make-las" --points 5000000 --out "$las"
-echo "== point budget on 5 M points (reference: all), $size"
-"$build/bin/orbis" bench "${dev[@]}" "$(scene "$las" 0)" --size "$size" --frames "$frames" --warmup 2 \
-    --sweep pointBudget=0,3000000,1000000,300000,100000 --plot "$build/points-budget.png"
+for adaptive in false true; do
+    echo "== point budget on 5 M points (reference: all), level-aware sizes $adaptive, $size"
+    "$build/bin/orbis" bench "${dev[@]}" "$(scene "$las" 0 morton "$adaptive")" --size "$size" --frames "$frames" --warmup 2 \
+        --sweep pointBudget=0,3000000,1000000,300000,100000 --plot "$build/points-budget-$adaptive.png"
+done
 [ "$big" = 0 ] && exit 0
 las="$data/survey-${big}m.las"
 [ -f "$las" ] || "$build/bin/orbis-make-las" --points "${big}000000" --out "$las"
