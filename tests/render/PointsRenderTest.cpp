@@ -3,6 +3,7 @@
 // the opaque scene, the point budget, and precision at lon 179.9999 from 2 m away.
 #include "engine/gpu/Device.h"
 #include "globe/Ellipsoid.h"
+#include "layers/points/Copc.h"
 #include "layers/points/CopcWriter.h"
 #include "layers/points/LasReader.h"
 #include "layers/points/PointsLayer.h"
@@ -15,6 +16,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <random>
 
@@ -402,6 +404,40 @@ TEST_F(PointsRender, BudgetDrawsTheNearestNodesFirst) {
     }
     EXPECT_GT(litLimited, litFull / 4);
     EXPECT_GT(litFull, litLimited);
+}
+
+// A COPC file with one damaged node (its chunk overwritten): the layer warns once and draws every
+// other node; nothing stops, nothing crashes.
+TEST_F(PointsRender, ADamagedCopcNodeIsSkippedAndTheOthersDraw) {
+    const std::string good = std::string(ORBIS_SHARED_DATA_DIR) + "/lidar/lone-star.copc.laz";
+    if (!std::filesystem::exists(good)) GTEST_SKIP() << "../shared/data is absent";
+    auto f = points::LasFile::open(good);
+    ASSERT_TRUE(f.ok()) << f.message();
+    auto nodes = points::copc::readHierarchy(**f, *(*f)->copc());
+    ASSERT_TRUE(nodes.ok()) << nodes.message();
+    const points::copc::Node* victim = nullptr;   // a node below the root
+    for (const auto& n : *nodes)
+        if (n.key.d == 1 && (!victim || n.points > victim->points)) victim = &n;
+    ASSERT_NE(victim, nullptr);
+    const std::string bad = (outDir() / "lone-star-damaged.copc.laz").string();
+    std::filesystem::copy_file(good, bad, std::filesystem::copy_options::overwrite_existing);
+    {
+        std::fstream io(bad, std::ios::in | std::ios::out | std::ios::binary);
+        io.seekp(std::streamoff(victim->offset + 40));
+        const std::string junk(std::min<uint32_t>(victim->bytes - 40, 4000), '\x5a');
+        io.write(junk.data(), std::streamsize(junk.size()));
+    }
+    const char* view = R"({"lon": -110.806744, "lat": 44.418375, "height": 2330, "heading": 30, "pitch": -45, "range": 80})";
+    auto s = load(scene(view, pointsLayer(bad, R"(, "crs": "EPSG:26912", "pointBudget": 0)")));
+    ASSERT_TRUE(s);
+    const auto img = render(*s);
+    auto& layer = points(*s);
+    EXPECT_TRUE(layer.store()->streamed());
+    EXPECT_GT(layer.pointsDrawn(), 518862u / 3);
+    EXPECT_LE(layer.pointsDrawn(), 518862u - victim->points);
+    size_t lit = 0;
+    for (size_t i = 0; i < img.pixels.size(); i += 4) lit += img.pixels[i] + img.pixels[i + 1] + img.pixels[i + 2] > 0 ? 1 : 0;
+    EXPECT_GT(lit, size_t(img.width * img.height / 20));
 }
 
 // The survey written by Orbis as COPC (its own octree, LAZ nodes) and drawn from that octree over
