@@ -137,7 +137,7 @@ public:
     std::vector<std::string> damagedChunks() const;
 
 private:
-    LasFile() = default;
+    LasFile();   // out of line: Laz is complete only in LasReader.cpp
     struct Laz;
     struct Remote;
     /// Exactly `n` bytes at `offset` from the file or the server; false with the reason.
