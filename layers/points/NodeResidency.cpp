@@ -106,13 +106,13 @@ void NodeResidency::beginFrame(uint64_t frame) {
         reading_[size_t(r.node)] = 0;
         try {
             auto data = r.job.get();
-            if (data.first) {
-                readyBytes_ += data.second.size();
-                ready_[r.node] = std::move(data.second);
+            if (data.ok) {
+                readyBytes_ += data.data.size();
+                ready_[r.node] = std::move(data.data);
             } else if (store_->streamed()) {
                 // A damaged node of a COPC file: said once, skipped, the others still load.
                 failed_[size_t(r.node)] = 1;
-                if (failures_++ == 0) log::warn("points: ", std::string(data.second.begin(), data.second.end()), " (the node is skipped)");
+                if (failures_++ == 0) log::warn("points: ", data.error, " (the node is skipped)");
             } else if (error_.empty()) {
                 error_ = "point cache " + store_->path() + ": cannot read node " + std::to_string(r.node);
             }
@@ -138,12 +138,10 @@ void NodeResidency::want(std::span<const int32_t> nodes, jobs::ThreadPool* pool)
         if (!reads_.empty() && readBytes_ + bytes > kReadBytesInFlight) break;
         std::shared_ptr<const PointStore> store = store_;
         auto job = pool->submit(0.0, jobs::CancelToken::create(),
-                                [store, n](const jobs::CancelToken&) -> std::pair<bool, std::vector<uint8_t>> {
-                                    // The data, or (false) the message of the failure.
-                                    std::vector<uint8_t> data;
-                                    std::string message;
-                                    if (!store->read(size_t(n), data, &message)) return {false, std::vector<uint8_t>(message.begin(), message.end())};
-                                    return {true, std::move(data)};
+                                [store, n](const jobs::CancelToken&) {
+                                    NodeRead read;
+                                    read.ok = store->read(size_t(n), read.data, &read.error);
+                                    return read;
                                 });
         reads_.push_back({n, bytes, std::move(job)});
         reading_[size_t(n)] = 1;

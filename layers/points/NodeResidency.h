@@ -85,10 +85,16 @@ private:
     std::vector<int32_t> wanted_;       // this frame's
     std::map<uint64_t, uint64_t> free_;                         // offset -> bytes, coalesced
     std::vector<std::pair<uint64_t, std::pair<uint64_t, uint64_t>>> freed_;   // (frame, (offset, bytes))
+    /// A node's data, or why it could not be read.
+    struct NodeRead {
+        std::vector<uint8_t> data;
+        std::string error;
+        bool ok = false;
+    };
     struct Read {
         int32_t node;
         uint64_t bytes;
-        jobs::Job<std::pair<bool, std::vector<uint8_t>>> job;   // the data, or false and the message
+        jobs::Job<NodeRead> job;
     };
     std::vector<Read> reads_;
     std::vector<uint8_t> reading_;   // per node: a read is in flight

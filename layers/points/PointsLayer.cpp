@@ -349,7 +349,7 @@ void PointsLayer::writeUniforms(const render::RecordContext& rc) {
     // over the octant's child's own octants: where any part is left coarse, its points stay large
     // enough to cover it). Children come after their parents in the draw list: bottom up.
     std::vector<uint32_t> octants(drawList_.size(), 0);
-    for (size_t k = drawList_.size(); k-- > 0;) {
+    for (size_t k = settings_.adaptiveSize ? drawList_.size() : 0; k-- > 0;) {
         const points::StoredNode& n = nodes[size_t(drawList_[k])];
         uint32_t fewest = 15;
         for (int c = 0; c < 8; ++c) {
