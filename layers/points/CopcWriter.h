@@ -17,11 +17,14 @@
 // NIR, scan direction, edge of flight line and scanner channel. What LasPoint does not carry is
 // not written: extra bytes and waveform packets.
 //
-// Memory: the whole cloud is held, packed as the output's records, while the octree is built:
-// about 42-50 bytes a point (the 30-38 byte record and 12 bytes of ordering), plus a read buffer
-// of half a million points (about 35 MB) and the chunks being encoded. Clouds larger than memory would need an out-of-core build (points spilled to
-// files by cube, as PointStoreBuild does), which is not written: inputs of 2^32 points or more
-// are refused.
+// Memory is bounded, so clouds larger than RAM convert: the octree is built out of core (as the
+// point cache's is, PointCacheBuild.cpp) in batches of at most `batchPoints` points (about 72
+// bytes each in memory), plus 4 bytes for each point of the nodes above the batches' cells and the
+// chunks being encoded. A cloud of more points than a batch goes through temporary files next to
+// the output (about 100 bytes a point on the disk at the peak: 48 in a spill file, then in a chunk
+// file); a smaller one stays in memory. The tree does not depend on `batchPoints`: it is the one
+// the whole cloud inserted in key order makes. (A batch is a cell of a 128^3 grid over the root
+// cube at the finest: points closer together than that are one batch whatever its size.)
 
 #include "base/Result.h"
 
@@ -36,6 +39,7 @@ class LasFile;
 struct CopcWriteOptions {
     uint32_t maxNodePoints = 100000;   ///< a node keeps at most this many points, the rest go to its children
     uint32_t maxLevel = 16;            ///< the deepest level keeps every point that reaches it (at most 30)
+    uint64_t batchPoints = 10000000;   ///< points held in memory at once (at least 8 x maxNodePoints)
     std::function<void(double)> progress;   ///< 0..1, called on the calling thread
 };
 
@@ -43,6 +47,7 @@ struct CopcWriteStats {
     uint64_t points = 0;
     uint32_t nodes = 0, depth = 0;   ///< nodes with points; the deepest level (the root's is 0)
     uint64_t bytes = 0;              ///< the file's size
+    uint32_t batches = 0;            ///< the cells the octree was built in, one after the other
 };
 
 /// Writes every point of `in` (LAS or LAZ, any format) as a COPC 1.0 file at `path`: LAS 1.4,

@@ -11,8 +11,8 @@
 // The result is the tree PointOctree::build makes of the whole cloud, node for node.
 #include "layers/points/PointStoreBuild.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
+#include "layers/points/OutOfCore.h"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -30,112 +30,11 @@ namespace {
 
 using store::Packing;
 
-// -----------------------------------------------------------------------------------------------
-// Files
-class File {
-public:
-    File() = default;
-    File(const File&) = delete;
-    File& operator=(const File&) = delete;
-    ~File() { close(true); }
-    Result<void> create(const std::string& path) {
-        path_ = path;
-        fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-        if (fd_ < 0) return fail("cannot create");
-        return {};
-    }
-    Result<void> write(const void* data, uint64_t bytes, uint64_t offset) {
-        auto* p = static_cast<const uint8_t*>(data);
-        while (bytes > 0) {
-            const ssize_t w = ::pwrite(fd_, p, bytes, off_t(offset));
-            if (w < 0 && errno == EINTR) continue;
-            if (w <= 0) return fail("cannot write (disk full?)");
-            p += w, bytes -= uint64_t(w), offset += uint64_t(w);
-        }
-        return {};
-    }
-    Result<void> read(void* out, uint64_t bytes, uint64_t offset) const {
-        if (!store::preadAll(fd_, out, bytes, offset)) return fail("cannot read");
-        return {};
-    }
-    /// Waits until the data written is on the disk.
-    Result<void> sync() {
-        if (::fdatasync(fd_) != 0) return fail("cannot flush to the disk");
-        return {};
-    }
-    /// Closes; `remove`: deletes the file too (temporary files, failed builds).
-    void close(bool remove) {
-        if (fd_ >= 0) ::close(fd_);
-        fd_ = -1;
-        if (remove && !path_.empty()) ::unlink(path_.c_str());
-        path_.clear();
-    }
-    const std::string& path() const { return path_; }
-
-private:
-    Error fail(const char* what) const { return Error{std::string(path_).append(": ").append(what).append(": ").append(std::strerror(errno))}; }
-    int fd_ = -1;
-    std::string path_;
-};
-
-/// Records appended to a file through a buffer.
-class RecordWriter {
-public:
-    explicit RecordWriter(File& f) : file_(f) { buffer_.reserve(kBuffer); }
-    Result<void> add(std::span<const PointRecord> r) {
-        for (const PointRecord& p : r) {
-            buffer_.push_back(p);
-            if (buffer_.size() == kBuffer)
-                if (auto w = flush(); !w) return w;
-        }
-        return {};
-    }
-    Result<void> flush() {
-        auto w = file_.write(buffer_.data(), buffer_.size() * sizeof(PointRecord), written_ * sizeof(PointRecord));
-        written_ += buffer_.size();
-        buffer_.clear();
-        return w;
-    }
-
-private:
-    static constexpr size_t kBuffer = 1u << 16;
-    File& file_;
-    std::vector<PointRecord> buffer_;
-    uint64_t written_ = 0;
-};
-
-/// Calls fn(records) over [0, count) records of `file`, a block at a time.
-template <typename Fn>
-Result<void> forEachBlock(const File& file, uint64_t count, const std::atomic<bool>* cancel, Fn&& fn) {
-    std::vector<PointRecord> block;
-    constexpr uint64_t kBlock = 1u << 18;
-    for (uint64_t first = 0; first < count; first += kBlock) {
-        if (cancel && cancel->load()) return makeError("cancelled");
-        block.resize(std::min(kBlock, count - first));
-        if (auto r = file.read(block.data(), block.size() * sizeof(PointRecord), first * sizeof(PointRecord)); !r) return r;
-        fn(std::span<const PointRecord>(block));
-    }
-    return {};
-}
-
-// -----------------------------------------------------------------------------------------------
-// The grid and the chunks
+using ooc::Cell;
+using ooc::Chunk;
+using ooc::File;
+using ooc::makeChunks;
 constexpr uint32_t kGridLevels = 7;   // 128^3 counting cells
-
-struct Cell {
-    uint32_t level = 0, x = 0, y = 0, z = 0;
-    uint64_t packed() const { return uint64_t(level) << 60 | uint64_t(x) << 40 | uint64_t(y) << 20 | z; }
-    /// Its index among the (2^level)^3 cells of its level.
-    size_t index() const { return x | size_t(y) << level | size_t(z) << (2 * level); }
-    Cell child(int octant) const {
-        return {level + 1, x << 1 | uint32_t(octant & 1), y << 1 | uint32_t((octant >> 1) & 1), z << 1 | uint32_t((octant >> 2) & 1)};
-    }
-    /// The octant its path from the root takes at level l (< level).
-    int octantAt(uint32_t l) const {
-        const uint32_t s = level - 1 - l;
-        return int(((x >> s) & 1) | ((y >> s) & 1) << 1 | ((z >> s) & 1) << 2);
-    }
-};
 
 /// The cell of `levels` levels below the root a point descends to (the octree's own octant
 /// tests, so the chunks agree with the tree to the last bit).
@@ -152,70 +51,6 @@ Cell cellOf(const glm::dvec3& p, Cube cube, uint32_t levels) {
 Cube cubeOf(const Cell& c, Cube cube) {
     for (uint32_t l = 0; l < c.level; ++l) cube = cube.child(c.octantAt(l));
     return cube;
-}
-
-struct Chunk {
-    Cell cell;
-    uint64_t count = 0, first = 0;   // its records in the chunk file
-};
-
-/// The largest cells holding at most `maxPoints` (or of the grid's finest level).
-std::vector<Chunk> makeChunks(const std::vector<uint32_t>& counts, uint32_t levels, uint64_t maxPoints) {
-    // Counts per level, finest first (level l: (2^l)^3 cells, x | y << l | z << 2l).
-    std::vector<std::vector<uint64_t>> pyramid(levels + 1);
-    pyramid[levels].assign(counts.begin(), counts.end());
-    for (uint32_t l = levels; l-- > 0;) {
-        const uint32_t side = 1u << l;
-        pyramid[l].assign(size_t(side) * side * side, 0);
-        for (uint32_t z = 0; z < 2 * side; ++z)
-            for (uint32_t y = 0; y < 2 * side; ++y)
-                for (uint32_t x = 0; x < 2 * side; ++x)
-                    pyramid[l][Cell{l, x >> 1, y >> 1, z >> 1}.index()] += pyramid[l + 1][Cell{l + 1, x, y, z}.index()];
-    }
-    std::vector<Chunk> chunks;
-    std::vector<Cell> stack{Cell{}};
-    while (!stack.empty()) {
-        const Cell c = stack.back();
-        stack.pop_back();
-        const uint64_t n = pyramid[c.level][c.index()];
-        if (n == 0) continue;
-        if (n <= maxPoints || c.level == levels) {
-            chunks.push_back({c, n, 0});
-            continue;
-        }
-        for (int o = 0; o < 8; ++o) stack.push_back(c.child(o));
-    }
-    uint64_t first = 0;
-    for (Chunk& c : chunks) c.first = first, first += c.count;
-    return chunks;
-}
-
-/// Copies the `count` records of `spill` into their chunks' ranges of `out`, through a buffer
-/// per chunk (64 MB in all).
-template <typename ChunkOf>
-Result<void> distribute(const File& spill, uint64_t count, const std::atomic<bool>* cancel, ChunkOf&& chunkOf,
-                        const std::vector<Chunk>& chunks, File& out) {
-    const size_t perChunk =
-        std::clamp<size_t>((size_t(64) << 20) / sizeof(PointRecord) / std::max<size_t>(chunks.size(), 1), 256, 1u << 16);
-    std::vector<std::vector<PointRecord>> buffers(chunks.size());
-    std::vector<uint64_t> cursor(chunks.size());
-    for (size_t c = 0; c < chunks.size(); ++c) cursor[c] = chunks[c].first;
-    Result<void> written;   // the first write error, if any
-    const auto flush = [&](size_t c) {
-        if (written) written = out.write(buffers[c].data(), buffers[c].size() * sizeof(PointRecord), cursor[c] * sizeof(PointRecord));
-        cursor[c] += buffers[c].size();
-        buffers[c].clear();
-    };
-    auto r = forEachBlock(spill, count, cancel, [&](std::span<const PointRecord> block) {
-        for (const PointRecord& p : block) {
-            const uint32_t c = chunkOf(p.ecef);
-            buffers[c].push_back(p);
-            if (buffers[c].size() >= perChunk) flush(c);
-        }
-    });
-    if (!r) return r;
-    for (size_t c = 0; c < chunks.size(); ++c) flush(c);
-    return written;
 }
 
 /// The nodes above the chunks, filled with the candidates in key order as PointOctree would.
@@ -291,7 +126,7 @@ private:
     /// 1. Records to the spill file, statistics.
     Result<void> spillRecords() {
         if (auto r = spill_.create(tmp_ + ".spill.tmp"); !r) return r;
-        RecordWriter spillWriter(spill_);
+        ooc::RecordWriter<PointRecord> spillWriter(spill_);
         auto stats = readRecords(ctx_.file, ctx_.georef, ctx_.options, 0.3,
                                  [&](std::span<const PointRecord> r) { return spillWriter.add(r); });
         if (!stats) return stats.error();
@@ -308,7 +143,7 @@ private:
     Result<std::vector<uint32_t>> countCells() const {
         const uint32_t side = 1u << levels_;
         std::vector<uint32_t> counts(size_t(side) * side * side, 0);
-        if (auto r = forEachBlock(spill_, n_, ctx_.options.cancel, [&](std::span<const PointRecord> block) {
+        if (auto r = ooc::forEachBlock<PointRecord>(spill_, n_, ctx_.options.cancel, [&](std::span<const PointRecord> block) {
                 for (const PointRecord& p : block) ++counts[cellOf(p.ecef, root_, levels_).index()];
             });
             !r)
@@ -320,19 +155,11 @@ private:
     Result<void> distributeToChunks(std::vector<uint32_t> counts) {
         const uint64_t chunkPoints = std::max<uint64_t>(ctx_.options.chunkPoints, uint64_t(8) * capacity_);
         chunks_ = makeChunks(counts, levels_, chunkPoints);
-        std::vector<uint32_t> chunkOf(counts.size(), 0);
-        for (uint32_t c = 0; c < chunks_.size(); ++c) {
-            const Cell& cell = chunks_[c].cell;
-            const uint32_t shift = levels_ - cell.level, span = 1u << shift;
-            for (uint32_t z = 0; z < span; ++z)
-                for (uint32_t y = 0; y < span; ++y)
-                    for (uint32_t x = 0; x < span; ++x)
-                        chunkOf[Cell{levels_, cell.x << shift | x, cell.y << shift | y, cell.z << shift | z}.index()] = c;
-        }
+        const std::vector<uint32_t> chunkOf = ooc::chunkOfCells(chunks_, levels_);
         std::vector<uint32_t>().swap(counts);
         if (auto r = chunkFile_.create(tmp_ + ".chunks.tmp"); !r) return r;
-        if (auto r = distribute(spill_, n_, ctx_.options.cancel,
-                                [&](const glm::dvec3& p) { return chunkOf[cellOf(p, root_, levels_).index()]; }, chunks_,
+        if (auto r = ooc::distribute<PointRecord>(spill_, n_, ctx_.options.cancel,
+                                [&](const PointRecord& p) { return chunkOf[cellOf(p.ecef, root_, levels_).index()]; }, chunks_,
                                 chunkFile_);
             !r)
             return r;

@@ -438,6 +438,48 @@ TEST(Cli, InfoPlacesTheOregonSurveyAndDescribesItsLazTwin) {
     EXPECT_EQ(z["firstPoints"][0]["intensity"], 143);   // the LAS twin's first point
 }
 
+// `orbis convert`: a survey to COPC built in several batches (the progress on stderr, the
+// summary naming the batches), read back by `orbis info` with every point; to LAZ and back to
+// LAS; the decoding benchmark's JSON; bad arguments and outputs named.
+TEST(Cli, ConvertWritesCopcInBatchesAndLaz) {
+    const fs::path dir = fs::temp_directory_path() / "orbis-cli-test" / "convert";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path las = dir / "survey.las";
+    ASSERT_EQ(std::system((std::string(ORBIS_MAKE_LAS) + " --points 30000 --size 500 --out " + las.string() + " 2>&1").c_str()), 0);
+    const fs::path copc = dir / "survey.copc.laz";
+    const CliRun c = run("convert " + las.string() + " " + copc.string() + " --node-points 200 --batch-points 10000");
+    ASSERT_EQ(c.exitCode, 0) << c.output;
+    EXPECT_NE(c.output.find("writing COPC"), std::string::npos) << c.output;
+    EXPECT_NE(c.output.find("30000 points in"), std::string::npos) << c.output;
+    EXPECT_EQ(c.output.find(" 1 batches"), std::string::npos) << c.output;
+    const CliRun info = run("info " + copc.string());
+    ASSERT_EQ(info.exitCode, 0) << info.output;
+    const auto j = nlohmann::json::parse(info.output);
+    EXPECT_EQ(j["points"], 30000);
+    EXPECT_EQ(j["version"], "1.4");
+    EXPECT_NE(j["compression"].get<std::string>().find("layered chunked"), std::string::npos) << j["compression"];
+    for (const auto& e : fs::directory_iterator(dir)) EXPECT_NE(e.path().extension(), ".tmp") << e.path();
+
+    const fs::path laz = dir / "survey.laz", back = dir / "back.las";
+    ASSERT_EQ(run("convert " + las.string() + " " + laz.string() + " --chunk 7000").exitCode, 0);
+    ASSERT_EQ(run("convert " + laz.string() + " " + back.string()).exitCode, 0);
+    const auto b = nlohmann::json::parse(run("info " + back.string()).output);
+    EXPECT_EQ(b["points"], 30000);
+    EXPECT_EQ(b["firstPoints"], nlohmann::json::parse(run("info " + las.string()).output)["firstPoints"]);
+    const CliRun d = run("convert " + laz.string() + " --decode --threads 2 --runs 1");
+    ASSERT_EQ(d.exitCode, 0) << d.output;
+    EXPECT_EQ(nlohmann::json::parse(d.output.substr(d.output.find('{')))["points"], 30000);
+
+    EXPECT_EQ(run("convert " + las.string() + " " + copc.string() + " --batch-points 5").exitCode, 2);
+    const CliRun t = run("convert " + las.string() + " " + (dir / "out.txt").string());
+    EXPECT_EQ(t.exitCode, 2);
+    EXPECT_NE(t.output.find(".laz or a .las"), std::string::npos) << t.output;
+    const CliRun m = run("convert " + (dir / "missing.las").string() + " " + laz.string());
+    EXPECT_EQ(m.exitCode, 1);
+    EXPECT_NE(m.output.find("missing.las"), std::string::npos) << m.output;
+}
+
 // A LAS signature with a header from no known version: exit 1, the file and the problem named.
 TEST(Cli, InfoNamesABadLasHeader) {
     const fs::path bad = tempFile("version-zero.las", std::string("LASF").append(400, '\0'));

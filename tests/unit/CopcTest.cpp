@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <algorithm>
+#include <map>
 #include <functional>
 #include <tuple>
 
@@ -228,6 +229,94 @@ TEST(Copc, OrbisWrittenCopcIsValidAndHoldsTheInputsPoints) {
     ASSERT_FALSE(refused.ok());
     EXPECT_NE(refused.message().find("bare.las"), std::string::npos) << refused.message();
     EXPECT_FALSE(fs::exists(dir / "bare.copc.laz"));
+}
+
+// The out-of-core build (the cloud in batches of cells, the nodes above them filled from each
+// batch's first points in key order) makes the tree one batch makes: the same nodes with the same
+// points in the same order, so the same chunk bytes; and every temporary file is gone.
+TEST(Copc, BatchedBuildWritesTheOneBatchTree) {
+    // A survey strip with a dense cluster: the tree is deeper in one place than elsewhere.
+    std::vector<LasPoint> pts(60000);
+    uint32_t seed = 5;
+    const auto next = [&] { return seed = seed * 1664525u + 1013904223u; };
+    for (size_t i = 0; i < pts.size(); ++i) {
+        LasPoint& p = pts[i];
+        const bool cluster = i % 3 == 0;
+        p.position = cluster ? glm::dvec3{501000.0 + 0.01 * double(next() % 2000), 5101000.0 + 0.01 * double(next() % 2000), 250.0 + 0.01 * double(next() % 500)}
+                             : glm::dvec3{500000.0 + 0.01 * double(next() % 400000), 5100000.0 + 0.01 * double(next() % 200000), 200.0 + 0.01 * double(next() % 9000)};
+        p.intensity = uint16_t(next());
+        p.returnNumber = 1, p.numberOfReturns = 1;
+        p.classification = uint8_t(next() % 20);
+        p.gpsTime = 2e5 + double(i) * 1e-4;
+    }
+    const fs::path dir = test::processTempDir("orbis-copc-batched");
+    LasWriteOptions o;
+    o.versionMinor = 4;
+    o.pointFormat = 6;
+    o.scale = glm::dvec3(0.01);
+    o.offset = {500000.0, 5100000.0, 0.0};
+    o.epsg = 32632;
+    {
+        auto w = LasWriter::create((dir / "input.las").string(), o);
+        ASSERT_TRUE(w.ok()) << w.message();
+        (*w)->write(pts);
+        ASSERT_TRUE((*w)->close().ok());
+    }
+    auto in = LasFile::open((dir / "input.las").string());
+    ASSERT_TRUE(in.ok()) << in.message();
+    // Node key -> (points, chunk bytes).
+    using Tree = std::map<std::tuple<int32_t, int32_t, int32_t, int32_t>, std::pair<uint32_t, std::vector<uint8_t>>>;
+    const auto write = [&](const std::string& name, uint64_t batchPoints, Tree& tree) -> CopcWriteStats {
+        CopcWriteOptions options;
+        options.maxNodePoints = 500;
+        options.batchPoints = batchPoints;
+        const fs::path path = dir / name;
+        auto stats = writeCopc(**in, path.string(), options);
+        EXPECT_TRUE(stats.ok()) << stats.message();
+        if (!stats.ok()) return {};
+        auto out = LasFile::open(path.string());
+        EXPECT_TRUE(out.ok()) << out.message();
+        if (!out.ok()) return {};
+        auto nodes = copc::readHierarchy(**out, *(*out)->copc());
+        EXPECT_TRUE(nodes.ok()) << nodes.message();
+        if (!nodes.ok()) return {};
+        uint64_t sum = 0;
+        std::vector<LasPoint> node;
+        for (const copc::Node& n : *nodes) {
+            std::vector<uint8_t> bytes;
+            EXPECT_TRUE((*out)->readBytes(n.offset, n.bytes, bytes).ok());
+            tree[{n.key.d, n.key.x, n.key.y, n.key.z}] = {n.points, bytes};
+            EXPECT_TRUE((*out)->readChunk(n.offset, n.bytes, n.points, node).ok());
+            glm::dvec3 centre;
+            double half;
+            copc::cube(*(*out)->copc(), n.key, centre, half);
+            for (const LasPoint& p : node) EXPECT_TRUE(glm::all(glm::lessThanEqual(glm::abs(p.position - centre), glm::dvec3(half))));
+            sum += n.points;
+            if (n.key.d > 0) {   // every node's parent is in the hierarchy too
+                EXPECT_EQ(std::count_if(nodes->begin(), nodes->end(), [&](const copc::Node& m) { return m.key == n.key.parent(); }), 1);
+            }
+        }
+        EXPECT_EQ(sum, pts.size());
+        return *stats;
+    };
+    Tree whole, batched;
+    const CopcWriteStats one = write("whole.copc.laz", 100000000, whole);
+    const CopcWriteStats many = write("batched.copc.laz", 4000, batched);
+    EXPECT_EQ(one.batches, 1u);
+    EXPECT_GT(many.batches, 8u);
+    EXPECT_GE(one.depth, 3u);
+    EXPECT_EQ(one.nodes, many.nodes);
+    ASSERT_EQ(whole.size(), batched.size());
+    for (const auto& [key, node] : whole) {
+        SCOPED_TRACE(std::to_string(std::get<0>(key)) + "-" + std::to_string(std::get<1>(key)) + "-" + std::to_string(std::get<2>(key)) + "-" +
+                     std::to_string(std::get<3>(key)));
+        auto it = batched.find(key);
+        ASSERT_NE(it, batched.end());
+        EXPECT_EQ(it->second.first, node.first);
+        EXPECT_TRUE(it->second.second == node.second);
+    }
+    // No temporary file left next to the outputs.
+    for (const auto& e : fs::directory_iterator(dir)) EXPECT_NE(e.path().extension(), ".tmp") << e.path();
 }
 
 }  // namespace

@@ -18,14 +18,15 @@ namespace orbis::cli {
 namespace {
 
 const char* kHelp =
-    "usage: orbis convert IN OUT [--chunk N] [--node-points N]\n"
+    "usage: orbis convert IN OUT [--chunk N] [--node-points N] [--batch-points N]\n"
     "       orbis convert IN --decode [--threads N] [--runs N] [--positions]\n"
     "IN: a LAS or LAZ point cloud (LAS 1.0-1.4, LAZ of every LASzip compressor, COPC). OUT: a .copc.laz\n"
     "(COPC 1.0: an octree of nodes of at most --node-points points, 100000 by default, each a LAZ chunk,\n"
-    "for streaming from a web server; the input needs a CRS), a .laz (LAS 1.4, point format 6, 7 with\n"
-    "colours or 8 with near-infrared, layered chunks of --chunk points, 50000 by default) or a .las (the\n"
-    "same points uncompressed). Coordinates keep the input's scale and offset, and its CRS (as a WKT\n"
-    "VLR). Progress goes to stderr.\n"
+    "for streaming from a web server; the input needs a CRS; built out of core: at most --batch-points\n"
+    "points, 10000000 by default, in memory at once, larger clouds through temporary files next to OUT),\n"
+    "a .laz (LAS 1.4, point format 6, 7 with colours or 8 with near-infrared, layered chunks of --chunk\n"
+    "points, 50000 by default) or a .las (the same points uncompressed). Coordinates keep the input's\n"
+    "scale and offset, and its CRS (as a WKT VLR). Progress goes to stderr.\n"
     "--decode reads every point of IN, RUNS times (3), and prints the median rate as JSON; --threads\n"
     "sets the LAZ decoding threads (default: every core); --positions reads positions only.\n";
 
@@ -72,7 +73,7 @@ int decode(const std::string& in, const Args& args) {
 }  // namespace
 
 int convertCommand(const std::vector<std::string>& argv) {
-    const Args args(argv, {"--chunk", "--threads", "--runs", "--node-points"}, {"--help", "--decode", "--positions"});
+    const Args args(argv, {"--chunk", "--threads", "--runs", "--node-points", "--batch-points"}, {"--help", "--decode", "--positions"});
     if (args.flag("--help")) {
         std::printf("%s", kHelp);
         return kOk;
@@ -97,6 +98,7 @@ int convertCommand(const std::vector<std::string>& argv) {
     if (lower.size() > 9 && lower.compare(lower.size() - 9, 9, ".copc.laz") == 0) {
         points::CopcWriteOptions o;
         o.maxNodePoints = uint32_t(args.integer("--node-points", 100, 10'000'000).value_or(100000));
+        o.batchPoints = uint64_t(args.integer("--batch-points", 10'000, 4'000'000'000).value_or(10'000'000));
         int lastPercent = -1;
         o.progress = [&](double f) {
             if (int(100 * f) != lastPercent) std::fprintf(stderr, "\rwriting COPC %s: %d %%", out.c_str(), lastPercent = int(100 * f));
@@ -107,8 +109,8 @@ int convertCommand(const std::vector<std::string>& argv) {
             std::fprintf(stderr, "\norbis: %s\n", stats.message().c_str());
             return kBadInput;
         }
-        std::fprintf(stderr, "\rwrote COPC %s: %llu points in %u nodes, depth %u, %.1f MB in %.2f s\n", out.c_str(),
-                     static_cast<unsigned long long>(stats->points), stats->nodes, stats->depth, double(stats->bytes) / 1e6,
+        std::fprintf(stderr, "\rwrote COPC %s: %llu points in %u nodes, depth %u, %u batches, %.1f MB in %.2f s\n", out.c_str(),
+                     static_cast<unsigned long long>(stats->points), stats->nodes, stats->depth, stats->batches, double(stats->bytes) / 1e6,
                      std::chrono::duration<double>(Clock::now() - t0).count());
         return kOk;
     }
