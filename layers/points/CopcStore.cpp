@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <filesystem>
 #include <map>
 #include <tuple>
 
@@ -38,6 +39,10 @@ uint32_t packColour(const LasPoint& p, bool rgb, bool rgb16) {
 Result<std::shared_ptr<PointStore>> loadCopcStore(std::shared_ptr<const LasFile> file, const PointGeoreference& georef,
                                                   const PointLoadOptions& options) {
     const copc::Info info = *file->copc();
+    // A file on a server: the nodes it sends are kept on the disk, for the next view of them
+    // and the next run (the cache folder's "remote" folder).
+    if (file->remote())
+        file->cacheRemoteReads((std::filesystem::path(options.cacheFolder.empty() ? defaultPointCacheDir() : options.cacheFolder) / "remote").string());
     auto hierarchy = copc::readHierarchy(*file, info);
     if (!hierarchy) return hierarchy.error();
     if (options.progress) options.progress(0.3);

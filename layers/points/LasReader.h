@@ -123,6 +123,16 @@ public:
     /// Read from a server (an http(s):// URL), and the bytes asked of it so far.
     bool remote() const { return remote_ != nullptr; }
     uint64_t bytesFetched() const;
+    /// A remote file: from now on, ranges read from the server are kept in a folder of `folder`
+    /// named after the URL, the file's size and its date (a file changed on the server is a new
+    /// folder), and read from there again: a COPC node once fetched is not fetched again, in this
+    /// run or the next. Each range is one file, written under a temporary name with a CRC-32
+    /// trailer; a damaged one counts as absent; a folder that cannot be written leaves reads as
+    /// they are. When `folder` holds more than `maxBytes`, the least recently written ranges of
+    /// every file are removed first. A local file: nothing.
+    void cacheRemoteReads(const std::string& folder, uint64_t maxBytes = uint64_t(2) << 30) const;
+    /// Bytes read from that cache instead of the server, so far.
+    uint64_t bytesFromCache() const;
     /// `bytes` bytes at `offset` into `out` (hierarchy pages); an error when outside the file.
     Result<void> readBytes(uint64_t offset, uint64_t bytes, std::vector<uint8_t>& out) const;
     /// Decodes the LAZ chunk of `count` points at [offset, offset + bytes) (a COPC node's) into
