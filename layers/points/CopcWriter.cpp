@@ -39,6 +39,7 @@
 #include <cstring>
 #include <ctime>
 #include <filesystem>
+#include <future>
 #include <limits>
 #include <mutex>
 #include <new>
@@ -586,89 +587,123 @@ private:
         return {};
     }
 
-    /// 5. Chunk by chunk: the points taken above to the upper file, the rest into the chunk's
-    /// subtree, each node of it encoded and written.
-    Result<void> writeChunkTrees() {
+    /// A batch ready to encode: its records, its subtree's nodes with points (in the order they
+    /// are written) and, node after node, their records' indices.
+    struct Batch {
         std::vector<Spilled> records;
-        std::vector<std::pair<uint64_t, uint32_t>> byOrder;   // order, record
         std::vector<Node> nodes;
-        std::vector<uint32_t> nodeOf, permutation;
+        std::vector<uint32_t> permutation, written;
+        std::vector<copc::Key> keys;
+        std::vector<uint32_t> counts;
+    };
+
+    /// 5a. A batch: its records read, the points taken above written to their nodes' ranges of
+    /// the upper file, the rest, in key order, into the subtree (each to the first node on its
+    /// path with room).
+    Result<void> prepareBatch(size_t c, Batch& b) {
+        if (auto r = readChunk(chunks_[c], b.records); !r) return r;
+        const std::vector<Spilled>& records = b.records;
+        // The key order with the record's place in the batch in the low bits: the records are in
+        // the input's order, so this is the order of the input's indices among equal keys.
+        std::vector<uint64_t> byOrder(records.size());
+        for (uint32_t i = 0; i < records.size(); ++i) byOrder[i] = (order(records[i].index) & ~indexMask_) | i;
+        std::sort(byOrder.begin(), byOrder.end());
+        const auto recordAt = [&](size_t k) { return uint32_t(byOrder[k] & indexMask_); };
+        // The points taken above: the first ones in key order.
+        const std::vector<uint32_t>& taken = taken_[c];
+        {
+            std::vector<std::pair<uint32_t, uint32_t>> toNode(taken.size());   // node, record (the input's order in a node)
+            for (size_t k = 0; k < taken.size(); ++k) toNode[k] = {taken[k], recordAt(k)};
+            std::sort(toNode.begin(), toNode.end());
+            std::vector<Spilled> run;
+            for (size_t k = 0; k < toNode.size();) {
+                const uint32_t node = toNode[k].first;
+                run.clear();
+                for (; k < toNode.size() && toNode[k].first == node; ++k) run.push_back(records[toNode[k].second]);
+                const uint64_t at = upper_[node].first + upperCursor_[node];
+                if (auto r = upperFile_.write(run.data(), run.size() * sizeof(Spilled), at * sizeof(Spilled)); !r) return fail(r.message());
+                upperCursor_[node] += run.size();
+            }
+        }
+        const ooc::Cell& cell = chunks_[c].cell;
+        std::vector<Node>& nodes = b.nodes;
+        nodes.assign(1, makeNode({int32_t(cell.level), int32_t(cell.x), int32_t(cell.y), int32_t(cell.z)}));
+        std::vector<uint32_t> nodeOf(records.size(), UINT32_MAX);
+        for (size_t k = taken.size(); k < byOrder.size(); ++k) {
+            const uint32_t index = recordAt(k);
+            const glm::dvec3 p = position(records[index]);
+            uint32_t node = 0;
+            for (;;) {
+                Node& nd = nodes[node];
+                if (nd.count < capacity_ || uint32_t(nd.key.d) >= maxLevel_) {
+                    ++nd.count;
+                    break;
+                }
+                const int o = octant(p, nd.centre);
+                uint32_t child = nd.children[o];
+                if (child == 0) {
+                    child = uint32_t(nodes.size());
+                    nd.children[o] = child;
+                    nodes.push_back(makeNode(nd.key.child(o)));   // (nd is not used after this)
+                }
+                node = child;
+            }
+            nodeOf[index] = node;
+        }
+        std::vector<uint64_t>().swap(byOrder);
+        // Inside a node, the input's order (LAZ predicts each point from the one before); the
+        // batch's records are in that order already.
+        uint64_t at = 0;
+        for (Node& nd : nodes) nd.first = at, at += nd.count;
+        std::vector<uint64_t> cursor(nodes.size());
+        for (size_t i = 0; i < nodes.size(); ++i) cursor[i] = nodes[i].first;
+        b.permutation.resize(size_t(at));
+        for (uint32_t i = 0; i < records.size(); ++i)
+            if (nodeOf[i] != UINT32_MAX) b.permutation[cursor[nodeOf[i]]++] = i;
+        for (uint32_t i = 0; i < nodes.size(); ++i)
+            if (nodes[i].count > 0) b.written.push_back(i);
+        std::sort(b.written.begin(), b.written.end(), [&](uint32_t x, uint32_t y) { return levelOrder(nodes[x].key, nodes[y].key); });
+        for (uint32_t i : b.written) {
+            if (nodes[i].count > uint32_t(std::numeric_limits<int32_t>::max()))
+                return fail("node " + name(nodes[i].key) + " would hold " + std::to_string(nodes[i].count) +
+                            " points, more than a COPC entry counts; allow a deeper tree (maxLevel)");
+            b.keys.push_back(nodes[i].key);
+            b.counts.push_back(nodes[i].count);
+        }
+        return {};
+    }
+
+    /// 5. Batch by batch, the next one prepared on another thread while one is encoded: each
+    /// node of its subtree encoded and written.
+    Result<void> writeChunkTrees() {
+        if (chunks_.empty()) return {};
+        const auto prepare = [this](size_t c) {
+            auto b = std::make_unique<Batch>();
+            Result<void> r;
+            try {
+                r = prepareBatch(c, *b);
+            } catch (const std::bad_alloc&) {
+                r = fail("not enough memory for a batch of " + std::to_string(chunks_[c].count) + " points; convert it in smaller batches");
+            }
+            return std::make_pair(std::move(r), std::move(b));
+        };
+        auto next = std::async(std::launch::deferred, prepare, size_t(0));
         for (size_t c = 0; c < chunks_.size(); ++c) {
-            if (auto r = readChunk(chunks_[c], records); !r) return r;
-            byOrder.resize(records.size());
-            for (uint32_t i = 0; i < records.size(); ++i) byOrder[i] = {order(records[i].index), i};
-            std::sort(byOrder.begin(), byOrder.end());
-            // The points taken above: the first ones in key order, to their nodes' ranges.
-            const std::vector<uint32_t>& taken = taken_[c];
-            {
-                std::vector<std::pair<uint32_t, uint32_t>> toNode(taken.size());   // node, record (the input's order in a node)
-                for (size_t k = 0; k < taken.size(); ++k) toNode[k] = {taken[k], byOrder[k].second};
-                std::sort(toNode.begin(), toNode.end());
-                std::vector<Spilled> run;
-                for (size_t k = 0; k < toNode.size();) {
-                    const uint32_t node = toNode[k].first;
-                    run.clear();
-                    for (; k < toNode.size() && toNode[k].first == node; ++k) run.push_back(records[toNode[k].second]);
-                    const uint64_t at = upper_[node].first + upperCursor_[node];
-                    if (auto r = upperFile_.write(run.data(), run.size() * sizeof(Spilled), at * sizeof(Spilled)); !r) return fail(r.message());
-                    upperCursor_[node] += run.size();
-                }
-            }
-            // The rest, in key order, into the subtree: each to the first node on its path with room.
-            const ooc::Cell& cell = chunks_[c].cell;
-            nodes.assign(1, makeNode({int32_t(cell.level), int32_t(cell.x), int32_t(cell.y), int32_t(cell.z)}));
-            nodeOf.assign(records.size(), UINT32_MAX);
-            for (size_t k = taken.size(); k < byOrder.size(); ++k) {
-                const uint32_t index = byOrder[k].second;
-                const glm::dvec3 p = position(records[index]);
-                uint32_t node = 0;
-                for (;;) {
-                    Node& nd = nodes[node];
-                    if (nd.count < capacity_ || uint32_t(nd.key.d) >= maxLevel_) {
-                        ++nd.count;
-                        break;
-                    }
-                    const int o = octant(p, nd.centre);
-                    uint32_t child = nd.children[o];
-                    if (child == 0) {
-                        child = uint32_t(nodes.size());
-                        nd.children[o] = child;
-                        nodes.push_back(makeNode(nd.key.child(o)));   // (nd is not used after this)
-                    }
-                    node = child;
-                }
-                nodeOf[index] = node;
-            }
-            // Inside a node, the input's order (LAZ predicts each point from the one before); the
-            // chunk's records are in that order already.
-            uint64_t at = 0;
-            for (Node& nd : nodes) nd.first = at, at += nd.count;
-            std::vector<uint64_t> cursor(nodes.size());
-            for (size_t i = 0; i < nodes.size(); ++i) cursor[i] = nodes[i].first;
-            permutation.resize(size_t(at));
-            for (uint32_t i = 0; i < records.size(); ++i)
-                if (nodeOf[i] != UINT32_MAX) permutation[cursor[nodeOf[i]]++] = i;
-            std::vector<uint32_t> written;
-            for (uint32_t i = 0; i < nodes.size(); ++i)
-                if (nodes[i].count > 0) written.push_back(i);
-            std::sort(written.begin(), written.end(), [&](uint32_t a, uint32_t b) { return levelOrder(nodes[a].key, nodes[b].key); });
-            std::vector<copc::Key> keys;
-            std::vector<uint32_t> counts;
-            for (uint32_t i : written) {
-                if (nodes[i].count > uint32_t(std::numeric_limits<int32_t>::max()))
-                    return fail("node " + name(nodes[i].key) + " would hold " + std::to_string(nodes[i].count) +
-                                " points, more than a COPC entry counts; allow a deeper tree (maxLevel)");
-                keys.push_back(nodes[i].key);
-                counts.push_back(nodes[i].count);
-            }
+            auto [ready, batch] = next.get();
+            if (!ready) return ready;
+            if (c + 1 < chunks_.size()) next = std::async(std::launch::async, prepare, c + 1);
+            const Batch& b = *batch;
             const auto gather = [&](size_t i, std::vector<uint8_t>& out) -> Result<void> {
-                const Node& nd = nodes[written[i]];
+                const Node& nd = b.nodes[b.written[i]];
                 out.resize(size_t(nd.count) * recordLength_);
                 for (uint32_t k = 0; k < nd.count; ++k)
-                    std::memcpy(out.data() + size_t(k) * recordLength_, records[permutation[nd.first + k]].record, recordLength_);
+                    std::memcpy(out.data() + size_t(k) * recordLength_, b.records[b.permutation[nd.first + k]].record, recordLength_);
                 return {};
             };
-            if (auto r = encodeNodes(keys, counts, gather); !r) return r;
+            if (auto r = encodeNodes(b.keys, b.counts, gather); !r) {
+                if (next.valid()) next.wait();   // (it uses this builder's files)
+                return r;
+            }
         }
         return {};
     }
