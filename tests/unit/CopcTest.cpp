@@ -123,6 +123,24 @@ TEST(Copc, HostileHierarchiesGiveClearErrors) {
 namespace orbis::points {
 namespace {
 
+/// LAS 1.4 in UTM 32N, centimetre steps: the generated clouds' file options.
+LasWriteOptions utm32(uint8_t format) {
+    LasWriteOptions o;
+    o.versionMinor = 4;
+    o.pointFormat = format;
+    o.scale = glm::dvec3(0.01);
+    o.offset = {500000.0, 5100000.0, 0.0};
+    o.epsg = 32632;
+    return o;
+}
+
+void writeLas(const fs::path& path, const LasWriteOptions& o, std::span<const LasPoint> pts) {
+    auto w = LasWriter::create(path.string(), o);
+    ASSERT_TRUE(w.ok()) << w.message();
+    (*w)->write(pts);
+    ASSERT_TRUE((*w)->close().ok());
+}
+
 // What Orbis writes as COPC passes the specification's structural checks and holds exactly the
 // input's points: the info VLR first (at byte 375), hierarchy entries inside the file and equal to
 // the chunk table's chunks, every node's points inside its cube, the points as a set.
@@ -143,18 +161,9 @@ TEST(Copc, OrbisWrittenCopcIsValidAndHoldsTheInputsPoints) {
         p.red = uint16_t(next()), p.green = uint16_t(next()), p.blue = uint16_t(next());
     }
     const fs::path dir = test::processTempDir("orbis-copc-write");
-    LasWriteOptions o;
-    o.versionMinor = 4;
-    o.pointFormat = 7;
-    o.scale = glm::dvec3(0.01);
-    o.offset = {500000.0, 5100000.0, 0.0};
-    o.epsg = 32632;
-    {
-        auto w = LasWriter::create((dir / "input.las").string(), o);
-        ASSERT_TRUE(w.ok()) << w.message();
-        (*w)->write(pts);
-        ASSERT_TRUE((*w)->close().ok());
-    }
+    const LasWriteOptions o = utm32(7);
+    writeLas(dir / "input.las", o, pts);
+    if (HasFatalFailure()) return;
     std::vector<std::pair<fs::path, fs::path>> cases{{dir / "input.las", dir / "generated.copc.laz"}};
     if (fs::exists(lidar("1.2-with-color.las"))) cases.push_back({lidar("1.2-with-color.las"), dir / "oregon.copc.laz"});
     for (const auto& [input, output] : cases) {
@@ -250,18 +259,8 @@ TEST(Copc, BatchedBuildWritesTheOneBatchTree) {
         p.gpsTime = 2e5 + double(i) * 1e-4;
     }
     const fs::path dir = test::processTempDir("orbis-copc-batched");
-    LasWriteOptions o;
-    o.versionMinor = 4;
-    o.pointFormat = 6;
-    o.scale = glm::dvec3(0.01);
-    o.offset = {500000.0, 5100000.0, 0.0};
-    o.epsg = 32632;
-    {
-        auto w = LasWriter::create((dir / "input.las").string(), o);
-        ASSERT_TRUE(w.ok()) << w.message();
-        (*w)->write(pts);
-        ASSERT_TRUE((*w)->close().ok());
-    }
+    writeLas(dir / "input.las", utm32(6), pts);
+    if (HasFatalFailure()) return;
     auto in = LasFile::open((dir / "input.las").string());
     ASSERT_TRUE(in.ok()) << in.message();
     // Node key -> (points, chunk bytes).
