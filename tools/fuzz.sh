@@ -17,7 +17,7 @@ set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="$here/build-fuzz"
 seconds="${SECONDS_EACH:-60}" runs="${RUNS:-}" regress="${REGRESS:-0}" jobs="${JOBS:-1}"
-all=(klv las scene camera-path input-script trajectory-csv gpx pose-csv livefeed gltf netcdf vector pg-notify ogc-capabilities wms-time wps)
+all=(klv las scene camera-path input-script trajectory-csv gpx pose-csv livefeed gltf mesh-checks netcdf vector pg-notify ogc-capabilities wms-time wps)
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
 command -v clang++ >/dev/null || { echo "fuzz.sh: clang++ is missing (Debian: apt install clang)" >&2; exit 1; }
@@ -54,7 +54,7 @@ seed camera-path "$shared"/bad/path-*.json
 dict() {   # the dictionary of a target
     case "$1" in
         scene|camera-path|input-script|gltf) echo "$here/tests/fuzz/dict/json.dict" ;;
-        gpx|wps|ogc-capabilities) echo "$here/tests/fuzz/dict/xml.dict" ;;
+        gpx|wps|ogc-capabilities|mesh-checks) echo "$here/tests/fuzz/dict/xml.dict" ;;
         vector) echo "$here/tests/fuzz/dict/vector.dict" ;;
         livefeed|trajectory-csv|pose-csv) echo "$here/tests/fuzz/dict/text.dict" ;;
     esac

@@ -15,8 +15,9 @@ packages=(
   libglm-dev libgeographiclib-dev libgdal-dev gdal-bin nlohmann-json3-dev
   # checksums of the point caches (CRC-32)
   zlib1g-dev
-  # 3-D models (glTF 2.0) and the live feed's XML messages
-  libtinygltf-dev libexpat1-dev
+  # 3-D models (glTF 2.0; OBJ, FBX, COLLADA, 3DS, PLY, STL through Assimp, with its test
+  # models for the tests) and the live feed's XML messages
+  libtinygltf-dev libassimp-dev assimp-testmodels libexpat1-dev
   # label text: the default font (DejaVu Sans; the glyph tests skip without it)
   fonts-dejavu-core
   # the default scene: NASA's Blue Marble and city lights (xplanet-images), Natural Earth's

@@ -1,6 +1,7 @@
 // The "model" layer's scene settings (ModelLayer.h) and where its motion comes from.
 #include "base/Log.h"
 #include "engine/scene/JsonReader.h"
+#include "layers/models/MeshModel.h"
 #include "layers/models/ModelLayer.h"
 #include "globe/Geoid.h"
 #include "formats/motion/TrajectoryFile.h"
@@ -218,7 +219,15 @@ Result<std::unique_ptr<scene::Layer>> ModelLayer::create(const scene::LayerDesc&
     ModelSettings s;
     s.name = desc.name;
     const auto file = r.string("file");
-    if (r.ok() && (!file || file->empty())) r.fail("file", "name the glTF model (.glb or .gltf)");
+    if (r.ok() && (!file || file->empty())) r.fail("file", "name the model (.glb, .gltf, .obj, .fbx, .dae, .kmz, .3ds, .ply or .stl)");
+    // Mesh formats other than glTF: the file's up axis and unit, where it does not say them.
+    models::MeshImportOptions meshOptions;
+    if (auto up = r.string("up", std::string()); up && !up->empty()) {
+        if (*up == "y" || *up == "z") meshOptions.up = (*up)[0];
+        else r.fail("up", "expected \"y\" or \"z\" (the model file's up axis), got \"" + *up + "\"");
+    }
+    if (r.has("unitMetres")) meshOptions.unitMetres = r.number("unitMetres", std::nullopt, 1e-6, 1e6);
+    else r.accept("unitMetres");   // (named among the keys a mistake is told)
     s.scale = r.number("scale", 1.0, kScaleRange.min, kScaleRange.max).value_or(1.0);
     s.minimumPixelSize = r.number("minimumPixelSize", 0.0, kMinimumPixelSizeRange.min, kMinimumPixelSizeRange.max).value_or(0.0);
     s.opacity = r.number("opacity", 1.0, kOpacityRange.min, kOpacityRange.max).value_or(1.0);
@@ -255,7 +264,10 @@ Result<std::unique_ptr<scene::Layer>> ModelLayer::create(const scene::LayerDesc&
     auto motion = makeMotion(placement, desc, scene);
     if (!motion) return motion.error();
 
-    auto model = models::loadGltf(scene.resolve(*file).string());
+    const std::string modelPath = scene.resolve(*file).string();
+    if (!models::isMeshFormat(modelPath) && (meshOptions.up || meshOptions.unitMetres))
+        return makeError(where + ": \"up\" and \"unitMetres\" are for mesh formats (OBJ, FBX, COLLADA, KMZ, 3DS, PLY, STL): glTF is +Y up in metres");
+    auto model = models::isMeshFormat(modelPath) ? models::loadMesh(modelPath, meshOptions) : models::loadGltf(modelPath);
     if (!model) return makeError(where + ": " + model.message());
     for (const std::string& w : model->warnings) log::info("model '", desc.name, "': ", w);
     auto playback = resolveAnimation(animation, *model, **motion, scene, where);
@@ -273,7 +285,7 @@ Result<std::unique_ptr<scene::Layer>> ModelLayer::create(const scene::LayerDesc&
 }
 
 scene::LayerType ModelLayer::layerType() {
-    return {"model", "glTF 2.0 model, fixed or moving along a trajectory or a live position feed", &ModelLayer::create, {"/file", "/trajectory", "/trajectory/file"}};
+    return {"model", "3-D model (glTF 2.0, OBJ, FBX, COLLADA, KMZ, 3DS, PLY, STL), fixed or moving along a trajectory or a live position feed", &ModelLayer::create, {"/file", "/trajectory", "/trajectory/file"}};
 }
 
 }  // namespace orbis::layers

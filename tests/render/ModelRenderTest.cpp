@@ -196,6 +196,36 @@ TEST_F(ModelRender, SameTimeThroughDifferentSeekPathsGivesTheSameImage) {
     EXPECT_TRUE(matchesGolden(direct, "model_train_fmv_12s"));
 }
 
+// Models in mesh formats (Assimp) from Debian's assimp-testmodels, side by side on the globe at
+// true scale and upright: the COLLADA duck with its TGA texture, the Wuson figure as PLY, the
+// 3DS rock (Z up in its file) and the spider as OBJ with its Windows texture paths, scaled down.
+TEST_F(ModelRender, MeshFormatsStandUprightAtTrueScale) {
+    const fs::path models = "/usr/share/assimp/models";
+    if (!fs::exists(models / "Collada" / "duck.dae")) GTEST_SKIP() << "assimp-testmodels is not installed";
+    const auto at = [](double east) { return std::string("[").append(std::to_string(7.0 + east / 77000.0)).append(", 46.0, 0.0]"); };
+    auto s = load(R"({"viewpoint": {"lon": 7.0000325, "lat": 46.0, "height": 0, "heading": 0, "pitch": -12, "range": 14},
+        "time": {"start": "2026-03-20T10:00:00Z"},
+        "layers": [{"type": "globe", "name": "Earth"},
+                   {"type": "model", "name": "Duck", "file": )" + jsonString(models / "Collada" / "duck.dae") + R"(, "position": )" + at(0.0) + R"(, "attitude": [200, 0, 0]},
+                   {"type": "model", "name": "Wuson", "file": )" + jsonString(models / "PLY" / "Wuson.ply") + R"(, "position": )" + at(2.5) + R"(, "attitude": [180, 0, 0]},
+                   {"type": "model", "name": "Rock", "file": )" + jsonString(models / "3DS" / "fels.3ds") + R"(, "position": )" + at(5.5) + R"(, "scale": 0.5},
+                   {"type": "model", "name": "Spider", "file": )" + jsonString(models / "OBJ" / "spider.obj") + R"(, "position": )" + at(-3.0) + R"(, "scale": 0.015, "attitude": [180, 0, 0]}]})");
+    ASSERT_TRUE(s);
+    EXPECT_TRUE(matchesGolden(render(*s, 400, 240), "model_mesh_formats"));
+    // glTF-only settings refused for glTF; the mesh settings checked.
+    const fs::path wagon = kSource / "assets/models/wagon.gltf";
+    auto desc = scene::parseSceneText(R"({"layers": [{"type": "model", "name": "M", "file": )" + jsonString(wagon) + R"(, "position": [0, 0, 0], "up": "z"}]})", "t.json", ".");
+    ASSERT_TRUE(desc);
+    auto refused = scene::Scene::build(std::move(*desc), registry_);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.message().find("for mesh formats"), std::string::npos) << refused.message();
+    auto sideways = scene::parseSceneText(R"({"layers": [{"type": "model", "name": "M", "file": )" + jsonString(models / "PLY" / "Wuson.ply") + R"(, "position": [0, 0, 0], "up": "x"}]})", "t.json", ".");
+    ASSERT_TRUE(sideways);
+    auto bad = scene::Scene::build(std::move(*sideways), registry_);
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.message().find("\"y\" or \"z\""), std::string::npos) << bad.message();
+}
+
 TEST_F(ModelRender, BrokenModelsAndSettingsGiveClearErrors) {
     const fs::path dir = fs::path(testOutputDir()) / ("model-errors-" + std::to_string(::getpid()));
     fs::create_directories(dir);
