@@ -480,6 +480,30 @@ TEST(Cli, ConvertWritesCopcInBatchesAndLaz) {
     EXPECT_NE(m.output.find("missing.las"), std::string::npos) << m.output;
 }
 
+// `orbis info` on 3-D models: glTF and the mesh formats, as the model layer reads them.
+TEST(Cli, InfoDescribesModels) {
+    const CliRun wagon = run(std::string("info ") + ORBIS_SOURCE_DIR + "/assets/models/wagon.gltf");
+    ASSERT_EQ(wagon.exitCode, 0) << wagon.output;
+    const auto w = nlohmann::json::parse(wagon.output);
+    EXPECT_EQ(w["kind"], "3-D model");
+    EXPECT_EQ(w["reader"], "glTF");
+    EXPECT_GT(w["triangles"].get<int>(), 0);
+    const fs::path duck = "/usr/share/assimp/models/Collada/duck.dae";
+    if (fs::exists(duck)) {
+        const CliRun d = run("info " + duck.string());
+        ASSERT_EQ(d.exitCode, 0) << d.output;
+        const auto j = nlohmann::json::parse(d.output);
+        EXPECT_EQ(j["reader"], "Assimp");
+        EXPECT_EQ(j["textures"][0]["width"], 512);
+        EXPECT_NEAR(j["sizeMetres"][1].get<double>(), 1.54, 0.01);   // upright, as drawn
+        EXPECT_TRUE(j["warnings"].empty());
+    }
+    const fs::path bad = tempFile("huge.ply", "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n1\n");
+    const CliRun b = run("info " + bad.string());
+    EXPECT_EQ(b.exitCode, 1);
+    EXPECT_NE(b.output.find("huge.ply: its header claims 4000000000 vertex elements"), std::string::npos) << b.output;
+}
+
 // A LAS signature with a header from no known version: exit 1, the file and the problem named.
 TEST(Cli, InfoNamesABadLasHeader) {
     const fs::path bad = tempFile("version-zero.las", std::string("LASF").append(400, '\0'));

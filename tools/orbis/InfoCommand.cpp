@@ -10,6 +10,8 @@
 #include "formats/fmv/KlvFile.h"
 #include "formats/fmv/PoseCsv.h"
 #include "layers/fmv/VideoFile.h"
+#include "layers/models/GltfModel.h"
+#include "layers/models/MeshModel.h"
 #include "layers/points/PointCloud.h"
 #include "layers/vector/VectorReader.h"
 #include "layers/volume/VolumeReader.h"
@@ -17,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cctype>
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -31,7 +34,9 @@ const char* kHelp =
     "1.0-1.4 and LAZ: header, compression, VLRs, CRS, bounds on the globe, first points), volumes (netCDF and other\n"
     "multidimensional files: variables, dimensions, ranges), rasters (GDAL), vector data (anything OGR\n"
     "opens that is not a raster: Shapefile, GeoPackage, GeoJSON, ...: layers, geometry types, counts,\n"
-    "CRS, fields, extents in WGS84), and FMV metadata:\n"
+    "CRS, fields, extents in WGS84), 3-D models (glTF, OBJ, FBX, COLLADA, KMZ, 3DS, PLY, STL: triangles,\n"
+    "materials, textures, size in metres with +Y up as drawn, what was left out, the time to read it),\n"
+    "and FMV metadata:\n"
     "raw MISB ST 0601 KLV streams (.bin, .klv, or a file that starts with the ST 0601 key) and pose\n"
     "CSV sidecars (.csv), printed as JSON lines, one per packet or row; videos (.ts, .mpg, .mp4, ...):\n"
     "a line on the video stream, then one per ST 0601 packet of its KLV stream with its time.\n"
@@ -175,6 +180,38 @@ int poseCsvInfo(const fmv::PoseCsv& csv) {
 }
 
 /// A reader's description (JSON) on stdout, or its problem on stderr.
+/// A 3-D model as the model layer reads it.
+int modelInfo(const std::string& file) {
+    const auto t0 = std::chrono::steady_clock::now();
+    auto m = models::isMeshFormat(file) ? models::loadMesh(file) : models::loadGltf(file);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!m) return badInput(m.message());
+    nlohmann::json textures = nlohmann::json::array();
+    for (const models::ModelTexture& t : m->textures) textures.push_back({{"name", t.name}, {"width", t.width}, {"height", t.height}});
+    nlohmann::json materials = nlohmann::json::array();
+    for (const models::ModelMaterial& x : m->materials)
+        materials.push_back({{"name", x.name}, {"baseColor", {x.baseColorFactor.r, x.baseColorFactor.g, x.baseColorFactor.b, x.baseColorFactor.a}},
+                             {"texture", x.baseColorTexture}});
+    const glm::dvec3 size = m->boundsMax - m->boundsMin;
+    nlohmann::json out = {{"file", file},
+                          {"kind", "3-D model"},
+                          {"reader", models::isMeshFormat(file) ? "Assimp" : "glTF"},
+                          {"triangles", m->triangles},
+                          {"vertices", m->vertices.size()},
+                          {"primitives", m->primitives.size()},
+                          {"draws", m->draws.size()},
+                          {"materials", materials},
+                          {"textures", textures},
+                          {"animated", m->animated()},
+                          {"sizeMetres", {size.x, size.y, size.z}},
+                          {"boundsMin", {m->boundsMin.x, m->boundsMin.y, m->boundsMin.z}},
+                          {"boundsMax", {m->boundsMax.x, m->boundsMax.y, m->boundsMax.z}},
+                          {"warnings", m->warnings},
+                          {"readSeconds", seconds}};
+    std::printf("%s\n", out.dump(2).c_str());
+    return kOk;
+}
+
 int printDescription(const Result<std::string>& json) {
     if (!json) return badInput(json.message());
     std::printf("%s\n", json->c_str());
@@ -225,6 +262,11 @@ int infoCommand(const std::vector<std::string>& argv) {
     if (!std::filesystem::exists(file, ec)) return badInput(file + ": no such file");
     const std::string ext = std::filesystem::path(file).extension().string();
     if (ext == ".json") return sceneInfo(file);
+    {
+        std::string lowerExt = ext;
+        for (char& c : lowerExt) c = char(std::tolower(static_cast<unsigned char>(c)));
+        if (lowerExt == ".glb" || lowerExt == ".gltf" || models::isMeshFormat(file)) return modelInfo(file);
+    }
     // LAS point clouds (by extension or the "LASF" signature).
     if (points::looksLikeLas(file)) return printDescription(points::describeLasJson(file));
     // MISB ST 0601 KLV streams (.bin/.klv or the key at the start). A .bin without the key
