@@ -50,7 +50,7 @@ if [ "$san" = address ]; then
     run orbis_livefeed_tests
     run orbis_cli_tests 'Cli.*'
 else
-    run orbis_threaded_tests 'ThreadPool*:CancelToken*:TerrainTilesRepaint*:RasterSource.Concurrent*:RasterSource.Cancelled*:FeatureTiles*:FmvVideo*:FramePrefetcher*:PointStore*:NodeResidency*:LazFile*'
+    run orbis_threaded_tests 'ThreadPool*:CancelToken*:TerrainTilesRepaint*:RasterSource.Concurrent*:RasterSource.Cancelled*:FeatureTiles*:FmvVideo*:FramePrefetcher*:PointStore*:NodeResidency*:LazFile*:Copc*'
     run orbis_livefeed_tests
 fi
 [ "$status" = 0 ] && echo "test-sanitized.sh ($san): clean" || echo "test-sanitized.sh ($san): see $dir/*.log" >&2
