@@ -13,10 +13,11 @@
 //      fill the chunk's subtree in key order; each node's LAZ chunk is encoded on worker threads
 //      and written in order;
 //   6. the nodes above the chunks, then the chunk table, the hierarchy EVLR and finally the header
-//      and VLRs.
+//      and VLRs (their bytes: CopcLayout.h).
 // The tree is the one the whole cloud inserted in key order would make, whatever the batch size.
 #include "layers/points/CopcWriter.h"
 
+#include "layers/points/CopcLayout.h"
 #include "layers/points/LasBytes.h"
 
 #include "layers/points/Copc.h"
@@ -25,9 +26,7 @@
 #include "layers/points/OutOfCore.h"
 #include "layers/points/PointOctree.h"
 
-#include <cpl_error.h>
 #include <unistd.h>
-#include <ogr_spatialref.h>
 
 #include <algorithm>
 #include <array>
@@ -37,7 +36,6 @@
 #include <condition_variable>
 #include <cstdio>
 #include <cstring>
-#include <ctime>
 #include <filesystem>
 #include <future>
 #include <limits>
@@ -53,56 +51,8 @@
 namespace orbis::points {
 namespace {
 
-constexpr uint16_t kHeaderSize = 375;   // LAS 1.4
-constexpr uint32_t kInfoBytes = 160;    // the copc info VLR's payload
-constexpr uint32_t kEntryBytes = 32;    // a hierarchy entry
 constexpr int32_t kDeepest = 30;        // keys hold 2^d cells per axis in an int32 (as Copc.cpp reads)
 constexpr uint64_t kSeed = 1;           // the points' keys (as PointOctree's default)
-
-template <typename T>
-void put(uint8_t* r, size_t at, T v) {
-    std::memcpy(r + at, &v, sizeof(T));
-}
-template <typename T>
-T get(const uint8_t* r, size_t at) {
-    T v;
-    std::memcpy(&v, r + at, sizeof(T));
-    return v;
-}
-
-void putString(uint8_t* b, size_t at, const std::string& s, size_t n) { std::memcpy(b + at, s.data(), std::min(n, s.size())); }
-
-/// A VLR (LAS 1.4 R15 Table 13): 54-byte header then the payload.
-void vlr(std::vector<uint8_t>& out, const std::string& user, uint16_t id, const std::vector<uint8_t>& payload, const std::string& description) {
-    uint8_t h[54] = {};
-    putString(h, 2, user, 16);
-    put<uint16_t>(h, 18, id);
-    put<uint16_t>(h, 20, uint16_t(payload.size()));
-    putString(h, 22, description, 32);
-    out.insert(out.end(), h, h + 54);
-    out.insert(out.end(), payload.begin(), payload.end());
-}
-
-/// The CRS as WKT1 (OGC 01-009, what LAS 1.4 and COPC readers parse): kept as it is when it is
-/// WKT1 already (a sidecar's ESRI or OGC WKT), else converted by OGR (GeoTIFF keys read as WKT2,
-/// "EPSG:n"); the text as it came when OGR cannot express it as WKT1.
-std::string wkt1(const std::string& crs) {
-    const size_t start = crs.find_first_not_of(" \t\r\n");
-    if (start == std::string::npos) return {};
-    for (const char* keyword : {"PROJCS[", "GEOGCS[", "GEOCCS[", "COMPD_CS[", "VERT_CS[", "LOCAL_CS["})
-        if (crs.compare(start, std::strlen(keyword), keyword) == 0) return crs.substr(start);
-    OGRSpatialReference srs;
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-    std::string out = crs.substr(start);
-    if (srs.SetFromUserInput(crs.c_str()) == OGRERR_NONE) {
-        char* text = nullptr;
-        const char* options[] = {"FORMAT=WKT1_GDAL", nullptr};
-        if (srs.exportToWkt(&text, options) == OGRERR_NONE && text && *text) out = text;
-        CPLFree(text);
-    }
-    CPLPopErrorHandler();
-    return out;
-}
 
 /// A point on its way: its index in the input and its output record (30-38 bytes).
 struct Spilled {
@@ -134,8 +84,6 @@ std::string name(const copc::Key& k) {
     return std::to_string(k.d) + "-" + std::to_string(k.x) + "-" + std::to_string(k.y) + "-" + std::to_string(k.z);
 }
 
-/// Nodes in the order they are written: level by level, then z, y, x.
-bool levelOrder(const copc::Key& p, const copc::Key& q) { return std::tie(p.d, p.z, p.y, p.x) < std::tie(q.d, q.z, q.y, q.x); }
 
 /// The output file; removed unless committed (when it is a file: never a device or a pipe).
 struct Output {
@@ -469,34 +417,9 @@ private:
     }
 
     Result<void> openOutput() {
-        // The VLRs: the copc info (first, filled in once the hierarchy's place is known), laszip, WKT.
-        z_.compressor = 3;
-        z_.versionMajor = 3, z_.versionMinor = 4, z_.versionRevision = 3;
-        z_.chunkSize = 0xFFFFFFFFu;   // variable: each node's chunk holds its points
-        z_.items.push_back({laz::ItemType::Point14, 30, 3});
-        if (format_ == 7) z_.items.push_back({laz::ItemType::Rgb14, 6, 3});
-        if (format_ == 8) z_.items.push_back({laz::ItemType::RgbNir14, 8, 3});
-        std::vector<uint8_t> laszip(34 + 6 * z_.items.size(), 0);
-        put<uint16_t>(laszip.data(), 0, z_.compressor);
-        laszip[4] = z_.versionMajor, laszip[5] = z_.versionMinor;
-        put<uint16_t>(laszip.data(), 6, z_.versionRevision);
-        put<uint32_t>(laszip.data(), 12, z_.chunkSize);
-        put<int64_t>(laszip.data(), 16, -1);   // no special EVLRs
-        put<int64_t>(laszip.data(), 24, -1);
-        put<uint16_t>(laszip.data(), 32, uint16_t(z_.items.size()));
-        for (size_t i = 0; i < z_.items.size(); ++i) {
-            put<uint16_t>(laszip.data(), 34 + 6 * i, uint16_t(z_.items[i].type));
-            put<uint16_t>(laszip.data(), 36 + 6 * i, z_.items[i].size);
-            put<uint16_t>(laszip.data(), 38 + 6 * i, z_.items[i].version);
-        }
-        head_.assign(kHeaderSize, 0);
-        vlr(head_, "copc", 1, std::vector<uint8_t>(kInfoBytes, 0), "COPC info VLR");
-        vlr(head_, "laszip encoded", 22204, laszip, "Orbis LAZ (LASzip format)");
-        std::vector<uint8_t> text(wkt_.begin(), wkt_.end());
-        text.push_back(0);
-        vlr(head_, "LASF_Projection", 2112, text, "OGC WKT");
-        pointOffset_ = head_.size();
-        head_.resize(head_.size() + 8);   // the offset of the chunk table
+        z_ = copcLaszip(format_);
+        head_ = copcHead(z_, wkt_);
+        pointOffset_ = head_.size() - 8;
         out_.path = path_;
         out_.file = std::fopen(path_.c_str(), "wb");
         if (!out_.file) return fail(std::string("cannot create the file: ") + std::strerror(errno));
@@ -739,69 +662,21 @@ private:
         laz::encodeChunkTable(z_, chunkTable_, table);
         out_.write(table.data(), table.size());
         const uint64_t evlrAt = tableAt + table.size();
-        std::sort(entries_.begin(), entries_.end(), [](const copc::Node& a, const copc::Node& b) { return levelOrder(a.key, b.key); });
-        // (An empty cloud: one entry, the root's, with no points.)
-        const uint64_t pageBytes = uint64_t(kEntryBytes) * std::max<size_t>(entries_.size(), 1);
-        std::vector<uint8_t> evlr(60 + pageBytes, 0);
-        putString(evlr.data(), 2, "copc", 16);
-        put<uint16_t>(evlr.data(), 18, 1000);
-        put<uint64_t>(evlr.data(), 20, pageBytes);
-        putString(evlr.data(), 28, "EPT hierarchy", 32);
-        for (size_t i = 0; i < entries_.size(); ++i) {
-            const copc::Node& nd = entries_[i];
-            uint8_t* e = evlr.data() + 60 + kEntryBytes * i;
-            put<int32_t>(e, 0, nd.key.d);
-            put<int32_t>(e, 4, nd.key.x);
-            put<int32_t>(e, 8, nd.key.y);
-            put<int32_t>(e, 12, nd.key.z);
-            put<uint64_t>(e, 16, nd.offset);
-            put<int32_t>(e, 24, int32_t(nd.bytes));
-            put<int32_t>(e, 28, int32_t(nd.points));
-        }
+        const std::vector<uint8_t> evlr = hierarchyEvlr(entries_);
+        const uint64_t pageBytes = evlr.size() - 60;
         out_.write(evlr.data(), evlr.size());
         info_.rootPageOffset = evlrAt + 60;
         info_.rootPageBytes = pageBytes;
 
-        uint8_t* h = head_.data();
-        putString(h, 0, "LASF", 4);
-        put<uint16_t>(h, 6, uint16_t(16 | (in_.header().globalEncoding & 1)));   // WKT; the GPS time's kind as the input's
-        h[24] = 1;
-        h[25] = 4;
-        putString(h, 26, "Orbis", 32);
-        putString(h, 58, "Orbis CopcWriter", 32);
-        {
-            const std::time_t now = std::time(nullptr);
-            std::tm utc{};
-            gmtime_r(&now, &utc);
-            put<uint16_t>(h, 90, uint16_t(utc.tm_yday + 1));
-            put<uint16_t>(h, 92, uint16_t(utc.tm_year + 1900));
-        }
-        put<uint16_t>(h, 94, kHeaderSize);
-        put<uint32_t>(h, 96, uint32_t(pointOffset_));
-        put<uint32_t>(h, 100, 3);          // VLRs
-        h[104] = uint8_t(format_ | 0x80);   // LASzip's mark of compressed points
-        put<uint16_t>(h, 105, recordLength_);
-        // 107..130: the legacy counts, 0 for formats 6-10.
-        for (int a = 0; a < 3; ++a) {
-            put<double>(h, 131 + 8 * a, scale_[a]);
-            put<double>(h, 155 + 8 * a, offset_[a]);
-            put<double>(h, 179 + 16 * a, hi_[a]);
-            put<double>(h, 187 + 16 * a, lo_[a]);
-        }
-        put<uint64_t>(h, 227, 0);   // no waveform data
-        put<uint64_t>(h, 235, evlrAt);
-        put<uint32_t>(h, 243, 1);
-        put<uint64_t>(h, 247, n_);
-        for (int i = 0; i < 15; ++i) put<uint64_t>(h, 255 + 8 * i, byReturn_[size_t(i)]);
-        uint8_t* c = h + kHeaderSize + 54;
-        for (int a = 0; a < 3; ++a) put<double>(c, 8 * size_t(a), info_.centre[a]);
-        put<double>(c, 24, info_.halfSize);
-        put<double>(c, 32, info_.spacing);
-        put<uint64_t>(c, 40, info_.rootPageOffset);
-        put<uint64_t>(c, 48, info_.rootPageBytes);
-        put<double>(c, 56, info_.gpsTimeMin);
-        put<double>(c, 64, info_.gpsTimeMax);
-        put<int64_t>(h, pointOffset_, int64_t(tableAt));
+        CopcHeadFields fields;
+        fields.globalEncoding = in_.header().globalEncoding;
+        fields.format = format_;
+        fields.recordLength = recordLength_;
+        fields.scale = scale_, fields.offset = offset_, fields.lo = lo_, fields.hi = hi_;
+        fields.points = n_;
+        fields.byReturn = byReturn_;
+        fields.evlrAt = evlrAt, fields.chunkTableAt = tableAt;
+        fillCopcHead(head_, fields, info_);
         if (std::fseek(out_.file, 0, SEEK_SET) != 0) out_.failed = true;
         out_.write(head_.data(), head_.size());
         const bool closed = std::fclose(out_.file) == 0;
