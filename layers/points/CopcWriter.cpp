@@ -66,7 +66,7 @@ static_assert(sizeof(Spilled) == 48);
 struct Candidate {
     uint64_t order;
     int32_t xyz[3];
-    uint32_t chunk;
+    uint32_t pad = 0;   // (written to the candidates file: zero, not stray bytes)
 };
 static_assert(sizeof(Candidate) == 24);
 
@@ -324,7 +324,6 @@ private:
             for (size_t i = 0; i < records.size(); ++i) {
                 candidates[i].order = order(records[i].index);
                 std::memcpy(candidates[i].xyz, records[i].record, 12);
-                candidates[i].chunk = uint32_t(c);
             }
             const auto byOrder = [](const Candidate& a, const Candidate& b) { return a.order < b.order; };
             std::nth_element(candidates.begin(), candidates.begin() + int64_t(m - 1), candidates.end(), byOrder);
