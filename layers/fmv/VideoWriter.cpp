@@ -71,6 +71,7 @@ Result<std::unique_ptr<VideoWriter>> VideoWriter::create(const std::string& path
             av_opt_set(m.codec->priv_data, "preset", "veryfast", 0);
             av_opt_set(m.codec->priv_data, "crf", std::to_string(o.crf).c_str(), 0);
             av_opt_set(m.codec->priv_data, "x264-params", "scenecut=0", 0);   // key frames every gop exactly
+            if (o.live) av_opt_set(m.codec->priv_data, "tune", "zerolatency", 0);
         } else {
             m.codec->bit_rate = int64_t(o.width) * o.height * o.fps;
         }
@@ -86,9 +87,21 @@ Result<std::unique_ptr<VideoWriter>> VideoWriter::create(const std::string& path
         m.klv->codecpar->profile = o.klvSynchronous ? FF_PROFILE_KLVA_SYNC : FF_PROFILE_KLVA_ASYNC;
         m.klv->time_base = AVRational{1, 90000};
     }
-    if (int rc = avio_open(&m.format->pb, path.c_str(), AVIO_FLAG_WRITE); rc < 0)
+    std::string target = path;
+    if (o.live) {
+        m.format->flags |= AVFMT_FLAG_FLUSH_PACKETS;
+        if (target.rfind("udp://", 0) == 0 && target.find("pkt_size=") == std::string::npos)
+            target += std::string(target.find('?') == std::string::npos ? "?" : "&") + "pkt_size=1316";
+    }
+    if (int rc = avio_open(&m.format->pb, target.c_str(), AVIO_FLAG_WRITE); rc < 0)
         return fail("cannot write the file (" + avError(rc) + ")");
-    if (int rc = avformat_write_header(m.format, nullptr); rc < 0) return fail("cannot write the header (" + avError(rc) + ")");
+    AVDictionary* muxer = nullptr;
+    // Live: each video PES says its length, so that a receiver's demuxer hands a frame on when
+    // its last byte arrives instead of when the next frame starts.
+    if (o.live) av_dict_set(&muxer, "omit_video_pes_length", "0", 0);
+    const int header = avformat_write_header(m.format, &muxer);
+    av_dict_free(&muxer);
+    if (header < 0) return fail("cannot write the header (" + avError(header) + ")");
     m.headerWritten = true;
     if (!o.withVideo) return w;
     m.frame = av_frame_alloc();
@@ -103,6 +116,11 @@ Result<std::unique_ptr<VideoWriter>> VideoWriter::create(const std::string& path
     return w;
 }
 
+int VideoWriter::write(AVPacket* packet) {
+    // Live: out at once (interleaving would hold a packet until the other stream passes it).
+    return options_.live ? av_write_frame(impl_->format, packet) : av_interleaved_write_frame(impl_->format, packet);
+}
+
 Result<void> VideoWriter::drain(bool flush) {
     Impl& m = *impl_;
     if (!m.codec) return {};
@@ -113,7 +131,7 @@ Result<void> VideoWriter::drain(bool flush) {
         if (rc < 0) return makeError(path_ + ": encoding failed (" + avError(rc) + ")");
         av_packet_rescale_ts(m.packet, m.codec->time_base, m.video->time_base);
         m.packet->stream_index = m.video->index;
-        if (int w = av_interleaved_write_frame(m.format, m.packet); w < 0)
+        if (int w = write(m.packet); w < 0)
             return makeError(path_ + ": cannot write a frame (" + avError(w) + ")");
     }
 }
@@ -159,7 +177,7 @@ Result<void> VideoWriter::writeKlv(double time, std::span<const uint8_t> bytes) 
     std::copy(bytes.begin(), bytes.end(), p->data + header);
     p->stream_index = m.klv->index;
     p->pts = p->dts = av_rescale_q(int64_t(std::llround(time * 90000.0)), AVRational{1, 90000}, m.klv->time_base);
-    const int rc = av_interleaved_write_frame(m.format, p);
+    const int rc = write(p);
     av_packet_free(&p);
     if (rc < 0) return makeError(path_ + ": cannot write a KLV packet (" + avError(rc) + ")");
     return {};

@@ -1,7 +1,7 @@
 #pragma once
 // Writes an MPEG-TS with an H.264 video stream and a KLV data stream (synchronous, stream type
-// 0x15, or asynchronous 0x06) through FFmpeg: the FMV fixtures of the tests and of
-// `orbis-make-fmv`. `ffmpeg -f data` writes bin_data, not KLV, so fixtures are made here.
+// 0x15, or asynchronous 0x06) through FFmpeg, to a file or streamed live to a URL: the FMV
+// fixtures of the tests and of `orbis-make-fmv`. `ffmpeg -f data` writes bin_data, not KLV, so fixtures are made here.
 //
 //   auto w = fmv::VideoWriter::create("flight.ts", {.width = 320, .height = 240, .fps = 10});
 //   (*w)->writeKlv(0.0, packet);          // before or with the frame it belongs to
@@ -15,6 +15,8 @@
 #include <span>
 #include <string>
 
+struct AVPacket;
+
 namespace orbis::fmv {
 
 struct VideoWriteOptions {
@@ -25,6 +27,10 @@ struct VideoWriteOptions {
     bool withKlv = true;
     bool klvSynchronous = true;      ///< stream type 0x15 (else 0x06, SMPTE RP 217)
     int crf = 18;                    ///< H.264 quality (lower: better)
+    /// A live stream (`path` a URL such as udp://127.0.0.1:5600 or tcp://...?listen=1): no
+    /// encoder delay (x264's zerolatency), every packet written out as it is made, UDP datagrams
+    /// of seven TS packets (1316 bytes) unless the URL says otherwise.
+    bool live = false;
 };
 
 class VideoWriter {
@@ -45,6 +51,7 @@ public:
 private:
     VideoWriter() = default;
     Result<void> drain(bool flush);
+    int write(AVPacket* packet);
     struct Impl;
     std::unique_ptr<Impl> impl_;
     std::string path_;

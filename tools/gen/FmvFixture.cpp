@@ -9,9 +9,11 @@
 #include <ogr_srs_api.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <string>
+#include <thread>
 
 namespace orbis::fmv {
 namespace {
@@ -90,6 +92,18 @@ bool writeDem(const std::string& path) {
 
 }  // namespace
 
+int fixtureFrameNumber(const std::vector<uint8_t>& rgba, int w, int h) {
+    if (w < 16 || h < 16 || rgba.size() != size_t(w) * size_t(h) * 4) return -1;
+    const int bw = w / 16, by = h * 5 / 6 - bw;
+    int n = 0;
+    for (int bit = 0; bit < 12; ++bit) {
+        const int x = (bit + 2) * bw + bw / 2, y = by + bw / 4;   // the block's centre
+        const uint8_t g = rgba[(size_t(y) * size_t(w) + size_t(x)) * 4 + 1];
+        if (g > 128) n |= 1 << bit;
+    }
+    return n;
+}
+
 Result<void> writeFmvFixture(const std::filesystem::path& dir, const FmvFixtureOptions& o) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
@@ -127,6 +141,33 @@ Result<void> writeFmvFixture(const std::filesystem::path& dir, const FmvFixtureO
         }
     }
     return (*writer)->close();
+}
+
+Result<int> streamFmvFixture(const std::string& url, const FmvStreamOptions& o, const std::atomic<bool>& stop) {
+    VideoWriteOptions v;
+    v.width = o.width;
+    v.height = o.height;
+    v.fps = o.fps;
+    v.gop = o.fps;
+    v.klvSynchronous = !o.async;
+    v.live = true;
+    auto writer = VideoWriter::create(url, v);
+    if (!writer) return writer.error();
+    const auto start = std::chrono::steady_clock::now();
+    int n = 0;
+    for (; n < o.frames && !stop; ++n) {
+        const double t = double(n) / o.fps;
+        if (o.realTime) std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(t)));
+        St0601Packet packet = SyntheticFlight::packet(o.flightStart + t);
+        if (o.stampWallClock)
+            packet.precisionTimeUs = uint64_t(std::chrono::duration_cast<std::chrono::microseconds>(
+                                                  std::chrono::system_clock::now().time_since_epoch())
+                                                  .count());
+        if (auto r = (*writer)->writeKlv(t, encodeSt0601(packet)); !r) return r.error();
+        if (auto r = (*writer)->writeFrame(fixtureFrame(n, o.width, o.height)); !r) return r.error();
+    }
+    if (auto r = (*writer)->close(); !r) return r.error();
+    return n;
 }
 
 }  // namespace orbis::fmv

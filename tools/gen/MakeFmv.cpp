@@ -11,8 +11,17 @@
 // coloured: upper left red, upper right green, lower right blue, lower left yellow), the frame
 // number in digits and as 12 bits in blocks along the bottom. One KLV packet per frame, at the
 // frame's time. Deterministic.
+//
+//   orbis-make-fmv --stream URL [--frames N] [--fps F] [--size WxH] [--async] [--wall-clock]
+//
+// Sends the same flight live, in real time, to URL (udp://127.0.0.1:5600, a multicast group
+// udp://239.255.0.1:5600?ttl=1, or tcp://127.0.0.1:5600?listen=1 for a receiver to connect):
+// the source of the live FMV scene (assets/scenes/fmv-live.json). --frames 0 sends until
+// stopped (Ctrl+C). --wall-clock stamps each packet with the time it is sent (for latency).
 #include "tools/gen/FmvFixture.h"
 
+#include <atomic>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -20,13 +29,51 @@
 namespace {
 
 int usage() {
-    std::fprintf(stderr, "usage: orbis-make-fmv OUTDIR [--frames N] [--fps F] [--size WxH] [--async] [--no-klv] [--csv] [--flight-start S]\n");
+    std::fprintf(stderr, "usage: orbis-make-fmv OUTDIR [--frames N] [--fps F] [--size WxH] [--async] [--no-klv] [--csv] [--flight-start S]\n"
+                         "       orbis-make-fmv --stream URL [--frames N (0: until stopped)] [--fps F] [--size WxH] [--async] [--wall-clock]\n");
     return 2;
+}
+
+std::atomic<bool> stopped{false};
+
+int stream(int argc, char** argv) {
+    orbis::fmv::FmvStreamOptions o;
+    const std::string url = argv[2];
+    for (int i = 3; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--async") o.async = true;
+        else if (a == "--wall-clock") o.stampWallClock = true;
+        else if (i + 1 >= argc) return usage();
+        else if (a == "--frames") o.frames = std::atoi(argv[++i]);
+        else if (a == "--fps") o.fps = std::atoi(argv[++i]);
+        else if (a == "--size") {
+            if (std::sscanf(argv[++i], "%dx%d", &o.width, &o.height) != 2) return usage();
+        } else return usage();
+    }
+    if (o.frames < 0 || o.fps < 1 || o.fps > 240 || o.width < 16 || o.height < 16 || o.width > 4096 || o.height > 4096 ||
+        o.width % 2 || o.height % 2) {
+        std::fprintf(stderr, "orbis-make-fmv: frames >= 0, fps 1..240, an even size from 16x16 to 4096x4096\n");
+        return 2;
+    }
+    if (o.frames == 0) o.frames = 1 << 30;
+    std::signal(SIGINT, [](int) { stopped = true; });
+    std::signal(SIGTERM, [](int) { stopped = true; });
+    std::printf("orbis-make-fmv: sending the flight to %s (%dx%d, %d fps, %s KLV)\n", url.c_str(), o.width, o.height, o.fps,
+                o.async ? "asynchronous" : "synchronous");
+    std::fflush(stdout);
+    auto sent = orbis::fmv::streamFmvFixture(url, o, stopped);
+    if (!sent) {
+        std::fprintf(stderr, "orbis-make-fmv: %s\n", sent.message().c_str());
+        return 1;
+    }
+    std::printf("orbis-make-fmv: %d frames sent\n", *sent);
+    return 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+    if (argc >= 3 && std::string(argv[1]) == "--stream") return stream(argc, argv);
     if (argc < 2 || argv[1][0] == '-') return usage();
     orbis::fmv::FmvFixtureOptions o;
     for (int i = 2; i < argc; ++i) {

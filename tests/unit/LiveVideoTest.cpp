@@ -1,0 +1,362 @@
+// Live FMV sources (layers/fmv/LiveVideo.h) on real streams over loopback: the synthetic flight
+// sent in real time by the project's own writer through FFmpeg's udp:// and tcp:// protocols
+// (tools/gen/FmvFixture.h), received, decoded and matched with its KLV poses; a lossy relay;
+// a sender that stops and comes back; four feeds at once; a recording played back as a file.
+// Every sender and relay stops by itself; every wait is bounded.
+#include "layers/fmv/LiveVideo.h"
+#include "layers/fmv/SyntheticFlight.h"
+#include "layers/fmv/VideoFile.h"
+#include "tools/gen/FmvFixture.h"
+#include "tools/net/UdpRelay.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <future>
+#include <map>
+#include <thread>
+
+namespace orbis::fmv {
+namespace {
+
+using namespace std::chrono_literals;
+
+/// The flight sent to `url` on another thread.
+struct Sender {
+    std::atomic<bool> stop{false};
+    std::future<Result<int>> done;
+    Sender(const std::string& url, FmvStreamOptions o) {
+        done = std::async(std::launch::async, [this, url, o] { return streamFmvFixture(url, o, stop); });
+    }
+    ~Sender() {
+        stop = true;
+        if (done.valid()) done.wait();
+    }
+    int finish() {
+        auto r = done.get();
+        EXPECT_TRUE(r) << r.message();
+        return r ? *r : 0;
+    }
+};
+
+/// What the main thread saw, polling due() every 5 ms.
+struct Seen {
+    std::map<uint64_t, LiveFrame> frames;   // by serial
+};
+
+/// Polls `live` until `until` says stop or `limit` passes.
+void watch(LiveVideo& live, Seen& seen, const std::function<bool()>& until, std::chrono::milliseconds limit) {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (std::chrono::steady_clock::now() < end && !until()) {
+        if (auto f = live.due(wallClockSeconds())) seen.frames[f->frame->index] = *f;
+        std::this_thread::sleep_for(5ms);
+    }
+}
+
+FmvStreamOptions flight(int frames) {
+    FmvStreamOptions o;
+    o.frames = frames;
+    o.fps = 10;
+    o.width = 160;
+    o.height = 120;
+    return o;
+}
+
+/// Each frame shown carries the pose of its own time: frame n of the flight (n read from the
+/// picture) has the packet of n / fps.
+void expectPosesMatchFrames(const Seen& seen, int fps) {
+    ASSERT_FALSE(seen.frames.empty());
+    for (const auto& [serial, f] : seen.frames) {
+        ASSERT_TRUE(f.pose) << "frame " << serial;
+        const int n = fixtureFrameNumber(f.frame->rgba, f.frame->width, f.frame->height);
+        const SensorPose want = SyntheticFlight::pose(double(n) / fps);
+        EXPECT_NEAR(f.pose->latDeg, want.latDeg, 1e-6) << "frame " << n;
+        EXPECT_NEAR(f.pose->lonDeg, want.lonDeg, 1e-6) << "frame " << n;
+        EXPECT_NEAR(f.pose->platformHeadingDeg, want.platformHeadingDeg, 0.01) << "frame " << n;
+        EXPECT_NEAR(f.pose->sensorAzimuthDeg, want.sensorAzimuthDeg, 0.01) << "frame " << n;
+    }
+}
+
+std::string udpUrl(int port) { return "udp://127.0.0.1:" + std::to_string(port); }
+
+class LiveVideoParsing : public testing::TestWithParam<bool> {};
+INSTANTIATE_TEST_SUITE_P(LiveVideo, LiveVideoParsing, testing::Values(false, true),
+                         [](const auto& info) { return info.param ? "WholeFrames" : "Parsed"; });
+
+TEST_P(LiveVideoParsing, ReceivesUdpFramesWithThePoseOfTheirTime) {
+    const int port = net::freeUdpPort();
+    ASSERT_GT(port, 0);
+    LiveOptions options;
+    options.jitterSeconds = 0.05;
+    options.wholeFrames = GetParam();
+    auto live = LiveVideo::open(udpUrl(port), options);
+    ASSERT_TRUE(live) << live.message();
+    EXPECT_EQ((*live)->stats().state, LiveState::Connecting);
+    std::this_thread::sleep_for(200ms);   // the receiver's socket is bound
+    FmvStreamOptions o = flight(30);
+    o.stampWallClock = true;
+    Sender sender(udpUrl(port), o);
+    Seen seen;
+    watch(**live, seen, [&] { return sender.done.wait_for(0s) == std::future_status::ready; }, 10s);
+    EXPECT_EQ(sender.finish(), 30);
+    watch(**live, seen, [&] { return false; }, 500ms);
+    const LiveStats s = (*live)->stats();
+    EXPECT_EQ(s.state, LiveState::Live) << s.lastError;
+    EXPECT_EQ(s.width, 160);
+    EXPECT_EQ(s.height, 120);
+    // With FFmpeg's parser the last frame waits for a next one that never comes.
+    EXPECT_EQ(s.framesDecoded, GetParam() ? 30u : 29u);
+    EXPECT_EQ(s.framesLost, 0u);
+    EXPECT_EQ(s.corruptPackets, 0u);
+    EXPECT_EQ(s.klvRejected, 0u);
+    EXPECT_GE(s.posesReceived, 29u);
+    EXPECT_GT(s.bytes, 10000u);
+    // The frames that came in a burst while the stream was probed are skipped to the newest;
+    // from there on each is shown (a 5 ms poll, a 50 ms jitter buffer).
+    EXPECT_GE(seen.frames.size(), 15u);
+    expectPosesMatchFrames(seen, 10);
+    ASSERT_TRUE(s.latencySeconds);
+    std::printf("[latency] %s: last frame due %.1f ms after it was sent\n", GetParam() ? "whole frames" : "parsed",
+                *s.latencySeconds * 1e3);
+    EXPECT_GT(*s.latencySeconds, 0.0);
+    EXPECT_LT(*s.latencySeconds, 1.5);
+}
+
+TEST(LiveVideo, ReceivesTcpWithAsynchronousKlv) {
+    const int port = net::freeUdpPort();   // TCP and UDP ports are separate; a free number will do
+    ASSERT_GT(port, 0);
+    FmvStreamOptions o = flight(25);
+    o.async = true;
+    Sender sender("tcp://127.0.0.1:" + std::to_string(port) + "?listen=1&listen_timeout=8000", o);
+    std::this_thread::sleep_for(200ms);
+    auto live = LiveVideo::open("tcp://127.0.0.1:" + std::to_string(port), {});
+    ASSERT_TRUE(live) << live.message();
+    Seen seen;
+    watch(**live, seen, [&] { return sender.done.wait_for(0s) == std::future_status::ready; }, 10s);
+    EXPECT_EQ(sender.finish(), 25);
+    watch(**live, seen, [&] { return false; }, 500ms);
+    const LiveStats s = (*live)->stats();
+    EXPECT_GE(s.framesDecoded, 24u);
+    EXPECT_GE(s.posesReceived, 24u);
+    EXPECT_GE(seen.frames.size(), 20u);
+    expectPosesMatchFrames(seen, 10);
+}
+
+TEST(LiveVideo, SaysNoSignalWhenTheSenderStopsAndResumesWhenItReturns) {
+    const int port = net::freeUdpPort();
+    ASSERT_GT(port, 0);
+    LiveOptions options;
+    options.noSignalSeconds = 1.0;
+    options.retrySeconds = 0.2;
+    options.wholeFrames = true;
+    auto live = LiveVideo::open(udpUrl(port), options);
+    ASSERT_TRUE(live) << live.message();
+    std::this_thread::sleep_for(200ms);
+    Seen seen;
+    {
+        Sender first(udpUrl(port), flight(12));
+        watch(**live, seen, [&] { return first.done.wait_for(0s) == std::future_status::ready; }, 10s);
+        EXPECT_EQ(first.finish(), 12);
+    }
+    const size_t before = seen.frames.size();
+    EXPECT_GE(before, 8u);
+    watch(**live, seen, [&] { return (*live)->stats().state == LiveState::NoSignal; }, 5s);
+    LiveStats s = (*live)->stats();
+    ASSERT_EQ(s.state, LiveState::NoSignal);
+    EXPECT_NE(s.lastError.find("no data"), std::string::npos) << s.lastError;
+    // The last frame stays what due() gives while there is no signal.
+    auto held = (*live)->due(wallClockSeconds());
+    ASSERT_TRUE(held);
+    EXPECT_EQ(held->frame->index, seen.frames.rbegin()->first);
+    EXPECT_EQ(fixtureFrameNumber(held->frame->rgba, held->frame->width, held->frame->height), 11) << "the sender's last frame";
+
+    Sender second(udpUrl(port), flight(15));   // a new sender: its clock starts again
+    watch(**live, seen, [&] { return second.done.wait_for(0s) == std::future_status::ready; }, 10s);
+    EXPECT_EQ(second.finish(), 15);
+    watch(**live, seen, [&] { return false; }, 500ms);
+    s = (*live)->stats();
+    EXPECT_EQ(s.state, LiveState::Live);
+    EXPECT_GE(s.reconnects, 1u);
+    EXPECT_GE(seen.frames.size(), before + 5);
+    // The frames after the return are placed by the new sender's packets.
+    Seen after;
+    for (const auto& [serial, f] : seen.frames)
+        if (serial > held->frame->index) after.frames[serial] = f;
+    expectPosesMatchFrames(after, 10);
+}
+
+TEST(LiveVideo, ALossyLinkCostsOnlyTheDamagedFrames) {
+    const int port = net::freeUdpPort();
+    ASSERT_GT(port, 0);
+    auto live = LiveVideo::open(udpUrl(port), {});
+    ASSERT_TRUE(live) << live.message();
+    net::UdpRelay relay(port, 0.05, 0.05, 7);
+    ASSERT_GT(relay.port(), 0) << relay.error();
+    std::this_thread::sleep_for(200ms);
+    FmvStreamOptions o = flight(40);
+    o.width = 320;
+    o.height = 240;
+    Sender sender(udpUrl(relay.port()), o);
+    Seen seen;
+    watch(**live, seen, [&] { return sender.done.wait_for(0s) == std::future_status::ready; }, 15s);
+    EXPECT_EQ(sender.finish(), 40);
+    watch(**live, seen, [&] { return false; }, 500ms);
+    const net::RelayCounts r = relay.counts();
+    EXPECT_GT(r.dropped, 0u);
+    EXPECT_GT(r.corrupted, 0u);
+    const LiveStats s = (*live)->stats();
+    EXPECT_GT(s.corruptPackets + s.framesLost + s.klvRejected, 0u) << "the damage was seen";
+    EXPECT_GT(s.framesDecoded, 0u);
+    EXPECT_LT(s.framesDecoded, 40u);
+    // What is shown is whole: right size, and placed at its own time.
+    for (const auto& [serial, f] : seen.frames) EXPECT_EQ(f.frame->rgba.size(), size_t(320 * 240 * 4));
+    Seen posed;
+    for (const auto& [serial, f] : seen.frames)
+        if (f.pose) posed.frames[serial] = f;
+    EXPECT_FALSE(posed.frames.empty());
+}
+
+TEST(LiveVideo, FourFeedsAtOnce) {
+    std::vector<std::unique_ptr<LiveVideo>> lives;
+    std::vector<int> ports;
+    for (int i = 0; i < 4; ++i) {
+        ports.push_back(net::freeUdpPort());
+        ASSERT_GT(ports.back(), 0);
+        auto live = LiveVideo::open(udpUrl(ports.back()), {});
+        ASSERT_TRUE(live) << live.message();
+        lives.push_back(std::move(*live));
+    }
+    std::this_thread::sleep_for(200ms);
+    std::vector<std::unique_ptr<Sender>> senders;
+    for (int i = 0; i < 4; ++i) {
+        FmvStreamOptions o = flight(20);
+        o.flightStart = 30.0 * i;   // four places on the lap
+        senders.push_back(std::make_unique<Sender>(udpUrl(ports[size_t(i)]), o));
+    }
+    std::vector<Seen> seen(4);
+    const auto end = std::chrono::steady_clock::now() + 8s;
+    while (std::chrono::steady_clock::now() < end) {
+        for (size_t i = 0; i < 4; ++i)
+            if (auto f = lives[i]->due(wallClockSeconds())) seen[i].frames[f->frame->index] = *f;
+        std::this_thread::sleep_for(5ms);
+        bool all = true;
+        for (auto& s : senders) all &= s->done.wait_for(0s) == std::future_status::ready;
+        if (all && lives[0]->stats().secondsSinceData > 0.3) break;
+    }
+    for (size_t i = 0; i < 4; ++i) {
+        EXPECT_EQ(senders[i]->finish(), 20);
+        EXPECT_GE(lives[i]->stats().framesDecoded, 19u) << "feed " << i;
+        EXPECT_GE(seen[i].frames.size(), 15u) << "feed " << i;
+        // Each feed's poses are its own part of the lap.
+        ASSERT_FALSE(seen[i].frames.empty());
+        const LiveFrame& f = seen[i].frames.begin()->second;
+        ASSERT_TRUE(f.pose);
+        const SensorPose first = SyntheticFlight::pose(30.0 * double(i));
+        EXPECT_NEAR(f.pose->platformHeadingDeg, first.platformHeadingDeg, 10.0) << "feed " << i;
+    }
+}
+
+TEST(LiveVideo, ARecordingPlaysBackTheFramesShownLive) {
+    const auto dir = std::filesystem::temp_directory_path() / ("orbis-live-record-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string recording = (dir / "feed.ts").string();
+    const int port = net::freeUdpPort();
+    ASSERT_GT(port, 0);
+    LiveOptions options;
+    options.recordPath = recording;
+    options.maxQueuedFrames = 64;
+    options.wholeFrames = true;
+    Seen seen;
+    {
+        auto live = LiveVideo::open(udpUrl(port), options);
+        ASSERT_TRUE(live) << live.message();
+        std::this_thread::sleep_for(200ms);
+        Sender sender(udpUrl(port), flight(25));
+        watch(**live, seen, [&] { return sender.done.wait_for(0s) == std::future_status::ready; }, 10s);
+        EXPECT_EQ(sender.finish(), 25);
+        watch(**live, seen, [&] { return false; }, 500ms);
+        EXPECT_EQ((*live)->stats().packetsRecorded, 50u);
+    }   // closing the feed finishes the file
+    auto file = VideoFile::open(recording);
+    ASSERT_TRUE(file) << file.message();
+    EXPECT_TRUE((*file)->info().hasKlv);
+    EXPECT_EQ((*file)->frameCount(), 25u);
+    auto timeline = FmvTimeline::fromKlv((*file)->klv(), recording);
+    ASSERT_TRUE(timeline) << timeline.message();
+    EXPECT_EQ(timeline->poses().size(), 25u);
+    EXPECT_EQ(timeline->checksumRejected(), 0u);
+    ASSERT_GE(seen.frames.size(), 15u);
+    // The recording's frames by the number in their pictures.
+    std::map<int, VideoFrame> recorded;
+    for (size_t i = 0; i < (*file)->frameCount(); ++i) {
+        auto frame = (*file)->decode(i);
+        ASSERT_TRUE(frame) << frame.message();
+        recorded[fixtureFrameNumber(frame->rgba, frame->width, frame->height)] = std::move(*frame);
+    }
+    const LiveFrame& firstLive = seen.frames.begin()->second;
+    const int firstLiveNumber = fixtureFrameNumber(firstLive.frame->rgba, firstLive.frame->width, firstLive.frame->height);
+    ASSERT_TRUE(recorded.count(firstLiveNumber));
+    for (const auto& [serial, f] : seen.frames) {
+        // The same frame of the flight in the recording: same picture, bit for bit, same time
+        // from the first shown, same pose.
+        const int n = fixtureFrameNumber(f.frame->rgba, f.frame->width, f.frame->height);
+        ASSERT_TRUE(recorded.count(n)) << "frame " << n << " was shown live but not recorded";
+        const VideoFrame* replay = &recorded[n];
+        EXPECT_TRUE(replay->rgba == f.frame->rgba) << "frame " << n << " differs from the live one";
+        EXPECT_NEAR(replay->time - recorded[firstLiveNumber].time, f.streamTime - firstLive.streamTime, 1e-3);
+        const SensorPose p = timeline->poseAt(replay->time);
+        ASSERT_TRUE(f.pose);
+        EXPECT_NEAR(p.latDeg, f.pose->latDeg, 1e-9);
+        EXPECT_NEAR(p.lonDeg, f.pose->lonDeg, 1e-9);
+        EXPECT_NEAR(p.platformHeadingDeg, f.pose->platformHeadingDeg, 1e-9);
+    }
+    std::filesystem::remove_all(dir);
+}
+
+TEST(LiveVideo, RefusesWhatIsNotALiveStream) {
+    auto empty = LiveVideo::open("", {});
+    ASSERT_FALSE(empty);
+    EXPECT_NE(empty.message().find("a live stream is a URL"), std::string::npos) << empty.message();
+    auto path = LiveVideo::open("flight.ts", {});
+    ASSERT_FALSE(path);
+    auto file = LiveVideo::open("file:///tmp/flight.ts", {});
+    ASSERT_FALSE(file);
+    EXPECT_NE(file.message().find("\"path\""), std::string::npos) << file.message();
+    auto unknown = LiveVideo::open("nosuch://127.0.0.1:70/x", {});
+    ASSERT_FALSE(unknown);
+    EXPECT_NE(unknown.message().find("cannot receive nosuch://"), std::string::npos) << unknown.message();
+    EXPECT_NE(unknown.message().find("udp"), std::string::npos) << unknown.message();
+    LiveOptions o;
+    o.recordPath = "/nonexistent-folder/feed.ts";
+    auto record = LiveVideo::open("udp://127.0.0.1:9", o);
+    ASSERT_FALSE(record);
+    EXPECT_NE(record.message().find("/nonexistent-folder/feed.ts"), std::string::npos) << record.message();
+    o.recordPath.clear();
+    o.jitterSeconds = -1.0;
+    EXPECT_FALSE(LiveVideo::open("udp://127.0.0.1:9", o));
+}
+
+TEST(LiveVideo, NothingSentIsConnectingThenNoSignalWithoutBlocking) {
+    const int port = net::freeUdpPort();
+    LiveOptions options;
+    options.noSignalSeconds = 0.5;
+    options.retrySeconds = 0.1;
+    const auto start = std::chrono::steady_clock::now();
+    {
+        auto live = LiveVideo::open(udpUrl(port), options);
+        ASSERT_TRUE(live) << live.message();
+        EXPECT_FALSE((*live)->due(wallClockSeconds()));
+        const auto until = std::chrono::steady_clock::now() + 6s;
+        while (std::chrono::steady_clock::now() < until && (*live)->stats().state != LiveState::NoSignal)
+            std::this_thread::sleep_for(20ms);
+        EXPECT_EQ((*live)->stats().state, LiveState::NoSignal);
+        EXPECT_FALSE((*live)->due(wallClockSeconds()));
+    }   // closing does not wait for the stream
+    EXPECT_LT(std::chrono::steady_clock::now() - start, 7s);
+}
+
+}  // namespace
+}  // namespace orbis::fmv
