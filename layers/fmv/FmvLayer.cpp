@@ -19,6 +19,8 @@
 #include "spv/fmv/sensordepth.frag.h"
 #include "spv/fmv/sensordepth.vert.h"
 
+#include <glm/gtc/quaternion.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -71,8 +73,23 @@ std::vector<glm::vec3> hullEdges(std::vector<glm::dvec2> points, double margin) 
 
 }  // namespace
 
+fmv::SensorPose applyOffset(const fmv::SensorPose& pose, const PoseOffset& o) {
+    fmv::SensorPose p = pose;
+    const auto wrap180 = [](double a) {
+        a = std::fmod(a + 180.0, 360.0);
+        return (a < 0.0 ? a + 360.0 : a) - 180.0;
+    };
+    p.platformHeadingDeg = std::fmod(std::fmod(p.platformHeadingDeg + o.headingDeg, 360.0) + 360.0, 360.0);
+    p.platformPitchDeg = wrap180(p.platformPitchDeg + o.pitchDeg);
+    p.platformRollDeg = wrap180(p.platformRollDeg + o.rollDeg);
+    p.height += o.altitude;
+    return p;
+}
+
 FmvLayer::FmvLayer(std::shared_ptr<fmv::VideoFile> video, fmv::FmvTimeline timeline, FmvSettings settings)
     : video_(std::move(video)), timeline_(std::move(timeline)), settings_(settings), startUtc_(settings.startUtc.value_or(0.0)) {}
+
+FmvLayer::FmvLayer(std::unique_ptr<fmv::LiveVideo> live, FmvSettings settings) : live_(std::move(live)), settings_(settings) {}
 
 FmvLayer::~FmvLayer() = default;
 
@@ -96,7 +113,7 @@ void FmvLayer::onPrepare(const render::RenderServices& services) {
     createImages(device);
     createGrid(services);
     buildPipelines(services);
-    frames_ = std::make_unique<fmv::FramePrefetcher>(video_, services.jobs(), 4);
+    if (video_) frames_ = std::make_unique<fmv::FramePrefetcher>(video_, services.jobs(), 4);
     gpuReady_ = true;
 }
 
@@ -111,8 +128,10 @@ void FmvLayer::createImages(gpu::Device& device) {
         return gpu::Image(device, d);
     };
     const VkImageUsageFlags sampledDst = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-    frameImage_ = image(VK_FORMAT_R8G8B8A8_SRGB, uint32_t(video_->info().width), uint32_t(video_->info().height), sampledDst,
-                        "fmv video frame");
+    // A live stream's frames have their size once they come (ensureFrameImage); until then a
+    // pixel stands in, for the descriptors.
+    frameImage_ = image(VK_FORMAT_R8G8B8A8_SRGB, video_ ? uint32_t(video_->info().width) : 1u,
+                        video_ ? uint32_t(video_->info().height) : 1u, sampledDst, "fmv video frame");
     const uint32_t n = uint32_t(settings_.heightfieldSize), m = uint32_t(settings_.distanceMapSize);
     heightImage_ = image(VK_FORMAT_R32_SFLOAT, n, n, sampledDst, "fmv heightfield");
     distanceImage_ = image(VK_FORMAT_R32_SFLOAT, m, m, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
@@ -194,12 +213,13 @@ void FmvLayer::update(const scene::FrameContext& frame) {
     pendingFrame_ = nullptr;
     active_ = false;
     wantedShown_ = true;
+    if (live_) return updateLive(frame);
     if (!gpuReady_ || video_->frameCount() == 0) return;
     eye_ = frame.camera->position();
     const double t = toSeconds(frame.time) - startUtc_;
     if (t < 0.0 || t >= video_->info().duration) return;   // the video is not playing now
     wantedIndex_ = video_->frameAt(t);
-    pose_ = timeline_.poseAt(t);
+    pose_ = applyOffset(timeline_.poseAt(t), settings_.offset);
     if (const fmv::VideoFrame* f = frames_->request(wantedIndex_)) {
         if (!shownIndex_ || *shownIndex_ != f->index) pendingFrame_ = f;
     }
@@ -207,6 +227,36 @@ void FmvLayer::update(const scene::FrameContext& frame) {
     if (!frames_->error().empty()) wantedShown_ = true;   // a damaged video: show what there is, do not wait
     active_ = shownIndex_.has_value() || pendingFrame_ != nullptr;
     if (active_) updateHeightfield(frame);
+}
+
+/// A live stream runs on the wall clock: the frame due now (LiveVideo's jitter buffer) with the
+/// pose of its own time. The layer never waits for it (not busy).
+void FmvLayer::updateLive(const scene::FrameContext& frame) {
+    liveStats_ = live_->stats();
+    if (!gpuReady_) return;
+    eye_ = frame.camera->position();
+    const std::optional<fmv::LiveFrame> due = live_->due(fmv::wallClockSeconds());
+    noSignal_ = liveStats_.state != fmv::LiveState::Live;
+    if (!due || !due->pose) return;   // nothing yet, or no KLV pose for it yet
+    pose_ = applyOffset(*due->pose, settings_.offset);
+    if (!shownIndex_ || *shownIndex_ != due->frame->index) {
+        liveFrame_ = due->frame;
+        ensureFrameImage(liveFrame_->width, liveFrame_->height);
+        pendingFrame_ = liveFrame_.get();
+    }
+    active_ = true;
+    updateHeightfield(frame);
+}
+
+void FmvLayer::ensureFrameImage(int width, int height) {
+    if (frameImage_ && frameImage_.extent().width == uint32_t(width) && frameImage_.extent().height == uint32_t(height)) return;
+    gpu::ImageDesc d;
+    d.format = VK_FORMAT_R8G8B8A8_SRGB;
+    d.extent = {uint32_t(width), uint32_t(height), 1};
+    d.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    d.name = "fmv video frame";
+    frameImage_ = gpu::Image(*services_.device, d);   // the old one is retired after its last use
+    ++imagesVersion_;
 }
 
 void FmvLayer::updateHeightfield(const scene::FrameContext& frame) {
@@ -314,7 +364,7 @@ void FmvLayer::writeUniforms(const render::RecordContext& rc) {
     const double n = double(settings_.heightfieldSize), cell = 2.0 * halfSize_ / (n - 1.0);
     shader::FmvUniforms u{};
     u.originFromEye = glm::vec3(origin_ - eye_);
-    u.opacity = float(settings_.opacity);
+    u.opacity = noSignal_ ? 0.0f : float(settings_.opacity);
     u.sensor = glm::vec3(s);
     u.occlusionBias = float(0.5 * cell);
     u.boresight = glm::vec3(axes[0]);
@@ -337,7 +387,8 @@ void FmvLayer::writeUniforms(const render::RecordContext& rc) {
     u.highestHeight = float(maxHeight_);
     u.marchStep = float(std::max(0.5 * cell, 1.0));
     u.frameShown = shownIndex_ ? 1u : 0u;
-    const glm::dvec3 c = settings_.footprintColor;
+    // Without signal the last footprint stays, grey.
+    const glm::dvec3 c = noSignal_ ? glm::dvec3(0.55) : settings_.footprintColor;
     u.outlineColor = glm::vec3(float(srgbToLinear(c.r)), float(srgbToLinear(c.g)), float(srgbToLinear(c.b)));
     u.occlusionBiasPerMetre = 0.01f;
     u.sensorClip = glm::mat4(sensorClip());
@@ -524,7 +575,7 @@ void FmvLayer::record(scene::Pass, const render::RecordContext& rc) {
     VkCommandBuffer cmd = rc.cmd;
     const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.vk(), shader::kFrameSet, 2, sets, 0, nullptr);
-    if (rect_.z > 0 && rect_.w > 0) {   // only where the video can be (the decal is stale elsewhere)
+    if (rect_.z > 0 && rect_.w > 0 && !noSignal_) {   // only where the video can be (the decal is stale elsewhere)
         const VkRect2D area{{int32_t(rect_.x), int32_t(rect_.y)}, {rect_.z, rect_.w}};
         vkCmdSetScissor(cmd, 0, 1, &area);
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, compositePipeline_.vk());
@@ -544,7 +595,11 @@ void FmvLayer::record(scene::Pass, const render::RecordContext& rc) {
 
 // ---------------------------------------------------------------------------------------------
 // State and stats
-bool FmvLayer::busy() const { return gpuReady_ && (!wantedShown_ || (active_ && !heightsComplete_)); }
+bool FmvLayer::busy() const {
+    // A live stream is waited for only while it connects (until its first frame, or no signal).
+    if (live_) return gpuReady_ && ((!shownIndex_ && liveStats_.state != fmv::LiveState::NoSignal) || (active_ && !heightsComplete_));
+    return gpuReady_ && (!wantedShown_ || (active_ && !heightsComplete_));
+}
 
 std::vector<std::pair<glm::dvec3, bool>> FmvLayer::footprint() const {
     std::vector<std::pair<glm::dvec3, bool>> out;
@@ -557,7 +612,7 @@ std::vector<std::pair<glm::dvec3, bool>> FmvLayer::footprint() const {
 }
 
 uint64_t FmvLayer::gpuBytes() const {
-    uint64_t bytes = uint64_t(video_->info().width) * uint64_t(video_->info().height) * 4;
+    uint64_t bytes = frameImage_ ? uint64_t(frameImage_.extent().width) * frameImage_.extent().height * 4 : 0;
     const uint64_t n = uint64_t(settings_.heightfieldSize), m = uint64_t(settings_.distanceMapSize);
     bytes += n * n * (4 + 12) + (n - 1) * (n - 1) * 24 + m * m * 8;
     if (decalImage_) bytes += uint64_t(decalImage_.extent().width) * decalImage_.extent().height * 8;
@@ -566,6 +621,10 @@ uint64_t FmvLayer::gpuBytes() const {
 
 bool FmvLayer::setParameter(std::string_view name, double value) {
     if (name == "opacity" && kOpacityRange.contains(value)) settings_.opacity = value;
+    else if (name == "headingOffset" && kHeadingOffsetRange.contains(value)) settings_.offset.headingDeg = value;
+    else if (name == "pitchOffset" && kPitchOffsetRange.contains(value)) settings_.offset.pitchDeg = value;
+    else if (name == "rollOffset" && kRollOffsetRange.contains(value)) settings_.offset.rollDeg = value;
+    else if (name == "altitudeOffset" && kAltitudeOffsetRange.contains(value)) settings_.offset.altitude = value;
     else if (name == "footprint") settings_.footprint = value != 0.0;
     else if (name == "frustum") settings_.frustum = value != 0.0;
     else return false;
@@ -579,10 +638,81 @@ std::vector<scene::LayerSetting> FmvLayer::liveSettings() const {
          .min = kOpacityRange.min, .max = kOpacityRange.max},
         {.name = "footprint", .label = "Footprint outline", .kind = Kind::Toggle, .value = settings_.footprint ? 1.0 : 0.0},
         {.name = "frustum", .label = "Sensor frustum", .kind = Kind::Toggle, .value = settings_.frustum ? 1.0 : 0.0},
+        {.name = "headingOffset", .label = "Heading offset (deg)", .kind = Kind::Number, .value = settings_.offset.headingDeg,
+         .min = kHeadingOffsetRange.min, .max = kHeadingOffsetRange.max, .pointer = "/poseOffset/heading"},
+        {.name = "pitchOffset", .label = "Pitch offset (deg)", .kind = Kind::Number, .value = settings_.offset.pitchDeg,
+         .min = kPitchOffsetRange.min, .max = kPitchOffsetRange.max, .pointer = "/poseOffset/pitch"},
+        {.name = "rollOffset", .label = "Roll offset (deg)", .kind = Kind::Number, .value = settings_.offset.rollDeg,
+         .min = kRollOffsetRange.min, .max = kRollOffsetRange.max, .pointer = "/poseOffset/roll"},
+        {.name = "altitudeOffset", .label = "Altitude offset (m)", .kind = Kind::Number, .value = settings_.offset.altitude,
+         .min = kAltitudeOffsetRange.min, .max = kAltitudeOffsetRange.max, .pointer = "/poseOffset/altitude"},
     };
 }
 
+const std::string& FmvLayer::url() const {
+    static const std::string none;
+    return live_ ? live_->url() : none;
+}
+
+std::optional<scene::TimeRange> FmvLayer::timeRange() const { return std::nullopt; }   // the scene's time stays its own
+
+std::optional<scene::TrackedPose> FmvLayer::trackedPose(TimeNs t, const scene::GroundHeightFn&) const {
+    fmv::SensorPose pose;
+    if (live_) {
+        if (!active_) return std::nullopt;
+        pose = pose_;
+    } else {
+        const double v = toSeconds(t) - startUtc_;
+        if (v < 0.0 || v >= video_->info().duration) return std::nullopt;
+        pose = applyOffset(timeline_.poseAt(v), settings_.offset);
+    }
+    const fmv::SensorCamera camera(pose);
+    scene::TrackedPose p;
+    p.position = camera.position();
+    p.bodyToEcef = glm::quat_cast(camera.axes());
+    p.radius = 1.0;
+    return p;
+}
+
+std::optional<scene::ContentBounds> FmvLayer::contentBounds() const {
+    // Where the sensor flies: its poses (a file), or where it is now (live), and the ground it
+    // sees from there.
+    std::vector<glm::dvec3> points;
+    if (live_) {
+        if (!active_) return std::nullopt;
+        points.push_back(fmv::SensorCamera(pose_).position());
+    } else {
+        for (const fmv::TimedPose& p : timeline_.poses()) points.push_back(fmv::SensorCamera(p.pose).position());
+    }
+    glm::dvec3 c(0.0);
+    for (const glm::dvec3& q : points) c += q;
+    c /= double(points.size());
+    double r = 0.0;
+    for (const glm::dvec3& q : points) r = std::max(r, glm::length(q - c));
+    const double height = live_ ? pose_.height : timeline_.poses().front().pose.height;
+    return scene::ContentBounds{c, r + std::max(1000.0, 2.0 * std::abs(height))};
+}
+
 std::string FmvLayer::status() const {
+    if (live_) {
+        const fmv::LiveStats& l = liveStats_;
+        char text[400];
+        if (l.state == fmv::LiveState::Connecting)
+            std::snprintf(text, sizeof text, "fmv: %s: connecting%s%s", live_->url().c_str(), l.lastError.empty() ? "" : " (",
+                          l.lastError.empty() ? "" : (l.lastError + ")").c_str());
+        else if (l.state == fmv::LiveState::NoSignal)
+            std::snprintf(text, sizeof text, "fmv: %s: no signal for %.0f s (%s); the last footprint is grey", live_->url().c_str(),
+                          l.secondsSinceData, l.lastError.c_str());
+        else
+            std::snprintf(text, sizeof text, "fmv: %s: live %dx%d, %.2f Mbit/s, latency %s, %llu frames shown, %llu lost, %llu damaged",
+                          live_->url().c_str(), l.width, l.height, l.bitsPerSecond * 1e-6,
+                          // (time stamps from a clock that is not now: no latency to tell)
+                          l.latencySeconds && *l.latencySeconds > -1.0 && *l.latencySeconds < 600.0
+                              ? (std::to_string(int(std::lround(*l.latencySeconds * 1e3))) + " ms").c_str()
+                              : "unknown",
+                          (unsigned long long)l.framesShown, (unsigned long long)l.framesLost, (unsigned long long)l.corruptPackets);
+        return text;
+    }
     if (!frames_) return {};
     if (!frames_->error().empty()) return std::string("fmv: ").append(frames_->error());
     char text[200];

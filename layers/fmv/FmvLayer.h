@@ -6,7 +6,19 @@
 //    "start": "2026-06-21T09:00:00Z", -- UTC of the video's first frame; default: from the KLV
 //                                       time stamps, else the pose CSV's first row, else the scene's start
 //    "opacity": 0.9, "footprint": true, "frustum": true, "footprintColor": [1, 0.75, 0.1],
-//    "heightfield": 129, "distanceMap": 512}
+//    "heightfield": 129, "distanceMap": 512,
+//    "poseOffset": {"heading": 0, "pitch": 0, "roll": 0, "altitude": 0}}   -- a mounting bias
+//
+// A live stream instead of a file (LiveVideo.h): "url" in place of "path" (udp://, tcp://,
+// http://, srt://, rtp://), with "jitter" (seconds of playout delay, 0.1), "noSignal" (seconds of
+// silence that count as no signal, 2), "wholeFrames" (the sender puts each frame in one PES:
+// a frame interval less latency; false), "record" (an MPEG-TS to write the stream into as
+// received, to play back later through "path"). A live layer runs on the wall clock, whatever
+// the scene's time: the newest frame due, with the pose of its own time; without signal the
+// drape goes and the last footprint stays, grey, until the stream comes back by itself.
+//
+// The pose offsets (degrees, metres) are added to the platform's heading, pitch and roll and to
+// the sensor's height before draping (file and live); live-editable, saved with the scene.
 //
 // The video is opened, indexed and its poses read when the scene loads (clear errors for a
 // video without KLV and no "poses", KLV without video, a damaged file); the decoder runs on a
@@ -31,6 +43,7 @@
 #include "engine/scene/SceneDesc.h"
 #include "layers/fmv/FmvTimeline.h"
 #include "layers/fmv/FramePrefetcher.h"
+#include "layers/fmv/LiveVideo.h"
 #include "layers/fmv/SensorModel.h"
 
 #include <glm/glm.hpp>
@@ -43,6 +56,13 @@
 
 namespace orbis::layers {
 
+/// Added to every pose before draping: a sensor's mounting bias.
+struct PoseOffset {
+    double headingDeg = 0.0, pitchDeg = 0.0, rollDeg = 0.0, altitude = 0.0;
+    bool operator==(const PoseOffset&) const = default;
+};
+fmv::SensorPose applyOffset(const fmv::SensorPose& pose, const PoseOffset& offset);
+
 struct FmvSettings {
     double opacity = 0.9;
     bool footprint = true, frustum = true;
@@ -50,23 +70,32 @@ struct FmvSettings {
     int heightfieldSize = 129;                   ///< samples a side
     int distanceMapSize = 512;                   ///< pixels a side
     std::optional<double> startUtc;              ///< seconds since 1970 of the video's first frame
+    PoseOffset offset;
 };
 
-class FmvLayer final : public scene::Layer, public scene::LiveSettings, public scene::LayerStats {
+class FmvLayer final : public scene::Layer,
+                       public scene::LiveSettings,
+                       public scene::LayerStats,
+                       public scene::MovingContent {
 public:
     /// The scene type: its name, description, factory (create) and the files its object names.
     static scene::LayerType layerType();
     /// The ranges its numeric setting may take, the same for the scene file (create), a live
     /// edit (setParameter) and the panel (liveSettings).
     static constexpr scene::SettingRange kOpacityRange{0.0, 1.0};
+    static constexpr scene::SettingRange kHeadingOffsetRange{-180.0, 180.0}, kPitchOffsetRange{-90.0, 90.0},
+        kRollOffsetRange{-180.0, 180.0}, kAltitudeOffsetRange{-1000.0, 1000.0};
 
     static Result<std::unique_ptr<scene::Layer>> create(const scene::LayerDesc& desc, const scene::SceneDesc& scene);
     FmvLayer(std::shared_ptr<fmv::VideoFile> video, fmv::FmvTimeline timeline, FmvSettings settings);
+    /// A live stream (already receiving).
+    FmvLayer(std::unique_ptr<fmv::LiveVideo> live, FmvSettings settings);
     ~FmvLayer() override;
 
     std::string_view type() const override { return "fmv"; }
     scene::LiveSettings* asLiveSettings() override { return this; }
     const scene::LayerStats* asStats() const override { return this; }
+    const scene::MovingContent* asMovingContent() const override { return this; }
     void update(const scene::FrameContext& frame) override;
     bool drawsIn(scene::Pass pass) const override { return pass == scene::Pass::Fmv; }
     void recordTransfers(const render::RecordContext& context) override;
@@ -77,10 +106,24 @@ public:
     uint64_t itemsDrawn() const override { return active_ ? 1 : 0; }
     bool busy() const override;
     std::string status() const override;
-    /// Live: "opacity" (0..1), "footprint" and "frustum" (0/1).
+    /// Live: "opacity" (0..1), "footprint" and "frustum" (0/1), "headingOffset", "pitchOffset",
+    /// "rollOffset" (degrees), "altitudeOffset" (metres).
     bool setParameter(std::string_view name, double value) override;
     /// The settings above, under the scene file's keys.
     std::vector<scene::LayerSetting> liveSettings() const override;
+
+    // MovingContent: the sensor (its body axes: x the boresight, y image right, z image down),
+    // for the camera modes ("pilot" looks through the sensor) and fly-to.
+    std::optional<scene::TimeRange> timeRange() const override;
+    std::optional<scene::TrackedPose> trackedPose(TimeNs t, const scene::GroundHeightFn& ground) const override;
+    std::optional<scene::ContentBounds> contentBounds() const override;
+
+    /// A live stream: its URL, state and counts (as of this frame's update); none for a file.
+    bool isLive() const { return live_ != nullptr; }
+    const std::string& url() const;
+    const fmv::LiveStats& liveStats() const { return liveStats_; }
+    /// The live frame shown (or about to be), if any.
+    const fmv::VideoFrame* liveFrame() const { return liveFrame_.get(); }
 
     const fmv::FmvTimeline& timeline() const { return timeline_; }
     const FmvSettings& settings() const { return settings_; }
@@ -118,8 +161,16 @@ private:
     };
     ScreenBounds screenBounds(const scene::FrameContext& frame) const;
 
+    void updateLive(const scene::FrameContext& frame);
+    /// The video frame image at the size of the frames (live: made again when it changes).
+    void ensureFrameImage(int width, int height);
+
     std::shared_ptr<fmv::VideoFile> video_;
     fmv::FmvTimeline timeline_;
+    std::unique_ptr<fmv::LiveVideo> live_;
+    std::shared_ptr<const fmv::VideoFrame> liveFrame_;   // the live frame being uploaded
+    fmv::LiveStats liveStats_;
+    bool noSignal_ = false;   // live: the stream is silent; the last footprint shows grey
     FmvSettings settings_;
     double startUtc_ = 0.0;
     render::RenderServices services_;

@@ -48,8 +48,30 @@ Result<std::unique_ptr<scene::Layer>> FmvLayer::create(const scene::LayerDesc& d
     scene::JsonReader r(desc.settings, scene.file.string(), desc.jsonPath);
     for (const char* common : {"type", "name", "visible", "viewpoint"}) r.accept(common);
     FmvSettings s;
-    const auto path = r.string("path");
-    if (r.ok() && (!path || path->empty())) r.fail("path", "name the video file to show");
+    const auto path = r.string("path", std::string());
+    const auto url = r.string("url", std::string());
+    const bool live = url && !url->empty();
+    if (r.ok() && (!path || path->empty()) && !live)
+        r.fail("path", "name the video file (\"path\") or the live stream (\"url\") to show");
+    if (r.ok() && live && path && !path->empty()) r.fail("url", "give a file (\"path\") or a live stream (\"url\"), not both");
+    for (const char* fileOnly : {"poses", "start"})
+        if (live && desc.settings.contains(fileOnly))
+            r.fail(fileOnly, "only for a file (\"path\"): a live stream's poses and times are its KLV's");
+    for (const char* liveOnly : {"jitter", "noSignal", "wholeFrames", "record"})
+        if (!live && desc.settings.contains(liveOnly)) r.fail(liveOnly, "only for a live stream (\"url\")");
+    fmv::LiveOptions liveOptions;
+    liveOptions.jitterSeconds = r.number("jitter", 0.1, 0.0, 5.0).value_or(0.1);
+    liveOptions.noSignalSeconds = r.number("noSignal", 2.0, 0.2, 60.0).value_or(2.0);
+    liveOptions.wholeFrames = r.boolean("wholeFrames", false).value_or(false);
+    const auto record = r.string("record", std::string());
+    if (const nlohmann::json* offset = r.object("poseOffset")) {
+        scene::JsonReader o(*offset, scene.file.string(), desc.jsonPath + "/poseOffset");
+        s.offset.headingDeg = o.number("heading", 0.0, kHeadingOffsetRange.min, kHeadingOffsetRange.max).value_or(0.0);
+        s.offset.pitchDeg = o.number("pitch", 0.0, kPitchOffsetRange.min, kPitchOffsetRange.max).value_or(0.0);
+        s.offset.rollDeg = o.number("roll", 0.0, kRollOffsetRange.min, kRollOffsetRange.max).value_or(0.0);
+        s.offset.altitude = o.number("altitude", 0.0, kAltitudeOffsetRange.min, kAltitudeOffsetRange.max).value_or(0.0);
+        if (auto done = o.finish(); !done) return done.error();
+    }
     const auto poses = r.string("poses", std::string());
     if (auto start = r.string("start", std::string()); start && !start->empty()) {
         auto t = parseIso8601(*start);
@@ -69,6 +91,13 @@ Result<std::unique_ptr<scene::Layer>> FmvLayer::create(const scene::LayerDesc& d
     if (auto done = r.finish(); !done) return done.error();
 
     const std::string where = scene.file.string() + ": " + desc.jsonPath;
+    if (live) {
+        liveOptions.makeGeoid = [] { return fmv::GeoidHeight(globe::egm96Geoid()); };
+        if (record && !record->empty()) liveOptions.recordPath = scene.resolve(*record).string();
+        auto stream = fmv::LiveVideo::open(*url, std::move(liveOptions));
+        if (!stream) return makeError(where + "/url: " + stream.message());
+        return std::unique_ptr<scene::Layer>(std::make_unique<FmvLayer>(std::move(*stream), s));
+    }
     const std::string file = scene.resolve(*path).string();
     auto video = fmv::VideoFile::open(file);
     if (!video) return makeError(where + ": " + video.message());
@@ -95,7 +124,8 @@ Result<std::unique_ptr<scene::Layer>> FmvLayer::create(const scene::LayerDesc& d
 }
 
 scene::LayerType FmvLayer::layerType() {
-    return {"fmv", "full-motion video (MISB ST 0601 KLV) draped on the terrain from its sensor", &FmvLayer::create, {"/path", "/poses"}};
+    return {"fmv", "full-motion video (MISB ST 0601 KLV) draped on the terrain from its sensor, from a file or a live stream",
+            &FmvLayer::create, {"/path", "/poses", "/record"}};
 }
 
 }  // namespace orbis::layers

@@ -133,6 +133,7 @@ struct LiveVideo::Impl {
     double frameInterval = 0.0;     // seconds between frames: the stream's rate, else the least gap seen
     bool measuredInterval = false;
     Recording recording;
+    GeoidHeight geoid;
 
     ~Impl() {
         stop = true;
@@ -162,6 +163,7 @@ struct LiveVideo::Impl {
 // The worker: sessions until stopped
 
 void LiveVideo::Impl::run() {
+    if (options.makeGeoid) geoid = options.makeGeoid();
     bool first = true;
     while (!stop) {
         if (!first) {
@@ -418,7 +420,7 @@ void LiveVideo::Impl::pushFrame(std::shared_ptr<VideoFrame> frame, double stream
 void LiveVideo::Impl::pushKlv(double time, const uint8_t* data, size_t size) {
     noteTime(time);
     std::vector<TimedKlv> one{{time, std::vector<uint8_t>(data, data + size)}};
-    auto decoded = FmvTimeline::fromKlv(one, url, options.geoid);
+    auto decoded = FmvTimeline::fromKlv(one, url, geoid);
     std::lock_guard lock(mutex);
     ++stats.klvPackets;
     if (!decoded) {

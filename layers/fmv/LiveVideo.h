@@ -33,6 +33,7 @@
 #include "layers/fmv/VideoFile.h"
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -57,7 +58,9 @@ struct LiveOptions {
     /// frames, and holds each until the next one starts: a frame interval more latency, and the
     /// last frame before a stream stops is not shown.
     bool wholeFrames = false;
-    GeoidHeight geoid;              ///< for ST 0601 altitudes above mean sea level
+    /// Makes the geoid model for ST 0601 altitudes above mean sea level; called on the stream's
+    /// own thread (coordinate transformations are used by one thread).
+    std::function<GeoidHeight()> makeGeoid;
 };
 
 /// Counts since the stream was opened (all sessions together).

@@ -11,13 +11,18 @@
 #include "tests/support/GoldenImage.h"
 #include "tests/support/GpuTest.h"
 #include "tools/gen/FmvFixture.h"
+#include "tools/net/UdpRelay.h"
+#include "engine/scene/SceneSave.h"
 
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <map>
+#include <set>
+#include <thread>
 
 namespace orbis::test {
 namespace {
@@ -273,6 +278,115 @@ TEST_F(FmvRender, BadVideosGiveClearErrors) {
     built = scene::Scene::build(std::move(*parsed), registry_);
     ASSERT_FALSE(built.ok());
     EXPECT_NE(built.message().find("opacity"), std::string::npos) << built.message();
+}
+
+// A live feed: the flight's first 26 frames (320 x 240, as the file fixture) sent over UDP in real
+// time while the scene renders; then the sender stops.
+std::string liveScene(int port, const std::string& viewpoint) {
+    return R"({"viewpoint": )" + viewpoint + R"(, "time": {"start": ")" + flightTime(-60.0) + R"(", "end": ")" + flightTime(600.0) +
+           R"("}, "background": [0.1, 0.1, 0.15], "layers": [)" +
+           R"({"type": "terrain", "name": "Ground", "sky": false, "elevation": [)" + jsonString((fixture(0.0) / "flight-dem.tif").string()) +
+           R"(]}, {"type": "fmv", "name": "UAV", "url": "udp://127.0.0.1:)" + std::to_string(port) +
+           R"(", "wholeFrames": true, "noSignal": 1.0, "jitter": 0.05}]})";
+}
+
+TEST_F(FmvRender, ALiveFeedDrapesLikeTheFileAndGreysWithoutSignal) {
+    const int port = net::freeUdpPort();
+    ASSERT_GT(port, 0);
+    auto s = load(liveScene(port, kAbove));
+    ASSERT_TRUE(s);
+    auto& layer = fmvLayer(*s);
+    ASSERT_TRUE(layer.isLive());
+    // The terrain alone first (nothing received: waited for until there is no signal).
+    const auto ground = renderSettled(renderer_, device(), *s, 320, 240);
+    EXPECT_NE(layer.status().find("no signal"), std::string::npos) << layer.status();
+    EXPECT_FALSE(layer.busy());
+    std::atomic<bool> stop{false};
+    fmv::FmvStreamOptions o;
+    o.frames = 26;
+    o.width = 320;
+    o.height = 240;
+    auto sent = std::async(std::launch::async, [&] { return fmv::streamFmvFixture("udp://127.0.0.1:" + std::to_string(port), o, stop); });
+    // Frames are draped as they come, at whatever the scene's time is.
+    std::set<int> shown;
+    while (sent.wait_for(std::chrono::milliseconds(0)) != std::future_status::ready) {
+        renderOnce(*renderer_, *s);
+        if (const fmv::VideoFrame* f = layer.liveFrame()) shown.insert(fmv::fixtureFrameNumber(f->rgba, f->width, f->height));
+    }
+    auto result = sent.get();
+    ASSERT_TRUE(result.ok()) << result.message();
+    // The last frame (25, 2.5 s into the flight) stays; the scene's time is not the flight's.
+    const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(400);
+    while (std::chrono::steady_clock::now() < until) renderOnce(*renderer_, *s);
+    const auto live = renderSettled(renderer_, device(), *s, 320, 240);
+    ASSERT_TRUE(layer.liveFrame());
+    EXPECT_EQ(fmv::fixtureFrameNumber(layer.liveFrame()->rgba, 320, 240), 25);
+    EXPECT_GE(shown.size(), 8u) << "frames draped while the stream ran";
+    EXPECT_NE(layer.status().find("live 320x240"), std::string::npos) << layer.status();
+    // Against the file-driven render of the same frame: the geometry is the same; the pictures
+    // could differ by the live encoder's coding (zerolatency: no look-ahead); measured: no pixel
+    // off by more than 24 levels; allowed: 1 %.
+    auto fileScene = load(scene(fixture(0.0), kAbove));
+    const auto file = render(*fileScene, 2.5);
+    const size_t off = differing(live, file, 24);
+    std::printf("[ live ] %zu of %d pixels differ from the file's frame 25 by more than 24 levels\n", off, 320 * 240);
+    EXPECT_LT(off, size_t(320 * 240 / 100));
+    EXPECT_GT(differing(live, ground, 24), 1000u);
+    // Silence: no signal; the drape goes, the footprint stays grey.
+    const auto silent = std::chrono::steady_clock::now() + std::chrono::seconds(4);
+    while (std::chrono::steady_clock::now() < silent && layer.liveStats().state != fmv::LiveState::NoSignal) renderOnce(*renderer_, *s);
+    ASSERT_EQ(layer.liveStats().state, fmv::LiveState::NoSignal);
+    EXPECT_NE(layer.status().find("no signal"), std::string::npos) << layer.status();
+    const auto grey = renderSettled(renderer_, device(), *s, 320, 240);
+    EXPECT_TRUE(matchesGolden(grey, "fmv_live_no_signal"));
+    const size_t outline = differing(grey, ground, 8);
+    EXPECT_GT(outline, 50u) << "the footprint and frustum are drawn";
+    EXPECT_LT(outline, 3000u) << "only lines: the video is not draped";
+}
+
+TEST_F(FmvRender, PoseOffsetsMoveTheFootprintAndAreSavedWithTheScene) {
+    const fs::path& dir = fixture(0.0);
+    auto s = load(scene(dir, kAbove, R"(, "poseOffset": {"heading": 2})"));
+    ASSERT_TRUE(s);
+    auto& layer = fmvLayer(*s);
+    EXPECT_EQ(layer.settings().offset.headingDeg, 2.0);
+    render(*s, 1.0);
+    const auto biased = layer.footprint();
+    ASSERT_TRUE(layer.setParameter("headingOffset", 0.0));
+    render(*s, 1.0);
+    const auto plain = layer.footprint();
+    ASSERT_EQ(biased.size(), plain.size());
+    // 2 degrees of heading about a sensor 2.5 km from the target: the centre moves ~90 m.
+    const double moved = glm::length(biased.back().first - plain.back().first);
+    EXPECT_GT(moved, 50.0);
+    EXPECT_LT(moved, 150.0);
+    EXPECT_FALSE(layer.setParameter("pitchOffset", 120.0));   // outside -90..90
+    ASSERT_TRUE(layer.setParameter("altitudeOffset", -25.0));
+    ASSERT_TRUE(layer.setParameter("rollOffset", 1.5));
+    render(*s, 1.0);
+    EXPECT_NEAR(layer.pose().height, SyntheticFlight::pose(1.0).height - 25.0, 0.5);
+    const nlohmann::json saved = scene::sceneToJson(*s, outDir() / "offsets.json");
+    const nlohmann::json& fmv = saved["layers"][1];
+    EXPECT_EQ(fmv["poseOffset"]["heading"], 0.0);
+    EXPECT_EQ(fmv["poseOffset"]["altitude"], -25.0);
+    EXPECT_EQ(fmv["poseOffset"]["roll"], 1.5);
+    // Bad offsets and keys of the other kind of source are clear errors.
+    for (const auto& [extra, words] : std::vector<std::pair<std::string, std::string>>{
+             {R"(, "poseOffset": {"pitch": 95})", "pitch"},
+             {R"(, "poseOffset": {"yaw": 1})", "yaw"},
+             {R"(, "record": "x.ts")", "only for a live stream"},
+             {R"(, "url": "udp://127.0.0.1:9")", "not both"}}) {
+        auto parsed = scene::parseSceneText(scene(dir, kAbove, extra), "bad.json", dir);
+        ASSERT_TRUE(parsed.ok()) << parsed.message();
+        auto built = scene::Scene::build(std::move(*parsed), registry_);
+        ASSERT_FALSE(built.ok()) << extra;
+        EXPECT_NE(built.message().find(words), std::string::npos) << built.message();
+    }
+    auto parsed = scene::parseSceneText(liveScene(9, kAbove).replace(liveScene(9, kAbove).find("udp://"), 6, "nosuch://"), "bad.json", dir);
+    ASSERT_TRUE(parsed.ok()) << parsed.message();
+    auto built = scene::Scene::build(std::move(*parsed), registry_);
+    ASSERT_FALSE(built.ok());
+    EXPECT_NE(built.message().find("cannot receive nosuch://"), std::string::npos) << built.message();
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 // frame's time. Deterministic.
 //
 //   orbis-make-fmv --stream URL [--frames N] [--fps F] [--size WxH] [--async] [--wall-clock]
+//                  [--flight-start S]
 //
 // Sends the same flight live, in real time, to URL (udp://127.0.0.1:5600, a multicast group
 // udp://239.255.0.1:5600?ttl=1, or tcp://127.0.0.1:5600?listen=1 for a receiver to connect):
@@ -30,7 +31,8 @@ namespace {
 
 int usage() {
     std::fprintf(stderr, "usage: orbis-make-fmv OUTDIR [--frames N] [--fps F] [--size WxH] [--async] [--no-klv] [--csv] [--flight-start S]\n"
-                         "       orbis-make-fmv --stream URL [--frames N (0: until stopped)] [--fps F] [--size WxH] [--async] [--wall-clock]\n");
+                         "       orbis-make-fmv --stream URL [--frames N (0: until stopped)] [--fps F] [--size WxH] [--async] [--wall-clock]\n"
+                         "                      [--flight-start S]\n");
     return 2;
 }
 
@@ -46,6 +48,7 @@ int stream(int argc, char** argv) {
         else if (i + 1 >= argc) return usage();
         else if (a == "--frames") o.frames = std::atoi(argv[++i]);
         else if (a == "--fps") o.fps = std::atoi(argv[++i]);
+        else if (a == "--flight-start") o.flightStart = std::atof(argv[++i]);
         else if (a == "--size") {
             if (std::sscanf(argv[++i], "%dx%d", &o.width, &o.height) != 2) return usage();
         } else return usage();
