@@ -201,6 +201,7 @@ PanelActions Panels::draw(scene::Scene& scene, const ViewerStats& stats, const M
     statsPanel(stats, scene);
     annotationsPanel(scene, actions);
     analysisPanel(scene, actions);
+    feedsPanel(scene, actions);
     if (map.picked) featurePanel(*map.picked, actions);
     mapFurniture(map, uiScale);
     return actions;
@@ -225,6 +226,69 @@ void Panels::analysisPanel(scene::Scene& scene, PanelActions& actions) {
     }
     ImGui::End();
     processes_.drawPlots();
+}
+
+void Panels::feedsPanel(scene::Scene& scene, PanelActions& actions) {
+    std::vector<std::pair<const scene::Resource*, scene::FeedStatus>> feeds;
+    for (const scene::Resource& r : scene.resources())
+        if (r.layer && r.visible)
+            if (const scene::LiveFeed* feed = r.layer->asLiveFeed()) feeds.emplace_back(&r, feed->feedStatus());
+    if (feeds.empty()) return;
+    const ImGuiIO& io = ImGui::GetIO();
+    const float s = io.FontGlobalScale;
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 470 * s, io.DisplaySize.y - 190 * s), ImGuiCond_FirstUseEver);
+    if (!ImGui::Begin("Feeds", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::End();
+        return;
+    }
+    const scene::CameraModeSettings& mode = scene.cameraMode();
+    if (ImGui::BeginTable("feeds", 7, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV)) {
+        for (const char* h : {"Feed", "State", "Mbit/s", "Latency", "Shown", "Lost", ""}) ImGui::TableSetupColumn(h);
+        ImGui::TableHeadersRow();
+        for (const auto& [r, f] : feeds) {
+            ImGui::PushID(r->name.c_str());
+            ImGui::TableNextRow();
+            ImGui::TableSetColumnIndex(0);
+            ImGui::TextUnformatted(r->name.c_str());
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s%s%s", f.url.c_str(), f.lastError.empty() ? "" : "\n", f.lastError.c_str());
+            ImGui::TableSetColumnIndex(1);
+            const ImVec4 colour = f.state == "live" ? ImVec4(0.4f, 0.9f, 0.4f, 1.0f)
+                                  : f.state == "no signal" ? ImVec4(1.0f, 0.45f, 0.35f, 1.0f)
+                                                           : ImVec4(0.9f, 0.7f, 0.2f, 1.0f);
+            if (f.state == "no signal") ImGui::TextColored(colour, "no signal %.0f s", f.secondsSinceData);
+            else ImGui::TextColored(colour, "%s", f.state.c_str());
+            ImGui::TableSetColumnIndex(2);
+            ImGui::Text("%.2f", f.bitsPerSecond * 1e-6);
+            ImGui::TableSetColumnIndex(3);
+            if (f.latencySeconds) ImGui::Text("%.0f ms", *f.latencySeconds * 1e3);
+            else ImGui::TextDisabled("-");
+            ImGui::TableSetColumnIndex(4);
+            ImGui::Text("%llu", (unsigned long long)f.framesShown);
+            ImGui::TableSetColumnIndex(5);
+            ImGui::Text("%llu", (unsigned long long)f.framesLost);
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("%llu damaged packets", (unsigned long long)f.damagedPackets);
+            ImGui::TableSetColumnIndex(6);
+            // Fly to the sensor (the camera stays above it as it moves), or look through it
+            // (pilot): any input gives the camera back (ViewerInput).
+            if (ImGui::SmallButton("Fly to")) {
+                scene.setCameraMode({.mode = scene::CameraMode::Above, .target = r->name, .distance = 2500.0}, 2.0);
+                actions.changed = true;
+            }
+            remember("Fly to feed##" + r->name);
+            ImGui::SameLine();
+            const bool through = mode.mode == scene::CameraMode::Pilot && mode.target == r->name;
+            if (ImGui::SmallButton(through ? "Free" : "Sensor view")) {
+                scene.setCameraMode(through ? scene::CameraModeSettings{}
+                                            : scene::CameraModeSettings{.mode = scene::CameraMode::Pilot, .target = r->name},
+                                    through ? 0.0 : 2.0);
+                actions.changed = true;
+            }
+            remember("Sensor view##" + r->name);
+            ImGui::PopID();
+        }
+        ImGui::EndTable();
+    }
+    ImGui::End();
 }
 
 void Panels::featurePanel(const scene::PickedAttributes& picked, PanelActions& actions) {

@@ -97,6 +97,9 @@ private:
     void resourcesPanel(scene::Scene& scene, PanelActions& actions);
     void timePanel(scene::Scene& scene, PanelActions& actions);
     void statsPanel(const ViewerStats& stats, const scene::Scene& scene);
+    /// Live video feeds (only when the scene has any): state, bitrate, latency, loss; fly to
+    /// the sensor, look through it.
+    void feedsPanel(scene::Scene& scene, PanelActions& actions);
     void annotationsPanel(scene::Scene& scene, PanelActions& actions);
     void featurePanel(const scene::PickedAttributes& picked, PanelActions& actions);
     void analysisPanel(scene::Scene& scene, PanelActions& actions);

@@ -215,9 +215,12 @@ bool Viewer::runFrame() {
     return true;
 }
 
-/// Whether this turn draws: something changed, moves, plays or loads, or the script plays.
+/// Whether this turn draws: something changed, moves, plays or loads, a live feed shows, or the
+/// script plays.
 bool Viewer::wantsFrame(bool playingScript) const {
-    const bool animating = nav_.animating() || scene_->time().playing() || scene_->busy() || analysisBusy() ||
+    bool live = false;   // live video runs on the wall clock, whatever the scene's time does
+    for (const scene::Resource& r : scene_->resources()) live |= r.visible && r.layer && r.layer->asLiveFeed();
+    const bool animating = live || nav_.animating() || scene_->time().playing() || scene_->busy() || analysisBusy() ||
                            scene_->cameraMode().mode != scene::CameraMode::Free || nav_.revision() != drawnRevision_;
     return dirty_ || uiFrames_ > 0 || animating || playingScript;
 }

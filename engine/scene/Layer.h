@@ -70,6 +70,7 @@ public:
     virtual const DrapedContent* asDrapedContent() const { return nullptr; }
     virtual PickableContent* asPickable() { return nullptr; }
     virtual const LayerStats* asStats() const { return nullptr; }
+    virtual const LiveFeed* asLiveFeed() const { return nullptr; }
 
 protected:
     /// The layer's part of prepare().

@@ -143,6 +143,25 @@ public:
 };
 
 /// Figures for the viewer's stats panel and the benchmark's tables. Main thread only.
+/// What a layer fed by a live stream (FMV over the network) tells the feeds panel.
+struct FeedStatus {
+    std::string url;
+    std::string state;                     ///< "connecting", "live", "no signal"
+    double bitsPerSecond = 0.0;            ///< over the last seconds
+    std::optional<double> latencySeconds;  ///< a frame's send time (its time stamp) to its drape
+    uint64_t framesShown = 0, framesLost = 0, damagedPackets = 0;
+    double secondsSinceData = 0.0;
+    int width = 0, height = 0;
+    std::string lastError;                 ///< why the stream last stopped, or empty
+};
+
+/// A layer fed by a live stream. Main thread only.
+class LiveFeed {
+public:
+    virtual ~LiveFeed() = default;
+    virtual FeedStatus feedStatus() const = 0;
+};
+
 class LayerStats {
 public:
     virtual ~LayerStats() = default;

@@ -654,6 +654,23 @@ const std::string& FmvLayer::url() const {
     return live_ ? live_->url() : none;
 }
 
+scene::FeedStatus FmvLayer::feedStatus() const {
+    const fmv::LiveStats& l = liveStats_;
+    scene::FeedStatus f;
+    f.url = url();
+    f.state = fmv::toString(l.state);
+    f.bitsPerSecond = l.bitsPerSecond;
+    if (l.latencySeconds && *l.latencySeconds > -1.0 && *l.latencySeconds < 600.0) f.latencySeconds = l.latencySeconds;
+    f.framesShown = l.framesShown;
+    f.framesLost = l.framesLost;
+    f.damagedPackets = l.corruptPackets + l.klvRejected;
+    f.secondsSinceData = l.secondsSinceData;
+    f.width = l.width;
+    f.height = l.height;
+    f.lastError = l.lastError;
+    return f;
+}
+
 std::optional<scene::TimeRange> FmvLayer::timeRange() const { return std::nullopt; }   // the scene's time stays its own
 
 std::optional<scene::TrackedPose> FmvLayer::trackedPose(TimeNs t, const scene::GroundHeightFn&) const {

@@ -76,7 +76,8 @@ struct FmvSettings {
 class FmvLayer final : public scene::Layer,
                        public scene::LiveSettings,
                        public scene::LayerStats,
-                       public scene::MovingContent {
+                       public scene::MovingContent,
+                       public scene::LiveFeed {
 public:
     /// The scene type: its name, description, factory (create) and the files its object names.
     static scene::LayerType layerType();
@@ -96,6 +97,8 @@ public:
     scene::LiveSettings* asLiveSettings() override { return this; }
     const scene::LayerStats* asStats() const override { return this; }
     const scene::MovingContent* asMovingContent() const override { return this; }
+    const scene::LiveFeed* asLiveFeed() const override { return live_ ? this : nullptr; }
+    scene::FeedStatus feedStatus() const override;
     void update(const scene::FrameContext& frame) override;
     bool drawsIn(scene::Pass pass) const override { return pass == scene::Pass::Fmv; }
     void recordTransfers(const render::RecordContext& context) override;

@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <future>
 #include <regex>
 #include <string>
 
@@ -424,6 +425,46 @@ TEST(Viewer, DeviceLostSavesTheViewAndExitsCleanly) {
                                    std::string(ORBIS_BINARY) + " render '" + saved.string() + "' -o '" +
                                    (dir / "rendered.png").string() + "' --size 320x180 --device cpu --validation");
     EXPECT_EQ(render.exitCode, 0) << render.output;
+}
+
+TEST(Viewer, TheFeedsPanelLooksThroughALiveSensor) {
+    REQUIRE_XVFB();
+    const fs::path dir = workDir("feeds");
+    const ShellRun port = shell("python3 -c 'import socket; s=socket.socket(socket.AF_INET, socket.SOCK_DGRAM); "
+                                "s.bind((\"127.0.0.1\", 0)); print(s.getsockname()[1])'");
+    ASSERT_EQ(port.exitCode, 0) << port.output;
+    const std::string url = "udp://127.0.0.1:" + std::to_string(std::stoi(port.output));
+    std::ofstream(dir / "live.json") << R"({"viewpoint": {"lon": 9.03, "lat": 46.02, "height": 650, "heading": 0, "pitch": -60, "range": 9000},
+        "background": [0.1, 0.1, 0.15], "layers": [
+        {"type": "terrain", "name": "Ground", "sky": false, "elevation": [")" ORBIS_SOURCE_DIR R"(/assets/generated/fmv/flight-dem.tif"]},
+        {"type": "fmv", "name": "UAV", "url": ")" + url + R"(", "wholeFrames": true, "noSignal": 5}]})";
+    // The flight sent for 12 s while the viewer runs (the sender stops by itself).
+    auto sender = std::async(std::launch::async, [&] {
+        return shell(std::string(ORBIS_MAKE_FMV) + " --stream " + url + " --frames 120 --size 320x240 --wall-clock");
+    });
+    const ViewerRun r = view(dir, R"([
+        {"do": "idle", "seconds": 2}, {"do": "screenshot", "file": "overview.png"},
+        {"do": "click", "item": "Sensor view##UAV"}, {"do": "idle", "seconds": 3}, {"do": "screenshot", "file": "sensor.png"},
+        {"do": "key", "key": "Ctrl+S"}, {"do": "quit"}])",
+                             (dir / "live.json").string(), "--save-to \"" + (dir / "saved.json").string() + "\"");
+    sender.wait();
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    // Looking through the sensor, its own video fills the middle of the view: the checkerboard's
+    // greys (60 and 200, equal channels), where the overview shows the terrain's blue.
+    const ImageRgba8 overview = shot(dir / "overview.png"), sensor = shot(dir / "sensor.png");
+    ASSERT_EQ(sensor.pixels.size(), size_t(960 * 540 * 4));
+    size_t grey = 0, total = 0;
+    for (uint32_t y = 170; y < 370; ++y)
+        for (uint32_t x = 330; x < 630; ++x, ++total) {
+            const uint8_t* p = &sensor.pixels[(size_t(y) * 960 + x) * 4];
+            grey += std::abs(int(p[0]) - int(p[2])) < 20 && std::abs(int(p[1]) - int(p[2])) < 20 ? 1 : 0;
+        }
+    EXPECT_GT(grey, total / 2) << "the middle of the sensor's view is not its video";
+    EXPECT_GT(countDifferentPixels(overview, sensor, 24), size_t(960 * 540 / 6));
+    for (const char* name : {"overview.png", "sensor.png"})   // to look at
+        fs::copy_file(dir / name, fs::path(testOutputDir()) / (std::string("viewer_feeds_") + name), fs::copy_options::overwrite_existing);
+    const std::string saved = readText(dir / "saved.json");
+    EXPECT_NE(saved.find("\"pilot\""), std::string::npos) << saved;
 }
 
 TEST(Viewer, BadInputsGiveClearErrors) {
