@@ -239,6 +239,7 @@ void FmvLayer::updateLive(const scene::FrameContext& frame) {
     noSignal_ = liveStats_.state != fmv::LiveState::Live;
     if (!due || !due->pose) return;   // nothing yet, or no KLV pose for it yet
     pose_ = applyOffset(*due->pose, settings_.offset);
+    liveFrameUtc_ = due->utc;
     if (!shownIndex_ || *shownIndex_ != due->frame->index) {
         liveFrame_ = due->frame;
         ensureFrameImage(liveFrame_->width, liveFrame_->height);
@@ -557,6 +558,7 @@ void FmvLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
                            VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_HOST_READ_BIT);
         footprintOrigin_ = origin_;
         footprintValid_ = true;
+        ++footprintUpdates_;
         mapPose_ = pose_;
         mapBuilds_ = heightfieldBuilds_;
     }

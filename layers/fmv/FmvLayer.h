@@ -125,8 +125,11 @@ public:
     bool isLive() const { return live_ != nullptr; }
     const std::string& url() const;
     const fmv::LiveStats& liveStats() const { return liveStats_; }
-    /// The live frame shown (or about to be), if any.
+    /// The live frame shown (or about to be), if any, and its UTC from the KLV time stamps.
     const fmv::VideoFrame* liveFrame() const { return liveFrame_.get(); }
+    std::optional<double> liveFrameUtc() const { return liveFrameUtc_; }
+    /// Times the footprint was computed (it is again whenever the pose moves).
+    uint64_t footprintUpdates() const { return footprintUpdates_; }
 
     const fmv::FmvTimeline& timeline() const { return timeline_; }
     const FmvSettings& settings() const { return settings_; }
@@ -174,6 +177,8 @@ private:
     std::shared_ptr<const fmv::VideoFrame> liveFrame_;   // the live frame being uploaded
     fmv::LiveStats liveStats_;
     bool noSignal_ = false;   // live: the stream is silent; the last footprint shows grey
+    std::optional<double> liveFrameUtc_;
+    uint64_t footprintUpdates_ = 0;
     FmvSettings settings_;
     double startUtc_ = 0.0;
     render::RenderServices services_;

@@ -9,6 +9,7 @@ extern "C" {
 }
 
 #include <algorithm>
+#include <cstdarg>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -88,7 +89,8 @@ struct Decoder {
     AVFrame* frame = nullptr;
     SwsContext* sws = nullptr;
     AVRational base{1, 1};
-    bool waitKey = true;   // decoding starts at a key frame, and again after damage
+    bool beforeFirstKey = true;   // decoding starts at a key frame
+    bool waitKey = false;         // and again after damage
     Decoder() = default;
     Decoder(const Decoder&) = delete;
     Decoder& operator=(const Decoder&) = delete;
@@ -318,22 +320,25 @@ AVPacket* LiveVideo::Impl::takeWholeFrames(AVStream* stream, AVCodecContext* cod
     return p;
 }
 
-/// One video packet into the decoder, the frames that come out onto the queue. Damage costs the
-/// frames it touches: a packet flagged corrupt (a continuity gap) or refused is left out, and the
-/// frames after it until the next key frame (they refer to it). Returns an error that ends the
-/// session, or empty.
+/// One video packet into the decoder, the frames that come out onto the queue. A packet flagged
+/// corrupt or refused by the decoder is left out, and the frames after it until the next key
+/// frame (they refer to it); so are frames the decoder marks as decoded with errors. Decoding
+/// starts at a key frame. (Through libavformat 5.1 most losses are not flagged: its parser does
+/// not pass AV_PKT_FLAG_CORRUPT on and the H.264 decoder conceals a truncated frame without a
+/// mark; such a frame is lost when the decoder cannot use it (a gap in the frames' times), else
+/// shown as concealed, smeared where data was missing, with its pose exact.) Returns an error
+/// that ends the session, or empty.
 std::string LiveVideo::Impl::decode(Decoder& d, const AVPacket& packet) {
-    if (packet.flags & AV_PKT_FLAG_CORRUPT) {
+    const auto damaged = [&] {
         std::lock_guard lock(mutex);
         ++stats.corruptPackets;
         d.waitKey = true;
+    };
+    if (packet.flags & AV_PKT_FLAG_CORRUPT) {
+        damaged();
         return {};
     }
-    if (avcodec_send_packet(d.codec, &packet) < 0) {
-        std::lock_guard lock(mutex);
-        ++stats.corruptPackets;
-        d.waitKey = true;
-    }
+    if (avcodec_send_packet(d.codec, &packet) < 0) damaged();
     AVFrame* frame = d.frame;
     while (avcodec_receive_frame(d.codec, frame) == 0) {
         struct Unref {
@@ -342,12 +347,18 @@ std::string LiveVideo::Impl::decode(Decoder& d, const AVPacket& packet) {
         } unref{frame};
         const int64_t pts = frame->best_effort_timestamp != AV_NOPTS_VALUE ? frame->best_effort_timestamp : frame->pts;
         const bool broken = frame->decode_error_flags != 0 || (frame->flags & AV_FRAME_FLAG_CORRUPT);
-        if (frame->key_frame && !broken) d.waitKey = false;
-        if (d.waitKey) continue;   // refers to what was lost: not shown (the gap counts it lost)
-        if (broken || pts == AV_NOPTS_VALUE || frame->width <= 0 || frame->height <= 0 || frame->width > VideoFile::kMaxDimension ||
+        if (frame->key_frame && !broken) d.waitKey = d.beforeFirstKey = false;
+        if (d.waitKey || d.beforeFirstKey) continue;   // refers to what was lost: not shown (the gap counts it lost)
+        if (pts == AV_NOPTS_VALUE || frame->width <= 0 || frame->height <= 0 || frame->width > VideoFile::kMaxDimension ||
             frame->height > VideoFile::kMaxDimension) {
             std::lock_guard lock(mutex);
             ++stats.corruptPackets;
+            continue;
+        }
+        if (broken) {
+            std::lock_guard lock(mutex);
+            ++stats.framesConcealed;
+            d.waitKey = true;
             continue;
         }
         d.sws = sws_getCachedContext(d.sws, frame->width, frame->height, AVPixelFormat(frame->format), frame->width, frame->height,
@@ -606,9 +617,22 @@ std::string LiveVideo::inputProtocols() {
     return out;
 }
 
+/// FFmpeg's messages, less its decoders' (joining a stream mid-way and lost datagrams make them
+/// complain every frame; the damage is counted in LiveStats).
+void quietDecoders(void* object, int level, const char* format, va_list args) {
+    if (object && level > AV_LOG_FATAL) {
+        const AVClass* c = *static_cast<const AVClass* const*>(object);
+        if (c && (c->get_category ? c->get_category(object) : c->category) == AV_CLASS_CATEGORY_DECODER) return;
+    }
+    av_log_default_callback(object, level, format, args);
+}
+
 Result<std::unique_ptr<LiveVideo>> LiveVideo::open(const std::string& url, LiveOptions options) {
     static std::once_flag network;
-    std::call_once(network, [] { avformat_network_init(); });
+    std::call_once(network, [] {
+        avformat_network_init();
+        av_log_set_callback(&quietDecoders);
+    });
     av_log_set_level(AV_LOG_ERROR);
     const size_t colon = url.find("://");
     if (url.empty() || colon == std::string::npos || colon == 0)

@@ -17,9 +17,9 @@
 // packet); after the last packet the last pose holds for up to a second.
 //
 // Damage costs only what it touches: a packet the demuxer flags corrupt (a continuity gap: a
-// datagram lost) or one the decoder refuses is dropped with the frames that depend on it (the
-// video resumes at its next key frame, never shows a broken frame); a KLV packet that fails its
-// checksum or does not decode is left out and counted.
+// datagram lost) or one the decoder refuses is dropped with the frames that refer to it, up to
+// the next key frame (see decode() in LiveVideo.cpp for what FFmpeg 5.1 flags); a KLV packet
+// that fails its checksum or does not decode is left out and counted.
 //
 // Recording: with `recordPath`, every packet is also written as received (no re-encoding) into
 // an MPEG-TS that VideoFile plays back through the file path.
@@ -73,6 +73,7 @@ struct LiveStats {
     uint64_t framesSkipped = 0;        ///< decoded but superseded before their time, or over the queue
     uint64_t framesLost = 0;           ///< gaps in the frames' times (frames never received)
     uint64_t corruptPackets = 0;       ///< flagged corrupt by the demuxer or refused by the decoder
+    uint64_t framesConcealed = 0;      ///< decoded with errors the decoder marked (left out)
     uint64_t klvPackets = 0, klvRejected = 0;   ///< rejected: bad checksum, undecodable, no pose
     uint64_t posesReceived = 0;
     uint64_t reconnects = 0;

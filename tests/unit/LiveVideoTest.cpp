@@ -208,6 +208,11 @@ TEST(LiveVideo, ALossyLinkCostsOnlyTheDamagedFrames) {
     EXPECT_GT(r.dropped, 0u);
     EXPECT_GT(r.corrupted, 0u);
     const LiveStats s = (*live)->stats();
+    std::printf("[loss] relay: %llu datagrams, %llu dropped, %llu corrupted; received: %llu frames decoded, %llu shown, %llu lost, "
+                "%llu concealed, %llu damaged packets, %llu KLV rejected\n",
+                (unsigned long long)r.received, (unsigned long long)r.dropped, (unsigned long long)r.corrupted,
+                (unsigned long long)s.framesDecoded, (unsigned long long)s.framesShown, (unsigned long long)s.framesLost,
+                (unsigned long long)s.framesConcealed, (unsigned long long)s.corruptPackets, (unsigned long long)s.klvRejected);
     EXPECT_GT(s.corruptPackets + s.framesLost + s.klvRejected, 0u) << "the damage was seen";
     EXPECT_GT(s.framesDecoded, 0u);
     EXPECT_LT(s.framesDecoded, 40u);

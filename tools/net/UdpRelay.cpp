@@ -51,9 +51,9 @@ int freeUdpPort() {
     return port;
 }
 
-UdpRelay::UdpRelay(int toPort, double drop, double corrupt, uint32_t seed)
+UdpRelay::UdpRelay(int toPort, double drop, double corrupt, uint32_t seed, int listenPort)
     : toPort_(toPort), drop_(drop), corrupt_(corrupt), seed_(seed) {
-    in_ = bindUdp(0, port_, error_);
+    in_ = bindUdp(listenPort, port_, error_);
     if (in_ < 0) {
         port_ = 0;
         return;

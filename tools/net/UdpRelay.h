@@ -18,8 +18,8 @@ struct RelayCounts {
 
 class UdpRelay {
 public:
-    /// Binds 127.0.0.1 on a free port; `error()` says why not (then port() is 0).
-    UdpRelay(int toPort, double drop, double corrupt, uint32_t seed = 1);
+    /// Binds 127.0.0.1:`listenPort` (0: a free port); `error()` says why not (then port() is 0).
+    UdpRelay(int toPort, double drop, double corrupt, uint32_t seed = 1, int listenPort = 0);
     ~UdpRelay();
     UdpRelay(const UdpRelay&) = delete;
     UdpRelay& operator=(const UdpRelay&) = delete;

@@ -54,6 +54,10 @@ const char* kHelp =
     "  --live N --update SQL  for a scene with a live vector layer (\"refresh\": {\"listen\"}): N times,\n"
     "                     commit SQL ({i}: the run's number) on the layer's database and time until\n"
     "                     a frame read back shows it: median, p95, max (ms)\n"
+    "  --feeds SECONDS    for a scene with live FMV layers (\"url\") whose senders stamp packets with the\n"
+    "                     wall clock: frames back to back for SECONDS; per feed, the glass-to-drape\n"
+    "                     latency (send time to the frame on screen: median, p95, max), video frames\n"
+    "                     draped and footprint updates per second, frames lost, damaged packets\n"
     "  --iso-error N1,N2,.. isosurface position error against steps, for a scene with a volume in\n"
     "                     mode \"iso\": for each step count, with and without the secant/bisection\n"
     "                     refinement, ms/frame and the distance in voxels between each pixel's first\n"
@@ -110,7 +114,7 @@ Args parseBenchArgs(const std::vector<std::string>& argv) {
     std::set<std::string> valued = gpuValuedOptions();
     valued.insert({"--frames", "--warmup", "--size", "--time", "--camera-path", "--sweep", "--plot", "--tiles", "--threads",
                    "--iso-error", "--video", "--seeks", "--poses", "--labels", "--margin", "--vector", "--level", "--runs",
-                   "--soak", "--live", "--update"});
+                   "--soak", "--live", "--update", "--feeds"});
     std::set<std::string> flags = gpuFlagOptions();
     flags.insert({"--help", "--json", "--layer"});
     return Args(argv, valued, flags, {{"-h", "--help"}});
@@ -170,6 +174,7 @@ int benchCommand(const std::vector<std::string>& argv) {
     if (args.value("--sweep")) return sweepBench(args, gpu, *scene, renderer, frames, warmup);
     if (auto seconds = args.number("--soak", 1.0, 1e6)) return soakBench(args, gpu, *scene, renderer, path, *seconds);
     if (auto runs = args.integer("--live", 1, 100000)) return liveBench(args, gpu, *scene, renderer, *runs);
+    if (auto seconds = args.number("--feeds", 1.0, 1e5)) return feedBench(gpu, *scene, renderer, *seconds);
 
     // A fixed view is measured once everything it shows has loaded; a camera path measures the
     // streaming as it flies.

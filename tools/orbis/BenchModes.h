@@ -27,6 +27,9 @@ int soakBench(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Re
 /// `orbis bench SCENE --live N --update SQL`: commit to changed frame, for a live vector
 /// layer (LiveBench.cpp).
 int liveBench(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer, long runs);
+/// `orbis bench SCENE --feeds SECONDS`: glass-to-drape latency and rates of live FMV feeds
+/// (FeedBench.cpp).
+int feedBench(GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer, double seconds);
 /// `orbis bench SCENE --tiles LEVEL` (TileBench.cpp).
 int tileBench(const Args& args, scene::Scene& scene, long level, unsigned threads);
 /// `orbis bench --video FILE` (VideoBench.cpp).
