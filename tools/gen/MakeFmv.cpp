@@ -38,20 +38,27 @@ int usage() {
 
 std::atomic<bool> stopped{false};
 
+/// The options both modes take (--frames, --fps, --size, --flight-start, --async), from argv[i]
+/// on; false on one it does not know or a value missing.
+template <class Options>
+bool commonOption(Options& o, int argc, char** argv, int& i) {
+    const std::string a = argv[i];
+    if (a == "--async") return o.async = true;
+    if (i + 1 >= argc) return false;
+    if (a == "--frames") o.frames = std::atoi(argv[++i]);
+    else if (a == "--fps") o.fps = std::atoi(argv[++i]);
+    else if (a == "--flight-start") o.flightStart = std::atof(argv[++i]);
+    else if (a == "--size") return std::sscanf(argv[++i], "%dx%d", &o.width, &o.height) == 2;
+    else return false;
+    return true;
+}
+
 int stream(int argc, char** argv) {
     orbis::fmv::FmvStreamOptions o;
     const std::string url = argv[2];
     for (int i = 3; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "--async") o.async = true;
-        else if (a == "--wall-clock") o.stampWallClock = true;
-        else if (i + 1 >= argc) return usage();
-        else if (a == "--frames") o.frames = std::atoi(argv[++i]);
-        else if (a == "--fps") o.fps = std::atoi(argv[++i]);
-        else if (a == "--flight-start") o.flightStart = std::atof(argv[++i]);
-        else if (a == "--size") {
-            if (std::sscanf(argv[++i], "%dx%d", &o.width, &o.height) != 2) return usage();
-        } else return usage();
+        if (std::string(argv[i]) == "--wall-clock") o.stampWallClock = true;
+        else if (!commonOption(o, argc, argv, i)) return usage();
     }
     if (o.frames < 0 || o.fps < 1 || o.fps > 240 || o.width < 16 || o.height < 16 || o.width > 4096 || o.height > 4096 ||
         o.width % 2 || o.height % 2) {
@@ -81,16 +88,9 @@ int main(int argc, char** argv) {
     orbis::fmv::FmvFixtureOptions o;
     for (int i = 2; i < argc; ++i) {
         const std::string a = argv[i];
-        if (a == "--async") o.async = true;
-        else if (a == "--csv") o.csv = true;
+        if (a == "--csv") o.csv = true;
         else if (a == "--no-klv") o.klv = false;
-        else if (i + 1 >= argc) return usage();
-        else if (a == "--frames") o.frames = std::atoi(argv[++i]);
-        else if (a == "--fps") o.fps = std::atoi(argv[++i]);
-        else if (a == "--flight-start") o.flightStart = std::atof(argv[++i]);
-        else if (a == "--size") {
-            if (std::sscanf(argv[++i], "%dx%d", &o.width, &o.height) != 2) return usage();
-        } else return usage();
+        else if (!commonOption(o, argc, argv, i)) return usage();
     }
     if (o.frames < 1 || o.frames > 100000 || o.fps < 1 || o.fps > 240 || o.width < 16 || o.height < 16 || o.width > 4096 ||
         o.height > 4096 || o.width % 2 || o.height % 2) {
