@@ -242,8 +242,8 @@ void Panels::feedsPanel(scene::Scene& scene, PanelActions& actions) {
         return;
     }
     const scene::CameraModeSettings& mode = scene.cameraMode();
-    if (ImGui::BeginTable("feeds", 7, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV)) {
-        for (const char* h : {"Feed", "State", "Mbit/s", "Latency", "Shown", "Lost", ""}) ImGui::TableSetupColumn(h);
+    if (ImGui::BeginTable("feeds", 8, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV)) {
+        for (const char* h : {"Feed", "State", "Mbit/s", "Latency", "Shown", "Lost", "", ""}) ImGui::TableSetupColumn(h);
         ImGui::TableHeadersRow();
         for (const auto& [r, f] : feeds) {
             ImGui::PushID(r->name.c_str());
@@ -284,10 +284,24 @@ void Panels::feedsPanel(scene::Scene& scene, PanelActions& actions) {
                 actions.changed = true;
             }
             remember("Sensor view##" + r->name);
+            // Record the stream as received into a file next to the scene (plays back as "path").
+            ImGui::TableSetColumnIndex(7);
+            const bool recording = !f.recording.empty();
+            if (recording) ImGui::PushStyleColor(ImGuiCol_Button, ImVec4(0.75f, 0.15f, 0.15f, 1.0f));
+            if (ImGui::SmallButton(recording ? "Stop" : "Record")) {
+                auto file = r->layer->asLiveFeed()->setRecording(!recording);
+                feedMessage_ = file ? (recording ? "recorded " : "recording to ") + (recording ? f.recording : *file) : file.message();
+            }
+            if (recording) {
+                ImGui::PopStyleColor();
+                if (ImGui::IsItemHovered()) ImGui::SetTooltip("recording to %s", f.recording.c_str());
+            }
+            remember("Record##" + r->name);
             ImGui::PopID();
         }
         ImGui::EndTable();
     }
+    if (!feedMessage_.empty()) ImGui::TextWrapped("%s", feedMessage_.c_str());
     ImGui::End();
 }
 

@@ -108,6 +108,7 @@ private:
 
     bool visible_ = true;
     char savePath_[1024] = {};
+    std::string feedMessage_;   // the Feeds panel's last recording started or stopped, or why not
     bool openSaveAs_ = false;
     bool placing_ = false;
     char pinName_[128] = {};

@@ -4,6 +4,7 @@
 // and skip layers that have none, so a layer without live settings, ground or moving content
 // writes nothing for them. No Vulkan.
 
+#include "base/Result.h"
 #include "base/TimeFormat.h"
 #include "engine/scene/FrameContext.h"
 #include "engine/scene/LayerSetting.h"
@@ -153,6 +154,7 @@ struct FeedStatus {
     double secondsSinceData = 0.0;
     int width = 0, height = 0;
     std::string lastError;                 ///< why the stream last stopped, or empty
+    std::string recording;                 ///< the file the stream is recorded into, or empty
 };
 
 /// A layer fed by a live stream. Main thread only.
@@ -160,6 +162,9 @@ class LiveFeed {
 public:
     virtual ~LiveFeed() = default;
     virtual FeedStatus feedStatus() const = 0;
+    /// Starts recording the stream as received (a new file next to the scene, named after the
+    /// layer and the time) or stops; returns the file, or an error naming it.
+    virtual Result<std::string> setRecording(bool on) const = 0;
 };
 
 class LayerStats {

@@ -22,6 +22,8 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include <algorithm>
+#include <cctype>
+#include <filesystem>
 #include <cmath>
 #include <cstdio>
 
@@ -670,7 +672,25 @@ scene::FeedStatus FmvLayer::feedStatus() const {
     f.width = l.width;
     f.height = l.height;
     f.lastError = l.lastError;
+    f.recording = l.recording;
     return f;
+}
+
+Result<std::string> FmvLayer::setRecording(bool on) const {
+    if (!live_) return makeError("fmv: a file is not recorded");
+    std::string path;
+    if (on) {
+        // <folder>/<layer name>-<UTC, seconds>.ts, the name's odd characters replaced.
+        std::string stem = settings_.name.empty() ? std::string("feed") : settings_.name;
+        for (char& c : stem)
+            if (!(std::isalnum(uint8_t(c)) || c == '-' || c == '_')) c = '_';
+        std::string stamp = formatIso8601(fromSeconds(std::floor(fmv::wallClockSeconds())), 0);
+        for (char& c : stamp)
+            if (c == ':') c = '-';
+        path = (std::filesystem::path(settings_.recordFolder.empty() ? "." : settings_.recordFolder) / (stem + "-" + stamp + ".ts")).string();
+    }
+    if (auto r = live_->record(path); !r) return r.error();
+    return path;
 }
 
 std::optional<scene::TimeRange> FmvLayer::timeRange() const { return std::nullopt; }   // the scene's time stays its own

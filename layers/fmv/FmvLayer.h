@@ -71,6 +71,8 @@ struct FmvSettings {
     int distanceMapSize = 512;                   ///< pixels a side
     std::optional<double> startUtc;              ///< seconds since 1970 of the video's first frame
     PoseOffset offset;
+    std::string name;           ///< the layer's (live: the recordings' names)
+    std::string recordFolder;   ///< live: where recordings started from the viewer go (the scene's folder)
 };
 
 class FmvLayer final : public scene::Layer,
@@ -99,6 +101,7 @@ public:
     const scene::MovingContent* asMovingContent() const override { return this; }
     const scene::LiveFeed* asLiveFeed() const override { return live_ ? this : nullptr; }
     scene::FeedStatus feedStatus() const override;
+    Result<std::string> setRecording(bool on) const override;
     void update(const scene::FrameContext& frame) override;
     bool drawsIn(scene::Pass pass) const override { return pass == scene::Pass::Fmv; }
     void recordTransfers(const render::RecordContext& context) override;

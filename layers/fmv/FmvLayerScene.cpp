@@ -91,7 +91,9 @@ Result<std::unique_ptr<scene::Layer>> FmvLayer::create(const scene::LayerDesc& d
     if (auto done = r.finish(); !done) return done.error();
 
     const std::string where = scene.file.string() + ": " + desc.jsonPath;
+    s.name = desc.name;
     if (live) {
+        s.recordFolder = scene.file.parent_path().string();
         liveOptions.makeGeoid = [] { return fmv::GeoidHeight(globe::egm96Geoid()); };
         if (record && !record->empty()) liveOptions.recordPath = scene.resolve(*record).string();
         auto stream = fmv::LiveVideo::open(*url, std::move(liveOptions));

@@ -136,11 +136,18 @@ struct LiveVideo::Impl {
     bool measuredInterval = false;
     Recording recording;
     GeoidHeight geoid;
+    // Recording on request (record()): asked under `mutex`, taken by the worker; a recording
+    // starts at a key frame, with the KLV packets of the second before it.
+    std::string recordWanted;
+    std::atomic<bool> recordChanged{false};
+    bool recordPending = false;
+    std::deque<AVPacket*> recentKlv;
 
     ~Impl() {
         stop = true;
         wake.notify_all();
         if (thread.joinable()) thread.join();
+        for (AVPacket* p : recentKlv) av_packet_free(&p);
     }
 
     static int interrupted(void* opaque) {
@@ -157,6 +164,9 @@ struct LiveVideo::Impl {
     void pushFrame(std::shared_ptr<VideoFrame> frame, double streamTime);
     void pushKlv(double time, const uint8_t* data, size_t size);
     void openRecording(AVFormatContext* in, int video, int klv);
+    void takeRecordRequest();
+    void recordVideo(AVFormatContext* in, int video, int klv, const AVPacket& packet);
+    void keepKlv(const AVPacket& packet, AVRational base);
     void record(const AVPacket& packet);
     std::optional<SensorPose> poseAt(double t, std::optional<double>& utc) const;
 };
@@ -240,7 +250,9 @@ std::string LiveVideo::Impl::session() {
     // probing read.
     AVPacket* held = nullptr;
     if (options.wholeFrames) held = takeWholeFrames(vs, d.codec);
-    if (!options.recordPath.empty() && !recording.format) openRecording(format, video, klv);
+    recordPending = !recording.format && !options.recordPath.empty();
+    for (AVPacket* p : recentKlv) av_packet_free(&p);
+    recentKlv.clear();
     {   // a new connection may be a new clock: start again
         std::lock_guard lock(mutex);
         ++epoch;
@@ -272,8 +284,10 @@ std::string LiveVideo::Impl::session() {
             break;
         }
         noteData(size_t(packet->size));
+        if (recordChanged) takeRecordRequest();
         if (packet->stream_index == klv) {
             if (recording.format) record(*packet);
+            else if (recordPending) keepKlv(*packet, format->streams[klv]->time_base);
             const AVRational base = format->streams[klv]->time_base;
             const int64_t ts = packet->pts != AV_NOPTS_VALUE ? packet->pts : packet->dts;
             const double t = ts != AV_NOPTS_VALUE ? double(ts) * av_q2d(base) : lastFrameTime.value_or(0.0);
@@ -284,12 +298,12 @@ std::string LiveVideo::Impl::session() {
             pushKlv(t, packet->data, size_t(packet->size));   // the checksum judges a damaged one
         } else if (packet->stream_index == video) {
             if (held && (packet->pts == AV_NOPTS_VALUE || held->pts == AV_NOPTS_VALUE || packet->pts > held->pts)) {
-                if (recording.format) record(*held);
+                recordVideo(format, video, klv, *held);
                 ended = decode(d, *held);
                 av_packet_free(&held);
                 if (!ended.empty()) break;
             }
-            if (recording.format) record(*packet);
+            recordVideo(format, video, klv, *packet);
             ended = decode(d, *packet);
         }
         av_packet_unref(packet);
@@ -451,6 +465,49 @@ void LiveVideo::Impl::pushKlv(double time, const uint8_t* data, size_t size) {
 // ---------------------------------------------------------------------------------------------
 // Recording
 
+/// A change of recording asked for by record(): the current file finished, the next one
+/// pending until a key frame.
+void LiveVideo::Impl::takeRecordRequest() {
+    std::string wanted;
+    {
+        std::lock_guard lock(mutex);
+        wanted = recordWanted;
+        recordChanged = false;
+    }
+    if (wanted == options.recordPath && (recording.format || recordPending)) return;
+    recording.close();
+    recording = Recording();
+    options.recordPath = wanted;
+    recordPending = !wanted.empty();
+}
+
+/// A video packet into the recording; a pending one starts here if this is a key frame (the
+/// KLV of the second before first).
+void LiveVideo::Impl::recordVideo(AVFormatContext* in, int video, int klv, const AVPacket& packet) {
+    if (recordPending && (packet.flags & AV_PKT_FLAG_KEY)) {
+        recordPending = false;
+        openRecording(in, video, klv);
+        for (AVPacket* k : recentKlv) {
+            if (recording.format) record(*k);
+            av_packet_free(&k);
+        }
+        recentKlv.clear();
+    }
+    if (recording.format) record(packet);
+}
+
+/// KLV packets of the last second while a recording waits for its key frame.
+void LiveVideo::Impl::keepKlv(const AVPacket& packet, AVRational base) {
+    AVPacket* p = av_packet_clone(&packet);
+    if (!p) return;
+    recentKlv.push_back(p);
+    const auto seconds = [&](const AVPacket* q) { return q->dts == AV_NOPTS_VALUE ? 0.0 : double(q->dts) * av_q2d(base); };
+    while (recentKlv.size() > 64 || (recentKlv.size() > 1 && seconds(recentKlv.back()) - seconds(recentKlv.front()) > 1.0)) {
+        av_packet_free(&recentKlv.front());
+        recentKlv.pop_front();
+    }
+}
+
 void LiveVideo::Impl::openRecording(AVFormatContext* in, int video, int klv) {
     Recording& r = recording;
     r.path = options.recordPath;
@@ -605,6 +662,19 @@ LiveStats LiveVideo::stats() const {
 
 const std::string& LiveVideo::url() const { return impl_->url; }
 
+Result<void> LiveVideo::record(const std::string& path) {
+    Impl& m = *impl_;
+    if (!path.empty()) {
+        std::ofstream probe(path, std::ios::binary | std::ios::trunc);
+        if (!probe) return makeError(path + ": cannot write the recording of " + m.url);
+    }
+    std::lock_guard lock(m.mutex);
+    m.recordWanted = path;
+    m.stats.recording = path;
+    m.recordChanged = true;
+    return {};
+}
+
 LiveVideo::~LiveVideo() = default;
 
 std::string LiveVideo::inputProtocols() {
@@ -654,6 +724,7 @@ Result<std::unique_ptr<LiveVideo>> LiveVideo::open(const std::string& url, LiveO
     v->impl_ = std::make_unique<Impl>();
     Impl& m = *v->impl_;
     m.url = url;
+    m.recordWanted = m.stats.recording = options.recordPath;
     m.options = std::move(options);
     m.lastData = steadySeconds();
     m.thread = std::thread([&m] { m.run(); });

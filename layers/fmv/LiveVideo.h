@@ -21,8 +21,9 @@
 // the next key frame (see decode() in LiveVideo.cpp for what FFmpeg 5.1 flags); a KLV packet
 // that fails its checksum or does not decode is left out and counted.
 //
-// Recording: with `recordPath`, every packet is also written as received (no re-encoding) into
-// an MPEG-TS that VideoFile plays back through the file path.
+// Recording: with `recordPath` (or record() at any time), every packet is also written as
+// received (no re-encoding) into an MPEG-TS that VideoFile plays back through the file path,
+// from a key frame on.
 //
 //   auto live = fmv::LiveVideo::open("udp://127.0.0.1:5600", {});
 //   if (auto f = (*live)->due(wallClockSeconds())) show(*f->frame, f->pose);
@@ -78,6 +79,7 @@ struct LiveStats {
     uint64_t posesReceived = 0;
     uint64_t reconnects = 0;
     uint64_t packetsRecorded = 0;
+    std::string recording;             ///< the file being recorded (or waiting for a key frame), or empty
     /// Wall time (UTC) now minus the UTC of the frame shown last (its KLV time stamp): the
     /// glass-to-drape latency when the sender's clock is the receiver's. None without stamps.
     std::optional<double> latencySeconds;
@@ -108,6 +110,10 @@ public:
     /// 1970), which may be the one returned before; none before the first frame.
     std::optional<LiveFrame> due(double wallSeconds);
     LiveStats stats() const;
+    /// Starts recording into `path` (from the next key frame, with the KLV of the second before
+    /// it), or stops with an empty path; a recording under way is finished first. Errors: the
+    /// file cannot be written.
+    Result<void> record(const std::string& path);
 
     /// The input protocols of the FFmpeg this was built with ("udp", "tcp", "http", ...).
     static std::string inputProtocols();

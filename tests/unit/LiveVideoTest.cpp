@@ -321,6 +321,60 @@ TEST(LiveVideo, ARecordingPlaysBackTheFramesShownLive) {
     std::filesystem::remove_all(dir);
 }
 
+TEST(LiveVideo, RecordingStartedAndStoppedWhileLiveBeginsAtAKeyFrame) {
+    const auto dir = std::filesystem::temp_directory_path() / ("orbis-live-record2-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string recording = (dir / "part.ts").string();
+    const int port = net::freeUdpPort();
+    ASSERT_GT(port, 0);
+    LiveOptions options;
+    options.wholeFrames = true;
+    options.maxQueuedFrames = 64;
+    Seen seen;
+    {
+        auto live = LiveVideo::open(udpUrl(port), options);
+        ASSERT_TRUE(live) << live.message();
+        std::this_thread::sleep_for(200ms);
+        Sender sender(udpUrl(port), flight(45));   // key frames at 0, 1, 2, 3, 4 s
+        watch(**live, seen, [&] { return false; }, 1500ms);
+        ASSERT_TRUE((*live)->record(recording));
+        EXPECT_EQ((*live)->stats().recording, recording);
+        watch(**live, seen, [&] { return false; }, 1500ms);
+        ASSERT_TRUE((*live)->record(""));
+        watch(**live, seen, [&] { return sender.done.wait_for(0s) == std::future_status::ready; }, 10s);
+        EXPECT_TRUE((*live)->stats().recording.empty());
+        EXPECT_FALSE((*live)->record((dir / "no-such-folder" / "x.ts").string()));
+    }
+    auto file = VideoFile::open(recording);
+    ASSERT_TRUE(file) << file.message();
+    // Asked for at about 1.5 s and stopped at about 3 s: the frames from the key frame at 2 s
+    // to the stop, each one the live frame of the same number, with its KLV.
+    ASSERT_GE((*file)->frameCount(), 5u);
+    EXPECT_LE((*file)->frameCount(), 16u);
+    auto first = (*file)->decode(0);
+    ASSERT_TRUE(first) << first.message();
+    const int firstNumber = fixtureFrameNumber(first->rgba, first->width, first->height);
+    EXPECT_EQ(firstNumber % 10, 0) << "starts at a key frame";
+    auto timeline = FmvTimeline::fromKlv((*file)->klv(), recording);
+    ASSERT_TRUE(timeline) << timeline.message();
+    EXPECT_GE(timeline->poses().size(), (*file)->frameCount());
+    EXPECT_LE(timeline->poses().front().time, 1e-6) << "the KLV of the first frame is there";
+    size_t compared = 0;
+    for (size_t i = 0; i < (*file)->frameCount(); ++i) {
+        auto replay = (*file)->decode(i);
+        ASSERT_TRUE(replay) << replay.message();
+        const int n = fixtureFrameNumber(replay->rgba, replay->width, replay->height);
+        EXPECT_EQ(n, firstNumber + int(i));
+        for (const auto& [serial, f] : seen.frames)
+            if (fixtureFrameNumber(f.frame->rgba, f.frame->width, f.frame->height) == n) {
+                EXPECT_TRUE(f.frame->rgba == replay->rgba) << "frame " << n;
+                ++compared;
+            }
+    }
+    EXPECT_GE(compared, 3u);
+    std::filesystem::remove_all(dir);
+}
+
 TEST(LiveVideo, RefusesWhatIsNotALiveStream) {
     auto empty = LiveVideo::open("", {});
     ASSERT_FALSE(empty);

@@ -445,7 +445,9 @@ TEST(Viewer, TheFeedsPanelLooksThroughALiveSensor) {
     const ViewerRun r = view(dir, R"([
         {"do": "idle", "seconds": 2}, {"do": "screenshot", "file": "overview.png"},
         {"do": "click", "item": "Sensor view##UAV"}, {"do": "idle", "seconds": 3}, {"do": "screenshot", "file": "sensor.png"},
-        {"do": "key", "key": "Ctrl+S"}, {"do": "quit"}])",
+        {"do": "key", "key": "Ctrl+S"},
+        {"do": "click", "item": "Record##UAV"}, {"do": "idle", "seconds": 2.5}, {"do": "click", "item": "Record##UAV"},
+        {"do": "idle", "seconds": 0.5}, {"do": "quit"}])",
                              (dir / "live.json").string(), "--save-to \"" + (dir / "saved.json").string() + "\"");
     sender.wait();
     ASSERT_EQ(r.exitCode, 0) << r.output;
@@ -465,6 +467,14 @@ TEST(Viewer, TheFeedsPanelLooksThroughALiveSensor) {
         fs::copy_file(dir / name, fs::path(testOutputDir()) / (std::string("viewer_feeds_") + name), fs::copy_options::overwrite_existing);
     const std::string saved = readText(dir / "saved.json");
     EXPECT_NE(saved.find("\"pilot\""), std::string::npos) << saved;
+    // Record, then Stop: a file next to the scene, named after the layer, that plays as a video.
+    std::vector<fs::path> recordings;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.path().extension() == ".ts" && e.path().filename().string().rfind("UAV-", 0) == 0) recordings.push_back(e.path());
+    ASSERT_EQ(recordings.size(), 1u) << r.output;
+    const ShellRun info = shell(std::string(ORBIS_BINARY) + " info '" + recordings[0].string() + "'");
+    EXPECT_EQ(info.exitCode, 0) << info.output;
+    EXPECT_NE(info.output.find("\"klvPackets\":"), std::string::npos) << info.output.substr(0, 400);
 }
 
 TEST(Viewer, BadInputsGiveClearErrors) {
