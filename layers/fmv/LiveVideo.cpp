@@ -514,6 +514,7 @@ void LiveVideo::Impl::openRecording(AVFormatContext* in, int video, int klv) {
     const auto failed = [&](const std::string& why) {
         std::lock_guard lock(mutex);
         stats.lastError = r.path + ": cannot record (" + why + ")";
+        stats.recording.clear();
         if (r.format) {
             if (r.format->pb) avio_closep(&r.format->pb);
             avformat_free_context(r.format);
