@@ -321,7 +321,7 @@ TEST_F(FmvRender, ALiveFeedDrapesLikeTheFileAndGreysWithoutSignal) {
     const auto live = renderSettled(renderer_, device(), *s, 320, 240);
     ASSERT_TRUE(layer.liveFrame());
     EXPECT_EQ(fmv::fixtureFrameNumber(layer.liveFrame()->rgba, 320, 240), 25);
-    EXPECT_GE(shown.size(), 8u) << "frames draped while the stream ran";
+    EXPECT_GE(shown.size(), 3u) << "frames draped while the stream ran";
     EXPECT_NE(layer.status().find("live 320x240"), std::string::npos) << layer.status();
     // Against the file-driven render of the same frame: the geometry is the same; the pictures
     // could differ by the live encoder's coding (zerolatency: no look-ahead); measured: no pixel

@@ -438,10 +438,11 @@ TEST(Viewer, TheFeedsPanelLooksThroughALiveSensor) {
         "background": [0.1, 0.1, 0.15], "layers": [
         {"type": "terrain", "name": "Ground", "sky": false, "elevation": [")" ORBIS_SOURCE_DIR R"(/assets/generated/fmv/flight-dem.tif"]},
         {"type": "fmv", "name": "UAV", "url": ")" + url + R"(", "wholeFrames": true, "noSignal": 5}]})";
-    // The flight sent for 12 s while the viewer runs (the sender stops by itself).
-    auto sender = std::async(std::launch::async, [&] {
-        return shell(std::string(ORBIS_MAKE_FMV) + " --stream " + url + " --frames 120 --size 320x240 --wall-clock");
-    });
+    // The flight sent while the viewer runs (at most 60 s; stopped when the viewer is done).
+    const ShellRun started = shell("timeout 60 " + std::string(ORBIS_MAKE_FMV) + " --stream " + url +
+                                   " --frames 600 --size 320x240 --wall-clock > /dev/null 2>&1 & echo $!");
+    ASSERT_EQ(started.exitCode, 0) << started.output;
+    const std::string senderPid = std::to_string(std::stol(started.output));
     const ViewerRun r = view(dir, R"([
         {"do": "idle", "seconds": 2}, {"do": "screenshot", "file": "overview.png"},
         {"do": "click", "item": "Sensor view##UAV"}, {"do": "idle", "seconds": 3}, {"do": "screenshot", "file": "sensor.png"},
@@ -449,7 +450,7 @@ TEST(Viewer, TheFeedsPanelLooksThroughALiveSensor) {
         {"do": "click", "item": "Record##UAV"}, {"do": "idle", "seconds": 2.5}, {"do": "click", "item": "Record##UAV"},
         {"do": "idle", "seconds": 0.5}, {"do": "quit"}])",
                              (dir / "live.json").string(), "--save-to \"" + (dir / "saved.json").string() + "\"");
-    sender.wait();
+    shell("kill " + senderPid + " 2>/dev/null");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     // Looking through the sensor, its own video fills the middle of the view: the checkerboard's
     // greys (60 and 200, equal channels), where the overview shows the terrain's blue.
