@@ -315,11 +315,14 @@ TEST_F(LiveSettings, PointsListColourRendererAndLighting) {
     EXPECT_FALSE(layer.setParameter("edlStrength", 101.0));
 }
 
-TEST_F(LiveSettings, FmvListsOpacityFootprintAndFrustum) {
+TEST_F(LiveSettings, FmvListsOpacityFootprintFrustumAndPoseOffsets) {
     const fs::path video = kSource / "assets/generated/fmv/flight.ts";
     ASSERT_TRUE(fs::exists(video)) << video << " is made by the build (orbis_fmv_showcase)";
-    auto& layer = load(R"({"type": "fmv", "path": )" + jsonString(video) + R"(, "opacity": 0.5, "frustum": false})");
-    EXPECT_EQ(names(layer), (std::vector<std::string>{"opacity", "footprint", "frustum"}));
+    auto& layer = load(R"({"type": "fmv", "path": )" + jsonString(video) + R"(, "opacity": 0.5, "frustum": false, "poseOffset": {"roll": -1.5}})");
+    EXPECT_EQ(names(layer), (std::vector<std::string>{"opacity", "footprint", "frustum", "headingOffset", "pitchOffset", "rollOffset",
+                                                      "altitudeOffset"}));
+    EXPECT_EQ(current(layer, "rollOffset")->value, -1.5);
+    EXPECT_EQ(current(layer, "headingOffset")->value, 0.0);
     EXPECT_EQ(current(layer, "opacity")->value, 0.5);
     EXPECT_EQ(current(layer, "footprint")->value, 1.0);
     EXPECT_EQ(current(layer, "frustum")->value, 0.0);
