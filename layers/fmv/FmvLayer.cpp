@@ -77,13 +77,10 @@ std::vector<glm::vec3> hullEdges(std::vector<glm::dvec2> points, double margin) 
 
 fmv::SensorPose applyOffset(const fmv::SensorPose& pose, const PoseOffset& o) {
     fmv::SensorPose p = pose;
-    const auto wrap180 = [](double a) {
-        a = std::fmod(a + 180.0, 360.0);
-        return (a < 0.0 ? a + 360.0 : a) - 180.0;
-    };
-    p.platformHeadingDeg = std::fmod(std::fmod(p.platformHeadingDeg + o.headingDeg, 360.0) + 360.0, 360.0);
-    p.platformPitchDeg = wrap180(p.platformPitchDeg + o.pitchDeg);
-    p.platformRollDeg = wrap180(p.platformRollDeg + o.rollDeg);
+    // Angles into [-180, 180) as longitudes are (heading into [0, 360)).
+    p.platformHeadingDeg = globe::wrapLongitude(p.platformHeadingDeg + o.headingDeg - 180.0) + 180.0;
+    p.platformPitchDeg = globe::wrapLongitude(p.platformPitchDeg + o.pitchDeg);
+    p.platformRollDeg = globe::wrapLongitude(p.platformRollDeg + o.rollDeg);
     p.height += o.altitude;
     return p;
 }
@@ -664,7 +661,7 @@ scene::FeedStatus FmvLayer::feedStatus() const {
     f.url = url();
     f.state = fmv::toString(l.state);
     f.bitsPerSecond = l.bitsPerSecond;
-    if (l.latencySeconds && *l.latencySeconds > -1.0 && *l.latencySeconds < 600.0) f.latencySeconds = l.latencySeconds;
+    f.latencySeconds = l.latencySeconds;
     f.framesShown = l.framesShown;
     f.framesLost = l.framesLost;
     f.damagedPackets = l.corruptPackets + l.klvRejected;
@@ -745,9 +742,7 @@ std::string FmvLayer::status() const {
         else
             std::snprintf(text, sizeof text, "fmv: %s: live %dx%d, %.2f Mbit/s, latency %s, %llu frames shown, %llu lost, %llu damaged",
                           live_->url().c_str(), l.width, l.height, l.bitsPerSecond * 1e-6,
-                          // (time stamps from a clock that is not now: no latency to tell)
-                          l.latencySeconds && *l.latencySeconds > -1.0 && *l.latencySeconds < 600.0
-                              ? (std::to_string(int(std::lround(*l.latencySeconds * 1e3))) + " ms").c_str()
+                          l.latencySeconds ? (std::to_string(int(std::lround(*l.latencySeconds * 1e3))) + " ms").c_str()
                               : "unknown",
                           (unsigned long long)l.framesShown, (unsigned long long)l.framesLost, (unsigned long long)l.corruptPackets);
         return text;

@@ -644,7 +644,7 @@ std::optional<LiveFrame> LiveVideo::due(double now) {
     // The pose again each time: KLV that arrives after its frame still places it.
     m.current->pose = m.poseAt(m.current->streamTime, m.current->utc);
     // Latency when a frame is first due: it is draped this frame.
-    if (fresh && m.current->utc) m.stats.latencySeconds = now - *m.current->utc;
+    if (fresh && m.current->utc && plausibleLatency(now - *m.current->utc)) m.stats.latencySeconds = now - *m.current->utc;
     return m.current;
 }
 
@@ -663,12 +663,22 @@ LiveStats LiveVideo::stats() const {
 
 const std::string& LiveVideo::url() const { return impl_->url; }
 
+namespace {
+
+/// A recording's file can be written (made empty now, so the error comes here, not on the
+/// stream's thread).
+Result<void> checkWritable(const std::string& path, const std::string& url) {
+    std::ofstream probe(path, std::ios::binary | std::ios::trunc);
+    if (!probe) return makeError(path + ": cannot write the recording of " + url);
+    return {};
+}
+
+}  // namespace
+
 Result<void> LiveVideo::record(const std::string& path) {
     Impl& m = *impl_;
-    if (!path.empty()) {
-        std::ofstream probe(path, std::ios::binary | std::ios::trunc);
-        if (!probe) return makeError(path + ": cannot write the recording of " + m.url);
-    }
+    if (!path.empty())
+        if (auto ok = checkWritable(path, m.url); !ok) return ok;
     std::lock_guard lock(m.mutex);
     m.recordWanted = path;
     m.stats.recording = path;
@@ -717,10 +727,8 @@ Result<std::unique_ptr<LiveVideo>> LiveVideo::open(const std::string& url, LiveO
     if (!(options.jitterSeconds >= 0.0 && options.jitterSeconds <= 10.0) || !(options.noSignalSeconds > 0.0) ||
         !(options.retrySeconds > 0.0))
         return makeError(url + ": jitter from 0 to 10 s, no-signal and retry times above 0");
-    if (!options.recordPath.empty()) {
-        std::ofstream probe(options.recordPath, std::ios::binary | std::ios::trunc);
-        if (!probe) return makeError(options.recordPath + ": cannot write the recording of " + url);
-    }
+    if (!options.recordPath.empty())
+        if (auto ok = checkWritable(options.recordPath, url); !ok) return ok.error();
     std::unique_ptr<LiveVideo> v(new LiveVideo);
     v->impl_ = std::make_unique<Impl>();
     Impl& m = *v->impl_;

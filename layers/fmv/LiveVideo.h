@@ -81,7 +81,8 @@ struct LiveStats {
     uint64_t packetsRecorded = 0;
     std::string recording;             ///< the file being recorded (or waiting for a key frame), or empty
     /// Wall time (UTC) now minus the UTC of the frame shown last (its KLV time stamp): the
-    /// glass-to-drape latency when the sender's clock is the receiver's. None without stamps.
+    /// glass-to-drape latency. None without stamps, or stamps from another clock
+    /// (plausibleLatency).
     std::optional<double> latencySeconds;
     int width = 0, height = 0;
     std::string lastError;             ///< why the last session ended, or empty
@@ -126,5 +127,8 @@ private:
 
 /// UTC now, seconds since 1970 (the wall clock live layers run on).
 double wallClockSeconds();
+/// Whether a frame's age (now minus its KLV time stamp) can be a latency: the sender's clock is
+/// this one's, give or take a second (a recorded flight's stamps are from another day).
+inline bool plausibleLatency(double seconds) { return seconds > -1.0 && seconds < 600.0; }
 
 }  // namespace orbis::fmv

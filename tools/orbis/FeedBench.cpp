@@ -52,7 +52,7 @@ int feedBench(GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer, 
             if (!v || v->index == f.lastSerial) continue;
             f.lastSerial = v->index;
             ++f.draped;
-            if (const auto utc = f.layer->liveFrameUtc(); utc && now - *utc > -1.0 && now - *utc < 600.0) f.latency.push_back((now - *utc) * 1e3);
+            if (const auto utc = f.layer->liveFrameUtc(); utc && fmv::plausibleLatency(now - *utc)) f.latency.push_back((now - *utc) * 1e3);
         }
     }
     const double elapsed = millisecondsSince(start) * 1e-3;
