@@ -664,7 +664,7 @@ scene::FeedStatus FmvLayer::feedStatus() const {
     f.latencySeconds = l.latencySeconds;
     f.framesShown = l.framesShown;
     f.framesLost = l.framesLost;
-    f.damagedPackets = l.corruptPackets + l.klvRejected;
+    f.damagedPackets = l.framesDamaged + l.corruptPackets + l.klvRejected;
     f.secondsSinceData = l.secondsSinceData;
     f.width = l.width;
     f.height = l.height;
@@ -744,7 +744,8 @@ std::string FmvLayer::status() const {
                           live_->url().c_str(), l.width, l.height, l.bitsPerSecond * 1e-6,
                           l.latencySeconds ? (std::to_string(int(std::lround(*l.latencySeconds * 1e3))) + " ms").c_str()
                               : "unknown",
-                          (unsigned long long)l.framesShown, (unsigned long long)l.framesLost, (unsigned long long)l.corruptPackets);
+                          (unsigned long long)l.framesShown, (unsigned long long)l.framesLost,
+                          (unsigned long long)(l.framesDamaged + l.corruptPackets));
         return text;
     }
     if (!frames_) return {};

@@ -12,7 +12,9 @@
 // A live stream instead of a file (LiveVideo.h): "url" in place of "path" (udp://, tcp://,
 // http://, srt://, rtp://), with "jitter" (seconds of playout delay, 0.1), "noSignal" (seconds of
 // silence that count as no signal, 2), "wholeFrames" (the sender puts each frame in one PES:
-// a frame interval less latency; false), "record" (an MPEG-TS to write the stream into as
+// a frame interval less latency; false), "damaged" ("show": a frame that lost data on the way
+// is shown as the decoder conceals it and counted; "skip": left out with the frames after it up
+// to the next key frame), "record" (an MPEG-TS to write the stream into as
 // received, to play back later through "path"). A live layer runs on the wall clock, whatever
 // the scene's time: the newest frame due, with the pose of its own time; without signal the
 // drape goes and the last footprint stays, grey, until the stream comes back by itself.

@@ -57,12 +57,15 @@ Result<std::unique_ptr<scene::Layer>> FmvLayer::create(const scene::LayerDesc& d
     for (const char* fileOnly : {"poses", "start"})
         if (live && desc.settings.contains(fileOnly))
             r.fail(fileOnly, "only for a file (\"path\"): a live stream's poses and times are its KLV's");
-    for (const char* liveOnly : {"jitter", "noSignal", "wholeFrames", "record"})
+    for (const char* liveOnly : {"jitter", "noSignal", "wholeFrames", "damaged", "record"})
         if (!live && desc.settings.contains(liveOnly)) r.fail(liveOnly, "only for a live stream (\"url\")");
     fmv::LiveOptions liveOptions;
     liveOptions.jitterSeconds = r.number("jitter", 0.1, 0.0, 5.0).value_or(0.1);
     liveOptions.noSignalSeconds = r.number("noSignal", 2.0, 0.2, 60.0).value_or(2.0);
     liveOptions.wholeFrames = r.boolean("wholeFrames", false).value_or(false);
+    if (const auto damaged = r.string("damaged", std::string("show")); damaged && *damaged != "show" && *damaged != "skip")
+        r.fail("damaged", "\"show\" (frames that lost data shown as the decoder conceals them) or \"skip\" (left out up to the next key frame), not \"" + *damaged + "\"");
+    else liveOptions.skipDamaged = damaged && *damaged == "skip";
     const auto record = r.string("record", std::string());
     if (const nlohmann::json* offset = r.object("poseOffset")) {
         scene::JsonReader o(*offset, scene.file.string(), desc.jsonPath + "/poseOffset");

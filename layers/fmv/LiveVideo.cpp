@@ -5,11 +5,14 @@
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
+#include <libavutil/base64.h>
 #include <libswscale/swscale.h>
 }
 
 #include <algorithm>
 #include <cstdarg>
+#include <cstdlib>
+#include <cstring>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -17,6 +20,7 @@ extern "C" {
 #include <deque>
 #include <fstream>
 #include <mutex>
+#include <unordered_map>
 #include <thread>
 
 namespace orbis::fmv {
@@ -38,10 +42,30 @@ namespace {
 
 double steadySeconds() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
+/// rtp://HOST:PORT as a data: URI of the SDP that describes MPEG-TS over RTP (payload type 33)
+/// arriving there: unicast to HOST's port, or a multicast group joined.
+std::string rtpSdpUri(const std::string& url) {
+    char host[256] = {}, path[8] = {};
+    int port = -1;
+    av_url_split(nullptr, 0, nullptr, 0, host, sizeof host, &port, path, sizeof path, url.c_str());
+    const std::string h = host;
+    const bool ip6 = h.find(':') != std::string::npos;
+    const int first = ip6 ? 0 : std::atoi(h.c_str());
+    const bool multicast = ip6 ? h.rfind("ff", 0) == 0 : first >= 224 && first <= 239;
+    const std::string sdp = std::string("v=0\r\no=- 0 0 IN ") + (ip6 ? "IP6 " : "IP4 ") + h + "\r\ns=Orbis live feed\r\nc=IN " +
+                            (ip6 ? "IP6 " : "IP4 ") + h + (multicast && !ip6 ? "/16" : "") + "\r\nt=0 0\r\nm=video " +
+                            std::to_string(port) + " RTP/AVP 33\r\na=rtpmap:33 MP2T/90000\r\n";
+    std::string encoded(AV_BASE64_SIZE(sdp.size()), '\0');
+    av_base64_encode(encoded.data(), int(encoded.size()), reinterpret_cast<const uint8_t*>(sdp.data()), int(sdp.size()));
+    encoded.resize(std::strlen(encoded.c_str()));
+    return "data:application/sdp;base64," + encoded;
+}
+
 struct QueuedFrame {
     std::shared_ptr<const VideoFrame> frame;
     double streamTime = 0.0;
     double arrival = 0.0;   // wall clock (UTC)
+    bool damaged = false;
 };
 
 struct StampedPose {
@@ -91,6 +115,7 @@ struct Decoder {
     AVRational base{1, 1};
     bool beforeFirstKey = true;   // decoding starts at a key frame
     bool waitKey = false;         // and again after damage
+    bool damaged = false;         // a frame since the last key frame lost data on the way
     Decoder() = default;
     Decoder(const Decoder&) = delete;
     Decoder& operator=(const Decoder&) = delete;
@@ -99,6 +124,48 @@ struct Decoder {
         av_frame_free(&frame);
         avcodec_free_context(&codec);
     }
+};
+
+/// The continuity gaps a session's MPEG-TS demuxer reports. libavformat 5.1 sees a gap in a
+/// stream's continuity counters (a datagram lost) and marks the PES it falls in corrupt, but its
+/// parser drops the mark; the report it logs is the one trace left. The log callback takes it
+/// on the demuxing thread (the session's own), with the byte position the demuxer had reached.
+struct GapSink {
+    int videoPid = -1;
+    uint64_t all = 0;                 // gaps in any stream
+    std::deque<int64_t> videoGaps;    // positions in the stream just after a gap in the video (-1: unknown)
+
+    /// Whether a gap fell in the video packet at `pos` of `size` bytes: between its first byte
+    /// and the end of the transport packets that can carry it (each carries at most 184).
+    /// Gaps before it are dropped; without positions (RTP) any gap since the last packet counts.
+    bool takeFor(int64_t pos, int size) {
+        bool hit = false;
+        const int64_t end = pos + (int64_t(size) + 40) / 184 * 188 + 188;
+        while (!videoGaps.empty() && (pos < 0 || videoGaps.front() < 0 || videoGaps.front() <= end)) {
+            hit |= pos < 0 || videoGaps.front() < 0 || videoGaps.front() > pos;
+            videoGaps.pop_front();
+        }
+        return hit;
+    }
+};
+
+/// The demuxers whose gaps are counted; the log callback looks its context up here.
+std::mutex gapSinksMutex;
+std::unordered_map<const void*, GapSink*> gapSinks;
+
+/// Registers `sink` for `format`'s reports while it lives.
+struct GapWatch {
+    const void* format;
+    GapWatch(const void* f, GapSink* sink) : format(f) {
+        std::lock_guard lock(gapSinksMutex);
+        gapSinks[format] = sink;
+    }
+    ~GapWatch() {
+        std::lock_guard lock(gapSinksMutex);
+        gapSinks.erase(format);
+    }
+    GapWatch(const GapWatch&) = delete;
+    GapWatch& operator=(const GapWatch&) = delete;
 };
 
 }  // namespace
@@ -158,10 +225,12 @@ struct LiveVideo::Impl {
     void run();
     std::string session();
     AVPacket* takeWholeFrames(AVStream* stream, AVCodecContext* codec);
-    std::string decode(Decoder& d, const AVPacket& packet);
+    std::string decode(Decoder& d, const AVPacket& packet, bool lostData);
+    /// Whether a continuity gap fell in this video packet (counts the gaps and damaged frames).
+    bool lostData(GapSink& gaps, const AVPacket& packet);
     void noteTime(double t);
     void noteData(size_t bytes);
-    void pushFrame(std::shared_ptr<VideoFrame> frame, double streamTime);
+    void pushFrame(std::shared_ptr<VideoFrame> frame, double streamTime, bool damaged);
     void pushKlv(double time, const uint8_t* data, size_t size);
     void openRecording(AVFormatContext* in, int video, int klv);
     void takeRecordRequest();
@@ -185,6 +254,9 @@ void LiveVideo::Impl::run() {
         first = false;
         const std::string why = session();
         if (stop) break;
+        // Between sessions (no signal): a recording stopped or started meanwhile takes effect
+        // now, not when data comes again.
+        if (recordChanged) takeRecordRequest();
         {
             std::lock_guard lock(mutex);
             stats.state = LiveState::NoSignal;
@@ -212,8 +284,18 @@ std::string LiveVideo::Impl::session() {
         av_dict_set(&opts, "overrun_nonfatal", "1", 0);
         av_dict_set(&opts, "buffer_size", "4194304", 0);
     }
+    // rtp://: FFmpeg's RTP demuxer learns the payload type from a first packet and then opens the
+    // port again, losing what came meanwhile (a group of pictures). The stream is MPEG-TS (payload
+    // type 33), so it is described up front, in an SDP, and the port is opened once.
+    std::string openUrl = url;
+    const AVInputFormat* forced = nullptr;
+    if (url.rfind("rtp://", 0) == 0) {
+        openUrl = rtpSdpUri(url);
+        forced = av_find_input_format("sdp");
+        av_dict_set(&opts, "protocol_whitelist", "data,udp,rtp", 0);
+    }
     deadline = steadySeconds() + options.noSignalSeconds + 2.0;   // the probing reads a second of it
-    int rc = avformat_open_input(&format, url.c_str(), nullptr, &opts);   // frees `format` on failure
+    int rc = avformat_open_input(&format, openUrl.c_str(), forced, &opts);   // frees `format` on failure
     av_dict_free(&opts);
     if (rc < 0) return stop ? std::string() : "cannot open (" + avError(rc) + ")";
     struct Closer {
@@ -230,6 +312,9 @@ std::string LiveVideo::Impl::session() {
     }
     if (video < 0) return klv >= 0 ? "KLV metadata but no video stream" : "no video stream";
     AVStream* vs = format->streams[video];
+    GapSink gaps;
+    gaps.videoPid = vs->id;   // the PID, for MPEG-TS
+    const GapWatch watchGaps(format, &gaps);
     const AVCodec* decoder = avcodec_find_decoder(vs->codecpar->codec_id);
     if (!decoder) return std::string("no decoder for its video codec ").append(avcodec_get_name(vs->codecpar->codec_id));
     Decoder d;
@@ -299,12 +384,12 @@ std::string LiveVideo::Impl::session() {
         } else if (packet->stream_index == video) {
             if (held && (packet->pts == AV_NOPTS_VALUE || held->pts == AV_NOPTS_VALUE || packet->pts > held->pts)) {
                 recordVideo(format, video, klv, *held);
-                ended = decode(d, *held);
+                ended = decode(d, *held, false);
                 av_packet_free(&held);
                 if (!ended.empty()) break;
             }
             recordVideo(format, video, klv, *packet);
-            ended = decode(d, *packet);
+            ended = decode(d, *packet, lostData(gaps, *packet));
         }
         av_packet_unref(packet);
     }
@@ -334,24 +419,38 @@ AVPacket* LiveVideo::Impl::takeWholeFrames(AVStream* stream, AVCodecContext* cod
     return p;
 }
 
-/// One video packet into the decoder, the frames that come out onto the queue. A packet flagged
-/// corrupt or refused by the decoder is left out, and the frames after it until the next key
-/// frame (they refer to it); so are frames the decoder marks as decoded with errors. Decoding
-/// starts at a key frame. (Through libavformat 5.1 most losses are not flagged: its parser does
-/// not pass AV_PKT_FLAG_CORRUPT on and the H.264 decoder conceals a truncated frame without a
-/// mark; such a frame is lost when the decoder cannot use it (a gap in the frames' times), else
-/// shown as concealed, smeared where data was missing, with its pose exact.) Returns an error
-/// that ends the session, or empty.
-std::string LiveVideo::Impl::decode(Decoder& d, const AVPacket& packet) {
+bool LiveVideo::Impl::lostData(GapSink& gaps, const AVPacket& packet) {
+    std::lock_guard gapLock(gapSinksMutex);
+    const bool hit = gaps.takeFor(packet.pos, packet.size);
+    std::lock_guard lock(mutex);
+    stats.continuityGaps += gaps.all;
+    gaps.all = 0;
+    stats.framesDamaged += hit;
+    return hit;
+}
+
+/// One video packet into the decoder, the frames that come out onto the queue. A packet that
+/// lost data on the way (`lostData`) is decoded and shown as the decoder conceals it, or with
+/// `skipDamaged` left out with the frames after it until the next key frame (they refer to it).
+/// A packet flagged corrupt or refused by the decoder is left out that way too, and so are
+/// frames the decoder marks as decoded with errors. Decoding starts at a key frame. Returns an
+/// error that ends the session, or empty.
+std::string LiveVideo::Impl::decode(Decoder& d, const AVPacket& packet, bool lostData) {
     const auto damaged = [&] {
         std::lock_guard lock(mutex);
         ++stats.corruptPackets;
         d.waitKey = true;
     };
+    if (lostData && options.skipDamaged) {
+        d.waitKey = true;
+        return {};
+    }
     if (packet.flags & AV_PKT_FLAG_CORRUPT) {
         damaged();
         return {};
     }
+    // A key frame that arrived whole starts clean; the frames after a damaged one refer to it.
+    d.damaged = lostData || (d.damaged && !(packet.flags & AV_PKT_FLAG_KEY));
     if (avcodec_send_packet(d.codec, &packet) < 0) damaged();
     AVFrame* frame = d.frame;
     while (avcodec_receive_frame(d.codec, frame) == 0) {
@@ -385,7 +484,7 @@ std::string LiveVideo::Impl::decode(Decoder& d, const AVPacket& packet) {
         uint8_t* dst[4] = {out->rgba.data(), nullptr, nullptr, nullptr};
         const int dstStride[4] = {frame->width * 4, 0, 0, 0};
         sws_scale(d.sws, frame->data, frame->linesize, 0, frame->height, dst, dstStride);
-        pushFrame(std::move(out), double(pts) * av_q2d(d.base));
+        pushFrame(std::move(out), double(pts) * av_q2d(d.base), d.damaged);
     }
     return {};
 }
@@ -414,7 +513,7 @@ void LiveVideo::Impl::noteTime(double t) {
     lastTime = std::max(t, lastTime.value_or(t));
 }
 
-void LiveVideo::Impl::pushFrame(std::shared_ptr<VideoFrame> frame, double streamTime) {
+void LiveVideo::Impl::pushFrame(std::shared_ptr<VideoFrame> frame, double streamTime, bool damaged) {
     noteTime(streamTime);
     uint64_t lost = 0;
     if (measuredInterval && lastFrameTime && streamTime > *lastFrameTime &&
@@ -434,7 +533,7 @@ void LiveVideo::Impl::pushFrame(std::shared_ptr<VideoFrame> frame, double stream
     stats.height = frame->height;
     ++stats.framesDecoded;
     stats.framesLost += lost;
-    queue.push_back({std::move(frame), streamTime, wallClockSeconds()});
+    queue.push_back({std::move(frame), streamTime, wallClockSeconds(), damaged});
     while (queue.size() > std::max<size_t>(options.maxQueuedFrames, 1)) {
         queue.pop_front();
         ++stats.framesSkipped;
@@ -636,6 +735,7 @@ std::optional<LiveFrame> LiveVideo::due(double now) {
         LiveFrame f;
         f.frame = m.queue[chosen].frame;
         f.streamTime = m.queue[chosen].streamTime;
+        f.damaged = m.queue[chosen].damaged;
         m.queue.erase(m.queue.begin(), m.queue.begin() + ptrdiff_t(chosen) + 1);
         m.current = std::move(f);
         ++m.stats.framesShown;
@@ -701,6 +801,24 @@ std::string LiveVideo::inputProtocols() {
 /// FFmpeg's messages, less its decoders' (joining a stream mid-way and lost datagrams make them
 /// complain every frame; the damage is counted in LiveStats).
 void quietDecoders(void* object, int level, const char* format, va_list args) {
+    static constexpr char kGap[] = "Continuity check failed for pid ";
+    if (object && format && std::strncmp(format, kGap, sizeof kGap - 1) == 0) {
+        std::lock_guard lock(gapSinksMutex);
+        if (const auto it = gapSinks.find(object); it != gapSinks.end()) {
+            va_list copy;
+            va_copy(copy, args);
+            const int pid = va_arg(copy, int);
+            va_end(copy);
+            GapSink& sink = *it->second;
+            ++sink.all;
+            if (pid == sink.videoPid) {
+                const AVFormatContext* f = static_cast<const AVFormatContext*>(object);
+                sink.videoGaps.push_back(f->pb ? avio_tell(f->pb) : -1);
+                if (sink.videoGaps.size() > 4096) sink.videoGaps.pop_front();
+            }
+            return;
+        }
+    }
     if (object && level > AV_LOG_FATAL) {
         const AVClass* c = *static_cast<const AVClass* const*>(object);
         if (c && (c->get_category ? c->get_category(object) : c->category) == AV_CLASS_CATEGORY_DECODER) return;
@@ -724,6 +842,12 @@ Result<std::unique_ptr<LiveVideo>> LiveVideo::open(const std::string& url, LiveO
     void* opaque = nullptr;
     while (const char* name = avio_enum_protocols(&opaque, 0)) known |= scheme == name;
     if (!known) return makeError(url + ": this FFmpeg cannot receive " + scheme + ":// (it has " + inputProtocols() + ")");
+    if (scheme == "rtp") {
+        char host[256] = {};
+        int port = -1;
+        av_url_split(nullptr, 0, nullptr, 0, host, sizeof host, &port, nullptr, 0, url.c_str());
+        if (!*host || port <= 0 || port > 65535) return makeError(url + ": an RTP stream needs rtp://HOST:PORT (the address it arrives at)");
+    }
     if (!(options.jitterSeconds >= 0.0 && options.jitterSeconds <= 10.0) || !(options.noSignalSeconds > 0.0) ||
         !(options.retrySeconds > 0.0))
         return makeError(url + ": jitter from 0 to 10 s, no-signal and retry times above 0");

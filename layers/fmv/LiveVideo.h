@@ -16,10 +16,13 @@
 // time: the KLV poses around the frame's presentation time interpolated (not the latest
 // packet); after the last packet the last pose holds for up to a second.
 //
-// Damage costs only what it touches: a packet the demuxer flags corrupt (a continuity gap: a
-// datagram lost) or one the decoder refuses is dropped with the frames that refer to it, up to
-// the next key frame (see decode() in LiveVideo.cpp for what FFmpeg 5.1 flags); a KLV packet
-// that fails its checksum or does not decode is left out and counted.
+// Damage costs only what it touches. A datagram lost on the way leaves a gap in the transport
+// stream's continuity counters: the video frame it fell in is known (FFmpeg 5.1's demuxer sees
+// the gap but its parser drops the mark; LiveVideo.cpp catches the demuxer's report) and is
+// either shown as the decoder conceals it, counted as damaged (`skipDamaged` false, the default),
+// or left out with the frames that refer to it up to the next key frame (`skipDamaged`). A
+// packet the decoder refuses is left out the same way; a KLV packet that fails its checksum or
+// does not decode is left out and counted.
 //
 // Recording: with `recordPath` (or record() at any time), every packet is also written as
 // received (no re-encoding) into an MPEG-TS that VideoFile plays back through the file path,
@@ -59,6 +62,9 @@ struct LiveOptions {
     /// frames, and holds each until the next one starts: a frame interval more latency, and the
     /// last frame before a stream stops is not shown.
     bool wholeFrames = false;
+    /// A video frame that lost data on the way is left out, with the frames after it up to the
+    /// next key frame (they refer to it), instead of shown as the decoder conceals it.
+    bool skipDamaged = false;
     /// Makes the geoid model for ST 0601 altitudes above mean sea level; called on the stream's
     /// own thread (coordinate transformations are used by one thread).
     std::function<GeoidHeight()> makeGeoid;
@@ -75,6 +81,8 @@ struct LiveStats {
     uint64_t framesLost = 0;           ///< gaps in the frames' times (frames never received)
     uint64_t corruptPackets = 0;       ///< flagged corrupt by the demuxer or refused by the decoder
     uint64_t framesConcealed = 0;      ///< decoded with errors the decoder marked (left out)
+    uint64_t continuityGaps = 0;       ///< transport packets missing (continuity-counter gaps, any stream)
+    uint64_t framesDamaged = 0;        ///< video frames a gap fell in (shown concealed, or skipped)
     uint64_t klvPackets = 0, klvRejected = 0;   ///< rejected: bad checksum, undecodable, no pose
     uint64_t posesReceived = 0;
     uint64_t reconnects = 0;
@@ -94,6 +102,9 @@ struct LiveFrame {
     double streamTime = 0.0;                   ///< seconds on the stream's clock
     std::optional<SensorPose> pose;            ///< none before the first KLV pose
     std::optional<double> utc;                 ///< the frame's UTC from the KLV time stamps
+    /// It, or a frame it refers to since the last key frame, lost data on the way: shown as the
+    /// decoder concealed it.
+    bool damaged = false;
 };
 
 class LiveVideo {

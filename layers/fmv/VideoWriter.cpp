@@ -22,6 +22,9 @@ struct VideoWriter::Impl {
     AVStream* video = nullptr;
     AVStream* klv = nullptr;
     bool headerWritten = false;
+    std::function<bool()> interrupted;
+
+    bool stop() const { return interrupted && interrupted(); }
 
     ~Impl() {
         sws_freeContext(sws);
@@ -49,7 +52,11 @@ Result<std::unique_ptr<VideoWriter>> VideoWriter::create(const std::string& path
     if (o.width <= 0 || o.height <= 0 || o.width % 2 || o.height % 2 || o.fps <= 0 || o.gop <= 0)
         return fail("a video needs an even width and height, fps > 0 and gop > 0");
     av_log_set_level(AV_LOG_ERROR);
-    if (int rc = avformat_alloc_output_context2(&m.format, nullptr, "mpegts", path.c_str()); rc < 0 || !m.format)
+    const auto scheme = [&](const char* name) { return path.rfind(std::string(name) + "://", 0) == 0; };
+    if (o.listen && !(o.live && (scheme("tcp") || scheme("srt") || scheme("http"))))
+        return fail("only a live tcp://, srt:// or http:// stream can wait for its receiver");
+    const char* muxerName = o.live && scheme("rtp") ? "rtp_mpegts" : "mpegts";
+    if (int rc = avformat_alloc_output_context2(&m.format, nullptr, muxerName, path.c_str()); rc < 0 || !m.format)
         return fail("cannot make an MPEG-TS (" + avError(rc) + ")");
     if (!o.withVideo && !o.withKlv) return fail("a file needs a video or a KLV stream");
     if (o.withVideo) {
@@ -90,15 +97,34 @@ Result<std::unique_ptr<VideoWriter>> VideoWriter::create(const std::string& path
     std::string target = path;
     if (o.live) {
         m.format->flags |= AVFMT_FLAG_FLUSH_PACKETS;
-        if (target.rfind("udp://", 0) == 0 && target.find("pkt_size=") == std::string::npos)
-            target += std::string(target.find('?') == std::string::npos ? "?" : "&") + "pkt_size=1316";
+        const auto addOption = [&](const char* key, const char* value) {
+            if (target.find(std::string(key) + "=") != std::string::npos) return;
+            target += std::string(target.find('?') == std::string::npos ? "?" : "&") + key + "=" + value;
+        };
+        if (scheme("udp")) addOption("pkt_size", "1316");
+        // FFmpeg's RTP muxer fills each datagram with TS packets before it sends it, so the tail
+        // of a frame would wait for the next frame: one TS packet a datagram (188 + the RTP
+        // header) sends each frame whole as it is written.
+        if (scheme("rtp")) addOption("pkt_size", "200");
+        // SRT in live mode drops what is still unsent when the socket closes (linger 0): the
+        // last frames of a stream would never arrive. Linger up to a second for them.
+        if (scheme("srt")) addOption("linger", "1");
+        if (o.listen && scheme("tcp")) addOption("listen", "1");
+        if (o.listen && scheme("srt")) addOption("mode", "listener");
     }
-    if (int rc = avio_open(&m.format->pb, target.c_str(), AVIO_FLAG_WRITE); rc < 0)
-        return fail("cannot write the file (" + avError(rc) + ")");
+    // http:// takes its options from the dictionary, not from the URL (which it requests).
+    AVDictionary* protocol = nullptr;
+    if (o.listen && scheme("http")) av_dict_set(&protocol, "listen", "1", 0);
+    m.interrupted = o.interrupted;
+    const AVIOInterruptCB interrupt{[](void* self) { return int(static_cast<Impl*>(self)->stop()); }, &m};
+    const int opened = avio_open2(&m.format->pb, target.c_str(), AVIO_FLAG_WRITE, &interrupt, &protocol);
+    av_dict_free(&protocol);
+    if (opened < 0) return fail(std::string(o.live ? "cannot send the stream (" : "cannot write the file (") + avError(opened) + ")");
     AVDictionary* muxer = nullptr;
     // Live: each video PES says its length, so that a receiver's demuxer hands a frame on when
     // its last byte arrives instead of when the next frame starts.
-    if (o.live) av_dict_set(&muxer, "omit_video_pes_length", "0", 0);
+    if (o.live) av_dict_set(&muxer, muxerName == std::string("rtp_mpegts") ? "mpegts_muxer_options" : "omit_video_pes_length",
+                            muxerName == std::string("rtp_mpegts") ? "omit_video_pes_length=0" : "0", 0);
     const int header = avformat_write_header(m.format, &muxer);
     av_dict_free(&muxer);
     if (header < 0) return fail("cannot write the header (" + avError(header) + ")");

@@ -11,6 +11,7 @@
 #include "base/Result.h"
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -29,8 +30,14 @@ struct VideoWriteOptions {
     int crf = 18;                    ///< H.264 quality (lower: better)
     /// A live stream (`path` a URL such as udp://127.0.0.1:5600 or tcp://...?listen=1): no
     /// encoder delay (x264's zerolatency), every packet written out as it is made, UDP datagrams
-    /// of seven TS packets (1316 bytes) unless the URL says otherwise.
+    /// of seven TS packets (1316 bytes) unless the URL says otherwise; rtp:// carries the
+    /// MPEG-TS in RTP (payload type 33, RFC 2250).
     bool live = false;
+    /// Live: wait for one receiver to connect instead of sending to it: tcp:// (listen=1),
+    /// srt:// (mode=listener), http:// (FFmpeg's HTTP server answers one GET with the stream).
+    bool listen = false;
+    /// Polled while a live stream waits (for a receiver, on a full socket): true gives up.
+    std::function<bool()> interrupted;
 };
 
 class VideoWriter {

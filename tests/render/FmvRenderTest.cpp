@@ -387,6 +387,14 @@ TEST_F(FmvRender, PoseOffsetsMoveTheFootprintAndAreSavedWithTheScene) {
     auto built = scene::Scene::build(std::move(*parsed), registry_);
     ASSERT_FALSE(built.ok());
     EXPECT_NE(built.message().find("cannot receive nosuch://"), std::string::npos) << built.message();
+    const std::string live = liveScene(9, kAbove);
+    const std::string damaged = std::string(live).replace(live.find("\"wholeFrames\""), 0, "\"damaged\": \"sometimes\", ");
+    parsed = scene::parseSceneText(damaged, "bad.json", dir);
+    ASSERT_TRUE(parsed.ok()) << parsed.message();
+    built = scene::Scene::build(std::move(*parsed), registry_);
+    ASSERT_FALSE(built.ok());
+    EXPECT_NE(built.message().find("\"skip\""), std::string::npos) << built.message();
+    EXPECT_NE(built.message().find("sometimes"), std::string::npos) << built.message();
 }
 
 }  // namespace

@@ -151,6 +151,8 @@ Result<int> streamFmvFixture(const std::string& url, const FmvStreamOptions& o, 
     v.gop = o.fps;
     v.klvSynchronous = !o.async;
     v.live = true;
+    v.listen = o.listen;
+    v.interrupted = [&stop] { return stop.load(); };
     auto writer = VideoWriter::create(url, v);
     if (!writer) return writer.error();
     const auto start = std::chrono::steady_clock::now();
@@ -163,10 +165,11 @@ Result<int> streamFmvFixture(const std::string& url, const FmvStreamOptions& o, 
             packet.precisionTimeUs = uint64_t(std::chrono::duration_cast<std::chrono::microseconds>(
                                                   std::chrono::system_clock::now().time_since_epoch())
                                                   .count());
-        if (auto r = (*writer)->writeKlv(t, encodeSt0601(packet)); !r) return r.error();
-        if (auto r = (*writer)->writeFrame(fixtureFrame(n, o.width, o.height)); !r) return r.error();
+        // A write cut short because we were told to stop is the end, not an error.
+        if (auto r = (*writer)->writeKlv(t, encodeSt0601(packet)); !r) return stop ? Result<int>(n) : r.error();
+        if (auto r = (*writer)->writeFrame(fixtureFrame(n, o.width, o.height)); !r) return stop ? Result<int>(n) : r.error();
     }
-    if (auto r = (*writer)->close(); !r) return r.error();
+    if (auto r = (*writer)->close(); !r && !stop) return r.error();
     return n;
 }
 

@@ -35,6 +35,8 @@ struct FmvStreamOptions {
     /// latency is then the receiver's clock minus the stamp of the frame it shows), not the
     /// flight's 2026-06-21T09:00Z.
     bool stampWallClock = false;
+    /// Wait for the receiver to connect (tcp://, srt://, http://: see VideoWriteOptions::listen).
+    bool listen = false;
 };
 
 /// Sends until `options.frames` are sent or `stop` becomes true; returns the frames sent.

@@ -13,12 +13,14 @@
 // frame's time. Deterministic.
 //
 //   orbis-make-fmv --stream URL [--frames N] [--fps F] [--size WxH] [--async] [--wall-clock]
-//                  [--flight-start S]
+//                  [--flight-start S] [--listen]
 //
 // Sends the same flight live, in real time, to URL (udp://127.0.0.1:5600, a multicast group
-// udp://239.255.0.1:5600?ttl=1, or tcp://127.0.0.1:5600?listen=1 for a receiver to connect):
-// the source of the live FMV scene (assets/scenes/fmv-live.json). --frames 0 sends until
-// stopped (Ctrl+C). --wall-clock stamps each packet with the time it is sent (for latency).
+// udp://239.255.0.1:5600?ttl=1, rtp://127.0.0.1:5600, srt://127.0.0.1:5600?mode=caller):
+// the source of the live FMV scene (assets/scenes/fmv-live.json). --listen waits for one
+// receiver to connect instead (tcp://, srt://, or http://127.0.0.1:8080/feed.ts served by
+// FFmpeg's HTTP server). --frames 0 sends until stopped (Ctrl+C). --wall-clock stamps each
+// packet with the time it is sent (for latency).
 #include "tools/gen/FmvFixture.h"
 
 #include <atomic>
@@ -31,7 +33,7 @@ namespace {
 
 int usage() {
     std::fprintf(stderr, "usage: orbis-make-fmv OUTDIR [--frames N] [--fps F] [--size WxH] [--async] [--no-klv] [--csv] [--flight-start S]\n"
-                         "       orbis-make-fmv --stream URL [--frames N (0: until stopped)] [--fps F] [--size WxH] [--async] [--wall-clock]\n"
+                         "       orbis-make-fmv --stream URL [--frames N (0: until stopped)] [--fps F] [--size WxH] [--async] [--wall-clock] [--listen]\n"
                          "                      [--flight-start S]\n");
     return 2;
 }
@@ -58,6 +60,7 @@ int stream(int argc, char** argv) {
     const std::string url = argv[2];
     for (int i = 3; i < argc; ++i) {
         if (std::string(argv[i]) == "--wall-clock") o.stampWallClock = true;
+        else if (std::string(argv[i]) == "--listen") o.listen = true;
         else if (!commonOption(o, argc, argv, i)) return usage();
     }
     if (o.frames < 0 || o.fps < 1 || o.fps > 240 || o.width < 16 || o.height < 16 || o.width > 4096 || o.height > 4096 ||

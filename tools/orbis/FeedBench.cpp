@@ -64,10 +64,11 @@ int feedBench(GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer, 
         const fmv::LiveStats& s = f.layer->liveStats();
         const Stats l = summarize(f.latency);
         std::printf("%-10s  latency ms median %.1f  p95 %.1f  max %.1f (%zu frames)   draped %.1f/s  footprint %.1f/s   lost %llu  "
-                    "damaged %llu  marked %llu  %s\n",
+                    "damaged %llu  gaps %llu  klv rejected %llu  %s\n",
                     f.name.c_str(), l.median, l.p95, f.latency.empty() ? 0.0 : *std::max_element(f.latency.begin(), f.latency.end()),
                     f.latency.size(), double(f.draped) / elapsed, double(f.layer->footprintUpdates() - f.footprints0) / elapsed,
-                    (unsigned long long)s.framesLost, (unsigned long long)(s.corruptPackets + s.klvRejected), (unsigned long long)s.framesConcealed,
+                    (unsigned long long)s.framesLost, (unsigned long long)(s.framesDamaged + s.corruptPackets), (unsigned long long)s.continuityGaps,
+                    (unsigned long long)s.klvRejected,
                     fmv::toString(s.state));
         all.insert(all.end(), f.latency.begin(), f.latency.end());
     }
