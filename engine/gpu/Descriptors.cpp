@@ -27,6 +27,7 @@ Sampler createSampler(Device& device, const SamplerDesc& desc) {
     VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     si.magFilter = si.minFilter = desc.filter;
     si.addressModeU = si.addressModeV = si.addressModeW = desc.address;
+    if (desc.addressV) si.addressModeV = *desc.addressV;
     si.mipmapMode = desc.mipmaps ? VK_SAMPLER_MIPMAP_MODE_LINEAR : VK_SAMPLER_MIPMAP_MODE_NEAREST;
     si.maxLod = desc.mipmaps ? VK_LOD_CLAMP_NONE : 0.0f;
     if (desc.maxAnisotropy > 1.0f && device.features().samplerAnisotropy && device.info().type != "cpu") {

@@ -9,6 +9,7 @@
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -34,6 +35,7 @@ VkDescriptorType toVulkan(shader::DescriptorKind kind);
 struct SamplerDesc {
     VkFilter filter = VK_FILTER_LINEAR;   ///< magnification and minification
     VkSamplerAddressMode address = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;   ///< u, v and w
+    std::optional<VkSamplerAddressMode> addressV;                           ///< v's, when not `address`
     /// Linear between mip levels, all levels; else level 0 only (render targets, lookup tables).
     bool mipmaps = false;
     /// Above 1: anisotropic filtering up to this, where the device supports it and is not a CPU

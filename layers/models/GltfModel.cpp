@@ -384,8 +384,13 @@ void Reader::readTextures(ModelData& out) {
         }
         if (t.sampler >= 0 && size_t(t.sampler) < m_.samplers.size()) {
             const tinygltf::Sampler& s = m_.samplers[size_t(t.sampler)];
-            tex.repeatU = s.wrapS != TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
-            tex.repeatV = s.wrapT != TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+            const auto wrap = [](int mode) {
+                return mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE     ? TextureWrap::Clamp
+                       : mode == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT ? TextureWrap::Mirror
+                                                                      : TextureWrap::Repeat;
+            };
+            tex.wrapU = wrap(s.wrapS);
+            tex.wrapV = wrap(s.wrapT);
             tex.nearest = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
         }
         out.textures.push_back(std::move(tex));

@@ -59,12 +59,16 @@ struct ModelVertex {
 };
 static_assert(sizeof(ModelVertex) == 36);
 
+/// What a texture coordinate outside 0..1 samples (glTF's sampler wrap modes; Assimp's mapping
+/// modes, its "decal" as clamp).
+enum class TextureWrap : uint8_t { Repeat, Clamp, Mirror };
+
 /// An RGBA8 image with its mip chain (box-filtered on the CPU), level 0 first.
 struct ModelTexture {
     std::string name;
     uint32_t width = 0, height = 0;
     std::vector<std::vector<uint8_t>> mips;   ///< mips[i]: max(1, w >> i) x max(1, h >> i) x 4 bytes
-    bool repeatU = true, repeatV = true;      ///< the sampler's wrap modes (mirrored counts as repeat)
+    TextureWrap wrapU = TextureWrap::Repeat, wrapV = TextureWrap::Repeat;   ///< outside 0..1
     bool nearest = false;                     ///< the sampler asks for nearest magnification
 };
 

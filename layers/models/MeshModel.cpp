@@ -256,10 +256,22 @@ private:
             int shading = 0;
             m.unlit = mat->Get(AI_MATKEY_SHADING_MODEL, shading) == AI_SUCCESS && (shading == aiShadingMode_NoShading || shading == aiShadingMode_Unlit);
             aiString path;
-            if (mat->GetTexture(aiTextureType_BASE_COLOR, 0, &path) == AI_SUCCESS || mat->GetTexture(aiTextureType_DIFFUSE, 0, &path) == AI_SUCCESS) {
-                const std::string key = path.C_Str();
+            aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};   // left as they are when unsaid
+            if (mat->GetTexture(aiTextureType_BASE_COLOR, 0, &path, nullptr, nullptr, nullptr, nullptr, modes) == AI_SUCCESS ||
+                mat->GetTexture(aiTextureType_DIFFUSE, 0, &path, nullptr, nullptr, nullptr, nullptr, modes) == AI_SUCCESS) {
+                const auto wrap = [](aiTextureMapMode mode) {
+                    return mode == aiTextureMapMode_Clamp || mode == aiTextureMapMode_Decal ? TextureWrap::Clamp
+                           : mode == aiTextureMapMode_Mirror                                  ? TextureWrap::Mirror
+                                                                                              : TextureWrap::Repeat;
+                };
+                const TextureWrap u = wrap(modes[0]), v = wrap(modes[1]);
+                const std::string key = std::string(path.C_Str()) + '\n' + char('0' + int(u)) + char('0' + int(v));
                 auto it = textureOf.find(key);
-                if (it == textureOf.end()) it = textureOf.emplace(key, readTexture(key, out)).first;
+                if (it == textureOf.end()) {
+                    it = textureOf.emplace(key, readTexture(path.C_Str(), out)).first;
+                    out.textures[size_t(it->second)].wrapU = u;
+                    out.textures[size_t(it->second)].wrapV = v;
+                }
                 m.baseColorTexture = it->second;
             }
             out.materials.push_back(std::move(m));

@@ -13,7 +13,8 @@
 // `MeshImportOptions` overrides both (a Z-up CAD export in millimetres: up 'z', unit 0.001).
 //
 // Materials: the diffuse (or base) colour and opacity (below 1: blended), the first diffuse or
-// base-colour texture, two-sidedness, unlit shading; vertex colours (the first set). Texture
+// base-colour texture with its wrap modes (repeat, clamp, mirror; "decal" as clamp),
+// two-sidedness, unlit shading; vertex colours (the first set). Texture
 // paths as files write them, Windows ones included: backslashes, absolute paths from the
 // author's disk, different case; looked for beside the model, then by their file name alone,
 // then with any case. Embedded textures (FBX, "*N") are read from the file. A texture that

@@ -216,15 +216,26 @@ void ModelLayer::createFrameSets(const render::RenderServices& services) {
 }
 
 void ModelLayer::createMaterialSets(gpu::Device& device) {
-    // Samplers: repeat (glTF's default) and clamp, trilinear.
-    repeatSampler_ = gpu::createSampler(device, {.address = VK_SAMPLER_ADDRESS_MODE_REPEAT, .mipmaps = true});
-    clampSampler_ = gpu::createSampler(device, {.mipmaps = true});
+    // Trilinear samplers, one for each wrap (u, v) the textures ask for; the white texture clamps.
+    const auto address = [](models::TextureWrap w) {
+        return w == models::TextureWrap::Clamp ? VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE
+               : w == models::TextureWrap::Mirror ? VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT
+                                          : VK_SAMPLER_ADDRESS_MODE_REPEAT;
+    };
     materialSets_ = gpu::createDescriptorSets(device, shader::kModelMaterialBindings, uint32_t(textures_.size()));
     for (size_t i = 0; i < textures_.size(); ++i) {
-        const bool repeat = i < model_.textures.size() ? (model_.textures[i].repeatU || model_.textures[i].repeatV) : false;
+        models::ModelTexture wrap;   // the white texture: clamped
+        wrap.wrapU = wrap.wrapV = models::TextureWrap::Clamp;
+        const models::ModelTexture& t = i < model_.textures.size() ? model_.textures[i] : wrap;
+        const uint32_t key = uint32_t(t.wrapU) | uint32_t(t.wrapV) << 2;
+        auto it = samplers_.find(key);
+        if (it == samplers_.end())
+            it = samplers_.emplace(key, gpu::createSampler(device, {.address = address(t.wrapU),
+                                                                    .addressV = address(t.wrapV),
+                                                                    .mipmaps = true})).first;
         textures_[i].set = materialSets_.sets[i];
         gpu::DescriptorWriter(textures_[i].set)
-            .sampledImage(shader::kModelBindingBaseColor, repeat ? repeatSampler_.vk() : clampSampler_.vk(), textures_[i].image.view())
+            .sampledImage(shader::kModelBindingBaseColor, it->second.vk(), textures_[i].image.view())
             .update(device);
     }
 }

@@ -69,6 +69,7 @@
 #include "layers/models/ModelMotion.h"
 #include "shared/ModelTypes.h"
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <unordered_map>
@@ -210,7 +211,7 @@ private:
     uint32_t maxCopies_ = 0;
     gpu::DescriptorSets frameSets_;               ///< set 1 per frame in flight
     gpu::DescriptorSets materialSets_;            ///< set 2: one per texture
-    gpu::Sampler repeatSampler_, clampSampler_;
+    std::map<uint32_t, gpu::Sampler> samplers_;   ///< by wrap u and v (createMaterialSets)
     std::vector<Texture> textures_;               ///< one per model texture, then a white one
     gpu::PipelineLayout layout_, lineLayout_;
     gpu::Pipeline opaque_, blend_, depthOnly_, path_, label_;

@@ -226,6 +226,52 @@ TEST_F(ModelRender, MeshFormatsStandUprightAtTrueScale) {
     EXPECT_NE(bad.message().find("\"y\" or \"z\""), std::string::npos) << bad.message();
 }
 
+// A texture's wrap modes from a mesh file: two quads whose u runs from -1 to 2 under a texture
+// red on its left half and blue on its right, one repeating (the MTL's default), one clamped
+// (`-clamp on`): seen from above, red and blue alternate three times along the first and
+// change once along the second.
+TEST_F(ModelRender, MeshTexturesRepeatOrClampAsTheirMaterialSays) {
+    const fs::path dir = fs::path(testOutputDir()) / ("model-wrap-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    ImageRgba8 tex{2, 1, {230, 20, 20, 255, 20, 20, 230, 255}};
+    ASSERT_TRUE(writePng(dir / "halves.png", tex));
+    std::ofstream(dir / "quads.mtl") << "newmtl Repeat\nKd 1 1 1\nmap_Kd halves.png\nnewmtl Clamp\nKd 1 1 1\nmap_Kd -clamp on halves.png\n";
+    // Two 3 m x 1 m quads lying flat (y up), 0.5 m apart along z; u from -1 to 2 along x.
+    std::ofstream(dir / "quads.obj") << "mtllib quads.mtl\n"
+                                        "v -1.5 0 -1.25\nv 1.5 0 -1.25\nv 1.5 0 -0.25\nv -1.5 0 -0.25\n"
+                                        "v -1.5 0 0.25\nv 1.5 0 0.25\nv 1.5 0 1.25\nv -1.5 0 1.25\n"
+                                        "vt -1 0\nvt 2 0\nvt 2 1\nvt -1 1\nvn 0 1 0\n"
+                                        "usemtl Repeat\nf 4/4/1 3/3/1 2/2/1 1/1/1\nusemtl Clamp\nf 8/4/1 7/3/1 6/2/1 5/1/1\n";
+    auto s = load(R"({"viewpoint": {"lon": 7.0, "lat": 46.0, "height": 0, "heading": 0, "pitch": -89.9, "range": 5},
+        "time": {"start": "2026-03-20T12:00:00Z"},
+        "layers": [{"type": "globe", "name": "Earth"},
+                   {"type": "model", "name": "Quads", "file": )" + jsonString(dir / "quads.obj") + R"(, "position": [7.0, 46.0, 0.2]}]})");
+    ASSERT_TRUE(s);
+    const ImageRgba8 image = render(*s, 320, 200);
+    // Along each row and column: how often the colour turns between red and blue.
+    const auto turns = [&](bool row, uint32_t at) {
+        int count = 0, last = 0;
+        const uint32_t n = row ? image.width : image.height;
+        for (uint32_t i = 0; i < n; ++i) {
+            const uint8_t* p = &image.pixels[4 * size_t(row ? at * image.width + i : i * image.width + at)];
+            const int red = p[0] > 120 && p[0] > p[2] + 60, blue = p[2] > 120 && p[2] > p[0] + 60;
+            const int now = red ? 1 : blue ? -1 : 0;
+            if (now != 0 && last != 0 && now != last) ++count;
+            if (now != 0) last = now;
+        }
+        return count;
+    };
+    std::vector<int> seen;
+    for (uint32_t y = 0; y < image.height; y += 4) seen.push_back(turns(true, y));
+    for (uint32_t x = 0; x < image.width; x += 4) seen.push_back(turns(false, x));
+    const int most = *std::max_element(seen.begin(), seen.end());
+    const size_t once = size_t(std::count(seen.begin(), seen.end(), 1));
+    EXPECT_EQ(most, 5) << "repeat: red blue red blue red blue";
+    EXPECT_GT(once, 5u) << "clamp: red, then blue";
+    EXPECT_TRUE(matchesGolden(image, "model_texture_wrap"));
+    fs::remove_all(dir);
+}
+
 TEST_F(ModelRender, BrokenModelsAndSettingsGiveClearErrors) {
     const fs::path dir = fs::path(testOutputDir()) / ("model-errors-" + std::to_string(::getpid()));
     fs::create_directories(dir);

@@ -5,6 +5,7 @@
 // files (a PLY claiming 4e9 vertices, a COLLADA node graph that instantiates itself or expands
 // without bound, truncated files) refused with clear errors. The real files come from Debian's
 // assimp-testmodels; tests that need them skip without it.
+#include "base/Png.h"
 #include "layers/models/MeshChecks.h"
 #include "layers/models/MeshModel.h"
 #include "tests/support/ProcessTempDir.h"
@@ -139,6 +140,28 @@ TEST(MeshModel, TexturesAsWindowsExportersNameThem) {
     EXPECT_TRUE(warned(*wall, "missing.png"));
     EXPECT_FALSE(warned(*wall, "BRICK"));
     EXPECT_NEAR(material("Brick")->baseColorFactor.r, 0.8f, 1e-6f);
+}
+
+// Wrap modes as the material says: an MTL's `-clamp on` clamps (the default repeats); one image
+// used both ways is two textures.
+TEST(MeshModel, TextureWrapModesFollowTheMaterial) {
+    const fs::path dir = test::processTempDir("orbis-mesh-wrap");
+    ASSERT_TRUE(writePng(dir / "t.png", ImageRgba8{2, 1, {255, 0, 0, 255, 0, 0, 255, 255}}));
+    std::ofstream(dir / "q.mtl") << "newmtl R\nmap_Kd t.png\nnewmtl C\nmap_Kd -clamp on t.png\n";
+    std::ofstream(dir / "q.obj") << "mtllib q.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 2 0\nvt 2 1\n"
+                                    "usemtl R\nf 1/1 2/2 3/3\nusemtl C\nf 1/1 3/3 2/2\n";
+    auto m = loadMesh((dir / "q.obj").string());
+    ASSERT_TRUE(m.ok()) << m.message();
+    ASSERT_EQ(m->textures.size(), 2u);
+    for (const ModelMaterial& mat : m->materials) {
+        if (mat.name != "R" && mat.name != "C") continue;
+        ASSERT_GE(mat.baseColorTexture, 0) << mat.name;
+        const ModelTexture& t = m->textures[size_t(mat.baseColorTexture)];
+        const TextureWrap want = mat.name == "C" ? TextureWrap::Clamp : TextureWrap::Repeat;
+        EXPECT_EQ(t.wrapU, want) << mat.name;
+        EXPECT_EQ(t.wrapV, want) << mat.name;
+        EXPECT_EQ(t.width, 2u);
+    }
 }
 
 TEST(MeshModel, ColladaAndTheModelInsideAKmz) {
