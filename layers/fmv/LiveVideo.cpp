@@ -9,6 +9,9 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
+#include <arpa/inet.h>
+#include <netdb.h>
+
 #include <algorithm>
 #include <cstdarg>
 #include <cstdlib>
@@ -41,6 +44,48 @@ double wallClockSeconds() {
 namespace {
 
 double steadySeconds() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
+/// The host a URL names when it is a name to look up (not an address, not empty), else "".
+std::string hostToResolve(const std::string& url) {
+    char host[256] = {};
+    int port = -1;
+    av_url_split(nullptr, 0, nullptr, 0, host, sizeof host, &port, nullptr, 0, url.c_str());
+    const std::string h = host;
+    if (h.empty() || h.find(':') != std::string::npos) return {};   // none, or IPv6
+    in_addr v4{};
+    if (inet_pton(AF_INET, h.c_str(), &v4) == 1) return {};
+    return h;
+}
+
+/// Looks `host` up on a thread of its own: getaddrinfo cannot be interrupted, and a name that
+/// does not resolve can take the resolver's whole timeout. The caller waits while `keepWaiting`
+/// says so and gives up otherwise (the lookup then ends on its own, unwatched). "" when found.
+std::string resolveHost(const std::string& host, const std::function<bool()>& keepWaiting) {
+    struct Lookup {
+        std::mutex m;
+        std::condition_variable done;
+        bool finished = false;
+        int rc = 0;
+    };
+    auto lookup = std::make_shared<Lookup>();
+    std::thread([lookup, host] {
+        addrinfo hints{};
+        hints.ai_family = AF_UNSPEC;
+        addrinfo* found = nullptr;
+        const int rc = getaddrinfo(host.c_str(), nullptr, &hints, &found);
+        if (found) freeaddrinfo(found);
+        std::lock_guard lock(lookup->m);
+        lookup->rc = rc;
+        lookup->finished = true;
+        lookup->done.notify_all();
+    }).detach();
+    std::unique_lock lock(lookup->m);
+    while (!lookup->finished) {
+        lookup->done.wait_for(lock, std::chrono::milliseconds(50));
+        if (!lookup->finished && !keepWaiting()) return "no answer yet looking up the host " + host;
+    }
+    return lookup->rc == 0 ? std::string() : "cannot find the host " + host + " (" + gai_strerror(lookup->rc) + ")";
+}
 
 /// rtp://HOST:PORT as a data: URI of the SDP that describes MPEG-TS over RTP (payload type 33)
 /// arriving there: unicast to HOST's port, or a multicast group joined.
@@ -295,6 +340,12 @@ std::string LiveVideo::Impl::session() {
         av_dict_set(&opts, "protocol_whitelist", "data,udp,rtp", 0);
     }
     deadline = steadySeconds() + options.noSignalSeconds + 2.0;   // the probing reads a second of it
+    if (const std::string host = hostToResolve(url); !host.empty())
+        if (std::string why = resolveHost(host, [&] { return !interrupted(this); }); !why.empty()) {
+            avformat_free_context(format);
+            av_dict_free(&opts);
+            return stop ? std::string() : why;
+        }
     int rc = avformat_open_input(&format, openUrl.c_str(), forced, &opts);   // frees `format` on failure
     av_dict_free(&opts);
     if (rc < 0) return stop ? std::string() : "cannot open (" + avError(rc) + ")";

@@ -511,6 +511,24 @@ TEST(LiveVideo, ARecordingStoppedWithoutSignalIsClosedAtOnce) {
     std::filesystem::remove_all(dir);
 }
 
+// A host name that does not resolve: no signal, saying which host; the lookup runs off the
+// feed's thread, so closing does not wait for the resolver.
+TEST(LiveVideo, AHostThatDoesNotResolveIsNoSignalNamingIt) {
+    LiveOptions options;
+    options.noSignalSeconds = 0.5;
+    options.retrySeconds = 0.1;
+    auto live = LiveVideo::open("tcp://no-such-host.invalid:5600", options);
+    ASSERT_TRUE(live) << live.message();
+    const auto until = std::chrono::steady_clock::now() + 8s;
+    while (std::chrono::steady_clock::now() < until && (*live)->stats().lastError.empty()) std::this_thread::sleep_for(20ms);
+    const LiveStats s = (*live)->stats();
+    EXPECT_EQ(s.state, LiveState::NoSignal);
+    EXPECT_NE(s.lastError.find("no-such-host.invalid"), std::string::npos) << s.lastError;
+    const auto closing = std::chrono::steady_clock::now();
+    live->reset();
+    EXPECT_LT(std::chrono::steady_clock::now() - closing, 1s);
+}
+
 TEST(LiveVideo, RefusesWhatIsNotALiveStream) {
     auto empty = LiveVideo::open("", {});
     ASSERT_FALSE(empty);
