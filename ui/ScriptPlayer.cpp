@@ -107,7 +107,11 @@ bool ScriptPlayer::playDrag(const ScriptStep& step, glm::dvec2 from, glm::dvec2 
 
 bool ScriptPlayer::playKey(const ScriptStep& step, FrameInput& in) {
     if (step.key == "F12") in.screenshot = true;
-    else if (step.key == "Ctrl+S") in.saveScene = true;
+    else if (step.key == "Ctrl+S") {   // as GLFW gives it: the shortcut, and S pressed and let go with Ctrl
+        in.saveScene = true;
+        in.events.push_back(KeyEvent{Key::S, true, {.ctrl = true}});
+        in.events.push_back(KeyEvent{Key::S, false, {.ctrl = true}});
+    }
     else if (step.key == "F1") in.togglePanels = true;
     else if (step.key == "Escape") in.escape = true;
     else if (auto k = navigationKey(step.key)) {

@@ -76,7 +76,9 @@ void Viewer::route(const ScrollEvent& event) {
 
 void Viewer::route(const KeyEvent& event) {
     if (event.pressed && gui_->wantsKeyboard()) return;
-    takeCameraBack();
+    // A shortcut (a press with Ctrl or Alt: Ctrl+S saving the scene) or a key let go does not
+    // move the camera: it stays with its mode (a sensor's view is saved as such).
+    if (event.pressed && !event.modifiers.ctrl && !event.modifiers.alt) takeCameraBack();
     nav_.handle(event);
 }
 
