@@ -138,9 +138,17 @@ struct Recording {
     int inVideo = -1, inKlv = -1, outVideo = -1, outKlv = -1;
     AVRational inBase[2] = {{1, 1}, {1, 1}};
     bool klvSynchronous = false;
-    int64_t lastDts[2] = {INT64_MIN, INT64_MIN};
+    int64_t lastDts[2] = {INT64_MIN, INT64_MIN};   // written, in the output's time bases
     uint8_t klvSequence = 0;
     uint64_t sinceFlush = 0;
+    // A stream that comes back (a new session, maybe a new clock) goes on in the same file: its
+    // times are moved to follow what was written, after the silence between.
+    int width = 0, height = 0, codec = 0;   // the video recorded; a stream that comes back different ends the file
+    double offsetSeconds = 0.0;             // added to the session's times
+    double endSeconds = 0.0, endSteady = 0.0;   // the latest time written, and when
+    bool written = false;
+    bool rebase = false;                    // a new session: its first packet sets offsetSeconds
+    bool waitKey = false;                   // the new session's video from its first key frame
 
     ~Recording() { close(); }
     void close() {
@@ -279,6 +287,8 @@ struct LiveVideo::Impl {
     void pushKlv(double time, const uint8_t* data, size_t size);
     void openRecording(AVFormatContext* in, int video, int klv);
     void takeRecordRequest();
+    /// A new session while recording: the file goes on (or ends if the video changed).
+    void continueRecording(AVFormatContext* in, int video, int klv);
     void recordVideo(AVFormatContext* in, int video, int klv, const AVPacket& packet);
     void keepKlv(const AVPacket& packet, AVRational base);
     void record(const AVPacket& packet);
@@ -386,6 +396,7 @@ std::string LiveVideo::Impl::session() {
     // probing read.
     AVPacket* held = nullptr;
     if (options.wholeFrames) held = takeWholeFrames(vs, d.codec);
+    if (recording.format) continueRecording(format, video, klv);
     recordPending = !recording.format && !options.recordPath.empty();
     for (AVPacket* p : recentKlv) av_packet_free(&p);
     recentKlv.clear();
@@ -553,6 +564,7 @@ void LiveVideo::Impl::noteData(size_t bytes) {
 /// from another clock).
 void LiveVideo::Impl::noteTime(double t) {
     if (lastTime && (t < *lastTime - kJumpBackSeconds || t > *lastTime + kJumpAheadSeconds)) {
+        if (recording.format) recording.rebase = recording.waitKey = true;   // the file goes on after the jump
         std::lock_guard lock(mutex);
         ++epoch;
         queue.clear();
@@ -633,6 +645,26 @@ void LiveVideo::Impl::takeRecordRequest() {
 
 /// A video packet into the recording; a pending one starts here if this is a key frame (the
 /// KLV of the second before first).
+void LiveVideo::Impl::continueRecording(AVFormatContext* in, int video, int klv) {
+    Recording& r = recording;
+    const AVCodecParameters* p = in->streams[video]->codecpar;
+    if (p->width != r.width || p->height != r.height || int(p->codec_id) != r.codec) {
+        r.close();
+        std::lock_guard lock(mutex);
+        stats.lastError = r.path + ": the stream came back as " + std::to_string(p->width) + "x" + std::to_string(p->height) + " " +
+                          avcodec_get_name(p->codec_id) + ", not as recorded: the recording ends there";
+        stats.recording.clear();
+        recordWanted.clear();
+        options.recordPath.clear();
+        return;
+    }
+    r.inVideo = video;
+    r.inBase[0] = in->streams[video]->time_base;
+    r.inKlv = r.outKlv >= 0 ? klv : -1;
+    if (klv >= 0) r.inBase[1] = in->streams[klv]->time_base;
+    r.rebase = r.waitKey = true;
+}
+
 void LiveVideo::Impl::recordVideo(AVFormatContext* in, int video, int klv, const AVPacket& packet) {
     if (recordPending && (packet.flags & AV_PKT_FLAG_KEY)) {
         recordPending = false;
@@ -683,6 +715,9 @@ void LiveVideo::Impl::openRecording(AVFormatContext* in, int video, int klv) {
     r.inVideo = video;
     r.outVideo = add(video);
     r.inBase[0] = in->streams[video]->time_base;
+    r.width = in->streams[video]->codecpar->width;
+    r.height = in->streams[video]->codecpar->height;
+    r.codec = int(in->streams[video]->codecpar->codec_id);
     if (klv >= 0) {
         r.inKlv = klv;
         r.outKlv = add(klv);
@@ -699,7 +734,15 @@ void LiveVideo::Impl::record(const AVPacket& packet) {
     const bool isVideo = packet.stream_index == r.inVideo, isKlv = r.inKlv >= 0 && packet.stream_index == r.inKlv;
     if (!isVideo && !isKlv) return;
     const int slot = isVideo ? 0 : 1;
-    if (packet.dts != AV_NOPTS_VALUE && packet.dts <= r.lastDts[slot]) return;   // a restarted sender's clock: not muxable
+    if (r.rebase && packet.dts != AV_NOPTS_VALUE) {
+        r.offsetSeconds = (r.written ? r.endSeconds + std::max(steadySeconds() - r.endSteady, 0.001) : 0.0) -
+                          double(packet.dts) * av_q2d(r.inBase[slot]);
+        r.rebase = false;
+    }
+    if (isVideo && r.waitKey) {
+        if (!(packet.flags & AV_PKT_FLAG_KEY)) return;
+        r.waitKey = false;
+    }
     AVPacket* p = nullptr;
     if (isKlv && r.klvSynchronous) {
         // The demuxer took the Metadata AU cell header off; the muxer wants it back
@@ -720,10 +763,25 @@ void LiveVideo::Impl::record(const AVPacket& packet) {
         p = av_packet_clone(&packet);
         if (!p) return;
     }
-    if (packet.dts != AV_NOPTS_VALUE) r.lastDts[slot] = packet.dts;
     p->stream_index = isVideo ? r.outVideo : r.outKlv;
     p->flags &= ~AV_PKT_FLAG_CORRUPT;
-    av_packet_rescale_ts(p, r.inBase[slot], r.format->streams[p->stream_index]->time_base);
+    const AVRational outBase = r.format->streams[p->stream_index]->time_base;
+    av_packet_rescale_ts(p, r.inBase[slot], outBase);
+    if (r.offsetSeconds != 0.0) {
+        const int64_t shift = std::llround(r.offsetSeconds / av_q2d(outBase));
+        if (p->pts != AV_NOPTS_VALUE) p->pts += shift;
+        if (p->dts != AV_NOPTS_VALUE) p->dts += shift;
+    }
+    if (p->dts != AV_NOPTS_VALUE) {
+        if (p->dts <= r.lastDts[slot]) {   // going back (a clock jump within a session): not muxable
+            av_packet_free(&p);
+            return;
+        }
+        r.lastDts[slot] = p->dts;
+        r.endSeconds = std::max(r.endSeconds, double(p->dts) * av_q2d(outBase));
+        r.endSteady = steadySeconds();
+        r.written = true;
+    }
     const int rc = av_interleaved_write_frame(r.format, p);
     av_packet_free(&p);
     if (rc >= 0) {

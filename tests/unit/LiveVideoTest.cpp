@@ -477,6 +477,68 @@ TEST(LiveVideo, RecordingStartedAndStoppedWhileLiveBeginsAtAKeyFrame) {
     std::filesystem::remove_all(dir);
 }
 
+// A sender that stops and comes back on a new clock while the feed is recorded: the file goes
+// on, the second flight after the first with the silence between, every frame with its own
+// KLV, and plays back through the file path.
+TEST(LiveVideo, ARecordingGoesOnWhenTheStreamComesBack) {
+    const auto dir = std::filesystem::temp_directory_path() / ("orbis-live-record4-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string recording = (dir / "both.ts").string();
+    const int port = net::freeUdpPort();
+    ASSERT_GT(port, 0);
+    LiveOptions options;
+    options.wholeFrames = true;
+    options.noSignalSeconds = 0.5;
+    options.retrySeconds = 0.1;
+    options.recordPath = recording;
+    auto live = LiveVideo::open(udpUrl(port), options);
+    ASSERT_TRUE(live) << live.message();
+    std::this_thread::sleep_for(200ms);
+    Seen seen;
+    {
+        Sender first(udpUrl(port), flight(20));
+        EXPECT_EQ(first.finish(), 20);
+    }
+    watch(**live, seen, [&] { return (*live)->stats().state == LiveState::NoSignal; }, 5s);
+    ASSERT_EQ((*live)->stats().state, LiveState::NoSignal);
+    std::this_thread::sleep_for(300ms);
+    {
+        FmvStreamOptions o = flight(15);
+        o.flightStart = 30.0;   // elsewhere on the flight, on a clock that starts again at 0
+        Sender second(udpUrl(port), o);
+        EXPECT_EQ(second.finish(), 15);
+    }
+    watch(**live, seen, [&] { return false; }, 500ms);
+    EXPECT_GE((*live)->stats().reconnects, 1u);
+    live->reset();   // closes the recording
+    auto file = VideoFile::open(recording);
+    ASSERT_TRUE(file) << file.message();
+    ASSERT_EQ((*file)->frameCount(), 35u);
+    auto timeline = FmvTimeline::fromKlv((*file)->klv(), recording);
+    ASSERT_TRUE(timeline) << timeline.message();
+    EXPECT_EQ(timeline->poses().size(), 35u);
+    // Frames 0..19 of the first flight, then 0..14 of the second; the second starts after the
+    // first ends plus the silence (over 0.5 s), and each frame has the pose of its own flight time.
+    double lastTime = -1.0;
+    for (size_t i = 0; i < 35; ++i) {
+        auto frame = (*file)->decode(i);
+        ASSERT_TRUE(frame) << frame.message();
+        const int n = fixtureFrameNumber(frame->rgba, frame->width, frame->height);
+        EXPECT_EQ(n, i < 20 ? int(i) : int(i) - 20) << "frame " << i;
+        const double t = (*file)->frameTimes()[i];
+        EXPECT_GT(t, lastTime) << "frame " << i;
+        if (i == 20) {
+            EXPECT_GT(t - lastTime, 0.5) << "the silence between";
+        }
+        lastTime = t;
+        const SensorPose want = SyntheticFlight::pose((i < 20 ? 0.0 : 30.0) + double(n) / 10.0);
+        const SensorPose got = timeline->poseAt(t);
+        EXPECT_NEAR(got.latDeg, want.latDeg, 1e-6) << "frame " << i;
+        EXPECT_NEAR(got.lonDeg, want.lonDeg, 1e-6) << "frame " << i;
+    }
+    std::filesystem::remove_all(dir);
+}
+
 // Stop pressed while the feed has no signal closes the recording then (between attempts to open
 // the stream again), not when data comes again: the file is whole while the layer lives on.
 TEST(LiveVideo, ARecordingStoppedWithoutSignalIsClosedAtOnce) {
