@@ -26,7 +26,8 @@
 //
 // Recording: with `recordPath` (or record() at any time), every packet is also written as
 // received (no re-encoding) into an MPEG-TS that VideoFile plays back through the file path,
-// from a key frame on.
+// from a key frame on. A stream that comes back (a new connection, a new clock) goes on in the
+// same file, its times moved to follow what was written after the silence.
 //
 //   auto live = fmv::LiveVideo::open("udp://127.0.0.1:5600", {});
 //   if (auto f = (*live)->due(wallClockSeconds())) show(*f->frame, f->pose);

@@ -3,6 +3,7 @@
 // in place through /vsizip/), each checked against the size limit before it is read.
 #include "layers/models/MeshModel.h"
 
+#include "layers/models/GltfAnimation.h"
 #include "layers/models/GltfImage.h"
 #include "layers/models/MeshChecks.h"
 
@@ -32,6 +33,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int kMaxDepth = 256;
+constexpr size_t kMaxAnimatedNodes = 65536;   // a model that animates: each node is evaluated every frame
 constexpr uint64_t kMaxTextureFileBytes = uint64_t(64) << 20;
 
 std::string lower(std::string s) {
@@ -193,13 +195,14 @@ public:
         out.file = file_;
         readMaterials(out);
         if (auto r = readMeshes(out); !r) return r.error();
-        if (scene->mNumAnimations > 0) warnOnce(out, "its animations are not read (only glTF animates): the rest pose is drawn");
         for (unsigned m = 0; m < scene->mNumMeshes; ++m)
-            if (scene->mMeshes[m]->mNumBones > 0) warnOnce(out, "its skins are not read (only glTF skins): the rest pose is drawn");
+            if (scene->mMeshes[m]->mNumBones > 0) warnOnce(out, "its skins are not read (only glTF skins): their meshes keep the rest pose");
         out.boundsMin = glm::dvec3(std::numeric_limits<double>::max());
         out.boundsMax = glm::dvec3(-std::numeric_limits<double>::max());
         if (auto r = walk(scene->mRootNode, rootTransform(), 0, out); !r) return r.error();
         if (out.draws.empty()) return makeError(file_ + ": the scene has no triangles to draw");
+        if (scene->mNumAnimations > 0)
+            if (auto r = readAnimations(out); !r) return r.error();
         return out;
     }
 
@@ -423,6 +426,7 @@ private:
             const uint32_t prim = uint32_t(meshPrimitive_[mi]);
             const ModelPrimitive& p = out.primitives[prim];
             out.draws.push_back({prim, glm::mat4(world), mirrored, -1, -1});
+            drawNodes_.push_back(node);
             out.triangles += p.indexCount / 3;
             for (uint32_t v = 0; v < p.vertexCount; ++v) {
                 const ModelVertex& x = out.vertices[size_t(p.vertexOffset) + v];
@@ -436,11 +440,128 @@ private:
         return {};
     }
 
+    /// The file's node animations (rigid: translation, rotation, scale keys of its nodes) as a
+    /// rig: a node for the axes and units, then the file's nodes with their rest transforms;
+    /// each draw moved by its node. Keys at a time not after the one before are left out (glTF
+    /// needs increasing times); mesh and morph animations are not read (a warning).
+    Result<void> readAnimations(ModelData& out) {
+        ModelRig rig;
+        std::map<const aiNode*, uint32_t> index;
+        std::map<std::string, uint32_t> byName;
+        RigNode axes;
+        axes.name = "(axes and units)";
+        axes.hasMatrix = true;
+        axes.matrix = rootTransform();
+        rig.nodes.push_back(axes);
+        rig.order.push_back(0);
+        // Depth first, parents before children (the walk bounded the depth).
+        std::vector<std::pair<const aiNode*, uint32_t>> stack{{scene_->mRootNode, 0u}};
+        while (!stack.empty()) {
+            const auto [node, parent] = stack.back();
+            stack.pop_back();
+            if (rig.nodes.size() >= kMaxAnimatedNodes) return makeError(file_ + ": more than " + std::to_string(kMaxAnimatedNodes) + " nodes to animate");
+            RigNode n;
+            n.name = node->mName.C_Str();
+            n.parent = int(parent);
+            aiVector3D s, t;
+            aiQuaternion r;
+            node->mTransformation.Decompose(s, r, t);
+            n.translation = glm::dvec3(t.x, t.y, t.z);
+            n.rotation = glm::normalize(glm::dquat(r.w, r.x, r.y, r.z));
+            n.scale = glm::dvec3(s.x, s.y, s.z);
+            // A transform with shear is not a TRS: kept as a matrix (not animatable, as in glTF).
+            const glm::dmat4 rebuilt = glm::translate(glm::dmat4(1.0), n.translation) * glm::mat4_cast(n.rotation) * glm::scale(glm::dmat4(1.0), n.scale);
+            const glm::dmat4 given = toGlm(node->mTransformation);
+            double off = 0.0, size = 1e-9;
+            for (int c = 0; c < 4; ++c)
+                for (int k = 0; k < 4; ++k) off = std::max(off, std::abs(rebuilt[c][k] - given[c][k])), size = std::max(size, std::abs(given[c][k]));
+            if (!(off <= 1e-5 * size)) {
+                n.hasMatrix = true;
+                n.matrix = given;
+            }
+            const uint32_t i = uint32_t(rig.nodes.size());
+            index[node] = i;
+            byName.emplace(n.name, i);   // the first of a name
+            rig.nodes.push_back(std::move(n));
+            rig.order.push_back(i);
+            for (unsigned c = node->mNumChildren; c-- > 0;) stack.push_back({node->mChildren[c], i});
+        }
+        uint64_t keyframes = 0;
+        bool skipped = false;
+        for (unsigned a = 0; a < scene_->mNumAnimations; ++a) {
+            const aiAnimation* anim = scene_->mAnimations[a];
+            const double ticks = anim->mTicksPerSecond > 0.0 ? anim->mTicksPerSecond : 25.0;   // Assimp's default
+            ModelAnimation m;
+            m.name = anim->mName.length ? anim->mName.C_Str() : "animation " + std::to_string(a);
+            skipped |= anim->mNumMeshChannels > 0 || anim->mNumMorphMeshChannels > 0;
+            for (unsigned c = 0; c < anim->mNumChannels; ++c) {
+                const aiNodeAnim* ch = anim->mChannels[c];
+                const auto node = byName.find(ch->mNodeName.C_Str());
+                if (node == byName.end() || rig.nodes[node->second].hasMatrix) {
+                    skipped = true;
+                    continue;
+                }
+                // One sampler from a key array: seconds and values, increasing times only.
+                const auto add = [&](AnimationPath path, unsigned count, uint32_t components, auto timeOf, auto valuesOf) {
+                    AnimationSampler sampler;
+                    sampler.components = components;
+                    for (unsigned k = 0; k < count; ++k) {
+                        const double t = timeOf(k) / ticks;
+                        if (!std::isfinite(t) || (!sampler.times.empty() && t <= double(sampler.times.back()))) continue;
+                        sampler.times.push_back(float(t));
+                        valuesOf(k, sampler.values);
+                    }
+                    if (sampler.times.empty()) return;
+                    keyframes += sampler.times.size();
+                    m.duration = std::max(m.duration, double(sampler.times.back()));
+                    m.channels.push_back({node->second, path, uint32_t(m.samplers.size())});
+                    m.samplers.push_back(std::move(sampler));
+                };
+                add(AnimationPath::Translation, ch->mNumPositionKeys, 3, [&](unsigned k) { return ch->mPositionKeys[k].mTime; },
+                    [&](unsigned k, std::vector<float>& v) {
+                        const aiVector3D& p = ch->mPositionKeys[k].mValue;
+                        v.insert(v.end(), {p.x, p.y, p.z});
+                    });
+                add(AnimationPath::Rotation, ch->mNumRotationKeys, 4, [&](unsigned k) { return ch->mRotationKeys[k].mTime; },
+                    [&](unsigned k, std::vector<float>& v) {
+                        const aiQuaternion& q = ch->mRotationKeys[k].mValue;
+                        v.insert(v.end(), {q.x, q.y, q.z, q.w});
+                    });
+                add(AnimationPath::Scale, ch->mNumScalingKeys, 3, [&](unsigned k) { return ch->mScalingKeys[k].mTime; },
+                    [&](unsigned k, std::vector<float>& v) {
+                        const aiVector3D& p = ch->mScalingKeys[k].mValue;
+                        v.insert(v.end(), {p.x, p.y, p.z});
+                    });
+                if (keyframes > kMaxGltfKeyframes)
+                    return makeError(file_ + ": its animations have more than " + std::to_string(kMaxGltfKeyframes) + " keyframes");
+            }
+            if (!m.channels.empty()) rig.animations.push_back(std::move(m));
+        }
+        if (skipped) warnOnce(out, "some of its animations are not read (mesh or morph animations, or nodes given as matrices with shear)");
+        // Only what moves a drawn node counts (a skeleton's bones move nothing while skins are
+        // not read): otherwise the model keeps the fast, unposed path.
+        std::vector<bool> carries(rig.nodes.size(), false);   // a draw's node or one above it
+        for (const aiNode* n : drawNodes_)
+            for (int i = int(index.at(n)); i >= 0 && !carries[size_t(i)]; i = rig.nodes[size_t(i)].parent) carries[size_t(i)] = true;
+        bool moves = false;
+        for (const ModelAnimation& a : rig.animations)
+            for (const AnimationChannel& c : a.channels) moves |= carries[c.node];
+        if (!moves) {
+            warnOnce(out, "its animations move no node that draws (a skeleton's, whose skins are not read): the rest pose is drawn");
+            return {};
+        }
+        for (size_t d = 0; d < out.draws.size(); ++d) out.draws[d].node = int(index.at(drawNodes_[d]));
+        out.rig = std::move(rig);
+        posedBounds(out);
+        return {};
+    }
+
     const std::string file_;        // for messages
     const std::string modelPath_;   // what Assimp reads (a /vsizip/ path inside a KMZ)
     const MeshImportOptions& options_;
     const aiScene* scene_ = nullptr;
     std::vector<int> meshPrimitive_;
+    std::vector<const aiNode*> drawNodes_;   // each draw's node
     std::set<std::string> warned_;
 };
 

@@ -3,8 +3,10 @@
 // libassimp): Wavefront OBJ + MTL, FBX, COLLADA (.dae, and the model a KMZ holds), 3DS, PLY and
 // STL, into the same flat, GPU-ready ModelData the glTF reader makes (GltfModel.h): every
 // triangle mesh of the node hierarchy a range of one shared vertex/index array, drawn with its
-// node's transform. Static: a file's animations and skins are not read (its rest pose is drawn,
-// with a warning); glTF keeps its own reader. No Vulkan.
+// node's transform. A file's node animations (translation, rotation and scale keys of its nodes:
+// FBX, COLLADA, ...) become a rig with glTF's animation model (GltfAnimation.h) and play as
+// glTF's do, when they move a node that draws; skins, mesh and morph animations are not read
+// (their meshes keep the rest pose, with a warning). glTF keeps its own reader. No Vulkan.
 //
 // Axes and units. ModelData is in glTF's axes (metres, +Y up, the front facing +Z). What a file
 // says is honoured: FBX's axis and unit settings (UpAxis, FrontAxis, CoordAxis with their signs;

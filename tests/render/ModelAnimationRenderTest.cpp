@@ -105,6 +105,24 @@ TEST_F(ModelAnimationRender, SkinnedArmBendsWithSceneTime) {
     EXPECT_LT(countDifferentPixels(straight, renderAt(*rest, 0.75), 2), 10u);
 }
 
+// A mesh file's node animation (COLLADA through Assimp) plays on the scene's time as glTF's do:
+// the moving triangle is elsewhere at 1 s than at 0 s, looped after its 2 s; "animation": false
+// keeps the rest pose.
+TEST_F(ModelAnimationRender, MeshFileNodeAnimationPlaysOnSceneTime) {
+    const fs::path file = dir_ / "moving.dae";
+    std::ofstream(file) << movingNodesCollada(1.5, 0.6);
+    auto s = load(modelScene(file, ""));
+    ASSERT_TRUE(s);
+    const auto start = renderAt(*s, 0.0);
+    const auto later = renderAt(*s, 1.0);
+    EXPECT_GT(countDifferentPixels(start, later, 8), 100u) << "the mover did not move";
+    EXPECT_LT(countDifferentPixels(later, renderAt(*s, 1.0 + 2.0 * 3), 2), 10u) << "looped every 2 s";
+    auto rest = load(modelScene(file, R"(, "animation": false)"));
+    ASSERT_TRUE(rest);
+    EXPECT_LT(countDifferentPixels(start, renderAt(*rest, 1.0), 2), 10u);
+    EXPECT_TRUE(matchesGolden(later, "model_mesh_animation_1s"));
+}
+
 TEST_F(ModelAnimationRender, CopiesAtOneAnimationTimeShareAPose) {
     // Five copies one loop apart (spacing = the 1 s animation with speed 1... looped) share one
     // pose; 0.3 s apart they need five; not looped and past the end they share the last.

@@ -106,4 +106,29 @@ inline std::string twoJointArmGltf(const std::vector<int>& skinJoints = {0, 1}) 
     return b.text();
 }
 
+/// A COLLADA file (Y up, metres) of two triangles (0, 0, 0), (1, 0, 0), (0, 1, 0) scaled by
+/// `size`: node "still", and node "mover" whose translation channel has keys at 0, 1 and 2 s
+/// putting it at (0, 0, 0), (d, 0, 0) and (d, d / 2, 0), d = `distance`. Read through Assimp.
+inline std::string movingNodesCollada(double distance, double size = 1.0) {
+    const auto n = [](double v) { return std::to_string(v); };
+    return R"(<?xml version="1.0"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1"><asset><up_axis>Y_UP</up_axis></asset>
+<library_geometries><geometry id="tri"><mesh><source id="p"><float_array id="pa" count="9">0 0 0 )" + n(size) + " 0 0 0 " + n(size) + R"( 0</float_array>
+  <technique_common><accessor source="#pa" count="3" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
+  <vertices id="v"><input semantic="POSITION" source="#p"/></vertices><triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles></mesh></geometry></library_geometries>
+<library_animations><animation id="move">
+  <source id="in"><float_array id="in-a" count="3">0 1 2</float_array>
+    <technique_common><accessor source="#in-a" count="3" stride="1"><param name="TIME" type="float"/></accessor></technique_common></source>
+  <source id="out"><float_array id="out-a" count="9">0 0 0 )" + n(distance) + " 0 0 " + n(distance) + " " + n(distance / 2) + R"( 0</float_array>
+    <technique_common><accessor source="#out-a" count="3" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
+  <source id="how"><Name_array id="how-a" count="3">LINEAR LINEAR LINEAR</Name_array>
+    <technique_common><accessor source="#how-a" count="3" stride="1"><param name="INTERPOLATION" type="name"/></accessor></technique_common></source>
+  <sampler id="s"><input semantic="INPUT" source="#in"/><input semantic="OUTPUT" source="#out"/><input semantic="INTERPOLATION" source="#how"/></sampler>
+  <channel source="#s" target="mover/location"/></animation></library_animations>
+<library_visual_scenes><visual_scene id="scene">
+  <node id="still" name="still"><instance_geometry url="#tri"/></node>
+  <node id="mover" name="mover"><translate sid="location">0 0 0</translate><instance_geometry url="#tri"/></node>
+</visual_scene></library_visual_scenes><scene><instance_visual_scene url="#scene"/></scene></COLLADA>)";
+}
+
 }  // namespace orbis::test

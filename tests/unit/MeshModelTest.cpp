@@ -6,9 +6,11 @@
 // without bound, truncated files) refused with clear errors. The real files come from Debian's
 // assimp-testmodels; tests that need them skip without it.
 #include "base/Png.h"
+#include "layers/models/GltfAnimation.h"
 #include "layers/models/MeshChecks.h"
 #include "layers/models/MeshModel.h"
 #include "tests/support/ProcessTempDir.h"
+#include "tests/unit/GltfTestFiles.h"
 
 #include <cpl_vsi.h>
 #include <gtest/gtest.h>
@@ -162,6 +164,39 @@ TEST(MeshModel, TextureWrapModesFollowTheMaterial) {
         EXPECT_EQ(t.wrapV, want) << mat.name;
         EXPECT_EQ(t.width, 2u);
     }
+}
+
+// A file's node animations play as glTF's do: a COLLADA node moved by a translation channel
+// (keys at 0, 1 and 2 s) is where its keys put it between them; the still node stays.
+TEST(MeshModel, NodeAnimationsPlay) {
+    const fs::path dir = test::processTempDir("orbis-mesh-anim");
+    std::ofstream(dir / "moving.dae") << test::movingNodesCollada(10.0);
+    auto m = loadMesh((dir / "moving.dae").string());
+    ASSERT_TRUE(m.ok()) << m.message();
+    ASSERT_TRUE(m->animated());
+    ASSERT_EQ(m->rig.animations.size(), 1u);
+    EXPECT_NEAR(m->rig.animations[0].duration, 2.0, 1e-6);
+    ASSERT_EQ(m->draws.size(), 2u);
+    int still = -1, mover = -1;
+    for (const ModelDraw& d : m->draws) {
+        ASSERT_GE(d.node, 0);
+        (m->rig.nodes[size_t(d.node)].name == "mover" ? mover : still) = d.node;
+    }
+    ASSERT_GE(mover, 0);
+    ASSERT_GE(still, 0);
+    PoseEvaluator pose(*m, 0);
+    EXPECT_TRUE(pose.moves());
+    std::vector<glm::vec4> block(pose.layout().vec4s);
+    for (const auto& [t, x, y] : std::vector<std::tuple<double, double, double>>{{0.0, 0, 0}, {0.5, 5, 0}, {1.5, 10, 2.5}, {2.0, 10, 5}}) {
+        pose.evaluate(t, block.data());
+        const glm::dvec3 at(pose.globals()[size_t(mover)][3]);
+        EXPECT_NEAR(at.x, x, 1e-4) << "at " << t << " s";
+        EXPECT_NEAR(at.y, y, 1e-4) << "at " << t << " s";
+        EXPECT_NEAR(glm::length(glm::dvec3(pose.globals()[size_t(still)][3])), 0.0, 1e-9) << "at " << t << " s";
+    }
+    // The bounds hold every pose: from the still triangle to the mover's last place.
+    EXPECT_NEAR(m->boundsMax.x, 11.0, 1e-3);
+    EXPECT_NEAR(m->boundsMax.y, 6.0, 1e-3);
 }
 
 TEST(MeshModel, ColladaAndTheModelInsideAKmz) {
