@@ -34,9 +34,9 @@
 //
 // Animation (layers/models/GltfAnimation.h). A model with animations (glTF's, or a mesh file's
 // node animations, MeshModel.h) plays one on the scene's virtual time, never the wall clock: the
-// first unless "animation" names another (by name or index), looped unless "loop" is false, at "speed" animation seconds per scene second.
-// Its time 0 is "start", by default the trajectory's first sample, else the scene's
-// "time.start", else 1970-01-01T00:00:00Z. Copy i, which is where the model was i x spacing
+// first unless "animation" names another (by name or index), looped unless "loop" is false, at
+// "speed" animation seconds per scene second. Its time 0 is "start", by default the
+// trajectory's first sample, else the scene's "time.start", else 1970-01-01T00:00:00Z. Copy i, which is where the model was i x spacing
 // seconds earlier, is also in its animation i x spacing seconds earlier. "animation": false
 // keeps the rest pose. Skins and morph targets are applied whether or not an animation plays.
 //
