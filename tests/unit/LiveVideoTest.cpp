@@ -477,21 +477,39 @@ TEST(LiveVideo, RecordingStartedAndStoppedWhileLiveBeginsAtAKeyFrame) {
     std::filesystem::remove_all(dir);
 }
 
-// A sender that stops and comes back on a new clock while the feed is recorded: the file goes
-// on, the second flight after the first with the silence between, every frame with its own
-// KLV, and plays back through the file path.
-TEST(LiveVideo, ARecordingGoesOnWhenTheStreamComesBack) {
-    const auto dir = std::filesystem::temp_directory_path() / ("orbis-live-record4-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
-    const std::string recording = (dir / "both.ts").string();
-    const int port = net::freeUdpPort();
-    ASSERT_GT(port, 0);
+/// A folder of its own for a test, removed with everything in it at the end.
+struct ScratchDir {
+    std::filesystem::path path;
+    explicit ScratchDir(const std::string& name)
+        : path(std::filesystem::temp_directory_path() / (name + "-" + std::to_string(::getpid()))) {
+        std::filesystem::create_directories(path);
+    }
+    ~ScratchDir() {
+        std::error_code ignored;
+        std::filesystem::remove_all(path, ignored);
+    }
+};
+
+/// A feed recorded into `recording` that takes 0.5 s of silence for no signal and tries again
+/// every 0.1 s.
+LiveOptions recordedQuickly(const std::string& recording) {
     LiveOptions options;
     options.wholeFrames = true;
     options.noSignalSeconds = 0.5;
     options.retrySeconds = 0.1;
     options.recordPath = recording;
-    auto live = LiveVideo::open(udpUrl(port), options);
+    return options;
+}
+
+// A sender that stops and comes back on a new clock while the feed is recorded: the file goes
+// on, the second flight after the first with the silence between, every frame with its own
+// KLV, and plays back through the file path.
+TEST(LiveVideo, ARecordingGoesOnWhenTheStreamComesBack) {
+    const ScratchDir dir("orbis-live-record4");
+    const std::string recording = (dir.path / "both.ts").string();
+    const int port = net::freeUdpPort();
+    ASSERT_GT(port, 0);
+    auto live = LiveVideo::open(udpUrl(port), recordedQuickly(recording));
     ASSERT_TRUE(live) << live.message();
     std::this_thread::sleep_for(200ms);
     Seen seen;
@@ -536,23 +554,16 @@ TEST(LiveVideo, ARecordingGoesOnWhenTheStreamComesBack) {
         EXPECT_NEAR(got.latDeg, want.latDeg, 1e-6) << "frame " << i;
         EXPECT_NEAR(got.lonDeg, want.lonDeg, 1e-6) << "frame " << i;
     }
-    std::filesystem::remove_all(dir);
 }
 
 // Stop pressed while the feed has no signal closes the recording then (between attempts to open
 // the stream again), not when data comes again: the file is whole while the layer lives on.
 TEST(LiveVideo, ARecordingStoppedWithoutSignalIsClosedAtOnce) {
-    const auto dir = std::filesystem::temp_directory_path() / ("orbis-live-record3-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
-    const std::string recording = (dir / "silent.ts").string();
+    const ScratchDir dir("orbis-live-record3");
+    const std::string recording = (dir.path / "silent.ts").string();
     const int port = net::freeUdpPort();
     ASSERT_GT(port, 0);
-    LiveOptions options;
-    options.wholeFrames = true;
-    options.noSignalSeconds = 0.5;
-    options.retrySeconds = 0.1;
-    options.recordPath = recording;
-    auto live = LiveVideo::open(udpUrl(port), options);
+    auto live = LiveVideo::open(udpUrl(port), recordedQuickly(recording));
     ASSERT_TRUE(live) << live.message();
     std::this_thread::sleep_for(200ms);
     {
@@ -570,7 +581,6 @@ TEST(LiveVideo, ARecordingStoppedWithoutSignalIsClosedAtOnce) {
     ASSERT_TRUE(file) << file.message();
     EXPECT_EQ((*file)->frameCount(), 20u) << "every frame recorded is in the file, the layer still open";
     live->reset();
-    std::filesystem::remove_all(dir);
 }
 
 // A host name that does not resolve: no signal, saying which host; the lookup runs off the
