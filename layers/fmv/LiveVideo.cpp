@@ -947,6 +947,7 @@ Result<std::unique_ptr<LiveVideo>> LiveVideo::open(const std::string& url, LiveO
         return makeError("\"" + url + "\": a live stream is a URL (udp://, tcp://, http://, srt://, rtp://)");
     const std::string scheme = url.substr(0, colon);
     if (scheme == "file") return makeError(url + ": a file is played from \"path\", not as a live stream");
+    if (scheme == "srt") startSrtOnce();
     bool known = false;
     void* opaque = nullptr;
     while (const char* name = avio_enum_protocols(&opaque, 0)) known |= scheme == name;

@@ -56,6 +56,7 @@ Result<std::unique_ptr<VideoWriter>> VideoWriter::create(const std::string& path
     if (o.listen && !(o.live && (scheme("tcp") || scheme("srt") || scheme("http"))))
         return fail("only a live tcp://, srt:// or http:// stream can wait for its receiver");
     const char* muxerName = o.live && scheme("rtp") ? "rtp_mpegts" : "mpegts";
+    if (scheme("srt")) startSrtOnce();
     if (int rc = avformat_alloc_output_context2(&m.format, nullptr, muxerName, path.c_str()); rc < 0 || !m.format)
         return fail("cannot make an MPEG-TS (" + avError(rc) + ")");
     if (!o.withVideo && !o.withKlv) return fail("a file needs a video or a KLV stream");
