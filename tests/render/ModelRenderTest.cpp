@@ -11,6 +11,7 @@
 #include "tests/support/GoldenImage.h"
 #include "tests/support/GpuTest.h"
 
+#include <cpl_vsi.h>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -224,6 +225,40 @@ TEST_F(ModelRender, MeshFormatsStandUprightAtTrueScale) {
     auto bad = scene::Scene::build(std::move(*sideways), registry_);
     ASSERT_FALSE(bad);
     EXPECT_NE(bad.message().find("\"y\" or \"z\""), std::string::npos) << bad.message();
+}
+
+// The other mesh formats side by side the same way: the Wuson figure as binary STL (no shared
+// vertices: Assimp joins them), the spider as FBX (centimetres, its texture on the author's
+// disk: drawn white, with a warning) and the COLLADA duck inside a KMZ, as SketchUp writes them.
+TEST_F(ModelRender, StlFbxAndKmzModelsStandUprightAtTrueScale) {
+    const fs::path models = "/usr/share/assimp/models";
+    if (!fs::exists(models / "Collada" / "duck.dae")) GTEST_SKIP() << "assimp-testmodels is not installed";
+    const fs::path dir = fs::path(testOutputDir()) / ("model-kmz-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const fs::path kmz = dir / "duck.kmz";
+    const auto slurp = [](const fs::path& p) {
+        std::ifstream in(p, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    for (const auto& [name, bytes] : std::vector<std::pair<std::string, std::string>>{
+             {"doc.kml", R"(<kml xmlns="http://www.opengis.net/kml/2.2"><Placemark><Model><Link><href>models/duck.dae</href></Link></Model></Placemark></kml>)"},
+             {"models/duck.dae", slurp(models / "Collada" / "duck.dae")},
+             {"models/duckCM.tga", slurp(models / "Collada" / "duckCM.tga")}}) {
+        VSILFILE* f = VSIFOpenL(("/vsizip/" + kmz.string() + "/" + name).c_str(), "wb");
+        ASSERT_NE(f, nullptr) << name;
+        VSIFWriteL(bytes.data(), 1, bytes.size(), f);
+        VSIFCloseL(f);
+    }
+    const auto at = [](double east) { return std::string("[").append(std::to_string(7.0 + east / 77000.0)).append(", 46.0, 0.0]"); };
+    auto s = load(R"({"viewpoint": {"lon": 7.0000325, "lat": 46.0, "height": 0, "heading": 0, "pitch": -12, "range": 14},
+        "time": {"start": "2026-03-20T10:00:00Z"},
+        "layers": [{"type": "globe", "name": "Earth"},
+                   {"type": "model", "name": "Duck", "file": )" + jsonString(kmz) + R"(, "position": )" + at(0.0) + R"(, "attitude": [200, 0, 0]},
+                   {"type": "model", "name": "Wuson", "file": )" + jsonString(models / "STL" / "Wuson.stl") + R"(, "position": )" + at(2.5) + R"(, "attitude": [180, 0, 0]},
+                   {"type": "model", "name": "Spider", "file": )" + jsonString(models / "FBX" / "spider.fbx") + R"(, "position": )" + at(-3.0) + R"(, "scale": 0.015, "attitude": [180, 0, 0]}]})");
+    ASSERT_TRUE(s);
+    EXPECT_TRUE(matchesGolden(render(*s, 400, 240), "model_mesh_formats_stl_fbx_kmz"));
+    fs::remove_all(dir);
 }
 
 // A texture's wrap modes from a mesh file: two quads whose u runs from -1 to 2 under a texture
