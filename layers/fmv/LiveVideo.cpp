@@ -1,21 +1,15 @@
 #include "layers/fmv/LiveVideo.h"
 
 #include "layers/fmv/AvError.h"
+#include "layers/fmv/LiveInput.h"
 
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
-#include <libavutil/base64.h>
 #include <libswscale/swscale.h>
 }
 
-#include <arpa/inet.h>
-#include <netdb.h>
-
 #include <algorithm>
-#include <cstdarg>
-#include <cstdlib>
-#include <cstring>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -23,7 +17,6 @@ extern "C" {
 #include <deque>
 #include <fstream>
 #include <mutex>
-#include <unordered_map>
 #include <thread>
 
 namespace orbis::fmv {
@@ -44,67 +37,6 @@ double wallClockSeconds() {
 namespace {
 
 double steadySeconds() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
-
-/// The host a URL names when it is a name to look up (not an address, not empty), else "".
-std::string hostToResolve(const std::string& url) {
-    char host[256] = {};
-    int port = -1;
-    av_url_split(nullptr, 0, nullptr, 0, host, sizeof host, &port, nullptr, 0, url.c_str());
-    const std::string h = host;
-    if (h.empty() || h.find(':') != std::string::npos) return {};   // none, or IPv6
-    in_addr v4{};
-    if (inet_pton(AF_INET, h.c_str(), &v4) == 1) return {};
-    return h;
-}
-
-/// Looks `host` up on a thread of its own: getaddrinfo cannot be interrupted, and a name that
-/// does not resolve can take the resolver's whole timeout. The caller waits while `keepWaiting`
-/// says so and gives up otherwise (the lookup then ends on its own, unwatched). "" when found.
-std::string resolveHost(const std::string& host, const std::function<bool()>& keepWaiting) {
-    struct Lookup {
-        std::mutex m;
-        std::condition_variable done;
-        bool finished = false;
-        int rc = 0;
-    };
-    auto lookup = std::make_shared<Lookup>();
-    std::thread([lookup, host] {
-        addrinfo hints{};
-        hints.ai_family = AF_UNSPEC;
-        addrinfo* found = nullptr;
-        const int rc = getaddrinfo(host.c_str(), nullptr, &hints, &found);
-        if (found) freeaddrinfo(found);
-        std::lock_guard lock(lookup->m);
-        lookup->rc = rc;
-        lookup->finished = true;
-        lookup->done.notify_all();
-    }).detach();
-    std::unique_lock lock(lookup->m);
-    while (!lookup->finished) {
-        lookup->done.wait_for(lock, std::chrono::milliseconds(50));
-        if (!lookup->finished && !keepWaiting()) return "no answer yet looking up the host " + host;
-    }
-    return lookup->rc == 0 ? std::string() : "cannot find the host " + host + " (" + gai_strerror(lookup->rc) + ")";
-}
-
-/// rtp://HOST:PORT as a data: URI of the SDP that describes MPEG-TS over RTP (payload type 33)
-/// arriving there: unicast to HOST's port, or a multicast group joined.
-std::string rtpSdpUri(const std::string& url) {
-    char host[256] = {}, path[8] = {};
-    int port = -1;
-    av_url_split(nullptr, 0, nullptr, 0, host, sizeof host, &port, path, sizeof path, url.c_str());
-    const std::string h = host;
-    const bool ip6 = h.find(':') != std::string::npos;
-    const int first = ip6 ? 0 : std::atoi(h.c_str());
-    const bool multicast = ip6 ? h.rfind("ff", 0) == 0 : first >= 224 && first <= 239;
-    const std::string sdp = std::string("v=0\r\no=- 0 0 IN ") + (ip6 ? "IP6 " : "IP4 ") + h + "\r\ns=Orbis live feed\r\nc=IN " +
-                            (ip6 ? "IP6 " : "IP4 ") + h + (multicast && !ip6 ? "/16" : "") + "\r\nt=0 0\r\nm=video " +
-                            std::to_string(port) + " RTP/AVP 33\r\na=rtpmap:33 MP2T/90000\r\n";
-    std::string encoded(AV_BASE64_SIZE(sdp.size()), '\0');
-    av_base64_encode(encoded.data(), int(encoded.size()), reinterpret_cast<const uint8_t*>(sdp.data()), int(sdp.size()));
-    encoded.resize(std::strlen(encoded.c_str()));
-    return "data:application/sdp;base64," + encoded;
-}
 
 struct QueuedFrame {
     std::shared_ptr<const VideoFrame> frame;
@@ -179,48 +111,6 @@ struct Decoder {
     }
 };
 
-/// The continuity gaps a session's MPEG-TS demuxer reports. libavformat 5.1 sees a gap in a
-/// stream's continuity counters (a datagram lost) and marks the PES it falls in corrupt, but its
-/// parser drops the mark; the report it logs is the one trace left. The log callback takes it
-/// on the demuxing thread (the session's own), with the byte position the demuxer had reached.
-struct GapSink {
-    int videoPid = -1;
-    uint64_t all = 0;                 // gaps in any stream
-    std::deque<int64_t> videoGaps;    // positions in the stream just after a gap in the video (-1: unknown)
-
-    /// Whether a gap fell in the video packet at `pos` of `size` bytes: between its first byte
-    /// and the end of the transport packets that can carry it (each carries at most 184).
-    /// Gaps before it are dropped; without positions (RTP) any gap since the last packet counts.
-    bool takeFor(int64_t pos, int size) {
-        bool hit = false;
-        const int64_t end = pos + (int64_t(size) + 40) / 184 * 188 + 188;
-        while (!videoGaps.empty() && (pos < 0 || videoGaps.front() < 0 || videoGaps.front() <= end)) {
-            hit |= pos < 0 || videoGaps.front() < 0 || videoGaps.front() > pos;
-            videoGaps.pop_front();
-        }
-        return hit;
-    }
-};
-
-/// The demuxers whose gaps are counted; the log callback looks its context up here.
-std::mutex gapSinksMutex;
-std::unordered_map<const void*, GapSink*> gapSinks;
-
-/// Registers `sink` for `format`'s reports while it lives.
-struct GapWatch {
-    const void* format;
-    GapWatch(const void* f, GapSink* sink) : format(f) {
-        std::lock_guard lock(gapSinksMutex);
-        gapSinks[format] = sink;
-    }
-    ~GapWatch() {
-        std::lock_guard lock(gapSinksMutex);
-        gapSinks.erase(format);
-    }
-    GapWatch(const GapWatch&) = delete;
-    GapWatch& operator=(const GapWatch&) = delete;
-};
-
 }  // namespace
 
 struct LiveVideo::Impl {
@@ -280,7 +170,7 @@ struct LiveVideo::Impl {
     AVPacket* takeWholeFrames(AVStream* stream, AVCodecContext* codec);
     std::string decode(Decoder& d, const AVPacket& packet, bool lostData);
     /// Whether a continuity gap fell in this video packet (counts the gaps and damaged frames).
-    bool lostData(GapSink& gaps, const AVPacket& packet);
+    bool lostData(ContinuityGaps& gaps, const AVPacket& packet);
     void noteTime(double t);
     void noteData(size_t bytes);
     void pushFrame(std::shared_ptr<VideoFrame> frame, double streamTime, bool damaged);
@@ -373,9 +263,7 @@ std::string LiveVideo::Impl::session() {
     }
     if (video < 0) return klv >= 0 ? "KLV metadata but no video stream" : "no video stream";
     AVStream* vs = format->streams[video];
-    GapSink gaps;
-    gaps.videoPid = vs->id;   // the PID, for MPEG-TS
-    const GapWatch watchGaps(format, &gaps);
+    ContinuityGaps gaps(format, vs->id);   // the video's PID, for MPEG-TS
     const AVCodec* decoder = avcodec_find_decoder(vs->codecpar->codec_id);
     if (!decoder) return std::string("no decoder for its video codec ").append(avcodec_get_name(vs->codecpar->codec_id));
     Decoder d;
@@ -481,14 +369,12 @@ AVPacket* LiveVideo::Impl::takeWholeFrames(AVStream* stream, AVCodecContext* cod
     return p;
 }
 
-bool LiveVideo::Impl::lostData(GapSink& gaps, const AVPacket& packet) {
-    std::lock_guard gapLock(gapSinksMutex);
-    const bool hit = gaps.takeFor(packet.pos, packet.size);
+bool LiveVideo::Impl::lostData(ContinuityGaps& gaps, const AVPacket& packet) {
+    const ContinuityGaps::Taken t = gaps.take(packet.pos, packet.size);
     std::lock_guard lock(mutex);
-    stats.continuityGaps += gaps.all;
-    gaps.all = 0;
-    stats.framesDamaged += hit;
-    return hit;
+    stats.continuityGaps += t.gaps;
+    stats.framesDamaged += t.inPacket;
+    return t.inPacket;
 }
 
 /// One video packet into the decoder, the frames that come out onto the queue. A packet that
@@ -907,39 +793,11 @@ std::string LiveVideo::inputProtocols() {
     return out;
 }
 
-/// FFmpeg's messages, less its decoders' (joining a stream mid-way and lost datagrams make them
-/// complain every frame; the damage is counted in LiveStats).
-void quietDecoders(void* object, int level, const char* format, va_list args) {
-    static constexpr char kGap[] = "Continuity check failed for pid ";
-    if (object && format && std::strncmp(format, kGap, sizeof kGap - 1) == 0) {
-        std::lock_guard lock(gapSinksMutex);
-        if (const auto it = gapSinks.find(object); it != gapSinks.end()) {
-            va_list copy;
-            va_copy(copy, args);
-            const int pid = va_arg(copy, int);
-            va_end(copy);
-            GapSink& sink = *it->second;
-            ++sink.all;
-            if (pid == sink.videoPid) {
-                const AVFormatContext* f = static_cast<const AVFormatContext*>(object);
-                sink.videoGaps.push_back(f->pb ? avio_tell(f->pb) : -1);
-                if (sink.videoGaps.size() > 4096) sink.videoGaps.pop_front();
-            }
-            return;
-        }
-    }
-    if (object && level > AV_LOG_FATAL) {
-        const AVClass* c = *static_cast<const AVClass* const*>(object);
-        if (c && (c->get_category ? c->get_category(object) : c->category) == AV_CLASS_CATEGORY_DECODER) return;
-    }
-    av_log_default_callback(object, level, format, args);
-}
-
 Result<std::unique_ptr<LiveVideo>> LiveVideo::open(const std::string& url, LiveOptions options) {
     static std::once_flag network;
     std::call_once(network, [] {
         avformat_network_init();
-        av_log_set_callback(&quietDecoders);
+        av_log_set_callback(&liveLogCallback);
     });
     av_log_set_level(AV_LOG_ERROR);
     const size_t colon = url.find("://");
