@@ -56,6 +56,14 @@ void watch(LiveVideo& live, Seen& seen, const std::function<bool()>& until, std:
     }
 }
 
+/// Polls `live` while `sender` sends its `frames` (checked), then half a second more for the
+/// last ones.
+void watchUntilSent(LiveVideo& live, Seen& seen, Sender& sender, int frames, std::chrono::milliseconds limit) {
+    watch(live, seen, [&] { return sender.done.wait_for(0s) == std::future_status::ready; }, limit);
+    EXPECT_EQ(sender.finish(), frames);
+    watch(live, seen, [&] { return false; }, 500ms);
+}
+
 FmvStreamOptions flight(int frames) {
     FmvStreamOptions o;
     o.frames = frames;
@@ -80,6 +88,16 @@ void expectPosesMatchFrames(const Seen& seen, int fps) {
     }
 }
 
+/// Every frame of a flight of `frames` at 10 fps arrived, none lost, each with a pose, at least
+/// `shownAtLeast` of them shown, each with the pose of its own time.
+void expectWholeFlight(const LiveStats& s, const Seen& seen, uint64_t frames, size_t shownAtLeast) {
+    EXPECT_EQ(s.framesDecoded, frames) << s.lastError;
+    EXPECT_EQ(s.framesLost, 0u);
+    EXPECT_GE(s.posesReceived, frames);
+    EXPECT_GE(seen.frames.size(), shownAtLeast);
+    expectPosesMatchFrames(seen, 10);
+}
+
 std::string udpUrl(int port) { return "udp://127.0.0.1:" + std::to_string(port); }
 
 class LiveVideoParsing : public testing::TestWithParam<bool> {};
@@ -100,9 +118,7 @@ TEST_P(LiveVideoParsing, ReceivesUdpFramesWithThePoseOfTheirTime) {
     o.stampWallClock = true;
     Sender sender(udpUrl(port), o);
     Seen seen;
-    watch(**live, seen, [&] { return sender.done.wait_for(0s) == std::future_status::ready; }, 10s);
-    EXPECT_EQ(sender.finish(), 30);
-    watch(**live, seen, [&] { return false; }, 500ms);
+    watchUntilSent(**live, seen, sender, 30, 10s);
     const LiveStats s = (*live)->stats();
     EXPECT_EQ(s.state, LiveState::Live) << s.lastError;
     EXPECT_EQ(s.width, 160);
@@ -135,9 +151,7 @@ TEST(LiveVideo, ReceivesTcpWithAsynchronousKlv) {
     auto live = LiveVideo::open("tcp://127.0.0.1:" + std::to_string(port), {});
     ASSERT_TRUE(live) << live.message();
     Seen seen;
-    watch(**live, seen, [&] { return sender.done.wait_for(0s) == std::future_status::ready; }, 10s);
-    EXPECT_EQ(sender.finish(), 25);
-    watch(**live, seen, [&] { return false; }, 500ms);
+    watchUntilSent(**live, seen, sender, 25, 10s);
     const LiveStats s = (*live)->stats();
     EXPECT_GE(s.framesDecoded, 24u);
     EXPECT_GE(s.posesReceived, 24u);
@@ -172,15 +186,8 @@ TEST_P(LiveVideoSrt, ReceivesTheFlightWithItsPoses) {
         sender = std::make_unique<Sender>(at + "?mode=caller", flight(25));
     }
     Seen seen;
-    watch(**live, seen, [&] { return sender->done.wait_for(0s) == std::future_status::ready; }, 10s);
-    EXPECT_EQ(sender->finish(), 25);
-    watch(**live, seen, [&] { return false; }, 500ms);
-    const LiveStats s = (*live)->stats();
-    EXPECT_EQ(s.framesDecoded, 25u) << s.lastError;
-    EXPECT_EQ(s.framesLost, 0u);
-    EXPECT_GE(s.posesReceived, 25u);
-    EXPECT_GE(seen.frames.size(), 8u);
-    expectPosesMatchFrames(seen, 10);
+    watchUntilSent(**live, seen, *sender, 25, 10s);
+    expectWholeFlight((*live)->stats(), seen, 25, 8);
 }
 
 TEST(LiveVideo, SaysNoSignalWhenTheSenderStopsAndResumesWhenItReturns) {
@@ -212,9 +219,7 @@ TEST(LiveVideo, SaysNoSignalWhenTheSenderStopsAndResumesWhenItReturns) {
     EXPECT_EQ(fixtureFrameNumber(held->frame->rgba, held->frame->width, held->frame->height), 11) << "the sender's last frame";
 
     Sender second(udpUrl(port), flight(15));   // a new sender: its clock starts again
-    watch(**live, seen, [&] { return second.done.wait_for(0s) == std::future_status::ready; }, 10s);
-    EXPECT_EQ(second.finish(), 15);
-    watch(**live, seen, [&] { return false; }, 500ms);
+    watchUntilSent(**live, seen, second, 15, 10s);
     s = (*live)->stats();
     EXPECT_EQ(s.state, LiveState::Live);
     EXPECT_GE(s.reconnects, 1u);
@@ -239,9 +244,7 @@ TEST(LiveVideo, ALossyLinkCostsOnlyTheDamagedFrames) {
     o.height = 240;
     Sender sender(udpUrl(relay.port()), o);
     Seen seen;
-    watch(**live, seen, [&] { return sender.done.wait_for(0s) == std::future_status::ready; }, 15s);
-    EXPECT_EQ(sender.finish(), 40);
-    watch(**live, seen, [&] { return false; }, 500ms);
+    watchUntilSent(**live, seen, sender, 40, 15s);
     const net::RelayCounts r = relay.counts();
     EXPECT_GT(r.dropped, 0u);
     EXPECT_GT(r.corrupted, 0u);
@@ -295,9 +298,7 @@ void expectDamageMarked(bool wholeFrames, bool skipDamaged) {
     o.height = 240;
     Sender sender(udpUrl(relay.port()), o);
     Seen seen;
-    watch(**live, seen, [&] { return sender.done.wait_for(0s) == std::future_status::ready; }, 15s);
-    EXPECT_EQ(sender.finish(), 60);
-    watch(**live, seen, [&] { return false; }, 500ms);
+    watchUntilSent(**live, seen, sender, 60, 15s);
     const LiveStats s = (*live)->stats();
     EXPECT_GT(relay.counts().dropped, 0u);
     EXPECT_GT(s.continuityGaps, 0u);
@@ -639,15 +640,8 @@ TEST(LiveVideo, ReceivesHttpFromAServer) {
     auto live = LiveVideo::open(url, options);
     ASSERT_TRUE(live) << live.message();
     Seen seen;
-    watch(**live, seen, [&] { return sender.done.wait_for(0s) == std::future_status::ready; }, 10s);
-    EXPECT_EQ(sender.finish(), 25);
-    watch(**live, seen, [&] { return false; }, 500ms);
-    const LiveStats s = (*live)->stats();
-    EXPECT_EQ(s.framesDecoded, 25u) << s.lastError;
-    EXPECT_EQ(s.framesLost, 0u);
-    EXPECT_GE(s.posesReceived, 25u);
-    EXPECT_GE(seen.frames.size(), 8u);
-    expectPosesMatchFrames(seen, 10);
+    watchUntilSent(**live, seen, sender, 25, 10s);
+    expectWholeFlight((*live)->stats(), seen, 25, 8);
 }
 
 TEST(LiveVideo, ReceivesRtp) {
@@ -661,15 +655,9 @@ TEST(LiveVideo, ReceivesRtp) {
     std::this_thread::sleep_for(200ms);
     Sender sender(url, flight(30));
     Seen seen;
-    watch(**live, seen, [&] { return sender.done.wait_for(0s) == std::future_status::ready; }, 10s);
-    EXPECT_EQ(sender.finish(), 30);
-    watch(**live, seen, [&] { return false; }, 500ms);
-    const LiveStats s = (*live)->stats();
-    EXPECT_EQ(s.framesDecoded, 30u) << s.lastError;
-    EXPECT_EQ(s.framesLost, 0u);
-    EXPECT_EQ(s.posesReceived, 30u);
-    EXPECT_GE(seen.frames.size(), 10u);
-    expectPosesMatchFrames(seen, 10);
+    watchUntilSent(**live, seen, sender, 30, 10s);
+    expectWholeFlight((*live)->stats(), seen, 30, 10);
+    EXPECT_EQ((*live)->stats().posesReceived, 30u);
 }
 
 TEST(LiveVideo, OnlyAConnectedProtocolCanWaitForItsReceiver) {
