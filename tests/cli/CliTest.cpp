@@ -343,6 +343,24 @@ TEST_F(CliGpu, BenchSweepReportsErrorAgainstRunTimeAndWritesAPlot) {
     EXPECT_NE(bad.output.find("noSuchKnob"), std::string::npos) << bad.output;
 }
 
+TEST_F(CliGpu, BenchSetChangesALiveSettingBeforeMeasuring) {
+    // --set K=V as the viewer's panel sets it: a setting the scene's layers take runs, one no
+    // layer takes is a clear error naming it, and a malformed one is a usage error.
+    const CliRun r = run(std::string("bench ") + ORBIS_DEFAULT_SCENE +
+                         " --set maxScreenSpaceError=8 --sweep maxScreenSpaceError=8,8 --frames 1 --warmup 0 --size 160x120 --json --plot " +
+                         (std::filesystem::temp_directory_path() / "orbis-cli-set.png").string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("\"rmse\": 0.0"), std::string::npos) << r.output;
+    const CliRun unknown = run(std::string("bench ") + ORBIS_DEFAULT_SCENE + " --set noSuchSetting=1 --frames 1 --size 64x48");
+    EXPECT_EQ(unknown.exitCode, 1) << unknown.output;
+    EXPECT_NE(unknown.output.find("noSuchSetting=1"), std::string::npos) << unknown.output;
+    for (const char* bad : {"--set =1", "--set steps", "--set steps=1,2", "--set steps=x"}) {
+        const CliRun usage = run(std::string("bench ") + ORBIS_DEFAULT_SCENE + " " + bad + " --frames 1 --size 64x48");
+        EXPECT_EQ(usage.exitCode, 2) << bad << ": " << usage.output;
+        EXPECT_NE(usage.output.find("--set"), std::string::npos) << bad << ": " << usage.output;
+    }
+}
+
 TEST_F(CliGpu, BenchIsoErrorReportsPositionErrorAgainstSteps) {
     // The sphere field's isosurface 16 (a sphere of 16 voxels), coarse and fine, with and
     // without refinement: refined hits sit on the reference's to a small fraction of a voxel;

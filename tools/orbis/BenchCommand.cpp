@@ -44,6 +44,8 @@ const char* kHelp =
     "                     compare the image with the first value's (the reference): RMSE, PSNR\n"
     "  --tiles LEVEL      tile throughput: the pager against a bare loop of GDAL reads over the same\n"
     "                     tiles of LEVEL (and their ancestors) on --threads N threads (default: cores)\n"
+    "  --set K=V          a layer's live setting (as the viewer's panel sets it) on every visible\n"
+    "                     layer that has it, before anything is measured; may be repeated\n"
     "  --plot FILE        with --sweep: the PNG plot of RMSE against ms/frame (default orbis-sweep.png);\n"
     "                     with --soak: the timelines (default orbis-soak.png)\n"
     "  --soak SECONDS     a long run as the viewer plays it (time playing, the camera looping along\n"
@@ -114,7 +116,7 @@ Args parseBenchArgs(const std::vector<std::string>& argv) {
     std::set<std::string> valued = gpuValuedOptions();
     valued.insert({"--frames", "--warmup", "--size", "--time", "--camera-path", "--sweep", "--plot", "--tiles", "--threads",
                    "--iso-error", "--video", "--seeks", "--poses", "--labels", "--margin", "--vector", "--level", "--runs",
-                   "--soak", "--live", "--update", "--feeds"});
+                   "--soak", "--live", "--update", "--feeds", "--set"});
     std::set<std::string> flags = gpuFlagOptions();
     flags.insert({"--help", "--json", "--layer"});
     return Args(argv, valued, flags, {{"-h", "--help"}});
@@ -170,6 +172,7 @@ int benchCommand(const std::vector<std::string>& argv) {
         return tileBench(args, *scene, *level, threads);
     }
     if (args.value("--iso-error")) return isoErrorBench(args, gpu, width, height, frames, warmup);
+    if (const int set = applySetOptions(args, *scene); set != kOk) return set;
     render::Renderer renderer(*gpu.device, width, height);
     if (args.value("--sweep")) return sweepBench(args, gpu, *scene, renderer, frames, warmup);
     if (auto seconds = args.number("--soak", 1.0, 1e6)) return soakBench(args, gpu, *scene, renderer, path, *seconds);

@@ -14,6 +14,12 @@
 
 namespace orbis::cli {
 
+/// Sets a live setting (LiveSettings::setParameter) on every visible layer that has it; false
+/// when none has it or every one refused the value (BenchSweep.cpp).
+bool setOnVisibleLayers(scene::Scene& scene, const std::string& name, double value);
+/// `--set K=V` (any number of them): each on the scene's visible layers before anything is
+/// measured; kOk, or kBadInput naming the setting no layer took (BenchSweep.cpp).
+int applySetOptions(const Args& args, scene::Scene& scene);
 /// `orbis bench SCENE --sweep K=v1,v2,...`: one row per value (BenchSweep.cpp).
 int sweepBench(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer, long frames,
                long warmup);

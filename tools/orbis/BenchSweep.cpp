@@ -51,15 +51,6 @@ double rmse(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
 
 double psnr(double rmseValue) { return rmseValue > 0.0 ? 20.0 * std::log10(255.0 / rmseValue) : INFINITY; }
 
-/// Sets the knob on every visible layer that has it; false when none has.
-bool setOnVisibleLayers(scene::Scene& scene, const std::string& name, double value) {
-    bool known = false;
-    for (auto& r : scene.resources())
-        if (scene::LiveSettings* live = r.layer->asLiveSettings(); live && r.visible)
-            known = live->setParameter(name, value) || known;
-    return known;
-}
-
 /// The row of the value just set: its data loaded, its frames timed, its image against the
 /// reference (which the first call takes).
 SweepRow measureValue(render::Renderer& renderer, scene::Scene& scene, double value, long frames, long warmup,
@@ -120,6 +111,28 @@ int writePlot(const Args& args, const SweepSpec& sweep, const std::vector<SweepR
 }
 
 }  // namespace
+
+bool setOnVisibleLayers(scene::Scene& scene, const std::string& name, double value) {
+    bool known = false;
+    for (auto& r : scene.resources())
+        if (scene::LiveSettings* live = r.layer->asLiveSettings(); live && r.visible)
+            known = live->setParameter(name, value) || known;
+    return known;
+}
+
+int applySetOptions(const Args& args, scene::Scene& scene) {
+    for (const std::string& spec : args.values("--set")) {
+        const auto eq = spec.find('=');
+        if (eq == std::string::npos || eq == 0) throw UsageError{"--set expects NAME=VALUE, got '" + spec + "'"};
+        const std::vector<double> value = numberList("--set", spec.substr(eq + 1));
+        if (value.size() != 1) throw UsageError{"--set expects one number after '=', got '" + spec + "'"};
+        if (!setOnVisibleLayers(scene, spec.substr(0, eq), value[0])) {
+            std::fprintf(stderr, "orbis: no visible layer of %s takes %s\n", args.positional()[0].c_str(), spec.c_str());
+            return kBadInput;
+        }
+    }
+    return kOk;
+}
 
 int sweepBench(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer, long frames,
                long warmup) {
