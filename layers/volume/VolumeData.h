@@ -87,6 +87,21 @@ struct TransferFunctionDesc {
 /// linear RGB + alpha, floats. Errors for an unknown colour map or an empty range.
 Result<std::vector<std::array<float, 4>>> buildTransferTable(const TransferFunctionDesc& desc, size_t size = 256);
 
+/// The pre-integrated transfer function of a transfer table (`table`, as buildTransferTable
+/// makes it, `n` entries): for a ray segment `step` long (box-normalised units, opacity per
+/// 1 / `opacityPerUnit` of them) along which the value runs linearly from table position i at
+/// its front to j at its back, entry [j * n + i] holds
+///   rgb: the colour the segment adds per unit of its opacity, its self-attenuation included
+///        (what it adds is alpha * rgb, premultiplied);
+///   a:   the mean of log2(1 - alpha) over the segment, alpha clamped to 0.9999 as the ray
+///        caster's table is: the segment's opacity is 1 - exp2(a * length * opacityPerUnit),
+///        exact for any length, since the values between table entries are linear.
+/// The colour is integrated in sub-steps (at least 2 per table entry crossed, at most 128);
+/// it is exact for segments `step` long and a close approximation for others (the ray caster
+/// marches in steps of about `step`). i == j is the plain table's entry.
+std::vector<std::array<float, 4>> buildPreIntegratedTable(const std::vector<std::array<float, 4>>& table, double step,
+                                                          double opacityPerUnit);
+
 /// Opacity of one step of length `step` when `alpha` is the opacity of a step of `reference`:
 /// 1 - (1 - alpha)^(step / reference), so that the result does not depend on the step count.
 double correctOpacity(double alpha, double step, double reference);

@@ -202,13 +202,17 @@ gpu::Specialization VolumeLayer::rayCasterModes() {
     modes.set<VkBool32>(shader::kVolumeSpecBlendTimeSteps, blends ? VK_TRUE : VK_FALSE);
     // The brick test costs on every sample (~15 % on lavapipe): it is compiled in only when at
     // least 1 brick in 16 can be skipped with the scene's settings (live edits keep the choice).
-    size_t visibleBricks = 0;
-    for (uint32_t word : occupancy_) visibleBricks += size_t(std::popcount(word));
-    skipEmpty_ = settings_.emptySkipping && (bricks_.minMax.size() - visibleBricks) * 16 >= bricks_.minMax.size();
+    if (!skippingDecided_) {
+        size_t visibleBricks = 0;
+        for (uint32_t word : occupancy_) visibleBricks += size_t(std::popcount(word));
+        skipEmpty_ = settings_.emptySkipping && (bricks_.minMax.size() - visibleBricks) * 16 >= bricks_.minMax.size();
+        skippingDecided_ = true;
+    }
     modes.set<VkBool32>(shader::kVolumeSpecSkipEmpty, skipEmpty_ ? VK_TRUE : VK_FALSE);
     int32_t uniformAxes = 0;
     for (int axis = 0; axis < 3; ++axis) uniformAxes |= lookups_[size_t(axis)].uniform ? 1 << axis : 0;
     modes.set<int32_t>(shader::kVolumeSpecUniformAxes, uniformAxes);
+    modes.set<VkBool32>(shader::kVolumeSpecPreIntegrate, settings_.preIntegration && settings_.dvr ? VK_TRUE : VK_FALSE);
     return modes;
 }
 
@@ -235,6 +239,7 @@ void VolumeLayer::createRayCaster() {
     hitImage_ = gpu::Image(device, hd);
     const gpu::Specialization modes = rayCasterModes();
     castPipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_volume_raycast_comp, &modes, "volume ray cast");
+    pipelineDirty_ = false;
 }
 
 void VolumeLayer::ensureCastImage(uint32_t width, uint32_t height) {
@@ -266,6 +271,7 @@ void VolumeLayer::writeDescriptors(uint32_t f) {
         .sampledImage(shader::kVolumeBindingCastSampled, nearestSampler_.vk(), castImage_.view())
         .storageImage(shader::kVolumeBindingHits, hitImage_.view())
         .storageBuffer(shader::kVolumeBindingBricks, occupancyBuffer_)
+        .sampledImage(shader::kVolumeBindingPreIntegrated, linearSampler_.vk(), preImage_.view())
         .update(*services_->device);
 }
 
@@ -297,6 +303,13 @@ void VolumeLayer::update(const scene::FrameContext& frame) {
 void VolumeLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
     const scene::FrameContext& frame = *rc.frame;
     ensureCastImage(frame.width, frame.height);
+    ensurePreIntegrationImage();
+    if (pipelineDirty_) {
+        const gpu::Specialization modes = rayCasterModes();
+        castPipeline_ = gpu::createComputePipeline(*services_->device, layout_.vk(), kSpv_volume_raycast_comp, &modes,
+                                                   "volume ray cast");   // the old one is retired after its frames
+        pipelineDirty_ = false;
+    }
     if (boundDepth_ != rc.sceneDepth) {
         boundDepth_ = rc.sceneDepth;
         ++imagesVersion_;
@@ -354,6 +367,13 @@ void VolumeLayer::recordEdits(VkCommandBuffer cmd) {
         gpu::transition(cmd, transferImage_, gpu::ImageUse::SampledCompute);
         transferDirty_ = false;
         occupancyDirty_ = true;
+        preDirty_ = true;
+    }
+    if (preDirty_) {
+        const std::vector<uint16_t> texels = preIntegrationTexels();
+        services_->uploader->toImage(cmd, preImage_, texels.data(), texels.size() * sizeof(uint16_t));
+        gpu::transition(cmd, preImage_, gpu::ImageUse::SampledCompute);
+        preDirty_ = false;
     }
     if (occupancyDirty_ && !skipEmpty_) occupancyDirty_ = false;   // the pipeline never reads the bits
     if (occupancyDirty_) {
@@ -365,6 +385,30 @@ void VolumeLayer::recordEdits(VkCommandBuffer cmd) {
         gpu::bufferBarrier(cmd, occupancyBuffer_, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                            VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     }
+}
+
+void VolumeLayer::ensurePreIntegrationImage() {
+    const bool on = settings_.preIntegration && settings_.dvr;
+    const uint32_t side = on ? shader::kVolumeTransferSize : 1u;
+    if (preImage_ && preImage_.extent().width == side) return;
+    gpu::ImageDesc d;
+    d.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    d.extent = {side, side, 1};
+    d.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    d.name = on ? "volume pre-integrated transfer function" : "volume pre-integration stand-in";
+    preImage_ = gpu::Image(*services_->device, d);   // the old one is retired after its frames
+    preDirty_ = true;
+    ++imagesVersion_;
+}
+
+std::vector<uint16_t> VolumeLayer::preIntegrationTexels() const {
+    if (!(settings_.preIntegration && settings_.dvr)) return std::vector<uint16_t>(4, 0);
+    const double step = std::sqrt(3.0) / double(settings_.steps);   // the march's normalised step
+    const std::vector<std::array<float, 4>> table = buildPreIntegratedTable(transferTable_, step, 1.0 / settings_.opacityUnit);
+    std::vector<uint16_t> texels(table.size() * 4);
+    for (size_t t = 0; t < table.size(); ++t)
+        for (size_t c = 0; c < 4; ++c) texels[t * 4 + c] = halfFloat(table[t][c]);
+    return texels;
 }
 
 void VolumeLayer::recordHitReadback(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
@@ -412,12 +456,15 @@ uint64_t VolumeLayer::gpuBytes() const {
                          (1 + moreTimeSteps_.size()) + shader::kVolumeTransferSize * 8 +
                      3 * shader::kVolumeAxisTable * 4;
     if (castImage_) bytes += uint64_t(castImage_.extent().width) * castImage_.extent().height * 8;
+    if (preImage_) bytes += uint64_t(preImage_.extent().width) * preImage_.extent().height * 8;
     return bytes;
 }
 
 bool VolumeLayer::setParameter(std::string_view name, double value) {
     if (name == "steps") {
-        settings_.steps = std::clamp(int(std::lround(value)), int(kStepsRange.min), int(kStepsRange.max));
+        const int steps = std::clamp(int(std::lround(value)), int(kStepsRange.min), int(kStepsRange.max));
+        preDirty_ = preDirty_ || steps != settings_.steps;   // the table's segment length
+        settings_.steps = steps;
         return true;
     }
     // Isovalues and slice positions live in the per-frame uniforms: moving them re-uploads
@@ -439,6 +486,7 @@ bool VolumeLayer::setParameter(std::string_view name, double value) {
     if (name == "opacityUnit") {
         if (!kOpacityUnitRange.contains(value)) return false;
         settings_.opacityUnit = value;
+        preDirty_ = true;
         return true;
     }
     if (name == "rangeMin" || name == "rangeMax") {
@@ -458,6 +506,12 @@ bool VolumeLayer::setParameter(std::string_view name, double value) {
     if (name == "isoOpacity" || name == "sliceOpacity") {
         if (!kOpacityRange.contains(value)) return false;
         (name == "isoOpacity" ? settings_.isoOpacity : settings_.sliceOpacity) = value;
+        return true;
+    }
+    if (name == "preIntegration") {
+        const bool on = value != 0.0;
+        pipelineDirty_ = pipelineDirty_ || on != settings_.preIntegration;
+        settings_.preIntegration = on;
         return true;
     }
     if (name == "emptySkipping") {
@@ -531,6 +585,9 @@ std::vector<scene::LayerSetting> VolumeLayer::liveSettings() const {
     if (!settings_.slices.empty())
         out.push_back({.name = "sliceOpacity", .label = "Slice opacity", .kind = Kind::Number,
                        .value = settings_.sliceOpacity, .min = kOpacityRange.min, .max = kOpacityRange.max});
+    if (settings_.dvr)
+        out.push_back({.name = "preIntegration", .label = "Pre-integrated transfer function", .kind = Kind::Toggle,
+                       .value = settings_.preIntegration ? 1.0 : 0.0});
     return out;
 }
 

@@ -13,7 +13,8 @@
 //    "mode": ["dvr", "iso", "slice"], "isovalues": [250, 280], "isoOpacity": 1,
 //    "slices": [{"lon": 5}, {"lat": 45}, {"height": 10000}], "sliceOpacity": 1,
 //    "steps": 100, "colorMap": "viridis", "range": [200, 310],
-//    "opacity": [[200, 0], [310, 0.5]], "opacityScale": 1, "verticalExaggeration": 1}
+//    "opacity": [[200, 0], [310, 0.5]], "opacityScale": 1, "verticalExaggeration": 1,
+//    "preIntegration": false}
 //
 // Rays are clipped to the box and to the shell between its bottom and top heights, then sampled
 // in equal steps of the box's normalised coordinates ("steps" along its diagonal), so a thin
@@ -84,6 +85,8 @@ public:
     /// "slice3" (the slice's lon, lat or height), "opacityUnit", "isoOpacity", "sliceOpacity".
     /// The transfer function (a 256-entry table and the brick bits): "rangeMin", "rangeMax",
     /// "opacityScale". "emptySkipping" 0 or 1 (where the scene built the ray caster with skipping).
+    /// "preIntegration" 0 or 1 (the ray caster is rebuilt; the 2-D table is made or released;
+    /// the table is also rebuilt when the transfer function, "steps" or "opacityUnit" change).
     bool setParameter(std::string_view name, double value) override;
     /// "colorMap": one of colorMapNames() (rebuilds the 256-entry table).
     bool setOption(std::string_view name, std::string_view value) override;
@@ -133,6 +136,8 @@ private:
     void writeDescriptors(uint32_t frameSlot);
     VolumeFrameInputs frameInputs(const scene::Camera& camera) const;
     void recordEdits(VkCommandBuffer cmd);
+    void ensurePreIntegrationImage();   // the table's size follows the setting (1 x 1 when off)
+    std::vector<uint16_t> preIntegrationTexels() const;   // RGBA16F, from transferTable_
     void recordHitReadback(VkCommandBuffer cmd, uint32_t width, uint32_t height);
 
     VolumeField field_;                               // time step 0 (or the fixed one), with the grid
@@ -160,6 +165,13 @@ private:
     bool transferDirty_ = false;   // the table changed: rebuilt and uploaded with the next frame
     std::vector<uint16_t> transferTexels();   // rebuilds transferTable_; RGBA16F texels
     bool skipEmpty_ = false;   // the pipeline tests bricks
+    bool skippingDecided_ = false;   // skipEmpty_ is chosen once, by the first pipeline
+    // Pre-integration: the 2-D table (kVolumeTransferSize squared, or 1 x 1 when the setting is
+    // off), rebuilt and uploaded with the next frame when dirty; the pipeline is rebuilt when
+    // the setting changes.
+    gpu::Image preImage_;
+    bool preDirty_ = true;
+    bool pipelineDirty_ = false;
     gpu::Buffer occupancyBuffer_;
     void updateOccupancy();
     std::vector<gpu::Buffer> uniformBuffers_;

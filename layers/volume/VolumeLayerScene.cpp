@@ -271,6 +271,7 @@ void readLook(scene::JsonReader& r, VolumeSettings& s) {
     s.transfer.opacityScale = r.number("opacityScale", 1.0, kOpacityScaleRange.min, kOpacityScaleRange.max).value_or(1.0);
     s.verticalExaggeration = r.number("verticalExaggeration", 1.0, 0.001, 10000.0).value_or(1.0);
     s.emptySkipping = r.boolean("emptySkipping", true).value_or(true);
+    s.preIntegration = r.boolean("preIntegration", false).value_or(false);
     if (auto format = r.string("fieldFormat", std::string("float32"))) {
         if (*format == "float16") s.halfField = true;
         else if (*format != "float32") r.fail("fieldFormat", "expected \"float32\" or \"float16\"");

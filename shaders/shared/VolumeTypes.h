@@ -20,6 +20,7 @@ ORBIS_CONST(uint, kVolumeBindingCastImage, 5)    // rgba16f storage image: the r
 ORBIS_CONST(uint, kVolumeBindingCastSampled, kCompositeBindingImage)  // the same, sampled by common/composite.frag
 ORBIS_CONST(uint, kVolumeBindingHits, 7)         // r32f storage image: first-hit distances (measurement)
 ORBIS_CONST(uint, kVolumeBindingBricks, 8)       // storage buffer: one bit per brick, "can show something"
+ORBIS_CONST(uint, kVolumeBindingPreIntegrated, 9)   // sampler2D: the pre-integrated transfer function (1 x 1 unused)
 // The ray caster's specialisation constants: what the scene's modes use is compiled in.
 ORBIS_CONST(uint, kVolumeSpecDvr, 0)             // bool: direct volume rendering
 ORBIS_CONST(uint, kVolumeSpecIsoCount, 1)        // int: isosurfaces (0 .. kVolumeMaxIso)
@@ -29,9 +30,11 @@ ORBIS_CONST(uint, kVolumeSpecRefine, 4)          // bool: refine isosurface cros
 ORBIS_CONST(uint, kVolumeSpecBlendTimeSteps, 5)  // bool: blend two time steps per sample
 ORBIS_CONST(uint, kVolumeSpecUniformAxes, 6)     // int: evenly spaced axes, bit 1 << kVolumeAxis*
 ORBIS_CONST(uint, kVolumeSpecSkipEmpty, 7)       // bool: empty-space skipping
+ORBIS_CONST(uint, kVolumeSpecPreIntegrate, 8)    // bool: DVR steps read the pre-integrated table
 // Sizes.
 ORBIS_CONST(uint, kVolumeAxisTable, 256)   // entries per irregular axis
-ORBIS_CONST(uint, kVolumeTransferSize, 256)   // texels of the transfer function (sampler1D)
+ORBIS_CONST(uint, kVolumeTransferSize, 256)   // texels of the transfer function (sampler1D), and each
+                                              // side of the pre-integrated one (sampler2D)
 ORBIS_CONST(uint, kVolumeGroupSize, 8)     // compute workgroup: 8 x 8 pixels
 ORBIS_CONST(uint, kVolumeMaxIso, 8)        // isovalues per volume
 ORBIS_CONST(uint, kVolumeMaxSlices, 4)     // slice planes per volume
@@ -161,6 +164,7 @@ inline constexpr DescriptorBinding kVolumeBindings[] = {
     {kVolumeBindingCastSampled, DescriptorKind::CombinedImageSampler, 1, kStageFragment},
     {kVolumeBindingHits, DescriptorKind::StorageImage, 1, kStageCompute},
     {kVolumeBindingBricks, DescriptorKind::StorageBuffer, 1, kStageCompute},
+    {kVolumeBindingPreIntegrated, DescriptorKind::CombinedImageSampler, 1, kStageCompute},
 };
 /// The ray caster's specialisation constants (VolumeLayer::rayCasterModes sets each).
 inline constexpr SpecConstant kVolumeSpecConstants[] = {
@@ -172,6 +176,7 @@ inline constexpr SpecConstant kVolumeSpecConstants[] = {
     {kVolumeSpecBlendTimeSteps, SpecType::Bool},
     {kVolumeSpecUniformAxes, SpecType::Int},
     {kVolumeSpecSkipEmpty, SpecType::Bool},
+    {kVolumeSpecPreIntegrate, SpecType::Bool},
 };
 }  // namespace orbis::shader
 #endif

@@ -28,6 +28,9 @@ layout(constant_id = kVolumeSpecBlendTimeSteps) const bool kBlendTimeSteps = fal
 layout(constant_id = kVolumeSpecUniformAxes) const int kUniformAxes = 7;
 // Empty-space skipping: rays jump over bricks that show nothing.
 layout(constant_id = kVolumeSpecSkipEmpty) const bool kSkipEmpty = true;
+// Pre-integrated transfer function: a DVR step composites the segment from the previous sample
+// (the value taken as linear between the two) from a 2-D table, instead of the sample's value.
+layout(constant_id = kVolumeSpecPreIntegrate) const bool kPreIntegrate = false;
 
 layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 layout(set = kVolumeSet, binding = kVolumeBindingUniforms) uniform VolumeBlock { VolumeUniforms vol; };
@@ -38,6 +41,7 @@ layout(set = kVolumeSet, binding = kVolumeBindingSceneDepth) uniform sampler2D s
 layout(set = kVolumeSet, binding = kVolumeBindingCastImage, rgba16f) uniform writeonly image2D outImage;
 layout(set = kVolumeSet, binding = kVolumeBindingHits, r32f) uniform writeonly image2D hitImage;   // kHitOutput only
 layout(set = kVolumeSet, binding = kVolumeBindingBricks, std430) readonly buffer BrickBlock { uint brickBits[]; };
+layout(set = kVolumeSet, binding = kVolumeBindingPreIntegrated) uniform sampler2D preIntegrated;   // kPreIntegrate only
 
 // One ray, marched relative to the volume's origin in ECEF axes (float, small numbers): its
 // eye, its unit direction, and the cosine and sine of the origin's longitude (longitudes are
@@ -323,6 +327,29 @@ void compositeSample(inout vec4 acc, float value, float ds) {
     acc.a += (1.0 - acc.a) * alpha;
 }
 
+// Front-to-back compositing of the ray segment `ds` of the normalised box long along which the
+// value runs from `front` to `back` (kPreIntegrate): the table holds the segment's colour per
+// unit of opacity, self-attenuation included, and the mean of log2(1 - alpha) along it, so the
+// opacity is exact for any length (layers/volume/VolumeData.h, buildPreIntegratedTable).
+void compositeSegment(inout vec4 acc, float front, float back, float ds) {
+    const float n = float(kVolumeTransferSize);
+    vec2 f = clamp((vec2(front, back) - vol.rangeMin) * vol.rangeInvSpan, 0.0, 1.0);
+    vec4 tf = textureLod(preIntegrated, (f * (n - 1.0) + 0.5) / n, 0.0);
+    float alpha = 1.0 - exp2(tf.a * (min(ds, 2.0) * vol.opacityPerUnit));
+    acc.rgb += (1.0 - acc.a) * alpha * tf.rgb;
+    acc.a += (1.0 - acc.a) * alpha;
+}
+
+// The DVR contribution of the step that ends at sample `s` (the march's i-th, `ds` long): with
+// pre-integration the segment from the previous sample (for the first, the entry) where there
+// is one with data, otherwise `s` alone; without, `s`'s value over the step. After a jump over bricks that show nothing the
+// step is one step long, from the value before the jump: a narrow band of opacity just past
+// the jump is integrated across, not sampled at one point (which shows as speckles).
+void compositeStep(inout vec4 acc, March m, Sample s, int i, float ds) {
+    if (kPreIntegrate) compositeSegment(acc, m.prev.ok ? m.prev.value : s.value, s.value, ds);
+    else compositeSample(acc, s.value, ds);
+}
+
 // The march at the entry t0 of a segment. Steps are of equal length in the box's normalised
 // coordinates (a thin shell gets as many samples across as a thick box); the rate of change is
 // probed at the entry, then followed from sample to sample.
@@ -414,6 +441,10 @@ void marchSegment(Ray ray, float t0, float t1, float jitter, inout vec4 acc, ino
     float dtMax = vol.stepLength, dtMin = vol.minStep, target = vol.normalisedStep;
     int maxSteps = int(vol.maxSteps);
     March m = startMarch(ray, t0, jitter, target, dtMin, dtMax);
+    // Pre-integration: the entry is sampled too, so that the part of the ray before the first
+    // (jittered) sample is a segment like the others (a point value there speckles the edges
+    // where a face of the box cuts a narrow band of opacity).
+    if (kPreIntegrate && kDvr) m.prev = sampleAt(ray, t0);
     int i = 0;
     // The march stops at each isosurface crossing, which is refined and shaded outside the
     // marching loop, then goes on. On SIMD devices (CPU rasterisers) every lane pays for what
@@ -430,7 +461,9 @@ void marchSegment(Ray ray, float t0, float t1, float jitter, inout vec4 acc, ino
             if (acc.a >= 0.99) break;
             s = sampleAt(ray, m.t);
             n = normalised(s.geo);
-            ds = i == 0 ? target : length(n - m.prevN);
+            // The first sample stands for a whole step; with pre-integration, for the part of
+            // the ray from the entry (the jittered start), as the segments after it join samples.
+            ds = i == 0 ? (kPreIntegrate ? jitter * target : target) : length(n - m.prevN);
             float dsSample = m.jumped ? target : ds;
             if (kIsoCount > 0 && s.ok && m.prev.ok) {
                 // The nearest crossing in this step over all isovalues (by linear interpolation;
@@ -445,11 +478,19 @@ void marchSegment(Ray ray, float t0, float t1, float jitter, inout vec4 acc, ino
                 }
                 if (best <= 1.0) { found = true; break; }
             }
-            if (kDvr && s.ok) compositeSample(acc, s.value, dsSample);
+            if (kDvr && s.ok) compositeStep(acc, m, s, i, dsSample);
             if (acc.a >= 0.99) break;
             advance(m, s, n, i, ds, target, dtMin, dtMax);
         }
-        if (!found) break;
+        if (!found) {
+            // Pre-integration: the rest of the segment after the last sample, up to the exit
+            // (sampled there too).
+            if (kPreIntegrate && kDvr && acc.a < 0.99 && i < maxSteps && m.prev.ok) {
+                Sample e = sampleAt(ray, t1);
+                compositeSegment(acc, m.prev.value, e.ok ? e.value : m.prev.value, max(t1 - m.prevT, 0.0) * m.rate);
+            }
+            break;
+        }
         // The crossing between the previous sample and this one, shaded.
         float c = isovalue(hitIso);
         float tHit = kRefine ? refineCrossing(ray, m.prevT, m.prev.value, m.t, s.value, c) : m.t;
@@ -460,7 +501,7 @@ void marchSegment(Ray ray, float t0, float t1, float jitter, inout vec4 acc, ino
         acc.a += (1.0 - acc.a) * alpha;
         if (acc.a >= 0.99) break;
         // This sample's own contribution, then on.
-        if (kDvr && s.ok) compositeSample(acc, s.value, m.jumped ? target : ds);
+        if (kDvr && s.ok) compositeStep(acc, m, s, i, m.jumped ? target : ds);
         if (acc.a >= 0.99) break;
         advance(m, s, n, i, ds, target, dtMin, dtMax);
         ++i;
