@@ -13,7 +13,8 @@ diagonal, how long does each renderer take? Orbis's time there is interpolated a
 usage: tools/peer-volume.sh [BUILD_DIR]      (this file is its body; run through that script)
   env: SIZE=960x540  REPEATS=3  FRAMES=5  CASES="volume iso"  COUNTS="25 50 100 200 400"
        REF=1600  ORBIS_COUNTS (default COUNTS)  ORBIS_SETTINGS="k=v ..." (live settings of the
-       Orbis layer for the whole run, e.g. "preIntegration=0": orbis bench --set)  PLOT=$OUT/peer-volume.png  OUT=/tmp/peer-volume
+       Orbis layer for the runs, e.g. "rayResolution=0.5 preIntegration=1": orbis bench --set;
+       Orbis's reference keeps full quality: orbis bench --reference)  PLOT=$OUT/peer-volume.png  OUT=/tmp/peer-volume
 Subcommands used by itself: vtk-render SAMPLES -- VTK_PEER_ARGS; plot JSON PNG.
 """
 import json
@@ -29,6 +30,8 @@ PEERS = os.path.join(ROOT, "..", "shared", "peers")
 XVFB = ["xvfb-run", "-a", "-s", "-screen 0 1920x1080x24"]
 PY = "/usr/bin/python3"   # Debian's python: the one that sees python3-vtk9
 SCENES = {"volume": "assets/scenes/volume-peer.json", "iso": "assets/scenes/volume-peer-iso.json"}
+# The reference image's value of the settings ORBIS_SETTINGS may change: full quality.
+REFERENCE = {"rayResolution": 1, "preIntegration": 0, "refineThreshold": 0}
 
 
 def fail(msg):
@@ -146,7 +149,11 @@ def run_orbis(build, case, size, counts, ref, frames, warmup, settings, plot_png
     cmd = [os.path.join(build, "bin", "orbis"), "bench", os.path.join(ROOT, SCENES[case]), "--size", size, "--frames",
            str(frames), "--warmup", str(warmup), "--sweep", sweep, "--json", "--plot", plot_png]
     for s in settings:
+        # The settings are the runs'; the reference has the layer's own (full quality).
         cmd += ["--set", s]
+        name = s.split("=")[0]
+        if name in REFERENCE:
+            cmd += ["--reference", f"{name}={REFERENCE[name]}"]
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=3600)
     if p.returncode != 0:
         fail(f"orbis bench ({case}) failed: {p.stderr.strip()[-600:]}")

@@ -191,7 +191,7 @@ void VolumeLayer::uploadData(const std::vector<float>& texels, const std::vector
     });
 }
 
-gpu::Specialization VolumeLayer::rayCasterModes() {
+gpu::Specialization VolumeLayer::rayCasterModes(int pass) {
     gpu::Specialization modes;
     modes.set<VkBool32>(shader::kVolumeSpecDvr, settings_.dvr ? VK_TRUE : VK_FALSE);
     modes.set<int32_t>(shader::kVolumeSpecIsoCount, int32_t(settings_.isovalues.size()));
@@ -213,6 +213,7 @@ gpu::Specialization VolumeLayer::rayCasterModes() {
     for (int axis = 0; axis < 3; ++axis) uniformAxes |= lookups_[size_t(axis)].uniform ? 1 << axis : 0;
     modes.set<int32_t>(shader::kVolumeSpecUniformAxes, uniformAxes);
     modes.set<VkBool32>(shader::kVolumeSpecPreIntegrate, settings_.preIntegration && settings_.dvr ? VK_TRUE : VK_FALSE);
+    modes.set<int32_t>(shader::kVolumeSpecPass, pass);
     return modes;
 }
 
@@ -237,12 +238,42 @@ void VolumeLayer::createRayCaster() {
     hd.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     hd.name = "volume hit distances";
     hitImage_ = gpu::Image(device, hd);
-    const gpu::Specialization modes = rayCasterModes();
+    // Without reduced-resolution rays the reduced image is a 1 x 1 stand-in that is never written.
+    gpu::ImageDesc ld;
+    ld.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    ld.usage = VK_IMAGE_USAGE_STORAGE_BIT;
+    ld.name = "volume reduced-resolution rays";
+    lowImage_ = gpu::Image(device, ld);
+    createCastPipelines();
+}
+
+bool VolumeLayer::reducedRays() const { return settings_.rayResolution < 1.0 && !hitOutput_; }
+
+void VolumeLayer::createCastPipelines() {
+    gpu::Device& device = *services_->device;
+    // The old pipelines are retired after their frames.
+    const gpu::Specialization modes = rayCasterModes(reducedRays() ? shader::kVolumePassLowRes : shader::kVolumePassFull);
     castPipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_volume_raycast_comp, &modes, "volume ray cast");
+    if (reducedRays()) {
+        const gpu::Specialization refine = rayCasterModes(shader::kVolumePassRefine);
+        refinePipeline_ = gpu::createComputePipeline(device, layout_.vk(), kSpv_volume_raycast_comp, &refine,
+                                                     "volume ray cast refine");
+    } else {
+        refinePipeline_ = gpu::Pipeline();
+    }
     pipelineDirty_ = false;
 }
 
 void VolumeLayer::ensureCastImage(uint32_t width, uint32_t height) {
+    // The reduced image: the image's size times rayResolution, rounded up (1 x 1 when unused).
+    const uint32_t lowW = reducedRays() ? std::max(1u, uint32_t(std::ceil(width * settings_.rayResolution))) : 1u;
+    const uint32_t lowH = reducedRays() ? std::max(1u, uint32_t(std::ceil(height * settings_.rayResolution))) : 1u;
+    if (lowImage_.extent().width != lowW || lowImage_.extent().height != lowH) {
+        gpu::ImageDesc ld = lowImage_.desc();
+        ld.extent = {lowW, lowH, 1};
+        lowImage_ = gpu::Image(*services_->device, ld);   // the old one is retired after its frames
+        ++imagesVersion_;
+    }
     if (castImage_ && castImage_.extent().width == width && castImage_.extent().height == height) return;
     gpu::ImageDesc d;
     d.format = VK_FORMAT_R16G16B16A16_SFLOAT;
@@ -272,6 +303,7 @@ void VolumeLayer::writeDescriptors(uint32_t f) {
         .storageImage(shader::kVolumeBindingHits, hitImage_.view())
         .storageBuffer(shader::kVolumeBindingBricks, occupancyBuffer_)
         .sampledImage(shader::kVolumeBindingPreIntegrated, linearSampler_.vk(), preImage_.view())
+        .storageImage(shader::kVolumeBindingLowRes, lowImage_.view())
         .update(*services_->device);
 }
 
@@ -302,14 +334,9 @@ void VolumeLayer::update(const scene::FrameContext& frame) {
 
 void VolumeLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
     const scene::FrameContext& frame = *rc.frame;
+    if (pipelineDirty_) createCastPipelines();
     ensureCastImage(frame.width, frame.height);
     ensurePreIntegrationImage();
-    if (pipelineDirty_) {
-        const gpu::Specialization modes = rayCasterModes();
-        castPipeline_ = gpu::createComputePipeline(*services_->device, layout_.vk(), kSpv_volume_raycast_comp, &modes,
-                                                   "volume ray cast");   // the old one is retired after its frames
-        pipelineDirty_ = false;
-    }
     if (boundDepth_ != rc.sceneDepth) {
         boundDepth_ = rc.sceneDepth;
         ++imagesVersion_;
@@ -325,15 +352,7 @@ void VolumeLayer::recordCompute(scene::Pass, const render::RecordContext& rc) {
 
     VkCommandBuffer cmd = rc.cmd;
     recordEdits(cmd);
-    const gpu::ImageTransition writes[] = {{&castImage_, gpu::ImageUse::StorageCompute},
-                                           {&hitImage_, gpu::ImageUse::StorageCompute}};
-    gpu::transition(cmd, writes);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, castPipeline_.vk());
-    const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), shader::kFrameSet,
-                            uint32_t(std::size(sets)), sets, 0, nullptr);
-    const uint32_t g = shader::kVolumeGroupSize;
-    vkCmdDispatch(cmd, (frame.width + g - 1) / g, (frame.height + g - 1) / g, 1);
+    recordDispatches(cmd, rc, frame.width, frame.height);
     gpu::transition(cmd, castImage_, gpu::ImageUse::SampledFragment);
     if (hitOutput_) recordHitReadback(cmd, frame.width, frame.height);
 }
@@ -385,6 +404,25 @@ void VolumeLayer::recordEdits(VkCommandBuffer cmd) {
         gpu::bufferBarrier(cmd, occupancyBuffer_, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                            VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     }
+}
+
+void VolumeLayer::recordDispatches(VkCommandBuffer cmd, const render::RecordContext& rc, uint32_t width, uint32_t height) {
+    const gpu::ImageTransition writes[] = {{&castImage_, gpu::ImageUse::StorageCompute},
+                                           {&hitImage_, gpu::ImageUse::StorageCompute},
+                                           {&lowImage_, gpu::ImageUse::StorageCompute}};
+    gpu::transition(cmd, writes);
+    const VkDescriptorSet sets[] = {rc.frameSet, descriptors_.sets[rc.slot]};
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.vk(), shader::kFrameSet,
+                            uint32_t(std::size(sets)), sets, 0, nullptr);
+    const uint32_t g = shader::kVolumeGroupSize;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, castPipeline_.vk());
+    if (reducedRays()) {
+        // The reduced rays, then (after their writes) the full-resolution pass that reads them.
+        vkCmdDispatch(cmd, (lowImage_.extent().width + g - 1) / g, (lowImage_.extent().height + g - 1) / g, 1);
+        gpu::transition(cmd, lowImage_, gpu::ImageUse::StorageCompute);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, refinePipeline_.vk());
+    }
+    vkCmdDispatch(cmd, (width + g - 1) / g, (height + g - 1) / g, 1);
 }
 
 void VolumeLayer::ensurePreIntegrationImage() {
@@ -457,6 +495,7 @@ uint64_t VolumeLayer::gpuBytes() const {
                      3 * shader::kVolumeAxisTable * 4;
     if (castImage_) bytes += uint64_t(castImage_.extent().width) * castImage_.extent().height * 8;
     if (preImage_) bytes += uint64_t(preImage_.extent().width) * preImage_.extent().height * 8;
+    if (lowImage_) bytes += uint64_t(lowImage_.extent().width) * lowImage_.extent().height * 8;
     return bytes;
 }
 
@@ -512,6 +551,18 @@ bool VolumeLayer::setParameter(std::string_view name, double value) {
         const bool on = value != 0.0;
         pipelineDirty_ = pipelineDirty_ || on != settings_.preIntegration;
         settings_.preIntegration = on;
+        return true;
+    }
+    if (name == "rayResolution") {
+        if (!kRayResolutionRange.contains(value)) return false;
+        const bool wasReduced = reducedRays();
+        settings_.rayResolution = value;
+        pipelineDirty_ = pipelineDirty_ || reducedRays() != wasReduced;
+        return true;
+    }
+    if (name == "refineThreshold") {
+        if (!kRefineThresholdRange.contains(value)) return false;
+        settings_.refineThreshold = value;
         return true;
     }
     if (name == "emptySkipping") {
@@ -585,6 +636,11 @@ std::vector<scene::LayerSetting> VolumeLayer::liveSettings() const {
     if (!settings_.slices.empty())
         out.push_back({.name = "sliceOpacity", .label = "Slice opacity", .kind = Kind::Number,
                        .value = settings_.sliceOpacity, .min = kOpacityRange.min, .max = kOpacityRange.max});
+    out.push_back({.name = "rayResolution", .label = "Ray resolution (of the image's)", .kind = Kind::Number,
+                   .value = settings_.rayResolution, .min = kRayResolutionRange.min, .max = kRayResolutionRange.max});
+    if (settings_.rayResolution < 1.0)
+        out.push_back({.name = "refineThreshold", .label = "Refine where rays differ by", .kind = Kind::Number,
+                       .value = settings_.refineThreshold, .min = kRefineThresholdRange.min, .max = kRefineThresholdRange.max});
     if (settings_.dvr)
         out.push_back({.name = "preIntegration", .label = "Pre-integrated transfer function", .kind = Kind::Toggle,
                        .value = settings_.preIntegration ? 1.0 : 0.0});

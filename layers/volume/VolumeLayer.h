@@ -14,7 +14,7 @@
 //    "slices": [{"lon": 5}, {"lat": 45}, {"height": 10000}], "sliceOpacity": 1,
 //    "steps": 100, "colorMap": "viridis", "range": [200, 310],
 //    "opacity": [[200, 0], [310, 0.5]], "opacityScale": 1, "verticalExaggeration": 1,
-//    "preIntegration": false}
+//    "preIntegration": false, "rayResolution": 1, "refineThreshold": 0.05}
 //
 // Rays are clipped to the box and to the shell between its bottom and top heights, then sampled
 // in equal steps of the box's normalised coordinates ("steps" along its diagonal), so a thin
@@ -87,6 +87,8 @@ public:
     /// "opacityScale". "emptySkipping" 0 or 1 (where the scene built the ray caster with skipping).
     /// "preIntegration" 0 or 1 (the ray caster is rebuilt; the 2-D table is made or released;
     /// the table is also rebuilt when the transfer function, "steps" or "opacityUnit" change).
+    /// "rayResolution" (0.125..1: the reduced image is remade; the passes are rebuilt when it
+    /// crosses 1), "refineThreshold" (0..1, a uniform).
     bool setParameter(std::string_view name, double value) override;
     /// "colorMap": one of colorMapNames() (rebuilds the 256-entry table).
     bool setOption(std::string_view name, std::string_view value) override;
@@ -129,7 +131,7 @@ private:
     void uploadData(const std::vector<float>& texels, const std::vector<uint16_t>& halves,
                     const std::vector<float>& axisTable);
     void createRayCaster();
-    gpu::Specialization rayCasterModes();   // also decides skipEmpty_
+    gpu::Specialization rayCasterModes(int pass);   // also decides skipEmpty_ (the first time)
     // recordCompute(), in order: the cast image and the descriptors, the uniforms, the live
     // edits (transfer function, brick bits), the dispatch, the hit distances' readback.
     void ensureCastImage(uint32_t width, uint32_t height);
@@ -137,6 +139,9 @@ private:
     VolumeFrameInputs frameInputs(const scene::Camera& camera) const;
     void recordEdits(VkCommandBuffer cmd);
     void ensurePreIntegrationImage();   // the table's size follows the setting (1 x 1 when off)
+    bool reducedRays() const;           // rays at a reduced resolution, then the refining pass
+    void createCastPipelines();         // the pass(es) the settings use
+    void recordDispatches(VkCommandBuffer cmd, const render::RecordContext& rc, uint32_t width, uint32_t height);
     std::vector<uint16_t> preIntegrationTexels() const;   // RGBA16F, from transferTable_
     void recordHitReadback(VkCommandBuffer cmd, uint32_t width, uint32_t height);
 
@@ -179,6 +184,8 @@ private:
     gpu::DescriptorSets descriptors_;   // one set per frame in flight
     gpu::PipelineLayout layout_;
     gpu::Pipeline castPipeline_, compositePipeline_;
+    gpu::Pipeline refinePipeline_;   // rays at a reduced resolution only: the full-resolution pass
+    gpu::Image lowImage_;            // rgba16f: the reduced-resolution rays, or 1 x 1 (never written)
     gpu::Image* boundDepth_ = nullptr;
     bool hitOutput_ = false, refine_ = true;
     gpu::Image hitImage_;        // r32f: the frame's size with hitOutput_, else 1 x 1 (never written)

@@ -272,6 +272,9 @@ void readLook(scene::JsonReader& r, VolumeSettings& s) {
     s.verticalExaggeration = r.number("verticalExaggeration", 1.0, 0.001, 10000.0).value_or(1.0);
     s.emptySkipping = r.boolean("emptySkipping", true).value_or(true);
     s.preIntegration = r.boolean("preIntegration", false).value_or(false);
+    s.rayResolution = r.number("rayResolution", 1.0, kRayResolutionRange.min, kRayResolutionRange.max).value_or(1.0);
+    s.refineThreshold = r.number("refineThreshold", s.refineThreshold, kRefineThresholdRange.min, kRefineThresholdRange.max)
+                            .value_or(s.refineThreshold);
     if (auto format = r.string("fieldFormat", std::string("float32"))) {
         if (*format == "float16") s.halfField = true;
         else if (*format != "float32") r.fail("fieldFormat", "expected \"float32\" or \"float16\"");

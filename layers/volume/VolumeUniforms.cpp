@@ -122,6 +122,7 @@ void packMarch(shader::VolumeUniforms& u, const VolumeFrameInputs& in) {
     u.opacityPerUnit = float(1.0 / s.opacityUnit);
     u.probeLength = float(std::clamp(step * 0.01, 5.0, 2000.0));
     u.jumpMax = float(in.box.jumpLimit.x), u.jumpPerRho = float(in.box.jumpLimit.y);
+    u.refineThreshold = float(s.refineThreshold);
     u.timeStepA = in.timeBlend.x, u.timeStepB = in.timeBlend.y, u.timeStepWeight = in.timeBlend.z;
     u.timeStepCount = float(in.timeSteps);
 }

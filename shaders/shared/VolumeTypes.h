@@ -21,6 +21,7 @@ ORBIS_CONST(uint, kVolumeBindingCastSampled, kCompositeBindingImage)  // the sam
 ORBIS_CONST(uint, kVolumeBindingHits, 7)         // r32f storage image: first-hit distances (measurement)
 ORBIS_CONST(uint, kVolumeBindingBricks, 8)       // storage buffer: one bit per brick, "can show something"
 ORBIS_CONST(uint, kVolumeBindingPreIntegrated, 9)   // sampler2D: the pre-integrated transfer function (1 x 1 unused)
+ORBIS_CONST(uint, kVolumeBindingLowRes, 10)      // rgba16f storage image: the reduced-resolution rays (1 x 1 unused)
 // The ray caster's specialisation constants: what the scene's modes use is compiled in.
 ORBIS_CONST(uint, kVolumeSpecDvr, 0)             // bool: direct volume rendering
 ORBIS_CONST(uint, kVolumeSpecIsoCount, 1)        // int: isosurfaces (0 .. kVolumeMaxIso)
@@ -31,6 +32,12 @@ ORBIS_CONST(uint, kVolumeSpecBlendTimeSteps, 5)  // bool: blend two time steps p
 ORBIS_CONST(uint, kVolumeSpecUniformAxes, 6)     // int: evenly spaced axes, bit 1 << kVolumeAxis*
 ORBIS_CONST(uint, kVolumeSpecSkipEmpty, 7)       // bool: empty-space skipping
 ORBIS_CONST(uint, kVolumeSpecPreIntegrate, 8)    // bool: DVR steps read the pre-integrated table
+ORBIS_CONST(uint, kVolumeSpecPass, 9)            // int: kVolumePass*, which of the ray caster's passes
+// The ray caster's passes: one ray per pixel; or rays at a reduced resolution, then a pass at
+// full resolution that interpolates them where they agree and casts its own ray elsewhere.
+ORBIS_CONST(int, kVolumePassFull, 0)
+ORBIS_CONST(int, kVolumePassLowRes, 1)
+ORBIS_CONST(int, kVolumePassRefine, 2)
 // Sizes.
 ORBIS_CONST(uint, kVolumeAxisTable, 256)   // entries per irregular axis
 ORBIS_CONST(uint, kVolumeTransferSize, 256)   // texels of the transfer function (sampler1D), and each
@@ -116,7 +123,8 @@ struct VolumeUniforms {
     float probeLength;            // (m): how far ahead the rate of change is probed at an entry
     float jumpMax;                // the longest jump over empty bricks (m),
     float jumpPerRho;             // and the same per metre from the polar axis
-    float pad2, pad3;
+    float refineThreshold;        // kVolumePassRefine: the largest spread of the four rays' RGBA interpolated
+    float pad3;
     // Time steps, stacked along the texture's z.
     float timeStepA, timeStepB;   // the time steps shown
     float timeStepWeight;         // the weight of B
@@ -165,6 +173,7 @@ inline constexpr DescriptorBinding kVolumeBindings[] = {
     {kVolumeBindingHits, DescriptorKind::StorageImage, 1, kStageCompute},
     {kVolumeBindingBricks, DescriptorKind::StorageBuffer, 1, kStageCompute},
     {kVolumeBindingPreIntegrated, DescriptorKind::CombinedImageSampler, 1, kStageCompute},
+    {kVolumeBindingLowRes, DescriptorKind::StorageImage, 1, kStageCompute},
 };
 /// The ray caster's specialisation constants (VolumeLayer::rayCasterModes sets each).
 inline constexpr SpecConstant kVolumeSpecConstants[] = {
@@ -177,6 +186,7 @@ inline constexpr SpecConstant kVolumeSpecConstants[] = {
     {kVolumeSpecUniformAxes, SpecType::Int},
     {kVolumeSpecSkipEmpty, SpecType::Bool},
     {kVolumeSpecPreIntegrate, SpecType::Bool},
+    {kVolumeSpecPass, SpecType::Int},
 };
 }  // namespace orbis::shader
 #endif

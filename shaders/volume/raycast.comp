@@ -31,6 +31,10 @@ layout(constant_id = kVolumeSpecSkipEmpty) const bool kSkipEmpty = true;
 // Pre-integrated transfer function: a DVR step composites the segment from the previous sample
 // (the value taken as linear between the two) from a 2-D table, instead of the sample's value.
 layout(constant_id = kVolumeSpecPreIntegrate) const bool kPreIntegrate = false;
+// Which pass: one ray per pixel (kVolumePassFull); rays at a reduced resolution into lowImage
+// (kVolumePassLowRes); or, at full resolution, lowImage interpolated where its rays agree and
+// the scene's depth is continuous, a ray of the pixel's own elsewhere (kVolumePassRefine).
+layout(constant_id = kVolumeSpecPass) const int kPass = kVolumePassFull;
 
 layout(set = kFrameSet, binding = kFrameBinding) uniform FrameBlock { FrameUniforms frame; };
 layout(set = kVolumeSet, binding = kVolumeBindingUniforms) uniform VolumeBlock { VolumeUniforms vol; };
@@ -42,6 +46,7 @@ layout(set = kVolumeSet, binding = kVolumeBindingCastImage, rgba16f) uniform wri
 layout(set = kVolumeSet, binding = kVolumeBindingHits, r32f) uniform writeonly image2D hitImage;   // kHitOutput only
 layout(set = kVolumeSet, binding = kVolumeBindingBricks, std430) readonly buffer BrickBlock { uint brickBits[]; };
 layout(set = kVolumeSet, binding = kVolumeBindingPreIntegrated) uniform sampler2D preIntegrated;   // kPreIntegrate only
+layout(set = kVolumeSet, binding = kVolumeBindingLowRes, rgba16f) uniform image2D lowImage;   // kVolumePassLowRes, Refine
 
 // One ray, marched relative to the volume's origin in ECEF axes (float, small numbers): its
 // eye, its unit direction, and the cosine and sine of the origin's longitude (longitudes are
@@ -434,6 +439,34 @@ void shellSegments(Ray ray, out vec2 segments[2]) {
     segments[1] = bottom.x < bottom.y && bottom.y > top.x && bottom.y < top.y ? vec2(bottom.y, top.y) : vec2(1e30, -1e30);
 }
 
+// The isovalue crossed between two samples (values a, then b): the nearest to a over all
+// isovalues, by linear interpolation (refined by the caller); -1 for none.
+int crossedIsovalue(float a, float b) {
+    float best = 2.0;
+    int hit = -1;
+    [[unroll]] for (int k = 0; k < kIsoCount; ++k) {
+        float c = isovalue(k);
+        if ((a - c) * (b - c) < 0.0 || (b == c && a != c)) {
+            float f = (c - a) / (b - a);
+            if (f < best) { best = f; hit = k; }
+        }
+    }
+    return hit;
+}
+
+// The surface c crossed between ta (value va) and tb (vb): found exactly (unless refinement is
+// off), shaded with the gradient over `e` metres and composited; its distance kept as the first
+// hit (measurement).
+void compositeIsosurface(inout vec4 acc, Ray ray, float ta, float va, float tb, float vb, float c, float e,
+                         inout float firstHit) {
+    float tHit = kRefine ? refineCrossing(ray, ta, va, tb, vb, c) : tb;
+    if (kHitOutput && firstHit >= 1e29) firstHit = tHit;
+    vec3 lit = shadeIsosurface(ray, tHit, c, e);
+    float alpha = vol.isoOpacity;
+    acc.rgb += (1.0 - acc.a) * alpha * lit;
+    acc.a += (1.0 - acc.a) * alpha;
+}
+
 // Marches the segment t0 .. t1 front to back into `acc`: DVR samples, isosurface crossings, and
 // the slice hits on the way.
 void marchSegment(Ray ray, float t0, float t1, float jitter, inout vec4 acc, inout SliceHits slices,
@@ -452,7 +485,7 @@ void marchSegment(Ray ray, float t0, float t1, float jitter, inout vec4 acc, ino
     // at every step.
     for (;;) {
         bool found = false;
-        int hitIso = 0;
+        int hitIso = -1;
         vec3 n = m.prevN;
         float ds = target;
         Sample s = m.prev;   // (the loop's first sample replaces it)
@@ -466,17 +499,8 @@ void marchSegment(Ray ray, float t0, float t1, float jitter, inout vec4 acc, ino
             ds = i == 0 ? (kPreIntegrate ? jitter * target : target) : length(n - m.prevN);
             float dsSample = m.jumped ? target : ds;
             if (kIsoCount > 0 && s.ok && m.prev.ok) {
-                // The nearest crossing in this step over all isovalues (by linear interpolation;
-                // the chosen one is refined below).
-                float best = 2.0;
-                [[unroll]] for (int k = 0; k < kIsoCount; ++k) {
-                    float c = isovalue(k);
-                    if ((m.prev.value - c) * (s.value - c) < 0.0 || (s.value == c && m.prev.value != c)) {
-                        float f = (c - m.prev.value) / (s.value - m.prev.value);
-                        if (f < best) { best = f; hitIso = k; }
-                    }
-                }
-                if (best <= 1.0) { found = true; break; }
+                hitIso = crossedIsovalue(m.prev.value, s.value);
+                if (hitIso >= 0) { found = true; break; }
             }
             if (kDvr && s.ok) compositeStep(acc, m, s, i, dsSample);
             if (acc.a >= 0.99) break;
@@ -485,20 +509,14 @@ void marchSegment(Ray ray, float t0, float t1, float jitter, inout vec4 acc, ino
         if (!found) {
             // Pre-integration: the rest of the segment after the last sample, up to the exit
             // (sampled there too).
-            if (kPreIntegrate && kDvr && acc.a < 0.99 && i < maxSteps && m.prev.ok) {
+            if (kPreIntegrate && kDvr && acc.a < 0.99 && i < maxSteps && m.prev.ok && t1 > m.prevT) {
                 Sample e = sampleAt(ray, t1);
-                compositeSegment(acc, m.prev.value, e.ok ? e.value : m.prev.value, max(t1 - m.prevT, 0.0) * m.rate);
+                compositeSegment(acc, m.prev.value, e.ok ? e.value : m.prev.value, (t1 - m.prevT) * m.rate);
             }
             break;
         }
         // The crossing between the previous sample and this one, shaded.
-        float c = isovalue(hitIso);
-        float tHit = kRefine ? refineCrossing(ray, m.prevT, m.prev.value, m.t, s.value, c) : m.t;
-        if (kHitOutput && firstHit >= 1e29) firstHit = tHit;
-        vec3 lit = shadeIsosurface(ray, tHit, c, max(0.25 * m.dt, 0.5));
-        float alpha = vol.isoOpacity;
-        acc.rgb += (1.0 - acc.a) * alpha * lit;
-        acc.a += (1.0 - acc.a) * alpha;
+        compositeIsosurface(acc, ray, m.prevT, m.prev.value, m.t, s.value, isovalue(hitIso), max(0.25 * m.dt, 0.5), firstHit);
         if (acc.a >= 0.99) break;
         // This sample's own contribution, then on.
         if (kDvr && s.ok) compositeStep(acc, m, s, i, m.jumped ? target : ds);
@@ -508,19 +526,17 @@ void marchSegment(Ray ray, float t0, float t1, float jitter, inout vec4 acc, ino
     }
 }
 
-void main() {
-    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-    ivec2 size = imageSize(outImage);
-    if (any(greaterThanEqual(px, size))) return;
+// The ray through pixel `px` of an image `size` big (its scene depth read at the full-resolution
+// pixel `depthPx`): premultiplied colour and opacity; `firstHit` its first isosurface distance.
+vec4 castRay(ivec2 px, ivec2 size, ivec2 depthPx, inout float firstHit) {
     Ray ray = pixelRay(px, size);
-    vec2 span = boxSpan(ray, px);
+    vec2 span = boxSpan(ray, depthPx);
     vec2 segments[2];
     shellSegments(ray, segments);
     SliceHits slices = findSliceHits(ray, span.x, span.y);
     float nextSlice = nearestSlice(slices);
 
     vec4 acc = vec4(0.0);
-    float firstHit = 1e30;
     float jitter = hash(uvec2(px), uint(vol.frameIndex));
     for (int sgi = 0; sgi < 2 && acc.a < 0.99 && (kDvr || kIsoCount > 0); ++sgi) {
         float t0 = max(segments[sgi].x, span.x), t1 = min(segments[sgi].y, span.y);
@@ -528,6 +544,57 @@ void main() {
     }
     // Slices beyond the last sample (or all of them when only slices are drawn).
     while (kSliceCount > 0 && nextSlice < 1e29 && acc.a < 0.99) nextSlice = compositeNearestSlice(slices, acc);
+    return acc;
+}
+
+// The full-resolution pixel nearest to the centre of pixel `px` of the reduced image.
+ivec2 fullPixel(ivec2 px, ivec2 low, ivec2 full) {
+    return min(ivec2((vec2(px) + 0.5) * vec2(full) / vec2(low)), full - 1);
+}
+
+// kVolumePassRefine: the reduced-resolution rays around full-resolution pixel `px`,
+// interpolated bilinearly into `c`, when they agree (each RGBA channel spread over the four
+// no more than refineThreshold) and the scene's depth at their pixels is the pixel's own
+// (within 2 %: a ray that ends on a surface stands only for pixels on that surface).
+bool upsampled(ivec2 px, ivec2 full, out vec4 c) {
+    ivec2 low = imageSize(lowImage);
+    vec2 q = (vec2(px) + 0.5) * vec2(low) / vec2(full) - 0.5;
+    ivec2 i0 = ivec2(floor(q));
+    vec2 w = q - vec2(i0);
+    ivec2 a = clamp(i0, ivec2(0), low - 1), b = clamp(i0 + 1, ivec2(0), low - 1);
+    ivec2 n[4] = ivec2[4](a, ivec2(b.x, a.y), ivec2(a.x, b.y), b);
+    vec4 v[4];
+    vec4 lo = vec4(1e30), hi = vec4(-1e30);
+    float d = texelFetch(sceneDepth, px, 0).r;
+    bool sameSurface = true;
+    [[unroll]] for (int k = 0; k < 4; ++k) {
+        v[k] = imageLoad(lowImage, n[k]);
+        lo = min(lo, v[k]);
+        hi = max(hi, v[k]);
+        float dn = texelFetch(sceneDepth, fullPixel(n[k], low, full), 0).r;
+        sameSurface = sameSurface && abs(dn - d) <= 0.02 * max(dn, d);
+    }
+    c = mix(mix(v[0], v[1], w.x), mix(v[2], v[3], w.x), w.y);
+    return sameSurface && all(lessThanEqual(hi - lo, vec4(vol.refineThreshold)));
+}
+
+void main() {
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = imageSize(outImage);
+    float firstHit = 1e30;
+    if (kPass == kVolumePassLowRes) {
+        ivec2 low = imageSize(lowImage);
+        if (any(greaterThanEqual(px, low))) return;
+        imageStore(lowImage, px, castRay(px, low, fullPixel(px, low, size), firstHit));
+        return;
+    }
+    if (any(greaterThanEqual(px, size))) return;
+    vec4 acc;
+    if (kPass == kVolumePassRefine && upsampled(px, size, acc)) {
+        imageStore(outImage, px, acc);
+        return;
+    }
+    acc = castRay(px, size, px, firstHit);
     imageStore(outImage, px, acc);
     if (kHitOutput) imageStore(hitImage, px, vec4(firstHit < 1e29 ? firstHit : -1.0));
 }

@@ -343,7 +343,7 @@ TEST_F(CliGpu, BenchSweepReportsErrorAgainstRunTimeAndWritesAPlot) {
     EXPECT_NE(bad.output.find("noSuchKnob"), std::string::npos) << bad.output;
 }
 
-TEST_F(CliGpu, BenchSetChangesALiveSettingBeforeMeasuring) {
+TEST_F(CliGpu, BenchSetAndReferenceChangeLiveSettings) {
     // --set K=V as the viewer's panel sets it: a setting the scene's layers take runs, one no
     // layer takes is a clear error naming it, and a malformed one is a usage error.
     const CliRun r = run(std::string("bench ") + ORBIS_DEFAULT_SCENE +
@@ -354,10 +354,22 @@ TEST_F(CliGpu, BenchSetChangesALiveSettingBeforeMeasuring) {
     const CliRun unknown = run(std::string("bench ") + ORBIS_DEFAULT_SCENE + " --set noSuchSetting=1 --frames 1 --size 64x48");
     EXPECT_EQ(unknown.exitCode, 1) << unknown.output;
     EXPECT_NE(unknown.output.find("noSuchSetting=1"), std::string::npos) << unknown.output;
-    for (const char* bad : {"--set =1", "--set steps", "--set steps=1,2", "--set steps=x"}) {
+    // --reference K=V: the reference row alone has it. Two equal values of a knob give the
+    // same image, unless the reference was made with another value.
+    const auto rmseOfSecondRow = [&](const std::string& extra) {
+        const CliRun sweep = run(std::string("bench ") + ORBIS_DEFAULT_SCENE + extra +
+                                 " --sweep maxScreenSpaceError=16,16 --frames 1 --warmup 0 --size 160x120 --json --plot " +
+                                 (std::filesystem::temp_directory_path() / "orbis-cli-reference.png").string());
+        EXPECT_EQ(sweep.exitCode, 0) << sweep.output;
+        const auto json = nlohmann::json::parse(sweep.output.substr(sweep.output.find('{')), nullptr, false);
+        return json.is_discarded() ? -1.0 : json["rows"][1]["rmse"].get<double>();
+    };
+    EXPECT_EQ(rmseOfSecondRow(""), 0.0);
+    EXPECT_GT(rmseOfSecondRow(" --reference imageryOpacity0=0"), 1.0);   // the reference without its imagery
+    for (const char* bad : {"--set =1", "--set steps", "--set steps=1,2", "--set steps=x", "--reference noSuchSetting=1 --sweep steps=1,2"}) {
         const CliRun usage = run(std::string("bench ") + ORBIS_DEFAULT_SCENE + " " + bad + " --frames 1 --size 64x48");
         EXPECT_EQ(usage.exitCode, 2) << bad << ": " << usage.output;
-        EXPECT_NE(usage.output.find("--set"), std::string::npos) << bad << ": " << usage.output;
+        EXPECT_NE(usage.output.find(std::string(bad).substr(0, 5)), std::string::npos) << bad << ": " << usage.output;
     }
 }
 

@@ -270,7 +270,7 @@ TEST_F(LiveSettings, VolumeListsOneSettingPerIsovalueAndSlice) {
         "mode": ["dvr", "iso", "slice"], "isovalues": [3, 6], "slices": [{"lon": 5}, {"lat": 45}, {"height": 1000}]})");
     EXPECT_EQ(names(layer), (std::vector<std::string>{"steps", "opacityScale", "opacityUnit", "rangeMin", "rangeMax",
                                                       "colorMap", "emptySkipping", "isovalue0", "isovalue1", "isoOpacity",
-                                                      "slice0", "slice1", "slice2", "opacity", "sliceOpacity",
+                                                      "slice0", "slice1", "slice2", "opacity", "sliceOpacity", "rayResolution",
                                                       "preIntegration"}));
     const auto map = current(layer, "colorMap");
     EXPECT_EQ(map->choice, "magma");
@@ -293,7 +293,7 @@ TEST_F(LiveSettings, VolumeListsOneSettingPerIsovalueAndSlice) {
 TEST_F(LiveSettings, VolumeWithoutIsoOrSlicesListsNeither) {
     auto& layer = load(R"({"type": "volume", "synthetic": {"field": "waves", "size": [8, 8, 8]}})");
     EXPECT_EQ(names(layer), (std::vector<std::string>{"steps", "opacityScale", "opacityUnit", "rangeMin", "rangeMax",
-                                                      "colorMap", "emptySkipping", "opacity", "preIntegration"}));
+                                                      "colorMap", "emptySkipping", "opacity", "rayResolution", "preIntegration"}));
     EXPECT_FALSE(layer.setParameter("isovalue0", 1.0));
     expectEverySettingRoundTrips(layer);
 }

@@ -46,6 +46,10 @@ const char* kHelp =
     "                     tiles of LEVEL (and their ancestors) on --threads N threads (default: cores)\n"
     "  --set K=V          a layer's live setting (as the viewer's panel sets it) on every visible\n"
     "                     layer that has it, before anything is measured; may be repeated\n"
+    "  --reference K=V    with --sweep: the reference (the first value) also has this live setting,\n"
+    "                     the other values the layer's own (e.g. --set rayResolution=0.5 --reference\n"
+    "                     rayResolution=1: reduced rays against a full-resolution reference); may be\n"
+    "                     repeated\n"
     "  --plot FILE        with --sweep: the PNG plot of RMSE against ms/frame (default orbis-sweep.png);\n"
     "                     with --soak: the timelines (default orbis-soak.png)\n"
     "  --soak SECONDS     a long run as the viewer plays it (time playing, the camera looping along\n"
@@ -116,7 +120,7 @@ Args parseBenchArgs(const std::vector<std::string>& argv) {
     std::set<std::string> valued = gpuValuedOptions();
     valued.insert({"--frames", "--warmup", "--size", "--time", "--camera-path", "--sweep", "--plot", "--tiles", "--threads",
                    "--iso-error", "--video", "--seeks", "--poses", "--labels", "--margin", "--vector", "--level", "--runs",
-                   "--soak", "--live", "--update", "--feeds", "--set"});
+                   "--soak", "--live", "--update", "--feeds", "--set", "--reference"});
     std::set<std::string> flags = gpuFlagOptions();
     flags.insert({"--help", "--json", "--layer"});
     return Args(argv, valued, flags, {{"-h", "--help"}});

@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 namespace orbis::cli {
 namespace {
@@ -134,17 +135,58 @@ int applySetOptions(const Args& args, scene::Scene& scene) {
     return kOk;
 }
 
+namespace {
+
+/// `--reference K=V` settings: each with the value the visible layers had before (the first
+/// layer that lists it), to put back after the reference row.
+struct ReferenceSetting {
+    std::string name;
+    double value, before;
+};
+
+std::vector<ReferenceSetting> parseReferenceSettings(const Args& args, scene::Scene& scene) {
+    std::vector<ReferenceSetting> out;
+    for (const std::string& spec : args.values("--reference")) {
+        const auto eq = spec.find('=');
+        if (eq == std::string::npos || eq == 0) throw UsageError{"--reference expects NAME=VALUE, got '" + spec + "'"};
+        const std::vector<double> value = numberList("--reference", spec.substr(eq + 1));
+        if (value.size() != 1) throw UsageError{"--reference expects one number after '=', got '" + spec + "'"};
+        const std::string name = spec.substr(0, eq);
+        std::optional<double> before;
+        for (auto& r : scene.resources())
+            if (const scene::LiveSettings* live = r.layer->asLiveSettings(); live && r.visible && !before)
+                for (const scene::LayerSetting& setting : live->liveSettings())
+                    if (setting.name == name) before = setting.value;
+        if (!before) throw UsageError{"--reference " + spec + ": no visible layer lists a setting '" + name + "'"};
+        out.push_back({name, value[0], *before});
+    }
+    return out;
+}
+
+}  // namespace
+
 int sweepBench(const Args& args, GpuSession& gpu, scene::Scene& scene, render::Renderer& renderer, long frames,
                long warmup) {
     const SweepSpec sweep = parseSweep(*args.value("--sweep"));
+    const std::vector<ReferenceSetting> referenceSettings = parseReferenceSettings(args, scene);
+    for (const ReferenceSetting& r : referenceSettings)
+        if (r.name == sweep.name) throw UsageError{"--reference " + r.name + ": that is the swept setting (its first value is the reference's)"};
     std::vector<SweepRow> rows;
     std::vector<uint8_t> reference;
-    for (double v : sweep.values) {
+    for (size_t i = 0; i < sweep.values.size(); ++i) {
+        const double v = sweep.values[i];
         if (!setOnVisibleLayers(scene, sweep.name, v)) {
             std::fprintf(stderr, "orbis: no visible layer of %s has a parameter '%s'\n", args.positional()[0].c_str(),
                          sweep.name.c_str());
             return kBadInput;
         }
+        // The reference row alone has the --reference settings (e.g. full-resolution rays).
+        for (const ReferenceSetting& r : referenceSettings)
+            if (!setOnVisibleLayers(scene, r.name, i == 0 ? r.value : r.before)) {
+                std::fprintf(stderr, "orbis: no visible layer of %s takes %s=%g\n", args.positional()[0].c_str(),
+                             r.name.c_str(), i == 0 ? r.value : r.before);
+                return kBadInput;
+            }
         rows.push_back(measureValue(renderer, scene, v, frames, warmup, reference));
     }
     const auto& info = gpu.device->info();
