@@ -46,6 +46,22 @@ protected:
         render::Renderer renderer(device(), w, h);
         return renderOnce(renderer, *scene);
     }
+    /// A scene whose last layer is a volume, rendered frame after frame at 320 x 240 while its
+    /// settings are edited live (layer is null when the scene does not build).
+    struct LiveVolume {
+        std::unique_ptr<scene::Scene> scene;
+        layers::VolumeLayer* layer = nullptr;
+        std::unique_ptr<render::Renderer> renderer;
+        ImageRgba8 frame() { return renderOnce(*renderer, *scene); }
+    };
+    LiveVolume liveVolume(const std::string& json) {
+        LiveVolume live;
+        live.scene = load(json);
+        if (!live.scene) return live;
+        live.layer = dynamic_cast<layers::VolumeLayer*>(live.scene->resources().back().layer.get());
+        live.renderer = std::make_unique<render::Renderer>(device(), 320, 240);
+        return live;
+    }
 };
 
 size_t differing(const ImageRgba8& a, const ImageRgba8& b, int tolerance = 2) {
@@ -286,14 +302,13 @@ TEST_F(VolumeRender, PreIntegrationReachesTheBruteForceImageWithFewerSteps) {
     EXPECT_LT(pre[1], pre[0]);
 
     // Live: off -> on rebuilds the ray caster and makes the table; on -> off releases it.
-    auto live = load(volumeScene(kOblique, sphereVolume(sharp + R"(, "steps": 25)")));
-    ASSERT_TRUE(live);
-    auto& layer = dynamic_cast<layers::VolumeLayer&>(*live->resources().back().layer);
-    render::Renderer renderer(device(), 320, 240);
-    const auto off = renderOnce(renderer, *live);
+    LiveVolume live = liveVolume(volumeScene(kOblique, sphereVolume(sharp + R"(, "steps": 25)")));
+    ASSERT_TRUE(live.layer);
+    auto& layer = *live.layer;
+    const auto off = live.frame();
     const uint64_t bytesOff = layer.gpuBytes();
     EXPECT_TRUE(layer.setParameter("preIntegration", 1.0));
-    const auto on = renderOnce(renderer, *live);
+    const auto on = live.frame();
     EXPECT_EQ(layer.gpuBytes() - bytesOff, uint64_t(256 * 256 * 8) - 8u);   // the 2-D table instead of 1 x 1
     auto built = load(volumeScene(kOblique, sphereVolume(sharp + R"(, "steps": 25, "preIntegration": true)")));
     ASSERT_TRUE(built);
@@ -303,13 +318,13 @@ TEST_F(VolumeRender, PreIntegrationReachesTheBruteForceImageWithFewerSteps) {
     EXPECT_GT(differing(on, off), 100u);
     // "steps" changes the table's segment length: the live image follows a built scene's.
     EXPECT_TRUE(layer.setParameter("steps", 50.0));
-    const auto fifty = renderOnce(renderer, *live);
+    const auto fifty = live.frame();
     auto built50 = load(volumeScene(kOblique, sphereVolume(sharp + R"(, "steps": 50, "preIntegration": true)")));
     render::Renderer renderer3(device(), 320, 240);
     for (int f = 0; f < 2; ++f) (void)renderOnce(renderer3, *built50);   // the jitter follows the frame count
     EXPECT_EQ(differing(renderOnce(renderer3, *built50), fifty, 0), 0u);
     EXPECT_TRUE(layer.setParameter("preIntegration", 0.0));
-    (void)renderOnce(renderer, *live);
+    (void)live.frame();
     EXPECT_EQ(layer.gpuBytes(), bytesOff);
 }
 
@@ -357,16 +372,15 @@ TEST_F(VolumeRender, ReducedResolutionRaysKeepTheErrorAndRespectDepth) {
     EXPECT_EQ(bled, 0u) << "volume colour interpolated onto the globe";
 
     // Live: on, then off again; the reduced image comes and goes with the setting.
-    auto live = load(volumeScene(kOblique, sphereVolume()));
-    ASSERT_TRUE(live);
-    auto& layer = dynamic_cast<layers::VolumeLayer&>(*live->resources().back().layer);
-    render::Renderer renderer(device(), 320, 240);
-    const auto off = renderOnce(renderer, *live);
+    LiveVolume live = liveVolume(volumeScene(kOblique, sphereVolume()));
+    ASSERT_TRUE(live.layer);
+    auto& layer = *live.layer;
+    const auto off = live.frame();
     const uint64_t bytesOff = layer.gpuBytes();
     EXPECT_FALSE(layer.setParameter("rayResolution", 0.1));
     EXPECT_FALSE(layer.setParameter("refineThreshold", -1.0));
     EXPECT_TRUE(layer.setParameter("rayResolution", 0.5));
-    const auto on = renderOnce(renderer, *live);
+    const auto on = live.frame();
     EXPECT_EQ(layer.gpuBytes() - bytesOff, uint64_t(160 * 120 * 8) - 8u);   // the reduced image instead of 1 x 1
     auto built = load(volumeScene(kOblique, sphereVolume(R"(, "rayResolution": 0.5)")));
     ASSERT_TRUE(built);
@@ -375,7 +389,7 @@ TEST_F(VolumeRender, ReducedResolutionRaysKeepTheErrorAndRespectDepth) {
     EXPECT_EQ(differing(renderOnce(renderer2, *built), on, 0), 0u);
     EXPECT_GT(differing(on, off, 0), 100u);
     EXPECT_TRUE(layer.setParameter("rayResolution", 1.0));
-    (void)renderOnce(renderer, *live);
+    (void)live.frame();
     EXPECT_EQ(layer.gpuBytes(), bytesOff);
 }
 
