@@ -212,7 +212,7 @@ gpu::Specialization VolumeLayer::rayCasterModes(int pass) {
     int32_t uniformAxes = 0;
     for (int axis = 0; axis < 3; ++axis) uniformAxes |= lookups_[size_t(axis)].uniform ? 1 << axis : 0;
     modes.set<int32_t>(shader::kVolumeSpecUniformAxes, uniformAxes);
-    modes.set<VkBool32>(shader::kVolumeSpecPreIntegrate, settings_.preIntegration && settings_.dvr ? VK_TRUE : VK_FALSE);
+    modes.set<VkBool32>(shader::kVolumeSpecPreIntegrate, preIntegrates() ? VK_TRUE : VK_FALSE);
     modes.set<int32_t>(shader::kVolumeSpecPass, pass);
     return modes;
 }
@@ -246,6 +246,8 @@ void VolumeLayer::createRayCaster() {
     lowImage_ = gpu::Image(device, ld);
     createCastPipelines();
 }
+
+bool VolumeLayer::preIntegrates() const { return settings_.preIntegration && settings_.dvr; }
 
 bool VolumeLayer::reducedRays() const { return settings_.rayResolution < 1.0 && !hitOutput_; }
 
@@ -426,7 +428,7 @@ void VolumeLayer::recordDispatches(VkCommandBuffer cmd, const render::RecordCont
 }
 
 void VolumeLayer::ensurePreIntegrationImage() {
-    const bool on = settings_.preIntegration && settings_.dvr;
+    const bool on = preIntegrates();
     const uint32_t side = on ? shader::kVolumeTransferSize : 1u;
     if (preImage_ && preImage_.extent().width == side) return;
     gpu::ImageDesc d;
@@ -440,7 +442,7 @@ void VolumeLayer::ensurePreIntegrationImage() {
 }
 
 std::vector<uint16_t> VolumeLayer::preIntegrationTexels() const {
-    if (!(settings_.preIntegration && settings_.dvr)) return std::vector<uint16_t>(4, 0);
+    if (!preIntegrates()) return std::vector<uint16_t>(4, 0);
     const double step = std::sqrt(3.0) / double(settings_.steps);   // the march's normalised step
     const std::vector<std::array<float, 4>> table = buildPreIntegratedTable(transferTable_, step, 1.0 / settings_.opacityUnit);
     std::vector<uint16_t> texels(table.size() * 4);

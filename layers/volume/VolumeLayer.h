@@ -139,6 +139,7 @@ private:
     VolumeFrameInputs frameInputs(const scene::Camera& camera) const;
     void recordEdits(VkCommandBuffer cmd);
     void ensurePreIntegrationImage();   // the table's size follows the setting (1 x 1 when off)
+    bool preIntegrates() const;         // DVR steps read the pre-integrated table
     bool reducedRays() const;           // rays at a reduced resolution, then the refining pass
     void createCastPipelines();         // the pass(es) the settings use
     void recordDispatches(VkCommandBuffer cmd, const render::RecordContext& rc, uint32_t width, uint32_t height);

@@ -345,12 +345,12 @@ void compositeSegment(inout vec4 acc, float front, float back, float ds) {
     acc.a += (1.0 - acc.a) * alpha;
 }
 
-// The DVR contribution of the step that ends at sample `s` (the march's i-th, `ds` long): with
-// pre-integration the segment from the previous sample (for the first, the entry) where there
-// is one with data, otherwise `s` alone; without, `s`'s value over the step. After a jump over bricks that show nothing the
-// step is one step long, from the value before the jump: a narrow band of opacity just past
-// the jump is integrated across, not sampled at one point (which shows as speckles).
-void compositeStep(inout vec4 acc, March m, Sample s, int i, float ds) {
+// The DVR contribution of the step that ends at sample `s` (`ds` long): with pre-integration
+// the segment from the previous sample (for the first, the entry) where there is one with data,
+// otherwise `s` alone; without, `s`'s value over the step. After a jump over bricks that show
+// nothing the step is one step long, from the value before the jump: a narrow band of opacity
+// just past the jump is integrated across, not sampled at one point (which shows as speckles).
+void compositeStep(inout vec4 acc, March m, Sample s, float ds) {
     if (kPreIntegrate) compositeSegment(acc, m.prev.ok ? m.prev.value : s.value, s.value, ds);
     else compositeSample(acc, s.value, ds);
 }
@@ -502,7 +502,7 @@ void marchSegment(Ray ray, float t0, float t1, float jitter, inout vec4 acc, ino
                 hitIso = crossedIsovalue(m.prev.value, s.value);
                 if (hitIso >= 0) { found = true; break; }
             }
-            if (kDvr && s.ok) compositeStep(acc, m, s, i, dsSample);
+            if (kDvr && s.ok) compositeStep(acc, m, s, dsSample);
             if (acc.a >= 0.99) break;
             advance(m, s, n, i, ds, target, dtMin, dtMax);
         }
@@ -519,7 +519,7 @@ void marchSegment(Ray ray, float t0, float t1, float jitter, inout vec4 acc, ino
         compositeIsosurface(acc, ray, m.prevT, m.prev.value, m.t, s.value, isovalue(hitIso), max(0.25 * m.dt, 0.5), firstHit);
         if (acc.a >= 0.99) break;
         // This sample's own contribution, then on.
-        if (kDvr && s.ok) compositeStep(acc, m, s, i, m.jumped ? target : ds);
+        if (kDvr && s.ok) compositeStep(acc, m, s, m.jumped ? target : ds);
         if (acc.a >= 0.99) break;
         advance(m, s, n, i, ds, target, dtMin, dtMax);
         ++i;
