@@ -2,6 +2,7 @@
 
 #include "layers/fmv/AvError.h"
 #include "layers/fmv/LiveInput.h"
+#include "layers/fmv/LiveRecording.h"
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -63,35 +64,6 @@ constexpr size_t kMaxPoses = 4096;
 /// the network's delay is followed.
 constexpr double kTransitRelax = 0.002;
 
-/// The MPEG-TS recording of the packets as they arrive.
-struct Recording {
-    std::string path;
-    AVFormatContext* format = nullptr;
-    int inVideo = -1, inKlv = -1, outVideo = -1, outKlv = -1;
-    AVRational inBase[2] = {{1, 1}, {1, 1}};
-    bool klvSynchronous = false;
-    int64_t lastDts[2] = {INT64_MIN, INT64_MIN};   // written, in the output's time bases
-    uint8_t klvSequence = 0;
-    uint64_t sinceFlush = 0;
-    // A stream that comes back (a new session, maybe a new clock) goes on in the same file: its
-    // times are moved to follow what was written, after the silence between.
-    int width = 0, height = 0, codec = 0;   // the video recorded; a stream that comes back different ends the file
-    double offsetSeconds = 0.0;             // added to the session's times
-    double endSeconds = 0.0, endSteady = 0.0;   // the latest time written, and when
-    bool written = false;
-    bool rebase = false;                    // a new session: its first packet sets offsetSeconds
-    bool waitKey = false;                   // the new session's video from its first key frame
-
-    ~Recording() { close(); }
-    void close() {
-        if (!format) return;
-        av_write_trailer(format);
-        if (format->pb) avio_closep(&format->pb);
-        avformat_free_context(format);
-        format = nullptr;
-    }
-};
-
 /// A session's video decoder.
 struct Decoder {
     AVCodecContext* codec = nullptr;
@@ -144,20 +116,16 @@ struct LiveVideo::Impl {
     std::optional<double> lastFrameTime;
     double frameInterval = 0.0;     // seconds between frames: the stream's rate, else the least gap seen
     bool measuredInterval = false;
-    Recording recording;
+    LiveRecording recording;
     GeoidHeight geoid;
-    // Recording on request (record()): asked under `mutex`, taken by the worker; a recording
-    // starts at a key frame, with the KLV packets of the second before it.
+    // Recording on request (record()): asked under `mutex`, taken by the worker.
     std::string recordWanted;
     std::atomic<bool> recordChanged{false};
-    bool recordPending = false;
-    std::deque<AVPacket*> recentKlv;
 
     ~Impl() {
         stop = true;
         wake.notify_all();
         if (thread.joinable()) thread.join();
-        for (AVPacket* p : recentKlv) av_packet_free(&p);
     }
 
     static int interrupted(void* opaque) {
@@ -175,13 +143,11 @@ struct LiveVideo::Impl {
     void noteData(size_t bytes);
     void pushFrame(std::shared_ptr<VideoFrame> frame, double streamTime, bool damaged);
     void pushKlv(double time, const uint8_t* data, size_t size);
-    void openRecording(AVFormatContext* in, int video, int klv);
     void takeRecordRequest();
     /// A new session while recording: the file goes on (or ends if the video changed).
     void continueRecording(AVFormatContext* in, int video, int klv);
     void recordVideo(AVFormatContext* in, int video, int klv, const AVPacket& packet);
-    void keepKlv(const AVPacket& packet, AVRational base);
-    void record(const AVPacket& packet);
+    void recordKlv(const AVPacket& packet, AVRational base);
     std::optional<SensorPose> poseAt(double t, std::optional<double>& utc) const;
 };
 
@@ -284,10 +250,7 @@ std::string LiveVideo::Impl::session() {
     // probing read.
     AVPacket* held = nullptr;
     if (options.wholeFrames) held = takeWholeFrames(vs, d.codec);
-    if (recording.format) continueRecording(format, video, klv);
-    recordPending = !recording.format && !options.recordPath.empty();
-    for (AVPacket* p : recentKlv) av_packet_free(&p);
-    recentKlv.clear();
+    continueRecording(format, video, klv);
     {   // a new connection may be a new clock: start again
         std::lock_guard lock(mutex);
         ++epoch;
@@ -321,8 +284,7 @@ std::string LiveVideo::Impl::session() {
         noteData(size_t(packet->size));
         if (recordChanged) takeRecordRequest();
         if (packet->stream_index == klv) {
-            if (recording.format) record(*packet);
-            else if (recordPending) keepKlv(*packet, format->streams[klv]->time_base);
+            recordKlv(*packet, format->streams[klv]->time_base);
             const AVRational base = format->streams[klv]->time_base;
             const int64_t ts = packet->pts != AV_NOPTS_VALUE ? packet->pts : packet->dts;
             const double t = ts != AV_NOPTS_VALUE ? double(ts) * av_q2d(base) : lastFrameTime.value_or(0.0);
@@ -450,7 +412,7 @@ void LiveVideo::Impl::noteData(size_t bytes) {
 /// from another clock).
 void LiveVideo::Impl::noteTime(double t) {
     if (lastTime && (t < *lastTime - kJumpBackSeconds || t > *lastTime + kJumpAheadSeconds)) {
-        if (recording.format) recording.rebase = recording.waitKey = true;   // the file goes on after the jump
+        recording.clockJumped();   // the file goes on after the jump
         std::lock_guard lock(mutex);
         ++epoch;
         queue.clear();
@@ -522,162 +484,36 @@ void LiveVideo::Impl::takeRecordRequest() {
         wanted = recordWanted;
         recordChanged = false;
     }
-    if (wanted == options.recordPath && (recording.format || recordPending)) return;
-    recording.close();
-    recording = Recording();
-    options.recordPath = wanted;
-    recordPending = !wanted.empty();
+    recording.restart(wanted);
+}
+
+void LiveVideo::Impl::continueRecording(AVFormatContext* in, int video, int klv) {
+    const std::string ended = recording.newSession(in, video, klv);
+    if (ended.empty()) return;
+    std::lock_guard lock(mutex);
+    stats.lastError = ended;
+    stats.recording.clear();
+    recordWanted.clear();
 }
 
 /// A video packet into the recording; a pending one starts here if this is a key frame (the
 /// KLV of the second before first).
-void LiveVideo::Impl::continueRecording(AVFormatContext* in, int video, int klv) {
-    Recording& r = recording;
-    const AVCodecParameters* p = in->streams[video]->codecpar;
-    if (p->width != r.width || p->height != r.height || int(p->codec_id) != r.codec) {
-        r.close();
-        std::lock_guard lock(mutex);
-        stats.lastError = r.path + ": the stream came back as " + std::to_string(p->width) + "x" + std::to_string(p->height) + " " +
-                          avcodec_get_name(p->codec_id) + ", not as recorded: the recording ends there";
-        stats.recording.clear();
-        recordWanted.clear();
-        options.recordPath.clear();
-        return;
-    }
-    r.inVideo = video;
-    r.inBase[0] = in->streams[video]->time_base;
-    r.inKlv = r.outKlv >= 0 ? klv : -1;
-    if (klv >= 0) r.inBase[1] = in->streams[klv]->time_base;
-    r.rebase = r.waitKey = true;
-}
-
 void LiveVideo::Impl::recordVideo(AVFormatContext* in, int video, int klv, const AVPacket& packet) {
-    if (recordPending && (packet.flags & AV_PKT_FLAG_KEY)) {
-        recordPending = false;
-        openRecording(in, video, klv);
-        for (AVPacket* k : recentKlv) {
-            if (recording.format) record(*k);
-            av_packet_free(&k);
-        }
-        recentKlv.clear();
-    }
-    if (recording.format) record(packet);
-}
-
-/// KLV packets of the last second while a recording waits for its key frame.
-void LiveVideo::Impl::keepKlv(const AVPacket& packet, AVRational base) {
-    AVPacket* p = av_packet_clone(&packet);
-    if (!p) return;
-    recentKlv.push_back(p);
-    const auto seconds = [&](const AVPacket* q) { return q->dts == AV_NOPTS_VALUE ? 0.0 : double(q->dts) * av_q2d(base); };
-    while (recentKlv.size() > 64 || (recentKlv.size() > 1 && seconds(recentKlv.back()) - seconds(recentKlv.front()) > 1.0)) {
-        av_packet_free(&recentKlv.front());
-        recentKlv.pop_front();
-    }
-}
-
-void LiveVideo::Impl::openRecording(AVFormatContext* in, int video, int klv) {
-    Recording& r = recording;
-    r.path = options.recordPath;
-    const auto failed = [&](const std::string& why) {
-        std::lock_guard lock(mutex);
-        stats.lastError = r.path + ": cannot record (" + why + ")";
+    std::string error;
+    const int written = recording.video(in, video, klv, packet, error);
+    if (written == 0 && error.empty()) return;
+    std::lock_guard lock(mutex);
+    stats.packetsRecorded += uint64_t(written);
+    if (!error.empty()) {
+        stats.lastError = error;
         stats.recording.clear();
-        if (r.format) {
-            if (r.format->pb) avio_closep(&r.format->pb);
-            avformat_free_context(r.format);
-            r.format = nullptr;
-        }
-    };
-    if (int rc = avformat_alloc_output_context2(&r.format, nullptr, "mpegts", r.path.c_str()); rc < 0 || !r.format)
-        return failed(avError(rc));
-    const auto add = [&](int index) {
-        AVStream* out = avformat_new_stream(r.format, nullptr);
-        if (!out || avcodec_parameters_copy(out->codecpar, in->streams[index]->codecpar) < 0) return -1;
-        out->codecpar->codec_tag = 0;
-        out->time_base = in->streams[index]->time_base;
-        return out->index;
-    };
-    r.inVideo = video;
-    r.outVideo = add(video);
-    r.inBase[0] = in->streams[video]->time_base;
-    r.width = in->streams[video]->codecpar->width;
-    r.height = in->streams[video]->codecpar->height;
-    r.codec = int(in->streams[video]->codecpar->codec_id);
-    if (klv >= 0) {
-        r.inKlv = klv;
-        r.outKlv = add(klv);
-        r.inBase[1] = in->streams[klv]->time_base;
-        r.klvSynchronous = in->streams[klv]->codecpar->profile == FF_PROFILE_KLVA_SYNC;
     }
-    if (r.outVideo < 0 || (klv >= 0 && r.outKlv < 0)) return failed("cannot copy the streams");
-    if (int rc = avio_open(&r.format->pb, r.path.c_str(), AVIO_FLAG_WRITE); rc < 0) return failed(avError(rc));
-    if (int rc = avformat_write_header(r.format, nullptr); rc < 0) return failed(avError(rc));
 }
 
-void LiveVideo::Impl::record(const AVPacket& packet) {
-    Recording& r = recording;
-    const bool isVideo = packet.stream_index == r.inVideo, isKlv = r.inKlv >= 0 && packet.stream_index == r.inKlv;
-    if (!isVideo && !isKlv) return;
-    const int slot = isVideo ? 0 : 1;
-    if (r.rebase && packet.dts != AV_NOPTS_VALUE) {
-        r.offsetSeconds = (r.written ? r.endSeconds + std::max(steadySeconds() - r.endSteady, 0.001) : 0.0) -
-                          double(packet.dts) * av_q2d(r.inBase[slot]);
-        r.rebase = false;
-    }
-    if (isVideo && r.waitKey) {
-        if (!(packet.flags & AV_PKT_FLAG_KEY)) return;
-        r.waitKey = false;
-    }
-    AVPacket* p = nullptr;
-    if (isKlv && r.klvSynchronous) {
-        // The demuxer took the Metadata AU cell header off; the muxer wants it back
-        // (VideoWriter::writeKlv).
-        p = av_packet_alloc();
-        if (!p || packet.size > 65535 || av_new_packet(p, packet.size + 5) < 0) {
-            av_packet_free(&p);
-            return;
-        }
-        p->data[0] = 0;
-        p->data[1] = r.klvSequence++;
-        p->data[2] = 0xDF;
-        p->data[3] = uint8_t(packet.size >> 8);
-        p->data[4] = uint8_t(packet.size & 0xFF);
-        std::copy(packet.data, packet.data + packet.size, p->data + 5);
-        av_packet_copy_props(p, &packet);
-    } else {
-        p = av_packet_clone(&packet);
-        if (!p) return;
-    }
-    p->stream_index = isVideo ? r.outVideo : r.outKlv;
-    p->flags &= ~AV_PKT_FLAG_CORRUPT;
-    const AVRational outBase = r.format->streams[p->stream_index]->time_base;
-    av_packet_rescale_ts(p, r.inBase[slot], outBase);
-    if (r.offsetSeconds != 0.0) {
-        const int64_t shift = std::llround(r.offsetSeconds / av_q2d(outBase));
-        if (p->pts != AV_NOPTS_VALUE) p->pts += shift;
-        if (p->dts != AV_NOPTS_VALUE) p->dts += shift;
-    }
-    if (p->dts != AV_NOPTS_VALUE) {
-        if (p->dts <= r.lastDts[slot]) {   // going back (a clock jump within a session): not muxable
-            av_packet_free(&p);
-            return;
-        }
-        r.lastDts[slot] = p->dts;
-        r.endSeconds = std::max(r.endSeconds, double(p->dts) * av_q2d(outBase));
-        r.endSteady = steadySeconds();
-        r.written = true;
-    }
-    const int rc = av_interleaved_write_frame(r.format, p);
-    av_packet_free(&p);
-    if (rc >= 0) {
-        std::lock_guard lock(mutex);
-        ++stats.packetsRecorded;
-    }
-    if (++r.sinceFlush >= 30 && r.format->pb) {
-        avio_flush(r.format->pb);
-        r.sinceFlush = 0;
-    }
+void LiveVideo::Impl::recordKlv(const AVPacket& packet, AVRational base) {
+    if (!recording.klv(packet, base)) return;
+    std::lock_guard lock(mutex);
+    ++stats.packetsRecorded;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -826,6 +662,7 @@ Result<std::unique_ptr<LiveVideo>> LiveVideo::open(const std::string& url, LiveO
     Impl& m = *v->impl_;
     m.url = url;
     m.recordWanted = m.stats.recording = options.recordPath;
+    m.recording.restart(options.recordPath);   // (before the worker starts)
     m.options = std::move(options);
     m.lastData = steadySeconds();
     m.thread = std::thread([&m] { m.run(); });
